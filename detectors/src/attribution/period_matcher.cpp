@@ -1,0 +1,577 @@
+#include "detect/attribution/period_matcher.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <map>
+#include <numeric>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "diag/error.hpp"
+#include "diag/units.hpp"
+
+namespace detect {
+
+using diag::InputError;
+using diag::units::kTwoPi;
+
+namespace {
+
+void require(bool ok, const std::string& field, const std::string& reason) {
+  if (!ok) throw InputError(diag::format_error("attribution", field, reason));
+}
+
+// The smooth part of the irregularity that turns with one shaft: a table over one revolution of
+// the shaft, fitted by weighted least squares to a few Fourier orders of the bin means.
+struct ShaftComponent {
+  double period_rad = 0;        // shaft period in input angle
+  int bins = 0;                 // power of two
+  std::vector<int> orders;      // Fourier orders kept (cycles per shaft revolution)
+  std::vector<double> table;    // value at bin j (phase j / bins)
+
+  double phase_pos(double x) const {
+    const double p = x / period_rad;
+    return (p - std::floor(p)) * bins;
+  }
+  double eval(double x) const {
+    const double pos = phase_pos(x);
+    int j = static_cast<int>(pos);
+    const double t = pos - j;
+    j &= bins - 1;
+    return table[j] * (1.0 - t) + table[(j + 1) & (bins - 1)] * t;
+  }
+  void fit(const std::vector<double>& sum, const std::vector<double>& count) {
+    // Columns: DC, then cos/sin of each order, evaluated at the bin centres.
+    const int k = 1 + 2 * static_cast<int>(orders.size());
+    Eigen::MatrixXd ata = Eigen::MatrixXd::Zero(k, k);
+    Eigen::VectorXd atb = Eigen::VectorXd::Zero(k);
+    Eigen::VectorXd row(k);
+    for (int j = 0; j < bins; ++j) {
+      if (count[j] <= 0) continue;
+      const double ph = kTwoPi * j / bins;
+      row(0) = 1.0;
+      for (std::size_t o = 0; o < orders.size(); ++o) {
+        row(1 + 2 * o) = std::cos(orders[o] * ph);
+        row(2 + 2 * o) = std::sin(orders[o] * ph);
+      }
+      const double mean = sum[j] / count[j];
+      ata.noalias() += count[j] * row * row.transpose();
+      atb.noalias() += count[j] * mean * row;
+    }
+    // Ridge of 1e-9 of the trace keeps empty-bin cases solvable without biasing a full fit.
+    ata.diagonal().array() += 1e-9 * (ata.trace() + 1.0);
+    const Eigen::VectorXd c = ata.ldlt().solve(atb);
+    table.assign(bins, 0.0);
+    for (int j = 0; j < bins; ++j) {
+      const double ph = kTwoPi * j / bins;
+      double v = c(0);
+      for (std::size_t o = 0; o < orders.size(); ++o) {
+        v += c(1 + 2 * o) * std::cos(orders[o] * ph) + c(2 + 2 * o) * std::sin(orders[o] * ph);
+      }
+      table[j] = v;
+    }
+  }
+};
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + v.size() / 2;
+  std::nth_element(v.begin(), mid, v.end());
+  double m = *mid;
+  if (v.size() % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), mid));
+  return m;
+}
+
+// 1.4826 MAD of e, on at most ~200k evenly strided samples.
+double robust_sigma(const std::vector<double>& e) {
+  const std::size_t stride = std::max<std::size_t>(1, e.size() / 200000);
+  std::vector<double> s;
+  s.reserve(e.size() / stride + 1);
+  for (std::size_t i = 0; i < e.size(); i += stride) s.push_back(e[i]);
+  const double med = median_of(s);
+  for (double& v : s) v = std::abs(v - med);
+  return 1.4826 * median_of(s);
+}
+
+struct Event {
+  double onset = 0;   // input angle from the record's start [rad]
+  double height = 0;  // [rad at the output]
+};
+
+// Runs of e above thr/2 that reach thr. Also marks them (dilated by their own length) in mask.
+std::vector<Event> find_events(const std::vector<double>& x, const std::vector<double>& e,
+                               double thr, std::vector<char>* mask) {
+  std::vector<Event> events;
+  const std::size_t n = e.size();
+  if (mask) std::fill(mask->begin(), mask->end(), 0);
+  std::size_t i = 0;
+  while (i < n) {
+    if (e[i] <= 0.5 * thr) {
+      ++i;
+      continue;
+    }
+    const std::size_t start = i;
+    std::size_t pk = i;
+    while (i < n && e[i] > 0.5 * thr) {
+      if (e[i] > e[pk]) pk = i;
+      ++i;
+    }
+    const std::size_t end = i;  // one past
+    if (e[pk] < thr) continue;
+    const double h = e[pk];
+    // Onset: the rise is linear (the driven side stands still), so it starts as far before the
+    // half-height crossing as the peak is after it.
+    std::size_t k = start;
+    while (k < pk && e[k] < 0.5 * h) ++k;
+    double x_half = x[k];
+    if (k > 0 && e[k] > e[k - 1]) {
+      const double t = (0.5 * h - e[k - 1]) / (e[k] - e[k - 1]);
+      x_half = x[k - 1] + std::clamp(t, 0.0, 1.0) * (x[k] - x[k - 1]);
+    }
+    events.push_back({std::max(0.0, 2.0 * x_half - x[pk]), h});
+    if (mask) {
+      const std::size_t len = end - start;
+      const std::size_t a = start > len ? start - len : 0;
+      const std::size_t b = std::min(n, end + len);
+      std::fill(mask->begin() + a, mask->begin() + b, 1);
+    }
+  }
+  return events;
+}
+
+struct Train {
+  double period_rad = 0;
+  std::vector<std::pair<int, int>> hits;  // (recurrence index, event index)
+  int expected = 0;
+  double measured_period_rad = 0;
+  double first_onset = 0;
+  std::vector<int> size_events;  // events that size the defect; empty: all hits
+  std::string note;              // why the reading may be ambiguous
+  bool ambiguous = false;        // another decomposition explains the same events
+};
+
+}  // namespace
+
+void AttributionOptions::validate() const {
+  require(threshold_sigma >= 3 && std::isfinite(threshold_sigma), "threshold_sigma", "must be >= 3");
+  require(min_event_rad >= 0, "min_event_rad", "must be >= 0");
+  require(position_tolerance_rad >= 0, "position_tolerance_rad", "must be >= 0");
+  require(period_tolerance > 0 && period_tolerance <= 0.2, "period_tolerance",
+          "must be in (0, 0.2]");
+  require(min_coverage > 0 && min_coverage <= 1, "min_coverage", "must be in (0, 1]");
+  require(smooth_harmonics >= 0 && smooth_harmonics <= 64, "smooth_harmonics",
+          "must be in [0, 64]");
+  require(mesh_harmonics >= 0 && mesh_harmonics <= 8, "mesh_harmonics", "must be in [0, 8]");
+  require(min_recurrences >= 2, "min_recurrences", "must be >= 2");
+}
+
+AttributionResult attribute_defects(std::span<const double> in, std::span<const double> out,
+                                    const diag::Gearbox& gb, const AttributionOptions& opt) {
+  opt.validate();
+  require(in.size() == out.size(), "output_angle_rad",
+          "has " + std::to_string(out.size()) + " samples but input_angle_rad has " +
+              std::to_string(in.size()));
+  require(in.size() >= 16, "input_angle_rad", "needs at least 16 samples");
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    if (!std::isfinite(in[i]) || !std::isfinite(out[i])) {
+      require(false, std::isfinite(in[i]) ? "output_angle_rad" : "input_angle_rad",
+              "sample " + std::to_string(i) + " is NaN or Inf");
+    }
+    if (i > 0 && in[i] < in[i - 1]) {
+      require(false, "input_angle_rad",
+              "angles not increasing: sample " + std::to_string(i) + " (" +
+                  std::to_string(in[i]) + ") is below sample " + std::to_string(i - 1) + " (" +
+                  std::to_string(in[i - 1]) + ")");
+    }
+  }
+  const std::size_t n = in.size();
+  const double span_in = in[n - 1] - in[0];
+  const double span_out = out[n - 1] - out[0];
+  require(span_in > 0, "input_angle_rad", "the input shaft does not turn");
+  const double u = gb.total_ratio();
+  const double seen_ratio = span_in / std::abs(span_out);
+  require(std::abs(span_out) > 0 && std::abs(seen_ratio / u - 1.0) < 0.02, "output_angle_rad",
+          "the recording turns the output " + std::to_string(seen_ratio) +
+              " times slower than the input, but the gearbox's overall ratio is " +
+              std::to_string(u) + ": wrong gearbox description or channels");
+
+  // Path shafts and their periods in input angle.
+  const auto& path = gb.power_path();
+  std::vector<int> path_shafts{gb.input_shaft()};
+  for (const auto& st : path) path_shafts.push_back(gb.shaft_of_gear(st.down_gear));
+  double longest_rev = 0;
+  int longest_shaft = gb.input_shaft();
+  for (int s : path_shafts) {
+    if (gb.shaft_period_input_rev(s) > longest_rev) {
+      longest_rev = gb.shaft_period_input_rev(s);
+      longest_shaft = s;
+    }
+  }
+  const double record_rev = span_in / kTwoPi;
+  if (record_rev < opt.min_recurrences * longest_rev) {
+    std::ostringstream m;
+    m << "too short: the record covers " << record_rev << " input revolutions; at least "
+      << opt.min_recurrences * longest_rev << " are needed (" << opt.min_recurrences
+      << " recurrences of the longest period, " << longest_rev << " input revolutions of shaft '"
+      << gb.shafts()[longest_shaft].name << "')";
+    require(false, "input_angle_rad", m.str());
+  }
+
+  // 1. The lag of the output behind its theoretical angle.
+  const double sign = span_out < 0 ? -1.0 : 1.0;
+  std::vector<double> x(n), e(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = in[i] - in[0];
+    e[i] = x[i] / u - sign * (out[i] - out[0]);
+  }
+  const double step = span_in / static_cast<double>(n - 1);
+
+  // 2. Smooth periodic part, by backfitting over the path shafts.
+  std::vector<ShaftComponent> comps;
+  for (int s : path_shafts) {
+    ShaftComponent c;
+    c.period_rad = kTwoPi * gb.shaft_period_input_rev(s);
+    std::set<int> orders;
+    for (int h = 1; h <= opt.smooth_harmonics; ++h) orders.insert(h);
+    for (const auto& st : path) {
+      for (int g : {st.up_gear, st.down_gear}) {
+        if (gb.shaft_of_gear(g) != s) continue;
+        for (int k = 1; k <= opt.mesh_harmonics; ++k) orders.insert(k * gb.gears()[g].spec.teeth);
+      }
+    }
+    c.orders.assign(orders.begin(), orders.end());
+    const int max_order = c.orders.empty() ? 1 : c.orders.back();
+    c.bins = 256;
+    while (c.bins < 4 * max_order) c.bins *= 2;
+    c.table.assign(c.bins, 0.0);
+    comps.push_back(std::move(c));
+  }
+  std::vector<char> mask(n, 0);
+  std::vector<double> sum, count;
+  double sigma = 0, thr = 0;
+  constexpr int kOuter = 3;     // fit, find events, refit without them
+  constexpr int kBackfit = 2;   // sweeps over the shafts per fit
+  for (int outer = 0; outer < kOuter; ++outer) {
+    for (int sweep = 0; sweep < kBackfit; ++sweep) {
+      for (auto& c : comps) {
+        sum.assign(c.bins, 0.0);
+        count.assign(c.bins, 0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+          e[i] += c.eval(x[i]);
+          if (mask[i]) continue;
+          const int j = static_cast<int>(c.phase_pos(x[i]) + 0.5) & (c.bins - 1);
+          sum[j] += e[i];
+          count[j] += 1.0;
+        }
+        c.fit(sum, count);
+        for (std::size_t i = 0; i < n; ++i) e[i] -= c.eval(x[i]);
+      }
+    }
+    sigma = robust_sigma(e);
+    thr = std::max(opt.threshold_sigma * sigma, opt.min_event_rad);
+    if (outer + 1 < kOuter) find_events(x, e, thr, &mask);
+  }
+
+  // 3. Events.
+  std::vector<Event> events = find_events(x, e, thr, nullptr);
+  std::sort(events.begin(), events.end(),
+            [](const Event& a, const Event& b) { return a.onset < b.onset; });
+  std::vector<double> onsets(events.size());
+  for (std::size_t k = 0; k < events.size(); ++k) onsets[k] = events[k].onset;
+
+  AttributionResult res;
+  res.events_detected = static_cast<int>(events.size());
+  res.noise_rad = sigma;
+  res.threshold_rad = thr;
+  res.record_input_rev = record_rev;
+
+  const double tau = opt.position_tolerance_rad > 0
+                         ? opt.position_tolerance_rad
+                         : std::max(5.0 * step, diag::units::deg_to_rad(0.5));
+  const double x_end = x[n - 1];
+
+  // Candidate periods: the distinct path-shaft periods, shortest first.
+  std::map<double, std::vector<int>> period_shafts;  // period [rad] -> shafts
+  for (int s : path_shafts) {
+    const double p = kTwoPi * gb.shaft_period_input_rev(s);
+    bool placed = false;
+    for (auto& [q, list] : period_shafts) {
+      if (std::abs(q - p) <= 1e-9 * p) {
+        if (std::find(list.begin(), list.end(), s) == list.end()) list.push_back(s);
+        placed = true;
+      }
+    }
+    if (!placed) period_shafts[p].push_back(s);
+  }
+
+  auto nearest_event = [&](double pos) -> int {
+    auto it = std::lower_bound(onsets.begin(), onsets.end(), pos - tau);
+    int best = -1;
+    double best_d = tau;
+    for (; it != onsets.end() && *it <= pos + tau; ++it) {
+      const double d = std::abs(*it - pos);
+      if (d <= best_d) {
+        best_d = d;
+        best = static_cast<int>(it - onsets.begin());
+      }
+    }
+    return best;
+  };
+
+  // Builds the train of period p anchored at phase phi: every recurrence within the record.
+  auto build_train = [&](double p, double phi) {
+    Train t;
+    t.period_rad = p;
+    for (long k = static_cast<long>(std::floor(-phi / p)); phi + k * p <= x_end; ++k) {
+      const double pos = phi + k * p;
+      if (pos < -tau) continue;
+      const bool interior = pos >= 0 && pos <= x_end - 2 * tau;
+      const int ev = nearest_event(pos);
+      if (interior) ++t.expected;
+      if (ev >= 0) t.hits.emplace_back(static_cast<int>(k), ev);
+    }
+    return t;
+  };
+
+  auto fit_period = [&](Train& t) {
+    double sn = 0, sx = 0, snn = 0, snx = 0;
+    for (auto [k, ev] : t.hits) {
+      sn += k;
+      sx += onsets[ev];
+      snn += double(k) * k;
+      snx += k * onsets[ev];
+    }
+    const double m = static_cast<double>(t.hits.size());
+    const double den = m * snn - sn * sn;
+    t.measured_period_rad = den > 0 ? (m * snx - sn * sx) / den : t.period_rad;
+    t.first_onset = onsets[t.hits.front().second];
+  };
+
+  std::vector<char> assigned(events.size(), 0);
+  struct Accepted {
+    Train train;
+    std::vector<int> shafts;
+  };
+  std::vector<Accepted> accepted;
+
+  for (auto it = period_shafts.begin(); it != period_shafts.end(); ++it) {
+    const double p = it->first;
+    // Cluster the unassigned events by phase modulo p.
+    std::vector<std::pair<double, int>> phases;
+    for (std::size_t k = 0; k < events.size(); ++k) {
+      if (!assigned[k]) phases.emplace_back(std::fmod(onsets[k], p), static_cast<int>(k));
+    }
+    std::sort(phases.begin(), phases.end());
+    std::vector<std::vector<std::pair<double, int>>> clusters;
+    for (const auto& ph : phases) {
+      if (clusters.empty() || ph.first - clusters.back().back().first > tau) clusters.emplace_back();
+      clusters.back().push_back(ph);
+    }
+    if (clusters.size() > 1 && clusters.front().front().first + p - clusters.back().back().first <= tau) {
+      for (auto& ph : clusters.back()) ph.first -= p;  // wrap-around: one cluster
+      clusters.front().insert(clusters.front().begin(), clusters.back().begin(), clusters.back().end());
+      clusters.pop_back();
+    }
+    for (const auto& cl : clusters) {
+      if (assigned[cl.front().second] && cl.size() == 1) continue;
+      std::vector<double> ph;
+      for (const auto& c : cl) ph.push_back(c.first);
+      const double phi = median_of(ph);
+      Train t = build_train(p, phi);
+      const int hits_interior = static_cast<int>(t.hits.size());
+      if (t.expected < 3 || hits_interior < 3 ||
+          hits_interior < opt.min_coverage * t.expected) {
+        continue;
+      }
+      fit_period(t);
+      if (std::abs(t.measured_period_rad - p) > opt.period_tolerance * p) continue;
+
+      // Alternating heights: some recurrences carry a second defect on a slower shaft whose
+      // period is a whole multiple m of this one, passing at the same time (seed 003, Fig. 9).
+      // Explained as this train (sized from its lower recurrences) plus a train of period m p
+      // for each higher group. Two defects on the slower shaft exactly p apart would give the
+      // same events; that reading is named in the note and both confidences are halved.
+      for (auto jt = std::next(it); jt != period_shafts.end(); ++jt) {
+        const double ratio = jt->first / p;
+        const long m = std::lround(ratio);
+        if (m < 2 || std::abs(ratio - m) > 1e-6 * ratio) continue;
+        std::vector<std::vector<int>> groups(m);
+        for (auto [k, ev] : t.hits) groups[((k % m) + m) % m].push_back(ev);
+        std::vector<double> med(m, 0.0);
+        bool all_seen = true;
+        for (long r = 0; r < m; ++r) {
+          std::vector<double> h;
+          for (int ev : groups[r]) h.push_back(events[ev].height);
+          all_seen &= h.size() >= 2;
+          med[r] = median_of(h);
+        }
+        if (!all_seen) continue;
+        const double low = *std::min_element(med.begin(), med.end());
+        const double split = std::max(6.0 * sigma, 0.15 * low);
+        std::vector<Train> slow;
+        for (long r = 0; r < m; ++r) {
+          if (med[r] - low <= split) continue;
+          std::vector<double> anchors;
+          for (int ev : groups[r]) anchors.push_back(std::fmod(onsets[ev], jt->first));
+          Train sub = build_train(jt->first, median_of(anchors));
+          if (sub.hits.size() < 2) continue;
+          fit_period(sub);
+          slow.push_back(sub);
+        }
+        if (slow.empty()) continue;
+        t.size_events.clear();
+        for (long r = 0; r < m; ++r) {
+          if (med[r] - low <= split) t.size_events.insert(t.size_events.end(), groups[r].begin(), groups[r].end());
+        }
+        std::ostringstream alt_text;
+        alt_text << "one recurrence in " << m << " coincides with a defect on shaft '"
+                 << gb.shafts()[jt->second.front()].name << "' (period " << jt->first / kTwoPi
+                 << " input rev); " << m << " defects on that shaft, " << p / kTwoPi
+                 << " input rev apart, would give the same events";
+        const std::string alt = alt_text.str();
+        t.note = alt;
+        t.ambiguous = true;
+        for (auto& sub : slow) {
+          sub.note = alt;
+          sub.ambiguous = true;
+          for (auto [k, ev] : sub.hits) assigned[ev] = 1;
+          accepted.push_back({sub, jt->second});
+        }
+        break;
+      }
+      for (auto [k, ev] : t.hits) assigned[ev] = 1;
+      accepted.push_back({t, it->second});
+    }
+  }
+
+  // 5. Findings.
+  for (const auto& a : accepted) {
+    Finding f;
+    std::vector<std::string> shaft_names;
+    for (int s : a.shafts) {
+      shaft_names.push_back(gb.shafts()[s].name);
+      for (int g : gb.shafts()[s].gears) {
+        if (gb.on_power_path(g)) f.gears.push_back(gb.gears()[g].name);
+      }
+    }
+    f.shaft = shaft_names.front();
+    for (std::size_t k = 1; k < shaft_names.size(); ++k) f.shaft += " or " + shaft_names[k];
+    f.period_input_rev = a.train.period_rad / kTwoPi;
+    f.measured_period_input_rev = a.train.measured_period_rad / kTwoPi;
+    std::vector<double> heights;
+    if (a.train.size_events.empty()) {
+      for (auto [k, ev] : a.train.hits) heights.push_back(events[ev].height);
+    } else {
+      for (int ev : a.train.size_events) heights.push_back(events[ev].height);
+    }
+    f.note = a.train.note;
+    f.size_output_rad = median_of(heights);
+    f.size_gear_rad = f.size_output_rad * std::abs(gb.shafts()[a.shafts.front()].speed_ratio /
+                                                   gb.shafts()[gb.output_shaft()].speed_ratio);
+    f.first_event_input_rad = a.train.first_onset;
+    f.events = static_cast<int>(a.train.hits.size());
+    f.expected_events = std::max(a.train.expected, f.events);
+    std::vector<double> dev;
+    for (double h : heights) dev.push_back(std::abs(h - f.size_output_rad));
+    const double cv = f.size_output_rad > 0 ? 1.4826 * median_of(dev) / f.size_output_rad : 1.0;
+    const double coverage = std::min(1.0, double(f.events) / std::max(1, a.train.expected));
+    const double period_match =
+        std::max(0.0, 1.0 - std::abs(a.train.measured_period_rad - a.train.period_rad) /
+                                (opt.period_tolerance * a.train.period_rad));
+    f.confidence = std::clamp(coverage * period_match / (1.0 + cv), 0.0, 1.0);
+    if (a.train.ambiguous) f.confidence *= 0.5;
+    res.findings.push_back(f);
+  }
+  std::sort(res.findings.begin(), res.findings.end(), [](const Finding& a, const Finding& b) {
+    return a.first_event_input_rad < b.first_event_input_rad;
+  });
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    if (!assigned[k]) res.unexplained.push_back({events[k].onset, events[k].height});
+  }
+  res.multiplicity = !res.unexplained.empty();
+  res.status = res.multiplicity        ? AttributionStatus::kMultiplicity
+               : res.findings.empty()  ? AttributionStatus::kHealthy
+                                       : AttributionStatus::kAttributed;
+  return res;
+}
+
+std::string_view to_string(AttributionStatus s) {
+  switch (s) {
+    case AttributionStatus::kHealthy: return "healthy";
+    case AttributionStatus::kAttributed: return "attributed";
+    case AttributionStatus::kMultiplicity: return "multiplicity";
+  }
+  return "unknown";
+}
+
+nlohmann::json to_json(const AttributionResult& r) {
+  nlohmann::json j;
+  j["status"] = std::string(to_string(r.status));
+  j["findings"] = nlohmann::json::array();
+  for (const auto& f : r.findings) {
+    j["findings"].push_back({{"shaft", f.shaft},
+                             {"gears", f.gears},
+                             {"period_input_rev", f.period_input_rev},
+                             {"measured_period_input_rev", f.measured_period_input_rev},
+                             {"size_output_rad", f.size_output_rad},
+                             {"size_gear_rad", f.size_gear_rad},
+                             {"first_event_input_rad", f.first_event_input_rad},
+                             {"confidence", f.confidence},
+                             {"events", f.events},
+                             {"expected_events", f.expected_events},
+                             {"note", f.note}});
+  }
+  j["multiplicity"] = r.multiplicity;
+  j["unexplained"] = nlohmann::json::array();
+  for (const auto& u : r.unexplained) {
+    j["unexplained"].push_back(
+        {{"input_angle_rad", u.input_angle_rad}, {"size_output_rad", u.size_output_rad}});
+  }
+  j["events_detected"] = r.events_detected;
+  j["noise_rad"] = r.noise_rad;
+  j["threshold_rad"] = r.threshold_rad;
+  j["record_input_rev"] = r.record_input_rev;
+  return j;
+}
+
+std::string format_table(const AttributionResult& r) {
+  using diag::units::rad_to_deg;
+  std::ostringstream o;
+  o << std::fixed;
+  o << "status: " << to_string(r.status) << "  (" << r.events_detected << " events over "
+    << std::setprecision(1) << r.record_input_rev << " input rev; threshold "
+    << std::setprecision(4) << rad_to_deg(r.threshold_rad) << " deg at the output)\n";
+  if (r.findings.empty()) {
+    o << "no defect found\n";
+  } else {
+    o << "  shaft        gears            period [in rev]  size@output [deg]  size@gear [deg]  "
+         "first event [in deg]  seen/expected  confidence\n";
+    for (const auto& f : r.findings) {
+      std::string gears;
+      for (const auto& g : f.gears) gears += (gears.empty() ? "" : ",") + g;
+      o << "  " << std::left << std::setw(13) << f.shaft << std::setw(17) << gears << std::right
+        << std::setprecision(3) << std::setw(15) << f.period_input_rev << std::setprecision(4)
+        << std::setw(19) << rad_to_deg(f.size_output_rad) << std::setw(17)
+        << rad_to_deg(f.size_gear_rad) << std::setprecision(2) << std::setw(22)
+        << rad_to_deg(f.first_event_input_rad) << std::setw(10) << f.events << "/"
+        << std::left << std::setw(5) << f.expected_events << std::right << std::setprecision(2)
+        << std::setw(10) << f.confidence << "\n";
+      if (!f.note.empty()) o << "      note: " << f.note << "\n";
+    }
+  }
+  if (r.multiplicity) {
+    o << "multiplicity: " << r.unexplained.size()
+      << " event(s) match no recurrence period: several defects, not separable:\n";
+    for (const auto& u : r.unexplained) {
+      o << "  at input " << std::setprecision(2) << rad_to_deg(u.input_angle_rad) << " deg, size "
+        << std::setprecision(4) << rad_to_deg(u.size_output_rad) << " deg at the output\n";
+    }
+  }
+  return o.str();
+}
+
+}  // namespace detect

@@ -1,0 +1,80 @@
+// Recordings on disk: HDF5, readable by h5py and MATLAB without this project.
+//
+//   /                      attributes: format ("geardiag-recording"), format_version (1),
+//                          creator ("geardiag <version>"), git_revision, plus Recording::metadata
+//   /signals/<name>        float64 1-D, chunked, deflate-compressed; attributes fs_hz (double),
+//                          unit, direction, location (strings)
+//   /tacho/<shaft>         same layout, direction "tacho"
+//   /gearbox               string dataset: the gearbox description JSON (absent when unknown)
+//   /truth                 string dataset: ground truth JSON (simulated recordings only)
+//
+// Writing goes to "<path>.tmp-<pid>" first and is renamed into place on success, so a failed
+// write never leaves a half-written file under the requested name.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "diag/io/recording.hpp"
+
+namespace diag {
+
+struct Hdf5WriteOptions {
+  std::size_t chunk_samples = 65536;  // chunk length [samples], >= 1 (capped at the length)
+  int deflate_level = 4;              // gzip level, 0 (off) ... 9
+};
+
+void write_recording(const std::filesystem::path& path, const Recording& rec,
+                     const Hdf5WriteOptions& options = {});
+
+// Reads everything into memory. Throws InputError naming the file for a missing, truncated or
+// non-HDF5 file, a file that is not a geardiag recording, or NaN/Inf samples.
+Recording read_recording(const std::filesystem::path& path);
+
+struct ChannelInfo {
+  std::string name;
+  std::string group;  // "signals" or "tacho"
+  double fs_hz = 0.0;
+  std::string unit;
+  Direction direction = Direction::kUnspecified;
+  std::string location;
+  std::uint64_t length = 0;  // samples
+};
+
+// Streaming access: channel metadata without loading samples, and reading by blocks so that
+// detectors can process files larger than memory.
+class RecordingReader {
+ public:
+  explicit RecordingReader(const std::filesystem::path& path);  // throws InputError
+  ~RecordingReader();
+  RecordingReader(const RecordingReader&) = delete;
+  RecordingReader& operator=(const RecordingReader&) = delete;
+
+  const std::vector<ChannelInfo>& channels() const { return channels_; }
+  // `name` is a channel name, looked up in /signals then /tacho, or "signals/NAME" or
+  // "tacho/NAME" to pick the group. Throws InputError when unknown.
+  const ChannelInfo& channel(const std::string& name) const;
+  std::string gearbox_json() const;
+  std::string truth_json() const;
+  std::map<std::string, std::string> metadata() const;
+  // The format's own root attributes as stored (format, format_version, creator, git_revision),
+  // as text; absent ones are left out.
+  std::map<std::string, std::string> format_attributes() const;
+  // Reads samples [offset, offset + out.size()) of a channel into `out`. Throws InputError when
+  // the range is past the end or a sample is NaN/Inf.
+  void read_block(const std::string& name, std::uint64_t offset, std::span<double> out) const;
+
+ private:
+  std::filesystem::path path_;
+  std::int64_t file_ = -1;  // hid_t
+  std::vector<ChannelInfo> channels_;
+};
+
+// True when the file starts with the HDF5 signature.
+bool is_hdf5_file(const std::filesystem::path& path);
+
+}  // namespace diag

@@ -1,0 +1,30 @@
+// Import of measured data into a Recording: CSV (optionally gzip-compressed, ".csv.gz"), WAV and
+// other formats libsndfile reads, MATLAB v5 .mat (matio), and geardiag HDF5 recordings.
+//
+// CSV: a header row of column names, then one row of numbers per sample; every row must have as
+// many fields as the header. A column named time, t, time_s or time_sec (any case) gives the
+// sampling rate (the samples must be uniformly spaced within 0.1 %); otherwise options.fs_hz must
+// be given. When both are given and disagree by more than 0.1 % the import is refused.
+// MAT: every numeric real vector variable with more than one element becomes a channel named
+// after the variable; scalar numeric variables go to the recording's metadata (e.g. X097RPM).
+// The sampling rate is not stored in .mat files: options.fs_hz is required.
+// WAV: one channel per audio channel, named ch0, ch1, ...; fs from the file unless overridden.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+
+#include "diag/io/recording.hpp"
+
+namespace diag {
+
+struct ImportOptions {
+  std::optional<double> fs_hz;  // sampling rate [Hz], > 0; required when the file has none
+};
+
+// Dispatches on the content (HDF5 signature) and the file name ending. Throws InputError naming
+// the file and the reason: empty file, ragged CSV rows, non-numeric fields, NaN/Inf samples,
+// missing or non-positive sampling rate, unreadable format.
+Recording import_recording(const std::filesystem::path& path, const ImportOptions& options = {});
+
+}  // namespace diag

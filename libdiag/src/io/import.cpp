@@ -1,0 +1,523 @@
+#include "diag/io/import.hpp"
+
+#include <matio.h>
+#include <sndfile.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <mutex>
+#include <set>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <vector>
+
+#include "diag/error.hpp"
+#include "diag/io/hdf5.hpp"
+
+namespace diag {
+
+namespace {
+
+// Sampling rates that disagree by more than this fraction are refused (import.hpp); time stamps
+// must be uniformly spaced within the same fraction of the sample period.
+constexpr double kRateRelTol = 1e-3;
+
+std::string lower(std::string_view s) {
+  std::string out(s);
+  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return out;
+}
+
+bool ends_with(std::string_view s, std::string_view suffix) {
+  return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
+}
+
+// Shortest text that reads back to the same double.
+std::string number_text(double value) {
+  char buffer[64];
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
+  return std::string(buffer, result.ptr);
+}
+
+std::string finite_error(double value) {
+  return std::string(std::isnan(value) ? "NaN" : "infinite") + " value; samples must be finite";
+}
+
+void check_option_fs(const std::string& where, const ImportOptions& options) {
+  if (options.fs_hz && (!(*options.fs_hz > 0.0) || !std::isfinite(*options.fs_hz))) {
+    throw InputError(
+        format_error(where, "fs_hz", number_text(*options.fs_hz) + " Hz is not a finite rate > 0"));
+  }
+}
+
+std::string count_text(std::size_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
+bool rates_agree(double a, double b) { return std::abs(a - b) <= kRateRelTol * std::abs(b); }
+
+// ---- CSV -----------------------------------------------------------------------------------
+
+// Reads lines from a plain or gzip-compressed file (zlib reads both).
+class LineReader {
+ public:
+  LineReader(const std::string& path, const std::string& where) : where_(where) {
+    file_ = gzopen(path.c_str(), "rb");
+    if (file_ == nullptr) {
+      throw InputError(
+          format_error(where, "", std::string("cannot open: ") + std::strerror(errno)));
+    }
+    gzbuffer(file_, 1 << 18);
+  }
+  ~LineReader() { gzclose_r(file_); }
+  LineReader(const LineReader&) = delete;
+  LineReader& operator=(const LineReader&) = delete;
+
+  // Next line without its end-of-line characters; false at the end of the file.
+  bool next(std::string& line) {
+    line.clear();
+    char buffer[8192];
+    while (gzgets(file_, buffer, sizeof buffer) != nullptr) {
+      line.append(buffer);
+      if (!line.empty() && line.back() == '\n') break;
+    }
+    if (line.empty()) {
+      int code = Z_OK;
+      const char* message = gzerror(file_, &code);
+      if (code != Z_OK && code != Z_STREAM_END) {
+        throw InputError(
+            format_error(where_, "", std::string("corrupt or truncated gzip data: ") + message));
+      }
+      return false;
+    }
+    ++line_number_;
+    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+    return true;
+  }
+  std::size_t line_number() const { return line_number_; }
+
+ private:
+  std::string where_;
+  gzFile file_ = nullptr;
+  std::size_t line_number_ = 0;
+};
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t')) s.remove_suffix(1);
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') s = s.substr(1, s.size() - 2);
+  return s;
+}
+
+bool blank(std::string_view s) {
+  return std::all_of(s.begin(), s.end(), [](char c) { return c == ' ' || c == '\t'; });
+}
+
+void split(std::string_view line, char delimiter, std::vector<std::string_view>& fields) {
+  fields.clear();
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = line.find(delimiter, start);
+    if (end == std::string_view::npos) {
+      fields.push_back(trim(line.substr(start)));
+      return;
+    }
+    fields.push_back(trim(line.substr(start, end - start)));
+    start = end + 1;
+  }
+}
+
+// Parses a whole field as a number (a leading '+' allowed). NaN and infinities parse.
+bool parse_number(std::string_view field, double& value) {
+  if (!field.empty() && field.front() == '+') field.remove_prefix(1);
+  if (field.empty()) return false;
+  const auto result = std::from_chars(field.data(), field.data() + field.size(), value);
+  return result.ec == std::errc() && result.ptr == field.data() + field.size();
+}
+
+// The rounding step of a printed number: "0.000021" -> 1e-6, "2.0833e-05" -> 1e-9.
+double print_resolution(std::string_view field) {
+  const std::size_t e = field.find_first_of("eE");
+  const std::string_view mantissa = field.substr(0, e);
+  int exponent = 0;
+  if (e != std::string_view::npos) {
+    std::string_view exp_text = field.substr(e + 1);
+    if (!exp_text.empty() && exp_text.front() == '+') exp_text.remove_prefix(1);
+    std::from_chars(exp_text.data(), exp_text.data() + exp_text.size(), exponent);
+  }
+  const std::size_t dot = mantissa.find('.');
+  const int decimals =
+      dot == std::string_view::npos ? 0 : static_cast<int>(mantissa.size() - dot - 1);
+  return std::pow(10.0, exponent - decimals);
+}
+
+bool is_time_column(std::string_view name) {
+  const std::string n = lower(name);
+  return n == "time" || n == "t" || n == "time_s" || n == "time_sec";
+}
+
+Recording import_csv(const std::filesystem::path& path, const std::string& where,
+                     const ImportOptions& options) {
+  LineReader reader(path.string(), where);
+  std::string line;
+  bool have_line = false;
+  while ((have_line = reader.next(line)) && blank(line)) {
+  }
+  if (!have_line) throw InputError(format_error(where, "", "empty file (no header row)"));
+  if (line.size() >= 3 && line.compare(0, 3, "\xEF\xBB\xBF") == 0) line.erase(0, 3);  // UTF-8 BOM
+
+  const char delimiter = line.find(',') != std::string::npos    ? ','
+                         : line.find('\t') != std::string::npos ? '\t'
+                         : line.find(';') != std::string::npos  ? ';'
+                                                                : ',';
+  std::vector<std::string_view> fields;
+  split(line, delimiter, fields);
+  const std::size_t n_columns = fields.size();
+
+  // A first row made only of numbers is data: the columns are then named ch0, ch1, ...
+  bool has_header = false;
+  for (const auto& f : fields) {
+    double ignored = 0;
+    if (!parse_number(f, ignored)) has_header = true;
+  }
+  std::vector<std::string> names(n_columns);
+  int time_column = -1;
+  std::set<std::string> seen;
+  for (std::size_t c = 0; c < n_columns; ++c) {
+    names[c] = has_header && !fields[c].empty() ? std::string(fields[c]) : "ch" + std::to_string(c);
+    std::replace(names[c].begin(), names[c].end(), '/', '_');  // '/' separates HDF5 paths
+    if (!seen.insert(names[c]).second) {
+      throw InputError(format_error(where, "line " + std::to_string(reader.line_number()),
+                                    "column name '" + names[c] + "' appears twice"));
+    }
+    if (has_header && time_column < 0 && is_time_column(names[c]))
+      time_column = static_cast<int>(c);
+  }
+
+  check_option_fs(where, options);
+  if (time_column < 0 && !options.fs_hz) {  // refuse before reading a long file
+    throw InputError(format_error(where, "fs_hz",
+                                  "no time column (time, t, time_s or time_sec) and no sampling "
+                                  "rate given (--fs)"));
+  }
+
+  std::vector<std::vector<double>> columns(n_columns);
+  // The finest printed step among the time stamps [s]: 1e-6 for "%.6f" logs, ~1e-17 for
+  // shortest round-trip text.
+  double time_resolution = std::numeric_limits<double>::infinity();
+  auto parse_row = [&](std::size_t line_number) {
+    if (fields.size() != n_columns) {
+      throw InputError(format_error(where, "line " + std::to_string(line_number),
+                                    "has " + count_text(fields.size(), "field") +
+                                        ", the header has " + count_text(n_columns, "column") +
+                                        " (ragged rows)"));
+    }
+    for (std::size_t c = 0; c < n_columns; ++c) {
+      double value = 0;
+      const std::string field_name = "line " + std::to_string(line_number) + ", column " +
+                                     std::to_string(c + 1) + " ('" + names[c] + "')";
+      if (!parse_number(fields[c], value)) {
+        throw InputError(format_error(where, field_name,
+                                      fields[c].empty()
+                                          ? std::string("empty field")
+                                          : "'" + std::string(fields[c]) + "' is not a number"));
+      }
+      if (!std::isfinite(value))
+        throw InputError(format_error(where, field_name, finite_error(value)));
+      if (static_cast<int>(c) == time_column) {
+        time_resolution = std::min(time_resolution, print_resolution(fields[c]));
+      }
+      columns[c].push_back(value);
+    }
+  };
+  if (!has_header) parse_row(reader.line_number());
+  while (reader.next(line)) {
+    if (blank(line)) continue;
+    split(line, delimiter, fields);
+    parse_row(reader.line_number());
+  }
+  const std::size_t n_rows = columns.empty() ? 0 : columns[0].size();
+  if (n_rows == 0) throw InputError(format_error(where, "", "no data rows after the header"));
+
+  double fs_hz = options.fs_hz.value_or(0.0);
+  if (time_column >= 0) {
+    const std::vector<double>& t = columns[time_column];
+    const std::string field = "column '" + names[time_column] + "'";
+    if (n_rows < 2) {
+      throw InputError(format_error(where, field, "one time stamp cannot give a sampling rate"));
+    }
+    const double dt = (t.back() - t.front()) / static_cast<double>(n_rows - 1);
+    if (!(dt > 0)) {
+      throw InputError(format_error(where, field, "time stamps must increase"));
+    }
+    // Allowed step error: 0.1 % of the period, plus the rounding of fixed-point time stamps
+    // (two half units of the last digit; only when that is below a tenth of the period, since
+    // coarser stamps cannot show uniformity), plus the round-off of subtracting large times.
+    const double rounding = time_resolution <= 0.1 * dt ? 1.5 * time_resolution : 0.0;
+    const double scale = std::max(std::abs(t.front()), std::abs(t.back()));
+    const double tolerance = kRateRelTol * dt + rounding + 8e-16 * scale;
+    for (std::size_t i = 1; i < n_rows; ++i) {
+      const double step = t[i] - t[i - 1];
+      if (std::abs(step - dt) > tolerance) {
+        throw InputError(format_error(where, field,
+                                      "time stamps are not uniformly spaced within 0.1 %: step " +
+                                          number_text(step) + " s between rows " +
+                                          std::to_string(i) + " and " + std::to_string(i + 1) +
+                                          " of the data, mean step " + number_text(dt) + " s"));
+      }
+    }
+    const double fs_time_hz = 1.0 / dt;
+    if (options.fs_hz && !rates_agree(*options.fs_hz, fs_time_hz)) {
+      throw InputError(format_error(where, "fs_hz",
+                                    "the given " + number_text(*options.fs_hz) +
+                                        " Hz disagrees with the time column's " +
+                                        number_text(fs_time_hz) + " Hz by more than 0.1 %"));
+    }
+    if (!options.fs_hz) fs_hz = fs_time_hz;
+  }
+
+  Recording rec;
+  for (std::size_t c = 0; c < n_columns; ++c) {
+    if (static_cast<int>(c) == time_column) continue;
+    Signal s;
+    s.name = names[c];
+    s.fs_hz = fs_hz;
+    s.samples = std::move(columns[c]);
+    rec.signals.push_back(std::move(s));
+  }
+  if (rec.signals.empty()) {
+    throw InputError(format_error(where, "", "no data columns besides the time column"));
+  }
+  return rec;
+}
+
+// ---- libsndfile ----------------------------------------------------------------------------
+
+Recording import_sound(const std::filesystem::path& path, const std::string& where,
+                       const ImportOptions& options) {
+  SF_INFO info{};
+  SNDFILE* file = sf_open(path.string().c_str(), SFM_READ, &info);
+  if (file == nullptr) {
+    throw InputError(format_error(where, "",
+                                  std::string("unrecognised format (expected .csv, .csv.gz, .mat, "
+                                              ".h5 or a sound file libsndfile reads): ") +
+                                      sf_strerror(nullptr)));
+  }
+  const auto frames = static_cast<std::size_t>(std::max<sf_count_t>(info.frames, 0));
+  const auto channels = static_cast<std::size_t>(info.channels);
+  std::vector<double> interleaved(frames * channels);
+  const sf_count_t read = sf_readf_double(file, interleaved.data(), info.frames);
+  sf_close(file);
+  if (read != info.frames) {
+    throw InputError(format_error(where, "",
+                                  "truncated: read " + std::to_string(read) + " of " +
+                                      std::to_string(info.frames) + " frames"));
+  }
+  if (frames == 0) throw InputError(format_error(where, "", "empty file (no samples)"));
+  check_option_fs(where, options);
+
+  Recording rec;
+  for (std::size_t c = 0; c < channels; ++c) {
+    Signal s;
+    s.name = "ch" + std::to_string(c);
+    s.fs_hz = options.fs_hz.value_or(static_cast<double>(info.samplerate));
+    s.samples.resize(frames);
+    for (std::size_t i = 0; i < frames; ++i) {
+      const double value = interleaved[i * channels + c];
+      if (!std::isfinite(value)) {
+        throw InputError(format_error(where, "channel " + s.name + ", sample " + std::to_string(i),
+                                      finite_error(value)));
+      }
+      s.samples[i] = value;
+    }
+    rec.signals.push_back(std::move(s));
+  }
+  rec.metadata["source_fs_hz"] = std::to_string(info.samplerate);
+  return rec;
+}
+
+// ---- MATLAB .mat (matio) -------------------------------------------------------------------
+
+void silence_matio() {
+  static std::once_flag once;
+  std::call_once(once, [] { Mat_LogInitFunc("geardiag", [](int, char*) {}); });
+}
+
+template <typename T>
+void append_as_double(const void* data, std::size_t n, std::vector<double>& out) {
+  const T* values = static_cast<const T*>(data);
+  out.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) out.push_back(static_cast<double>(values[i]));
+}
+
+// Converts a real numeric matio variable to doubles; false for other classes.
+bool numeric_values(const matvar_t* var, std::vector<double>& out) {
+  if (var->isComplex || var->isLogical || var->data == nullptr) return false;
+  if (var->data_size != static_cast<int>(Mat_SizeOfClass(var->class_type))) return false;
+  std::size_t n = 1;
+  for (int d = 0; d < var->rank; ++d) n *= var->dims[d];
+  switch (var->class_type) {
+    case MAT_C_DOUBLE:
+      append_as_double<double>(var->data, n, out);
+      return true;
+    case MAT_C_SINGLE:
+      append_as_double<float>(var->data, n, out);
+      return true;
+    case MAT_C_INT8:
+      append_as_double<std::int8_t>(var->data, n, out);
+      return true;
+    case MAT_C_UINT8:
+      append_as_double<std::uint8_t>(var->data, n, out);
+      return true;
+    case MAT_C_INT16:
+      append_as_double<std::int16_t>(var->data, n, out);
+      return true;
+    case MAT_C_UINT16:
+      append_as_double<std::uint16_t>(var->data, n, out);
+      return true;
+    case MAT_C_INT32:
+      append_as_double<std::int32_t>(var->data, n, out);
+      return true;
+    case MAT_C_UINT32:
+      append_as_double<std::uint32_t>(var->data, n, out);
+      return true;
+    case MAT_C_INT64:
+      append_as_double<std::int64_t>(var->data, n, out);
+      return true;
+    case MAT_C_UINT64:
+      append_as_double<std::uint64_t>(var->data, n, out);
+      return true;
+    default:
+      return false;
+  }
+}
+
+// Integer classes print exactly; floating ones with the shortest round-trip text.
+std::string scalar_text(const matvar_t* var, double value) {
+  const bool integer_class = var->class_type != MAT_C_DOUBLE && var->class_type != MAT_C_SINGLE;
+  if (integer_class) {
+    switch (var->class_type) {
+      case MAT_C_INT64:
+        return std::to_string(*static_cast<const std::int64_t*>(var->data));
+      case MAT_C_UINT64:
+        return std::to_string(*static_cast<const std::uint64_t*>(var->data));
+      default:
+        return std::to_string(static_cast<long long>(value));
+    }
+  }
+  return number_text(value);
+}
+
+Recording import_mat(const std::filesystem::path& path, const std::string& where,
+                     const ImportOptions& options) {
+  silence_matio();
+  mat_t* mat = Mat_Open(path.string().c_str(), MAT_ACC_RDONLY);
+  if (mat == nullptr) {
+    throw InputError(format_error(where, "", "not a MATLAB .mat file matio can read"));
+  }
+  Recording rec;
+  try {
+    while (matvar_t* var = Mat_VarReadNext(mat)) {
+      struct Free {
+        matvar_t* v;
+        ~Free() { Mat_VarFree(v); }
+      } free_var{var};
+      if (var->name == nullptr || var->rank != 2) continue;
+      const std::size_t rows = var->dims[0], cols = var->dims[1];
+      if (rows != 1 && cols != 1) continue;  // matrices and empty arrays are not channels
+      std::vector<double> values;
+      if (!numeric_values(var, values) || values.empty()) continue;
+      if (values.size() == 1) {
+        rec.metadata[var->name] = scalar_text(var, values[0]);
+        continue;
+      }
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        if (!std::isfinite(values[i])) {
+          throw InputError(format_error(
+              where, std::string("variable ") + var->name + ", sample " + std::to_string(i),
+              finite_error(values[i])));
+        }
+      }
+      Signal s;
+      s.name = var->name;
+      s.samples = std::move(values);
+      rec.signals.push_back(std::move(s));
+    }
+  } catch (...) {
+    Mat_Close(mat);
+    throw;
+  }
+  Mat_Close(mat);
+  if (rec.signals.empty()) {
+    throw InputError(format_error(where, "", "no numeric vector variables (channels) found"));
+  }
+  check_option_fs(where, options);
+  if (!options.fs_hz) {
+    throw InputError(
+        format_error(where, "fs_hz", ".mat files do not store the sampling rate: give it (--fs)"));
+  }
+  for (Signal& s : rec.signals) s.fs_hz = *options.fs_hz;
+  return rec;
+}
+
+// ---- geardiag HDF5 -------------------------------------------------------------------------
+
+Recording import_hdf5(const std::filesystem::path& path, const std::string& where,
+                      const ImportOptions& options) {
+  Recording rec = read_recording(path);
+  check_option_fs(where, options);
+  if (options.fs_hz) {
+    for (const auto* group : {&rec.signals, &rec.tachos}) {
+      for (const Signal& s : *group) {
+        if (!rates_agree(*options.fs_hz, s.fs_hz)) {
+          throw InputError(format_error(where, "fs_hz",
+                                        "the given " + number_text(*options.fs_hz) +
+                                            " Hz disagrees with channel " + s.name + "'s " +
+                                            number_text(s.fs_hz) + " Hz by more than 0.1 %"));
+        }
+      }
+    }
+  }
+  return rec;
+}
+
+}  // namespace
+
+Recording import_recording(const std::filesystem::path& path, const ImportOptions& options) {
+  const std::string where = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw InputError(format_error(where, "", "no such file"));
+  if (std::filesystem::is_directory(path, ec)) {
+    throw InputError(format_error(where, "", "is a directory, not a file"));
+  }
+  if (std::filesystem::file_size(path, ec) == 0 && !ec) {
+    throw InputError(format_error(where, "", "empty file"));
+  }
+  const std::string name = lower(path.filename().string());
+
+  Recording rec;
+  if (ends_with(name, ".mat")) {
+    rec = import_mat(path, where, options);
+  } else if (is_hdf5_file(path)) {
+    rec = import_hdf5(path, where, options);
+  } else if (ends_with(name, ".csv") || ends_with(name, ".csv.gz") || ends_with(name, ".tsv") ||
+             ends_with(name, ".tsv.gz") || ends_with(name, ".txt") || ends_with(name, ".txt.gz")) {
+    rec = import_csv(path, where, options);
+  } else if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) {
+    throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
+  } else {
+    rec = import_sound(path, where, options);
+  }
+  rec.metadata.try_emplace("source", path.filename().string());
+  return rec;
+}
+
+}  // namespace diag

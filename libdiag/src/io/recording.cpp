@@ -1,0 +1,94 @@
+#include "diag/io/recording.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "diag/error.hpp"
+
+namespace diag {
+
+namespace {
+
+struct DirectionName {
+  Direction direction;
+  std::string_view name;
+};
+
+constexpr DirectionName kDirectionNames[] = {
+    {Direction::kUnspecified, ""},         {Direction::kAlongLoa, "along_loa"},
+    {Direction::kNormalLoa, "normal_loa"}, {Direction::kHorizontal, "horizontal"},
+    {Direction::kVertical, "vertical"},    {Direction::kAngle, "angle"},
+    {Direction::kTacho, "tacho"},
+};
+
+std::string channel_list(const Recording& rec) {
+  std::string out;
+  for (const auto* group : {&rec.signals, &rec.tachos}) {
+    for (const Signal& s : *group) {
+      if (!out.empty()) out += ", ";
+      out += s.name;
+    }
+  }
+  return out.empty() ? std::string("none") : out;
+}
+
+}  // namespace
+
+std::string_view to_string(Direction d) {
+  for (const auto& entry : kDirectionNames) {
+    if (entry.direction == d) return entry.name;
+  }
+  return "";
+}
+
+Direction direction_from_string(std::string_view name) {
+  for (const auto& entry : kDirectionNames) {
+    if (entry.name == name) return entry.direction;
+  }
+  throw InputError(format_error("direction", std::string(name),
+                                "unknown direction; expected one of \"\", along_loa, normal_loa, "
+                                "horizontal, vertical, angle, tacho"));
+}
+
+const Signal* Recording::find(std::string_view name) const {
+  for (const auto* group : {&signals, &tachos}) {
+    for (const Signal& s : *group) {
+      if (s.name == name) return &s;
+    }
+  }
+  return nullptr;
+}
+
+const Signal& Recording::require(std::string_view name, const std::string& where) const {
+  if (const Signal* s = find(name)) return *s;
+  throw InputError(format_error(where, "channel '" + std::string(name) + "'",
+                                "no such channel; the recording has: " + channel_list(*this)));
+}
+
+void validate(const Signal& s, const std::string& where) {
+  if (s.name.empty()) {
+    throw InputError(format_error(where, "channel name", "must not be empty"));
+  }
+  const std::string field = "channel '" + s.name + "'";
+  if (s.name.find('/') != std::string::npos || s.name == "." || s.name == "..") {
+    throw InputError(format_error(where, field, "name must not contain '/' nor be '.' or '..'"));
+  }
+  if (!(s.fs_hz > 0.0) || !std::isfinite(s.fs_hz)) {
+    throw InputError(format_error(
+        where, field + ": fs_hz",
+        "sampling rate " + std::to_string(s.fs_hz) + " Hz is not valid; must be finite and > 0"));
+  }
+  if (s.samples.empty()) {
+    throw InputError(format_error(where, field, "has no samples"));
+  }
+  for (std::size_t i = 0; i < s.samples.size(); ++i) {
+    if (!std::isfinite(s.samples[i])) {
+      throw InputError(format_error(where, field,
+                                    "sample " + std::to_string(i) + " is " +
+                                        (std::isnan(s.samples[i]) ? "NaN" : "infinite") +
+                                        "; samples must be finite"));
+    }
+  }
+}
+
+}  // namespace diag

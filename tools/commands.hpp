@@ -1,0 +1,16 @@
+// The geardiag subcommands, one file each. Every command receives its own arguments (argv[0] is
+// the subcommand name) and returns the process exit code:
+//   0 ok; 1 the analysis found a problem it could not resolve (see each command);
+//   2 bad usage or bad input (a message names the file, field and reason); 3 internal error.
+#pragma once
+
+namespace geardiag {
+
+int cmd_demo(int argc, char** argv);
+int cmd_import(int argc, char** argv);
+int cmd_info(int argc, char** argv);
+int cmd_simulate(int argc, char** argv);
+int cmd_attribute(int argc, char** argv);
+int cmd_validate(int argc, char** argv);
+
+}  // namespace geardiag
