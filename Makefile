@@ -24,7 +24,7 @@ test: build
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build of the whole suite, warnings as errors.
 sanitize: deps
-	cmake -S . -B $(BUILD_DIR)-asan -DCMAKE_BUILD_TYPE=Debug -DGEARDIAG_SANITIZE=ON -DGEARDIAG_WERROR=ON
+	cmake -S . -B $(BUILD_DIR)-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEARDIAG_SANITIZE=ON -DGEARDIAG_WERROR=ON
 	cmake --build $(BUILD_DIR)-asan -j $(JOBS)
 	cd $(BUILD_DIR)-asan && ctest --output-on-failure -j $(JOBS)
 

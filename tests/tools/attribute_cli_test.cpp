@@ -1,0 +1,140 @@
+// geardiag simulate / attribute / validate / demo, end to end through the binary.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+  int code;
+  std::string out;
+};
+
+Run run(const std::string& args) {
+  const std::string cmd = std::string(GEARDIAG_BINARY) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path scratch(const std::string& name) {
+  const char* base = std::getenv("GEARDIAG_TMP");
+  fs::path dir = fs::path(base ? base : fs::temp_directory_path().string()) /
+                 ("attribute_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+fs::path seed_gearbox_with_defects() {
+  const fs::path p = scratch("gb_defects.json");
+  std::ofstream(p) << R"({"name": "three-shaft",
+   "shafts": [{"name": "input"}, {"name": "counter"}, {"name": "output"}],
+   "gears": [{"name": "z1", "shaft": "input",   "teeth": 18, "module_mm": 3.0},
+             {"name": "z2", "shaft": "counter", "teeth": 36, "module_mm": 3.0},
+             {"name": "z3", "shaft": "counter", "teeth": 18, "module_mm": 3.0},
+             {"name": "z4", "shaft": "output",  "teeth": 36, "module_mm": 3.0}],
+   "meshes": [{"driver": "z1", "driven": "z2"}, {"driver": "z3", "driven": "z4"}],
+   "input": {"shaft": "input", "speed_rpm": 30.0, "torque_nm": 50.0},
+   "defects": [{"gear": "z2", "size_deg": 1.0, "phase_deg": 10.0}]})";
+  return p;
+}
+
+TEST(AttributeCli, SimulatedCsvIsAttributedToTheCountershaftWithJsonKeys) {
+  const fs::path csv = scratch("angles.csv"), js = scratch("findings.json");
+  const fs::path gb = seed_gearbox_with_defects();
+  auto s = run("simulate --gearbox " + gb.string() + " --step-deg 0.05 --runout-deg 0.05 " +
+               "--noise-deg 0.002 --encoder-counts 65536 -o " + csv.string());
+  ASSERT_EQ(s.code, 0) << s.out;
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header, "input_angle_rad,output_angle_rad");
+  auto a = run("attribute " + csv.string() + " --gearbox " +
+               (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
+               " --json " + js.string());
+  ASSERT_EQ(a.code, 0) << a.out;
+  EXPECT_NE(a.out.find("counter"), std::string::npos);
+  const auto j = nlohmann::json::parse(std::ifstream(js));
+  ASSERT_EQ(j["findings"].size(), 1u);
+  const auto& f = j["findings"][0];
+  for (const char* key : {"shaft", "gears", "period_input_rev", "size_output_rad", "size_gear_rad",
+                          "first_event_input_rad", "confidence"}) {
+    EXPECT_TRUE(f.contains(key)) << key;
+  }
+  EXPECT_EQ(f["shaft"], "counter");
+  EXPECT_EQ(f["gears"], nlohmann::json({"z2", "z3"}));
+  EXPECT_NEAR(f["size_gear_rad"].get<double>(), 1.0 * M_PI / 180, 0.05 * M_PI / 180);
+  EXPECT_FALSE(j["multiplicity"].get<bool>());
+  EXPECT_TRUE(j["unexplained"].is_array());
+}
+
+TEST(AttributeCli, HdfRecordingCarriesItsGearboxAndTruth) {
+  const fs::path h5 = scratch("kin.h5");
+  auto s = run("simulate --gearbox " + seed_gearbox_with_defects().string() + " -o " + h5.string());
+  ASSERT_EQ(s.code, 0) << s.out;
+  auto a = run("attribute " + h5.string());  // gearbox from /gearbox
+  ASSERT_EQ(a.code, 0) << a.out;
+  EXPECT_NE(a.out.find("truth (simulated recording)"), std::string::npos);
+  EXPECT_NE(a.out.find("z2 on counter"), std::string::npos);
+}
+
+TEST(AttributeCli, BadInputExitsTwoWithTheReason) {
+  const fs::path gb = fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json";
+  const fs::path shortcsv = scratch("short.csv");
+  {
+    std::ofstream o(shortcsv);
+    o << "input_angle_rad,output_angle_rad\n";
+    for (int i = 0; i < 100; ++i) o << i * 0.01 << "," << i * 0.0025 << "\n";
+  }
+  auto a = run("attribute " + shortcsv.string() + " --gearbox " + gb.string());
+  EXPECT_EQ(a.code, 2);
+  EXPECT_NE(a.out.find("at least 20 are needed"), std::string::npos) << a.out;
+
+  const fs::path unknown = scratch("unknown_gear.json");
+  std::ofstream(unknown) << R"({"shafts": [{"name": "a"}, {"name": "b"}],
+    "gears": [{"name": "p", "shaft": "a", "teeth": 20, "module_mm": 2},
+              {"name": "w", "shaft": "b", "teeth": 40, "module_mm": 2}],
+    "meshes": [{"driver": "p", "driven": "w"}],
+    "input": {"shaft": "a", "speed_rpm": 60},
+    "defects": [{"gear": "q", "size_deg": 1}]})";
+  auto s = run("simulate --gearbox " + unknown.string() + " -o " + scratch("x.h5").string());
+  EXPECT_EQ(s.code, 2);
+  EXPECT_NE(s.out.find("defects[0].gear: unknown gear 'q'"), std::string::npos) << s.out;
+  EXPECT_FALSE(fs::exists(scratch("x.h5")));
+
+  auto m = run("attribute " + scratch("missing.csv").string() + " --gearbox " + gb.string());
+  EXPECT_EQ(m.code, 2);
+}
+
+TEST(AttributeCli, ValidatePrintsTheConfusionTableAndTheSmallestReliableSize) {
+  auto v = run("validate --attribution --gearbox " +
+               (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
+               " --cases 12 --ladder-cases 4");
+  EXPECT_EQ(v.code, 0) << v.out;
+  EXPECT_NE(v.out.find("truth \\ found"), std::string::npos) << v.out;
+  EXPECT_NE(v.out.find("smallest defect reliably attributed"), std::string::npos) << v.out;
+}
+
+TEST(AttributeCli, DemoAttributesTheSeedExample) {
+  auto d = run("demo");
+  ASSERT_EQ(d.code, 0) << d.out;
+  EXPECT_NE(d.out.find("status: attributed"), std::string::npos);
+  EXPECT_NE(d.out.find("counter      z2,z3"), std::string::npos) << d.out;
+  EXPECT_NE(d.out.find("output       z4"), std::string::npos) << d.out;
+}
+
+}  // namespace
