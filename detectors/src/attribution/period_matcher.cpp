@@ -250,31 +250,55 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     c.table.assign(c.bins, 0.0);
     comps.push_back(std::move(c));
   }
-  std::vector<char> mask(n, 0);
+  // The smooth part has low orders only, so it is fitted on an evenly strided subsample of at
+  // most ~5e5 points (hundreds per bin); the residual and the events use every sample.
+  const std::size_t stride = std::max<std::size_t>(1, n / 250'000);
+  std::vector<double> xs, rs, es;
+  for (std::size_t i = 0; i < n; i += stride) {
+    xs.push_back(x[i]);
+    rs.push_back(e[i]);
+  }
+  std::vector<char> mask_s(xs.size(), 0), mask(n, 0);
   std::vector<double> sum, count;
-  double sigma = 0, thr = 0;
-  constexpr int kOuter = 3;     // fit, find events, refit without them
-  constexpr int kBackfit = 2;   // sweeps over the shafts per fit
-  for (int outer = 0; outer < kOuter; ++outer) {
+  auto fit_smooth = [&] {
+    es = rs;
+    for (auto& c : comps) c.table.assign(c.bins, 0.0);
+    constexpr int kBackfit = 3;  // sweeps over the shafts
     for (int sweep = 0; sweep < kBackfit; ++sweep) {
       for (auto& c : comps) {
         sum.assign(c.bins, 0.0);
         count.assign(c.bins, 0.0);
-        for (std::size_t i = 0; i < n; ++i) {
-          e[i] += c.eval(x[i]);
-          if (mask[i]) continue;
-          const int j = static_cast<int>(c.phase_pos(x[i]) + 0.5) & (c.bins - 1);
-          sum[j] += e[i];
+        for (std::size_t i = 0; i < xs.size(); ++i) {
+          es[i] += c.eval(xs[i]);
+          if (mask_s[i]) continue;
+          const int j = static_cast<int>(c.phase_pos(xs[i]) + 0.5) & (c.bins - 1);
+          sum[j] += es[i];
           count[j] += 1.0;
         }
         c.fit(sum, count);
-        for (std::size_t i = 0; i < n; ++i) e[i] -= c.eval(x[i]);
+        for (std::size_t i = 0; i < xs.size(); ++i) es[i] -= c.eval(xs[i]);
       }
     }
-    sigma = robust_sigma(e);
-    thr = std::max(opt.threshold_sigma * sigma, opt.min_event_rad);
-    if (outer + 1 < kOuter) find_events(x, e, thr, &mask);
-  }
+  };
+  auto full_residual = [&] {
+    for (std::size_t i = 0; i < n; ++i) {
+      double v = x[i] / u - sign * (out[i] - out[0]);
+      for (const auto& c : comps) v -= c.eval(x[i]);
+      e[i] = v;
+    }
+  };
+  double sigma = 0, thr = 0;
+  // Fit, find the events, refit with them masked out, and find them again.
+  fit_smooth();
+  full_residual();
+  sigma = robust_sigma(e);
+  thr = std::max(opt.threshold_sigma * sigma, opt.min_event_rad);
+  find_events(x, e, thr, &mask);
+  for (std::size_t i = 0, k = 0; i < n; i += stride, ++k) mask_s[k] = mask[i];
+  fit_smooth();
+  full_residual();
+  sigma = robust_sigma(e);
+  thr = std::max(opt.threshold_sigma * sigma, opt.min_event_rad);
 
   // 3. Events.
   std::vector<Event> events = find_events(x, e, thr, nullptr);
