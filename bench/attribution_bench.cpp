@@ -2,6 +2,9 @@
 // runout, mesh TE, noise and 16-bit encoders) through detect::attribute_defects on one core.
 #include <benchmark/benchmark.h>
 
+#include <fstream>
+#include <map>
+
 #include <nlohmann/json.hpp>
 
 #include "detect/attribution/period_matcher.hpp"
@@ -12,16 +15,14 @@
 namespace {
 
 const diag::Gearbox& gearbox() {
-  static const diag::Gearbox gb = diag::parse_gearbox_text(R"({
-    "shafts": [{"name": "input"}, {"name": "counter"}, {"name": "output"}],
-    "gears": [{"name": "z1", "shaft": "input",   "teeth": 18, "module_mm": 3.0},
-              {"name": "z2", "shaft": "counter", "teeth": 36, "module_mm": 3.0},
-              {"name": "z3", "shaft": "counter", "teeth": 18, "module_mm": 3.0},
-              {"name": "z4", "shaft": "output",  "teeth": 36, "module_mm": 3.0}],
-    "meshes": [{"driver": "z1", "driven": "z2"}, {"driver": "z3", "driven": "z4"}],
-    "input": {"shaft": "input", "speed_rpm": 30.0},
-    "defects": [{"gear": "z2", "size_deg": 0.4, "phase_deg": 10.0},
-                {"gear": "z4", "size_deg": 0.3, "phase_deg": 95.0}]})", "bench");
+  // The seed-003 gearbox of testdata/, with two defects added.
+  static const diag::Gearbox gb = [] {
+    std::ifstream in(GEARDIAG_TESTDATA_DIR "/gearbox/three_shaft.json");
+    nlohmann::json j = nlohmann::json::parse(in);
+    j["defects"] = nlohmann::json::parse(R"([{"gear": "z2", "size_deg": 0.4, "phase_deg": 10.0},
+                                             {"gear": "z4", "size_deg": 0.3, "phase_deg": 95.0}])");
+    return diag::parse_gearbox(j, "bench");
+  }();
   return gb;
 }
 

@@ -224,10 +224,8 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
   // 1. The lag of the output behind its theoretical angle.
   const double sign = span_out < 0 ? -1.0 : 1.0;
   std::vector<double> x(n), e(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    x[i] = in[i] - in[0];
-    e[i] = x[i] / u - sign * (out[i] - out[0]);
-  }
+  for (std::size_t i = 0; i < n; ++i) x[i] = in[i] - in[0];
+  auto lag = [&](std::size_t i) { return x[i] / u - sign * (out[i] - out[0]); };
   const double step = span_in / static_cast<double>(n - 1);
 
   // 2. Smooth periodic part, by backfitting over the path shafts.
@@ -256,7 +254,7 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
   std::vector<double> xs, rs, es;
   for (std::size_t i = 0; i < n; i += stride) {
     xs.push_back(x[i]);
-    rs.push_back(e[i]);
+    rs.push_back(lag(i));
   }
   std::vector<char> mask_s(xs.size(), 0), mask(n, 0);
   std::vector<double> sum, count;
@@ -282,7 +280,7 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
   };
   auto full_residual = [&] {
     for (std::size_t i = 0; i < n; ++i) {
-      double v = x[i] / u - sign * (out[i] - out[0]);
+      double v = lag(i);
       for (const auto& c : comps) v -= c.eval(x[i]);
       e[i] = v;
     }
