@@ -1,0 +1,98 @@
+#include "detect/spectral/fft.hpp"
+
+#include <fftw3.h>
+
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <utility>
+
+namespace detect {
+namespace {
+
+struct Plans {
+  fftw_plan forward = nullptr;
+  fftw_plan inverse = nullptr;
+};
+
+std::mutex& planner_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+// Plans live for the process (a few hundred bytes each); they are made on fftw_malloc'ed arrays
+// and executed with the new-array interface on equally aligned scratch buffers.
+Plans plans_for(std::size_t n) {
+  static std::map<std::size_t, Plans> cache;
+  std::lock_guard<std::mutex> lock(planner_mutex());
+  auto it = cache.find(n);
+  if (it != cache.end()) return it->second;
+  double* r = fftw_alloc_real(n);
+  fftw_complex* c = fftw_alloc_complex(n / 2 + 1);
+  Plans p;
+  p.forward = fftw_plan_dft_r2c_1d(static_cast<int>(n), r, c, FFTW_ESTIMATE);
+  p.inverse = fftw_plan_dft_c2r_1d(static_cast<int>(n), c, r, FFTW_ESTIMATE);
+  fftw_free(r);
+  fftw_free(c);
+  if (!p.forward || !p.inverse) throw std::runtime_error("FFTW could not make a plan");
+  cache.emplace(n, p);
+  return p;
+}
+
+}  // namespace
+
+RealFft::RealFft(std::size_t n) : n_(n) {
+  if (n == 0) throw std::invalid_argument("RealFft: length must be >= 1");
+  Plans p = plans_for(n);
+  forward_plan_ = p.forward;
+  inverse_plan_ = p.inverse;
+  real_ = fftw_alloc_real(n);
+  spectrum_ = fftw_alloc_complex(n / 2 + 1);
+}
+
+RealFft::~RealFft() {
+  fftw_free(real_);
+  fftw_free(spectrum_);
+}
+
+RealFft::RealFft(RealFft&& o) noexcept
+    : n_(std::exchange(o.n_, 0)),
+      forward_plan_(std::exchange(o.forward_plan_, nullptr)),
+      inverse_plan_(std::exchange(o.inverse_plan_, nullptr)),
+      real_(std::exchange(o.real_, nullptr)),
+      spectrum_(std::exchange(o.spectrum_, nullptr)) {}
+
+RealFft& RealFft::operator=(RealFft&& o) noexcept {
+  if (this != &o) {
+    fftw_free(real_);
+    fftw_free(spectrum_);
+    n_ = std::exchange(o.n_, 0);
+    forward_plan_ = std::exchange(o.forward_plan_, nullptr);
+    inverse_plan_ = std::exchange(o.inverse_plan_, nullptr);
+    real_ = std::exchange(o.real_, nullptr);
+    spectrum_ = std::exchange(o.spectrum_, nullptr);
+  }
+  return *this;
+}
+
+void RealFft::forward(std::span<const double> in, std::span<std::complex<double>> out) {
+  if (in.size() != n_ || out.size() != bins())
+    throw std::invalid_argument("RealFft::forward: wrong buffer sizes");
+  std::memcpy(real_, in.data(), n_ * sizeof(double));
+  auto* c = static_cast<fftw_complex*>(spectrum_);
+  fftw_execute_dft_r2c(static_cast<fftw_plan>(forward_plan_), real_, c);
+  std::memcpy(static_cast<void*>(out.data()), c, bins() * sizeof(fftw_complex));
+}
+
+void RealFft::inverse(std::span<const std::complex<double>> in, std::span<double> out) {
+  if (in.size() != bins() || out.size() != n_)
+    throw std::invalid_argument("RealFft::inverse: wrong buffer sizes");
+  auto* c = static_cast<fftw_complex*>(spectrum_);
+  std::memcpy(c, static_cast<const void*>(in.data()), bins() * sizeof(fftw_complex));
+  fftw_execute_dft_c2r(static_cast<fftw_plan>(inverse_plan_), c, real_);  // destroys c
+  const double scale = 1.0 / static_cast<double>(n_);
+  for (std::size_t i = 0; i < n_; ++i) out[i] = real_[i] * scale;
+}
+
+}  // namespace detect
