@@ -42,10 +42,14 @@ FrictionLaw friction_law_from_string(std::string_view name) {
 
 const char* to_string(FrictionLaw law) {
   switch (law) {
-    case FrictionLaw::kNone: return "none";
-    case FrictionLaw::kConstant: return "constant";
-    case FrictionLaw::kDrozdov: return "drozdov";
-    case FrictionLaw::kBenedictKelley: return "benedict_kelley";
+    case FrictionLaw::kNone:
+      return "none";
+    case FrictionLaw::kConstant:
+      return "constant";
+    case FrictionLaw::kDrozdov:
+      return "drozdov";
+    case FrictionLaw::kBenedictKelley:
+      return "benedict_kelley";
   }
   return "unknown";
 }
@@ -58,10 +62,10 @@ void FrictionOptions::validate(const std::string& where) const {
           "mu_constant", mu_constant, "[0, 1]");
   require(std::isfinite(mu_cap) && mu_cap > 0.0 && mu_cap <= 1.0, where, "mu_cap", mu_cap,
           "(0, 1]");
-  require(std::isfinite(oil_temperature_c) && oil_temperature_c >= -30.0 &&
-              oil_temperature_c <= 150.0,
-          where, "oil_temperature_c", oil_temperature_c,
-          "[-30, 150] degC (range of the ASTM D341 viscosity law)");
+  require(
+      std::isfinite(oil_temperature_c) && oil_temperature_c >= -30.0 && oil_temperature_c <= 150.0,
+      where, "oil_temperature_c", oil_temperature_c,
+      "[-30, 150] degC (range of the ASTM D341 viscosity law)");
   oil.validate(where + ": oil");
 }
 
@@ -78,8 +82,7 @@ FrictionModel::FrictionModel(const FrictionOptions& options, const diag::GearPai
   const double e1 = m1.youngs_modulus_pa, e2 = m2.youngs_modulus_pa;
   const double e_reduced_kgf_per_cm2 = diag::units::pa_to_kgf_per_cm2(2.0 * e1 * e2 / (e1 + e2));
   drozdov_material_ = hb_kgf_per_cm2 * ra_um / e_reduced_kgf_per_cm2;
-  face_width_m_ =
-      std::min(pair_.driver().spec().face_width_m, pair_.driven().spec().face_width_m);
+  face_width_m_ = std::min(pair_.driver().spec().face_width_m, pair_.driven().spec().face_width_m);
 }
 
 double FrictionModel::drozdov(const diag::ContactKinematics& k) const {
@@ -95,14 +98,14 @@ double FrictionModel::drozdov(const diag::ContactKinematics& k) const {
 
 double FrictionModel::benedict_kelley(const diag::ContactKinematics& k,
                                       double normal_load_n) const {
-  const double w_lb_per_in =
-      normal_load_n / face_width_m_ / kNewtonsPerPoundForce * kMetresPerInch;
+  const double w_lb_per_in = normal_load_n / face_width_m_ / kNewtonsPerPoundForce * kMetresPerInch;
   const double nu0_cp = eta_pa_s_ * 1e3;  // 1 cP = 1 mPa s
   const double vs_in_s = std::abs(k.sliding_m_per_s) / kMetresPerInch;
   const double ve_in_s = std::abs(k.rolling_sum_m_per_s) / kMetresPerInch;
   if (vs_in_s == 0.0 || ve_in_s == 0.0) return options_.mu_cap;
   if (w_lb_per_in == 0.0) return 0.0;  // an unloaded pair has no friction force anyway
-  const double mu = 0.0127 * std::log10(3.17e8 * w_lb_per_in / (nu0_cp * vs_in_s * ve_in_s * ve_in_s));
+  const double mu =
+      0.0127 * std::log10(3.17e8 * w_lb_per_in / (nu0_cp * vs_in_s * ve_in_s * ve_in_s));
   return std::clamp(mu, 0.0, options_.mu_cap);
 }
 
@@ -110,10 +113,14 @@ double FrictionModel::coefficient(const diag::ContactKinematics& k, double norma
   require(std::isfinite(normal_load_n) && normal_load_n >= 0.0, "FrictionModel::coefficient",
           "normal_load_n", normal_load_n, ">= 0 N");
   switch (options_.law) {
-    case FrictionLaw::kNone: return 0.0;
-    case FrictionLaw::kConstant: return options_.mu_constant;
-    case FrictionLaw::kDrozdov: return drozdov(k);
-    case FrictionLaw::kBenedictKelley: return benedict_kelley(k, normal_load_n);
+    case FrictionLaw::kNone:
+      return 0.0;
+    case FrictionLaw::kConstant:
+      return options_.mu_constant;
+    case FrictionLaw::kDrozdov:
+      return drozdov(k);
+    case FrictionLaw::kBenedictKelley:
+      return benedict_kelley(k, normal_load_n);
   }
   return 0.0;
 }
@@ -132,8 +139,7 @@ std::vector<double> FrictionModel::tabulate(double omega1_rad_per_s, double norm
                                             int points) const {
   const char* where = "FrictionModel::tabulate";
   require(points >= 2, where, "points", points, ">= 2");
-  require(std::isfinite(omega1_rad_per_s), where, "omega1_rad_per_s", omega1_rad_per_s,
-          "finite");
+  require(std::isfinite(omega1_rad_per_s), where, "omega1_rad_per_s", omega1_rad_per_s, "finite");
   require(std::isfinite(normal_load_n) && normal_load_n >= 0.0, where, "normal_load_n",
           normal_load_n, ">= 0 N");
   std::vector<double> mu(static_cast<std::size_t>(points));

@@ -39,11 +39,21 @@ Lubricant Lubricant::iso_vg(int grade) {
   // nu100 of a VI-95 mineral oil per ASTM D2270 (see the header).
   double nu100 = 0;
   switch (grade) {
-    case 68: nu100 = 8.53; break;
-    case 100: nu100 = 11.07; break;
-    case 150: nu100 = 14.55; break;
-    case 220: nu100 = 18.75; break;
-    case 320: nu100 = 23.95; break;
+    case 68:
+      nu100 = 8.53;
+      break;
+    case 100:
+      nu100 = 11.07;
+      break;
+    case 150:
+      nu100 = 14.55;
+      break;
+    case 220:
+      nu100 = 18.75;
+      break;
+    case 320:
+      nu100 = 23.95;
+      break;
     default: {
       std::ostringstream m;
       m << grade << " has no preset: use 68, 100, 150, 220 or 320, or give nu40/nu100";
@@ -57,17 +67,16 @@ Lubricant Lubricant::iso_vg(int grade) {
   return oil;
 }
 
-Lubricant Lubricant::from_two_points(double t_a_c, double nu_a_cst, double t_b_c,
-                                     double nu_b_cst, double density15_kg_per_m3) {
+Lubricant Lubricant::from_two_points(double t_a_c, double nu_a_cst, double t_b_c, double nu_b_cst,
+                                     double density15_kg_per_m3) {
   const char* where = "Lubricant::from_two_points";
   check_temperature(t_a_c, where);
   check_temperature(t_b_c, where);
-  require(std::abs(t_a_c - t_b_c) >= 1.0, where, "t_b_c", t_b_c,
-          "at least 1 degC away from t_a_c");
+  require(std::abs(t_a_c - t_b_c) >= 1.0, where, "t_b_c", t_b_c, "at least 1 degC away from t_a_c");
   require(std::isfinite(nu_a_cst) && nu_a_cst >= 2.0, where, "nu_a_cst", nu_a_cst, ">= 2 cSt");
   require(std::isfinite(nu_b_cst) && nu_b_cst >= 2.0, where, "nu_b_cst", nu_b_cst, ">= 2 cSt");
-  const double b = (walther_y(nu_a_cst) - walther_y(nu_b_cst)) / (walther_x(t_b_c) -
-                                                                    walther_x(t_a_c));
+  const double b =
+      (walther_y(nu_a_cst) - walther_y(nu_b_cst)) / (walther_x(t_b_c) - walther_x(t_a_c));
   const double a = walther_y(nu_a_cst) + b * walther_x(t_a_c);
   const auto at = [&](double t_c) {
     return std::pow(10.0, std::pow(10.0, a - b * walther_x(t_c))) - kWaltherShift;

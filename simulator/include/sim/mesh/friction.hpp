@@ -32,8 +32,8 @@
 //    times the total load per width), nu0 dynamic viscosity at the oil temperature [cP], Vs
 //    sliding and Ve rolling (sum) velocity [in/s]. The inputs are converted from SI; the constants
 //    are the paper's. The roughness factor 50 / (50 - S_avg[uin]) of the original is not applied
-//    (smooth-surface form). mu < 0 (log argument < 1, very light load / high speed) is clamped to 0.
-//    Like Drozdov's law it gives a higher mu for hotter, thinner oil (-0.0127 log10(nu0)).
+//    (smooth-surface form). mu < 0 (log argument < 1, very light load / high speed) is clamped to
+//    0. Like Drozdov's law it gives a higher mu for hotter, thinner oil (-0.0127 log10(nu0)).
 // Both Drozdov and Benedict-Kelley diverge at the pitch point (Vs -> 0): mu is capped at the
 // boundary-friction value mu_cap (default 0.12) wherever the law exceeds it, and mu = mu_cap
 // where Vs = 0 or Vsum = 0 exactly.
@@ -61,12 +61,12 @@ const char* to_string(FrictionLaw law);
 
 struct FrictionOptions {
   FrictionLaw law = FrictionLaw::kDrozdov;
-  double mu_constant = 0.05;         // mu of kConstant [-], [0, 1]
-  double mu_cap = 0.12;              // boundary-friction cap of kDrozdov/kBenedictKelley [-], (0, 1]
-  double oil_temperature_c = 60.0;   // oil temperature at the mesh outlet [degC], [-30, 150]
+  double mu_constant = 0.05;        // mu of kConstant [-], [0, 1]
+  double mu_cap = 0.12;             // boundary-friction cap of kDrozdov/kBenedictKelley [-], (0, 1]
+  double oil_temperature_c = 60.0;  // oil temperature at the mesh outlet [degC], [-30, 150]
   Lubricant oil = Lubricant::iso_vg(220);
 
-  // Throws diag::InputError naming `where` and the field (oil fields as "oil.<field>").
+  // Throws diag::InputError naming `where` and the field (oil fields as "<where>: oil: <field>").
   void validate(const std::string& where) const;
 };
 
@@ -77,8 +77,8 @@ class FrictionModel {
   FrictionModel(const FrictionOptions& options, const diag::GearPair& pair);
 
   const FrictionOptions& options() const { return options_; }
-  double viscosity_cst() const { return nu_cst_; }        // at the oil temperature
-  double viscosity_pa_s() const { return eta_pa_s_; }     // at the oil temperature
+  double viscosity_cst() const { return nu_cst_; }     // at the oil temperature
+  double viscosity_pa_s() const { return eta_pa_s_; }  // at the oil temperature
 
   // mu magnitude at contact kinematics k (from GearPair::kinematics) with normal_load_n [N] the
   // load carried by this tooth pair over the face width (used by Benedict-Kelley only).

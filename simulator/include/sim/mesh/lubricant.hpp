@@ -21,15 +21,16 @@
 namespace sim {
 
 struct Lubricant {
-  double nu40_cst = 220.0;              // kinematic viscosity at 40 degC [cSt], > nu100
-  double nu100_cst = 18.75;             // kinematic viscosity at 100 degC [cSt], >= 2
-  double density15_kg_per_m3 = 890.0;   // density at 15 degC [kg/m^3], 700...1200
+  double nu40_cst = 220.0;             // kinematic viscosity at 40 degC [cSt], > nu100
+  double nu100_cst = 18.75;            // kinematic viscosity at 100 degC [cSt], >= 2
+  double density15_kg_per_m3 = 890.0;  // density at 15 degC [kg/m^3], 700...1200
 
   // Presets by ISO 3448 viscosity grade: nu40 = the grade's mid-point and nu100 of a mineral oil
   // of viscosity index 95, from the ASTM D2270 definition VI = 100 (L - nu40) / (L - H) with the
   // L, H table of D2270 (interpolated):
   //     VG 68: 8.53   VG 100: 11.07   VG 150: 14.55   VG 220: 18.75   VG 320: 23.95 cSt
-  // (cross-check: mineral VG 220 gear oils list VI 95...97 and nu100 = 18.7...19.4 cSt).
+  // (data sheets of mineral VG 220 gear oils list VI 95...97: Castrol Alpha SP 220 95, Shell
+  // Omala S2 GX 220 and Mobilgear 600 XP 220 97; VI 100 would be nu100 = 19.2 cSt).
   // Density 890 kg/m^3 (typical of mineral gear oils). Other grades throw diag::InputError.
   static Lubricant iso_vg(int grade);
 
