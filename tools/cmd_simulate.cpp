@@ -1,6 +1,6 @@
 // geardiag simulate: a gearbox description with defects in, a recording with ground truth out.
-// Modes: kinematic (seed 003: slow rotation, shaft angles). The dynamic mode (seed 000 6-DOF
-// pairs, bearing accelerations) is not built yet and says so.
+// Modes: dynamic (SPEC section 1: meshes, shafts, bearings, sensors) and kinematic (seed 003:
+// slow rotation, shaft angles).
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -13,6 +13,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/units.hpp"
+#include "sim/dynamics/scenario.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
 
 namespace po = boost::program_options;
@@ -43,43 +44,11 @@ void write_angles_csv(const std::filesystem::path& path, const sim::KinematicRes
 
 }  // namespace
 
-int cmd_simulate(int argc, char** argv) {
-  sim::KinematicOptions k;
-  std::string gearbox, output, mode = "kinematic";
-  double step_deg = diag::units::rad_to_deg(k.step_rad), runout_deg = 0, te_deg = 0, noise_deg = 0;
-  po::options_description desc(
-      "geardiag simulate --gearbox GB.json -o OUT.h5|OUT.csv [options]\n\n"
-      "Simulates the defects listed in the gearbox description. Kinematic mode (seed 003): the\n"
-      "output shaft's angle vs the input shaft's angle at slow speed, over six recurrences of the\n"
-      "longest defect period unless --revolutions is given. Output: HDF5 recording with the truth,\n"
-      "or CSV input_angle_rad,output_angle_rad.\n\noptions");
-  desc.add_options()("help,h", "this help")(
-      "gearbox", po::value(&gearbox)->required(), "gearbox description (JSON) with defects")(
-      "output,o", po::value(&output)->required(), "output file (.h5 recording or .csv angles)")(
-      "mode", po::value(&mode)->default_value(mode), "kinematic (dynamic: not built yet)")(
-      "step-deg", po::value(&step_deg)->default_value(step_deg), "input-angle step [deg]")(
-      "revolutions", po::value(&k.revolutions)->default_value(0.0),
-      "input revolutions; 0 = six recurrences of the longest period")(
-      "runout-deg", po::value(&runout_deg)->default_value(0.0),
-      "once-per-rev runout of every path shaft, amplitude at the output [deg]")(
-      "mesh-te-deg", po::value(&te_deg)->default_value(0.0),
-      "mesh-harmonic transmission error, amplitude at the output [deg]")(
-      "noise-deg", po::value(&noise_deg)->default_value(0.0),
-      "Gaussian noise on the output angle, RMS [deg]")(
-      "encoder-counts", po::value(&k.encoder_counts_per_rev)->default_value(0),
-      "encoder counts per revolution for both angles (0 = no quantisation)")(
-      "seed", po::value(&k.seed)->default_value(k.seed), "random seed (phases, noise)");
-  po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
-  if (mode != "kinematic") {
-    throw diag::InputError("--mode: '" + mode +
-                           "' is not available; this build simulates the kinematic mode only");
-  }
+namespace {
+
+int simulate_kinematic_mode(const std::string& gearbox, const std::string& output,
+                            sim::KinematicOptions k, double step_deg, double runout_deg,
+                            double te_deg, double noise_deg) {
   k.step_rad = diag::units::deg_to_rad(step_deg);
   k.runout_output_rad = diag::units::deg_to_rad(runout_deg);
   k.mesh_te_output_rad = diag::units::deg_to_rad(te_deg);
@@ -95,6 +64,83 @@ int cmd_simulate(int argc, char** argv) {
   std::cout << "simulated " << r.input_angle_rad.size() << " samples over "
             << r.truth["revolutions"].get<double>() << " input revolutions, "
             << gb.defects().size() << " defect(s) -> " << output << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int cmd_simulate(int argc, char** argv) {
+  sim::KinematicOptions k;
+  std::string gearbox, output, scenario, mode = "dynamic";
+  double step_deg = diag::units::rad_to_deg(k.step_rad), runout_deg = 0, te_deg = 0, noise_deg = 0;
+  double duration_s = 0, fs_hz = 0, rpm = 0, torque = -1, oil_c = -300;
+  std::string friction;
+  po::options_description desc(
+      "geardiag simulate --gearbox GB.json [--scenario SC.json] --duration S --fs HZ -o OUT.h5\n"
+      "geardiag simulate --mode kinematic --gearbox GB.json -o OUT.h5|OUT.csv [options]\n\n"
+      "Dynamic mode (default; SPEC section 1): the gearbox's meshes with time-varying stiffness,\n"
+      "friction, backlash and tooth faults, its shafts on bearings; writes bearing accelerations\n"
+      "along and normal to each line of action and horizontal/vertical, the transmission error,\n"
+      "mesh forces, tachometers and the ground truth. The scenario (JSON, see README) sets the\n"
+      "operating point, friction, oil, faults, sensors; the options below override it.\n"
+      "Kinematic mode (seed 003): output angle vs input angle at slow speed with the gearbox's\n"
+      "sporadic defects, over six recurrences of the longest defect period.\n\noptions");
+  desc.add_options()("help,h", "this help")(
+      "gearbox", po::value(&gearbox)->required(), "gearbox description (JSON)")(
+      "output,o", po::value(&output)->required(), "output file (.h5; kinematic mode also .csv)")(
+      "mode", po::value(&mode)->default_value(mode), "dynamic | kinematic")(
+      "scenario", po::value(&scenario), "dynamic: scenario description (JSON)")(
+      "duration", po::value(&duration_s), "dynamic: recorded duration [s] (default 1)")(
+      "fs", po::value(&fs_hz), "dynamic: output sampling rate [Hz] (default 20000)")(
+      "rpm", po::value(&rpm), "dynamic: constant input speed [rpm] (default: the gearbox's)")(
+      "torque", po::value(&torque), "dynamic: input torque [N m] (default: the gearbox's)")(
+      "friction", po::value(&friction), "dynamic: none | constant | drozdov | benedict_kelley")(
+      "oil-temp", po::value(&oil_c), "dynamic: oil temperature [degC]")(
+      "step-deg", po::value(&step_deg)->default_value(step_deg), "kinematic: input-angle step [deg]")(
+      "revolutions", po::value(&k.revolutions)->default_value(0.0),
+      "kinematic: input revolutions; 0 = six recurrences of the longest period")(
+      "runout-deg", po::value(&runout_deg)->default_value(0.0),
+      "kinematic: once-per-rev runout of every path shaft, amplitude at the output [deg]")(
+      "mesh-te-deg", po::value(&te_deg)->default_value(0.0),
+      "kinematic: mesh-harmonic transmission error, amplitude at the output [deg]")(
+      "noise-deg", po::value(&noise_deg)->default_value(0.0),
+      "kinematic: Gaussian noise on the output angle, RMS [deg]")(
+      "encoder-counts", po::value(&k.encoder_counts_per_rev)->default_value(0),
+      "kinematic: encoder counts per revolution for both angles (0 = no quantisation)")(
+      "seed", po::value(&k.seed)->default_value(k.seed), "random seed");
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
+  if (vm.count("help")) {
+    std::cout << desc << "\n";
+    return 0;
+  }
+  po::notify(vm);
+  if (mode == "kinematic") {
+    return simulate_kinematic_mode(gearbox, output, k, step_deg, runout_deg, te_deg, noise_deg);
+  }
+  if (mode != "dynamic") {
+    throw diag::InputError("--mode: '" + mode + "' is not dynamic or kinematic");
+  }
+  const diag::Gearbox gb = diag::load_gearbox(gearbox);
+  sim::Scenario sc;
+  if (!scenario.empty()) sc = sim::load_scenario(scenario);
+  if (vm.count("duration")) sc.run.duration_s = duration_s;
+  if (vm.count("fs")) sc.run.fs_hz = fs_hz;
+  if (vm.count("rpm")) sc.dynamics.speed = sim::SpeedProfile::constant(rpm);
+  if (vm.count("torque")) {
+    if (!(torque >= 0)) throw diag::InputError("--torque: must be >= 0");
+    sc.dynamics.input_torque_nm = torque;
+  }
+  if (vm.count("friction")) sc.dynamics.friction.law = sim::friction_law_from_string(friction);
+  if (vm.count("oil-temp")) sc.dynamics.friction.oil_temperature_c = oil_c;
+  if (vm.count("seed")) sc.dynamics.seed = sc.run.seed = k.seed;
+  const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
+  for (const std::string& w : r.warnings) std::cerr << "geardiag simulate: warning: " << w << "\n";
+  diag::write_recording(output, sim::to_recording(gb, r));
+  std::cout << "simulated " << sc.run.duration_s << " s at " << sc.run.fs_hz << " Hz ("
+            << r.channels.size() << " channels, " << r.tachos.size() << " tachometers; RK step "
+            << r.step_s * 1e6 << " us, " << r.decimation << " steps per sample) -> " << output
+            << "\n";
   return 0;
 }
 

@@ -10,6 +10,7 @@ int cmd_demo(int argc, char** argv);
 int cmd_import(int argc, char** argv);
 int cmd_info(int argc, char** argv);
 int cmd_simulate(int argc, char** argv);
+int cmd_sweep(int argc, char** argv);
 int cmd_attribute(int argc, char** argv);
 int cmd_validate(int argc, char** argv);
 

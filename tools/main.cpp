@@ -22,6 +22,7 @@ const Command kCommands[] = {
     {"import", geardiag::cmd_import, "convert CSV / WAV / MAT measurements to an HDF5 recording"},
     {"info", geardiag::cmd_info, "describe a recording, or a gearbox description (--gearbox)"},
     {"simulate", geardiag::cmd_simulate, "simulate a gearbox with defects into a recording"},
+    {"sweep", geardiag::cmd_sweep, "speed sweep up and down: peak and RMS vs speed, resonances"},
     {"attribute", geardiag::cmd_attribute,
      "attribute defects to gears/shafts from the output shaft's transmission error"},
     {"validate", geardiag::cmd_validate, "closed-loop validation of a detector on your gearbox"},

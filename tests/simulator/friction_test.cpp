@@ -236,6 +236,53 @@ TEST(FrictionLaws, BenedictKelleyMatchesAHandComputationInUsCustomaryUnits) {
               kRelTol * expected);
 }
 
+// Xu et al. (2007) eqs. 11-12 written out again from the contact's radii and speeds, with the
+// Hertzian line-contact pressure p_h = sqrt(w E* / (pi R)) [GPa] and steel's E* = E / (2 (1 - nu^2)).
+TEST(FrictionLaws, XuKahramanMatchesAHandComputationInItsUnits) {
+  constexpr double kRelTol = 1e-12;  // same formula, different order of operations
+  const diag::GearPair pair = seed_pair();
+  const double omega1 = rpm(1500.0);
+  FrictionOptions opt;
+  opt.law = FrictionLaw::kXuKahraman;
+  opt.oil_temperature_c = 60.0;
+  const FrictionModel model(opt, pair);
+  const HandContact c = hand_contact(pair, omega1);
+  const double pair_load_n = 12000.0;
+  const double r_m = c.rho1_m * c.rho2_m / (c.rho1_m + c.rho2_m);
+  const double e_star = 206e9 / (2.0 * (1.0 - 0.3 * 0.3));
+  const double ph_gpa = std::sqrt(pair_load_n / 0.020 * e_star / (3.14159265358979 * r_m)) / 1e9;
+  const double sr = std::abs(2.0 * (c.v1_m_s - c.v2_m_s) / (c.v1_m_s + c.v2_m_s));
+  const double ve = 0.5 * (c.v1_m_s + c.v2_m_s);
+  const double rho_g_cm3 = 0.890 * (1.0 - 6.4e-4 * (60.0 - 15.0));
+  const double nu0_cp = naive_walther(220.0, 18.75, 60.0) * rho_g_cm3;
+  const double s_um = 0.8;
+  const double f = -8.916465 - 0.354068 * sr * ph_gpa * std::log10(nu0_cp) +
+                   2.812084 * std::exp(-sr * ph_gpa * std::log10(nu0_cp)) + 0.620305 * std::exp(s_um);
+  const double expected = std::exp(f) * std::pow(ph_gpa, 1.03303) * std::pow(sr, 1.036077) *
+                          std::pow(ve, -0.100601) * std::pow(nu0_cp, 0.752755) * std::pow(r_m, -0.390958);
+  ASSERT_GT(expected, 0.005);  // a typical EHL gear friction magnitude
+  ASSERT_LT(expected, opt.mu_cap);
+  EXPECT_NEAR(model.coefficient(pair.kinematics(c.s_m, omega1), pair_load_n), expected,
+              kRelTol * expected);
+}
+
+// The seed's NASA data (its Fig. 4): friction falls as the oil heats. Xu-Kahraman does, by the
+// viscosity exponent b7 = 0.75: 25 -> 95 degC cuts nu0 by ~14x for ISO VG 220, so mu falls by
+// more than 2x at every contact point away from the pitch point.
+TEST(FrictionLaws, XuKahramanFallsAsTheOilHeats) {
+  const diag::GearPair pair = seed_pair();
+  FrictionOptions cold, hot;
+  cold.law = hot.law = FrictionLaw::kXuKahraman;
+  cold.oil_temperature_c = 25.0;
+  hot.oil_temperature_c = 95.0;
+  const std::vector<double> a = FrictionModel(cold, pair).tabulate(rpm(1500.0), 20000.0, 41);
+  const std::vector<double> b = FrictionModel(hot, pair).tabulate(rpm(1500.0), 20000.0, 41);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i] < 1e-3) continue;  // the pitch point, where sliding vanishes
+    EXPECT_GT(a[i], 2.0 * b[i]) << i;
+  }
+}
+
 TEST(FrictionLaws, ConstantAndNoneIgnoreTheKinematics) {
   const diag::GearPair pair = seed_pair();
   FrictionOptions opt;

@@ -56,7 +56,7 @@ fs::path seed_gearbox_with_defects() {
 TEST(AttributeCli, SimulatedCsvIsAttributedToTheCountershaftWithJsonKeys) {
   const fs::path csv = scratch("angles.csv"), js = scratch("findings.json");
   const fs::path gb = seed_gearbox_with_defects();
-  auto s = run("simulate --gearbox " + gb.string() + " --step-deg 0.05 --runout-deg 0.05 " +
+  auto s = run("simulate --mode kinematic --gearbox " + gb.string() + " --step-deg 0.05 --runout-deg 0.05 " +
                "--noise-deg 0.002 --encoder-counts 65536 -o " + csv.string());
   ASSERT_EQ(s.code, 0) << s.out;
   std::ifstream in(csv);
@@ -84,7 +84,7 @@ TEST(AttributeCli, SimulatedCsvIsAttributedToTheCountershaftWithJsonKeys) {
 
 TEST(AttributeCli, HdfRecordingCarriesItsGearboxAndTruth) {
   const fs::path h5 = scratch("kin.h5");
-  auto s = run("simulate --gearbox " + seed_gearbox_with_defects().string() + " -o " + h5.string());
+  auto s = run("simulate --mode kinematic --gearbox " + seed_gearbox_with_defects().string() + " -o " + h5.string());
   ASSERT_EQ(s.code, 0) << s.out;
   auto a = run("attribute " + h5.string());  // gearbox from /gearbox
   ASSERT_EQ(a.code, 0) << a.out;
@@ -111,7 +111,7 @@ TEST(AttributeCli, BadInputExitsTwoWithTheReason) {
     "meshes": [{"driver": "p", "driven": "w"}],
     "input": {"shaft": "a", "speed_rpm": 60},
     "defects": [{"gear": "q", "size_deg": 1}]})";
-  auto s = run("simulate --gearbox " + unknown.string() + " -o " + scratch("x.h5").string());
+  auto s = run("simulate --mode kinematic --gearbox " + unknown.string() + " -o " + scratch("x.h5").string());
   EXPECT_EQ(s.code, 2);
   EXPECT_NE(s.out.find("defects[0].gear: unknown gear 'q'"), std::string::npos) << s.out;
   EXPECT_FALSE(fs::exists(scratch("x.h5")));

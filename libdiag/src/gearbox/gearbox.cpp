@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
+#include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
 
 namespace diag {
@@ -18,92 +19,6 @@ namespace diag {
 using nlohmann::json;
 
 namespace {
-
-// Reads typed fields of one JSON object, naming "where: path.key" in every error.
-class Fields {
- public:
-  Fields(const json& obj, std::string where, std::string path, std::set<std::string> allowed)
-      : obj_(obj), where_(std::move(where)), path_(std::move(path)) {
-    if (!obj_.is_object()) fail("", "must be a JSON object");
-    for (const auto& [key, value] : obj_.items()) {
-      (void)value;
-      if (key.empty() || key[0] == '_' || key == "comment" || allowed.count(key)) continue;
-      std::string list;
-      for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
-      fail(key, "unknown field (allowed: " + list + ")");
-    }
-  }
-
-  [[noreturn]] void fail(const std::string& key, const std::string& reason) const {
-    std::string field = path_;
-    if (!key.empty()) field += (field.empty() ? "" : ".") + key;
-    throw InputError(format_error(where_, field, reason));
-  }
-
-  bool has(const std::string& key) const { return obj_.contains(key) && !obj_[key].is_null(); }
-
-  std::string str(const std::string& key) const {
-    if (!has(key)) fail(key, "required string is missing");
-    if (!obj_[key].is_string()) fail(key, "must be a string");
-    const std::string v = obj_[key].get<std::string>();
-    if (v.empty()) fail(key, "must not be empty");
-    return v;
-  }
-  std::string str(const std::string& key, const std::string& dflt) const {
-    return has(key) ? str(key) : dflt;
-  }
-
-  double num(const std::string& key) const {
-    if (!has(key)) fail(key, "required number is missing");
-    if (!obj_[key].is_number()) fail(key, "must be a number");
-    const double v = obj_[key].get<double>();
-    if (!std::isfinite(v)) fail(key, "must be finite");
-    return v;
-  }
-  double num(const std::string& key, double dflt) const { return has(key) ? num(key) : dflt; }
-  double positive(const std::string& key) const { return check_pos(key, num(key)); }
-  double positive(const std::string& key, double dflt) const {
-    return has(key) ? check_pos(key, num(key)) : dflt;
-  }
-  double non_negative(const std::string& key, double dflt) const {
-    const double v = num(key, dflt);
-    if (v < 0) fail(key, "must be >= 0 (got " + fmt(v) + ")");
-    return v;
-  }
-
-  int integer(const std::string& key) const {
-    if (!has(key)) fail(key, "required integer is missing");
-    const json& v = obj_[key];
-    if (!v.is_number_integer()) {
-      if (v.is_number_float() && std::floor(v.get<double>()) == v.get<double>() &&
-          std::abs(v.get<double>()) < 1e9) {
-        return static_cast<int>(v.get<double>());
-      }
-      fail(key, "must be an integer");
-    }
-    const auto i = v.get<long long>();
-    if (i < -1000000000LL || i > 1000000000LL) fail(key, "out of range");
-    return static_cast<int>(i);
-  }
-
-  const json& raw(const std::string& key) const { return obj_[key]; }
-  const std::string& where() const { return where_; }
-  std::string sub(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
-
-  static std::string fmt(double v) {
-    std::ostringstream o;
-    o << v;
-    return o.str();
-  }
-
- private:
-  double check_pos(const std::string& key, double v) const {
-    if (!(v > 0)) fail(key, "must be > 0 (got " + fmt(v) + ")");
-    return v;
-  }
-  const json& obj_;
-  std::string where_, path_;
-};
 
 const json& array_field(const json& j, const std::string& key, const std::string& where,
                         bool required) {

@@ -13,6 +13,8 @@ using diag::InputError;
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 // US customary units of Benedict & Kelley (exact by definition of the inch and the pound-force).
 constexpr double kMetresPerInch = 0.0254;
 constexpr double kNewtonsPerPoundForce = 4.4482216152605;
@@ -35,9 +37,11 @@ FrictionLaw friction_law_from_string(std::string_view name) {
   if (name == "constant") return FrictionLaw::kConstant;
   if (name == "drozdov") return FrictionLaw::kDrozdov;
   if (name == "benedict_kelley") return FrictionLaw::kBenedictKelley;
+  if (name == "xu_kahraman") return FrictionLaw::kXuKahraman;
   throw InputError(diag::format_error(
       "friction_law_from_string", "law",
-      "'" + std::string(name) + "' is not one of none, constant, drozdov, benedict_kelley"));
+      "'" + std::string(name) +
+          "' is not one of none, constant, drozdov, benedict_kelley, xu_kahraman"));
 }
 
 const char* to_string(FrictionLaw law) {
@@ -50,13 +54,16 @@ const char* to_string(FrictionLaw law) {
       return "drozdov";
     case FrictionLaw::kBenedictKelley:
       return "benedict_kelley";
+    case FrictionLaw::kXuKahraman:
+      return "xu_kahraman";
   }
   return "unknown";
 }
 
 void FrictionOptions::validate(const std::string& where) const {
   require(law == FrictionLaw::kNone || law == FrictionLaw::kConstant ||
-              law == FrictionLaw::kDrozdov || law == FrictionLaw::kBenedictKelley,
+              law == FrictionLaw::kDrozdov || law == FrictionLaw::kBenedictKelley ||
+              law == FrictionLaw::kXuKahraman,
           where, "law", static_cast<double>(static_cast<int>(law)), "a FrictionLaw value");
   require(std::isfinite(mu_constant) && mu_constant >= 0.0 && mu_constant <= 1.0, where,
           "mu_constant", mu_constant, "[0, 1]");
@@ -83,6 +90,9 @@ FrictionModel::FrictionModel(const FrictionOptions& options, const diag::GearPai
   const double e_reduced_kgf_per_cm2 = diag::units::pa_to_kgf_per_cm2(2.0 * e1 * e2 / (e1 + e2));
   drozdov_material_ = hb_kgf_per_cm2 * ra_um / e_reduced_kgf_per_cm2;
   face_width_m_ = std::min(pair_.driver().spec().face_width_m, pair_.driven().spec().face_width_m);
+  e_star_pa_ = 1.0 / ((1 - m1.poisson_ratio * m1.poisson_ratio) / e1 +
+                      (1 - m2.poisson_ratio * m2.poisson_ratio) / e2);
+  roughness_um_ = ra_um;
 }
 
 double FrictionModel::drozdov(const diag::ContactKinematics& k) const {
@@ -109,6 +119,33 @@ double FrictionModel::benedict_kelley(const diag::ContactKinematics& k,
   return std::clamp(mu, 0.0, options_.mu_cap);
 }
 
+double FrictionModel::xu_kahraman(const diag::ContactKinematics& k, double normal_load_n) const {
+  // Xu, Kahraman, Anderson & Maddock, J. Tribol. 129 (2007) 58-68, eqs. 11-12 and table 2:
+  //   mu = exp(f) P_h^b2 |SR|^b3 V_e^b6 nu0^b7 R^b8,
+  //   f = b1 + b4 |SR| P_h log10(nu0) + b5 exp(-|SR| P_h log10(nu0)) + b9 exp(S)
+  // P_h [GPa] maximum Hertzian pressure of the line contact, SR = 2 (v1 - v2) / (v1 + v2),
+  // V_e = (v1 + v2) / 2 [m/s], nu0 dynamic viscosity at the inlet [cP = mPa s], R reduced
+  // radius [m], S composite roughness [um] (mean Ra). A regression of thermal non-Newtonian EHL
+  // solutions: mu grows with viscosity (b7 > 0), so hotter, thinner oil lowers friction, and mu
+  // vanishes where the sliding does (at the pitch point) without a cap.
+  constexpr double b1 = -8.916465, b2 = 1.03303, b3 = 1.036077, b4 = -0.354068, b5 = 2.812084,
+                   b6 = -0.100601, b7 = 0.752755, b8 = -0.390958, b9 = 0.620305;
+  const double ve = 0.5 * std::abs(k.rolling_sum_m_per_s);
+  const double r = k.reduced_radius_m;
+  if (ve == 0.0 || !(r > 0.0) || normal_load_n == 0.0) return 0.0;
+  const double sr = std::abs(2.0 * k.sliding_m_per_s / k.rolling_sum_m_per_s);
+  if (sr == 0.0) return 0.0;
+  const double w = normal_load_n / face_width_m_;                    // [N/m]
+  const double ph_gpa = std::sqrt(w * e_star_pa_ / (kPi * r)) * 1e-9;  // line contact
+  const double nu0_cp = eta_pa_s_ * 1e3;
+  const double lg = std::log10(nu0_cp);
+  const double f = b1 + b4 * sr * ph_gpa * lg + b5 * std::exp(-sr * ph_gpa * lg) +
+                   b9 * std::exp(roughness_um_);
+  const double mu = std::exp(f) * std::pow(ph_gpa, b2) * std::pow(sr, b3) * std::pow(ve, b6) *
+                    std::pow(nu0_cp, b7) * std::pow(r, b8);
+  return std::clamp(mu, 0.0, options_.mu_cap);
+}
+
 double FrictionModel::coefficient(const diag::ContactKinematics& k, double normal_load_n) const {
   require(std::isfinite(normal_load_n) && normal_load_n >= 0.0, "FrictionModel::coefficient",
           "normal_load_n", normal_load_n, ">= 0 N");
@@ -121,6 +158,8 @@ double FrictionModel::coefficient(const diag::ContactKinematics& k, double norma
       return drozdov(k);
     case FrictionLaw::kBenedictKelley:
       return benedict_kelley(k, normal_load_n);
+    case FrictionLaw::kXuKahraman:
+      return xu_kahraman(k, normal_load_n);
   }
   return 0.0;
 }

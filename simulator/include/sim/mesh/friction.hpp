@@ -34,6 +34,13 @@
 //    are the paper's. The roughness factor 50 / (50 - S_avg[uin]) of the original is not applied
 //    (smooth-surface form). mu < 0 (log argument < 1, very light load / high speed) is clamped to
 //    0. Like Drozdov's law it gives a higher mu for hotter, thinner oil (-0.0127 log10(nu0)).
+//  * kXuKahraman (Xu, Kahraman, Anderson & Maddock, J. Tribol. 129 (2007) 58-68): a regression
+//    of thermal EHL solutions, mu = exp(f(SR, P_h, nu0, S)) P_h^b2 |SR|^b3 V_e^b6 nu0^b7 R^b8
+//    (see friction.cpp for the terms and units). mu RISES with viscosity (b7 = 0.75), so it falls
+//    as the oil heats (25 -> 95 degC: about 4x for ISO VG 220), as the seed's NASA data (its
+//    Fig. 4) and its result Fig. 11 show; this is the law that reproduces the seed's oil-
+//    temperature result, which eq. 3 as printed cannot. It vanishes with the sliding at the pitch
+//    point.
 // Both Drozdov and Benedict-Kelley diverge at the pitch point (Vs -> 0): mu is capped at the
 // boundary-friction value mu_cap (default 0.12) wherever the law exceeds it, and mu = mu_cap
 // where Vs = 0 or Vsum = 0 exactly.
@@ -53,9 +60,11 @@ enum class FrictionLaw {
   kConstant,        // mu = mu_constant
   kDrozdov,         // seed 000 eq. 3
   kBenedictKelley,  // Benedict & Kelley (1961)
+  kXuKahraman,      // Xu, Kahraman et al. (2007), EHL regression; mu falls as the oil thins
 };
 
-// "none", "constant", "drozdov", "benedict_kelley"; anything else throws diag::InputError.
+// "none", "constant", "drozdov", "benedict_kelley", "xu_kahraman"; anything else throws
+// diag::InputError.
 FrictionLaw friction_law_from_string(std::string_view name);
 const char* to_string(FrictionLaw law);
 
@@ -98,12 +107,15 @@ class FrictionModel {
  private:
   double drozdov(const diag::ContactKinematics& k) const;
   double benedict_kelley(const diag::ContactKinematics& k, double normal_load_n) const;
+  double xu_kahraman(const diag::ContactKinematics& k, double normal_load_n) const;
 
   FrictionOptions options_;
   diag::GearPair pair_;
   double nu_cst_ = 0, eta_pa_s_ = 0;
   double drozdov_material_ = 0;  // HB [kgf/cm^2] Ra [um] / E' [kgf/cm^2]
   double face_width_m_ = 0;
+  double e_star_pa_ = 0;     // 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2
+  double roughness_um_ = 0;  // mean Ra [um]
 };
 
 }  // namespace sim

@@ -1,0 +1,106 @@
+#include "diag/dsp/fir.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "diag/error.hpp"
+
+namespace diag {
+
+std::vector<double> lowpass_taps(double cutoff_fraction, int half_length) {
+  if (!(cutoff_fraction > 0.0 && cutoff_fraction < 0.5)) {
+    throw InputError(format_error("lowpass_taps", "cutoff_fraction",
+                                  std::to_string(cutoff_fraction) + " is not in (0, 0.5)"));
+  }
+  if (half_length < 1) {
+    throw InputError(format_error("lowpass_taps", "half_length",
+                                  std::to_string(half_length) + " is not >= 1"));
+  }
+  const int n = 2 * half_length + 1;
+  std::vector<double> h(n);
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double x = i - half_length;
+    const double sinc = x == 0.0 ? 2 * cutoff_fraction
+                                 : std::sin(2 * std::numbers::pi * cutoff_fraction * x) /
+                                       (std::numbers::pi * x);
+    const double a = 2 * std::numbers::pi * i / (n - 1);
+    const double w = 0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2 * a);
+    h[i] = sinc * w;
+    sum += h[i];
+  }
+  for (double& v : h) v /= sum;
+  return h;
+}
+
+Decimator::Decimator(int factor, double passband_fraction) : factor_(factor) {
+  if (factor < 1) {
+    throw InputError(format_error("Decimator", "factor", std::to_string(factor) + " is not >= 1"));
+  }
+  if (!(passband_fraction > 0.0 && passband_fraction < 1.0)) {
+    throw InputError(format_error("Decimator", "passband_fraction",
+                                  std::to_string(passband_fraction) + " is not in (0, 1)"));
+  }
+  if (factor == 1) return;  // nothing to filter: output = input
+  // Transition band from passband_fraction * fs_out/2 to fs_out/2, in input-rate units.
+  const double f_pass = passband_fraction * 0.5 / factor;
+  const double f_stop = 0.5 / factor;
+  const double transition = f_stop - f_pass;
+  // Blackman: transition width ~ 5.5 / N  ->  N = 5.5 / transition; M rounded up to a multiple
+  // of the factor so the delay is a whole number of output samples.
+  int half = static_cast<int>(std::ceil(5.5 / transition / 2.0));
+  half = ((half + factor - 1) / factor) * factor;
+  half_ = half;
+  taps_ = lowpass_taps(0.5 * (f_pass + f_stop), half_);
+  history_.assign(taps_.size(), 0.0);
+}
+
+void Decimator::emit(std::vector<double>& out) {
+  // Output at input index j = next_out_index_ is sum_k h[k] x[j + M - k]; it needs inputs up to
+  // j + M, which are all in history_ (the newest at pos_ - 1).
+  const std::size_t n = taps_.size();
+  std::size_t idx = pos_;  // oldest sample: x[received - n] ... the window x[j - M .. j + M]
+  double acc = 0.0;
+  // history_ holds x[received - n .. received - 1] with x[received - n] at pos_.
+  for (std::size_t k = 0; k < n; ++k) {
+    acc += taps_[n - 1 - k] * history_[idx];
+    if (++idx == n) idx = 0;
+  }
+  out.push_back(acc);
+}
+
+void Decimator::push(std::span<const double> in, std::vector<double>& out) {
+  if (factor_ == 1) {
+    out.insert(out.end(), in.begin(), in.end());
+    return;
+  }
+  const std::size_t n = taps_.size();
+  for (double x : in) {
+    if (received_ == 0) std::fill(history_.begin(), history_.end(), x);  // hold the first value
+    history_[pos_] = x;
+    if (++pos_ == n) pos_ = 0;
+    ++received_;
+    last_ = x;
+    // The newest input index is received_ - 1 = j + M  ->  j = received_ - 1 - M.
+    if (received_ - 1 - half_ == next_out_index_) {
+      emit(out);
+      next_out_index_ += factor_;
+    }
+  }
+  // Before M inputs have arrived, the first outputs (j = 0, D, ...) see the held first value on
+  // their left, which the fill above provides.
+}
+
+void Decimator::finish(std::vector<double>& out) {
+  if (factor_ == 1) return;
+  // Outputs whose right half reaches past the end: extend with the last value.
+  const long long end = received_;
+  while (next_out_index_ < end) {
+    std::vector<double> pad(1, last_);
+    push(pad, out);
+    if (received_ > end + half_) break;
+  }
+}
+
+}  // namespace diag

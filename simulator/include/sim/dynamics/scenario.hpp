@@ -1,0 +1,24 @@
+// The scenario of a dynamic run (JSON): operating point, drive, damping, bearings, friction and
+// oil, tooth faults, manufacturing errors, sensors, integrator. Every field is optional; the
+// defaults are DynamicsOptions' and RunOptions'. The form is documented in README.md
+// ("Scenario description"); unknown fields and bad values are refused naming the field.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "sim/dynamics/simulate.hpp"
+
+namespace sim {
+
+struct Scenario {
+  DynamicsOptions dynamics;
+  RunOptions run;
+};
+
+Scenario parse_scenario(const nlohmann::json& j, const std::string& where);
+Scenario load_scenario(const std::filesystem::path& path);
+
+}  // namespace sim

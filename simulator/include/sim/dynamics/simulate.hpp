@@ -1,0 +1,76 @@
+// A dynamic run: the gearbox model integrated over time, sensors sampled at the user's rate.
+//
+// Integration. Fixed-step RK4 (default) with the step h = 1 / (fs D): D >= 4 internal steps per
+// output sample, and enough that h resolves the highest natural frequency (steps_per_period steps
+// per period) and the highest mesh frequency (steps_per_mesh per mesh period). A user step larger
+// than the RK4 stability bound (h w_max > 2) is reduced and the reduction is reported in
+// warnings. The adaptive Runge-Kutta-Prince-Dormand (8,9) of GSL odeiv2 is offered to verify the
+// fixed step: it is stepped to the same internal sample times.
+//
+// Output. Every channel is computed at the internal rate and low-pass filtered and decimated by
+// D (diag::Decimator: flat to 0.8 of the output Nyquist frequency, stopband from the output
+// Nyquist frequency), so nothing aliases; contact states and tachometer pulses are sampled, not
+// filtered. The run starts from the static equilibrium and the first settle_s seconds are
+// discarded.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "diag/io/recording.hpp"
+#include "sim/dynamics/gearbox_model.hpp"
+
+namespace sim {
+
+struct RunOptions {
+  double duration_s = 1.0;     // recorded duration [s], > 0
+  double fs_hz = 20000.0;      // output sampling rate [Hz], > 0
+  double settle_s = -1.0;      // discarded transient [s]; < 0: automatic (ten time constants of
+                               // the least damped mode, at least 0.05 s)
+  enum class Method { kRk4, kGslRk8pd } method = Method::kRk4;
+  double step_s = 0.0;         // RK4 step [s]; 0: automatic
+  int steps_per_period = 20;   // RK4 steps per period of the highest natural frequency, >= 8
+  int steps_per_mesh = 48;     // RK4 steps per period of the highest mesh frequency, >= 8
+  double gsl_rel_tol = 1e-9;   // GSL odeiv2 relative / absolute tolerance
+  double gsl_abs_tol = 1e-13;
+  double accel_noise_m_per_s2 = 0.0;   // accelerometer noise, Gaussian, RMS [m/s^2], >= 0
+  double casing_frequency_hz = 0.0;    // casing transmission path resonance [Hz]; 0: none
+  double casing_damping_ratio = 0.05;  // its damping ratio, (0, 1)
+  std::uint64_t seed = 1;              // sensor noise
+  bool mesh_channels = true;           // dynamic mesh force, friction, DTE, contact per mesh
+  bool bearing_channels = true;        // accelerations at every bearing
+  void validate() const;               // throws diag::InputError naming the field
+};
+
+// A channel at the output rate.
+struct Channel {
+  std::string name;
+  std::string unit;
+  diag::Direction direction = diag::Direction::kUnspecified;
+  std::string location;
+  std::vector<double> samples;
+};
+
+struct DynamicResult {
+  double fs_hz = 0.0;
+  std::vector<Channel> channels;
+  std::vector<Channel> tachos;          // 0/1 pulse trains, once per revolution, per shaft
+  double step_s = 0.0;                  // the integrator's step (RK4) or sample spacing (GSL)
+  int decimation = 1;                   // internal samples per output sample
+  std::vector<std::string> warnings;    // said on stderr by the CLI
+  nlohmann::json truth;                 // operating point, model, faults, natural frequencies
+  const Channel* find(const std::string& name) const;
+};
+
+// Throws diag::InputError for bad options and when the integration diverges (non-finite state or
+// a mesh deflection beyond 1000 static deflections), naming the time and what to change.
+DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
+                               const RunOptions& run);
+
+// Packs a result into a Recording (signals, tachos, the gearbox JSON, the truth).
+diag::Recording to_recording(const diag::Gearbox& gb, const DynamicResult& r);
+
+}  // namespace sim

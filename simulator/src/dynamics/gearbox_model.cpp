@@ -1,0 +1,635 @@
+#include "sim/dynamics/gearbox_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <random>
+
+#include <Eigen/Dense>
+
+#include "diag/error.hpp"
+
+namespace sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kShearModulusSteelPa = 79.3e9;
+constexpr double kDefaultShaftLengthM = 0.1;
+constexpr int kFrictionTablePoints = 257;
+
+struct MeshData {
+  int a = -1, b = -1;          // driver / driven gear (= their rotation DOF)
+  int xa = -1, xb = -1;        // x DOF of their shafts (y = x + 1)
+  double rba = 0, rbb = 0;     // base radii
+  double ra = 0, rb = 0;       // speed ratios of the gears to the input
+  double nx = 0, ny = 0;       // LOA unit vector, fixed frame
+  double tx = 0, ty = 0;       // sliding direction unit vector, fixed frame
+  double pitch_a = 0, inv_pitch_a = 0;
+  int za = 0, zb = 0;
+  double s_start = 0, s_end = 0, pb = 0, loa = 0, s_pitch = 0;
+  double k_mean = 0, c_z = 0, inv_k_mean = 0;
+  double backlash = 0;
+  bool back_flank = true;
+  std::unique_ptr<MeshStiffness> stiffness;
+  std::vector<double> mu;      // mu over [s_start, s_end], kFrictionTablePoints points
+  double mu_inv_ds = 0;
+  bool friction = false;
+  bool faulty = false;         // faults on either gear: use MeshStiffness::pair_force
+  double runout_a = 0, runout_b = 0, phase_a = 0, phase_b = 0;
+  double omega_table = -1;     // driver speed at which mu was tabulated [rad/s]
+};
+
+struct Link {  // torsional spring-damper between two gears on one shaft
+  int g1 = -1, g2 = -1;
+  double k = 0, c = 0;
+};
+
+}  // namespace
+
+struct GearboxModel::Impl {
+  const diag::Gearbox* gb = nullptr;
+  DynamicsOptions opt;
+  int n = 0;                     // DOFs
+  int gears = 0;
+  std::vector<int> shaft_x;      // per shaft: x DOF or -1
+  std::vector<double> mass;      // per DOF: J or m
+  std::vector<double> inv_mass;
+  std::vector<double> ratio;     // per gear: |omega_g / omega_in|
+  std::vector<double> kx, ky, cx, cy;  // per DOF index of x (stored at x DOF), per shaft
+  std::vector<MeshData> meshes;
+  std::vector<Link> links;
+  int in_gear = -1, out_gear = -1;
+  double k_c = 0, c_c = 0;       // coupling (speed mode)
+  double torque_in = 0, torque_load = 0, c_load = 0;
+
+  double nominal_angle(double t) const { return opt.speed.angle_rad(t); }
+  double nominal_speed(double t) const { return opt.speed.speed_rad_per_s(t); }
+
+  void tabulate_friction(MeshData& m, double omega_in) {
+    const double omega_a = omega_in * m.ra;
+    // Static normal load of this mesh: the driver's torque / r_ba. The driver's torque is the
+    // input torque times the ratio from the input shaft to the driver's shaft (1 / r_a).
+    const double f_static = torque_in / m.ra / m.rba;
+    FrictionModel model(opt.friction, gb->meshes()[&m - meshes.data()].pair);
+    m.mu = model.tabulate(omega_a, f_static, kFrictionTablePoints);
+    m.mu_inv_ds = (kFrictionTablePoints - 1) / (m.s_end - m.s_start);
+    m.friction = opt.friction.law != FrictionLaw::kNone &&
+                 std::any_of(m.mu.begin(), m.mu.end(), [](double v) { return v > 0; });
+    m.omega_table = omega_in;
+  }
+
+  double mu_at(const MeshData& m, double s) const {
+    double x = (s - m.s_start) * m.mu_inv_ds;
+    x = std::clamp(x, 0.0, static_cast<double>(kFrictionTablePoints - 1) - 1e-9);
+    const int i = static_cast<int>(x);
+    const double f = x - i;
+    return m.mu[i] + f * (m.mu[i + 1] - m.mu[i]);
+  }
+
+  // Mesh j's compression, its rate, and the driver's total angle.
+  void mesh_kinematics(const MeshData& m, double t, const double* q, const double* v,
+                       double& delta, double& delta_dot, double& theta_a) const {
+    const double th_in = nominal_angle(t);
+    theta_a = m.ra * th_in + q[m.a];
+    delta = m.rba * q[m.a] - m.rbb * q[m.b] + m.nx * (q[m.xa] - q[m.xb]) +
+            m.ny * (q[m.xa + 1] - q[m.xb + 1]);
+    delta_dot = m.rba * v[m.a] - m.rbb * v[m.b] + m.nx * (v[m.xa] - v[m.xb]) +
+                m.ny * (v[m.xa + 1] - v[m.xb + 1]);
+    if (m.runout_a > 0 || m.runout_b > 0) {
+      const double w_in = nominal_speed(t);
+      const double theta_b = m.rb * th_in + q[m.b];
+      const double wa = m.ra * w_in + v[m.a], wb = m.rb * w_in + v[m.b];
+      delta += m.runout_a * std::sin(theta_a + m.phase_a) + m.runout_b * std::sin(theta_b + m.phase_b);
+      delta_dot += m.runout_a * wa * std::cos(theta_a + m.phase_a) +
+                   m.runout_b * wb * std::cos(theta_b + m.phase_b);
+    }
+  }
+
+  // Spring energy of mesh m with contacts placed by driver angle theta_pos and compression delta.
+  double mesh_energy(const MeshData& m, double theta_pos, double delta) const {
+    const double cycles = std::floor(theta_pos * m.inv_pitch_a);
+    const double phase = theta_pos - cycles * m.pitch_a;
+    const long long nc = static_cast<long long>(cycles);
+    double e = 0.0, ksum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double s = m.s_start + m.rba * phase + k * m.pb;
+      if (s > m.s_end) break;
+      const int ta = static_cast<int>(((nc - k) % m.za + m.za) % m.za);
+      const int tb = static_cast<int>(((nc - k) % m.zb + m.zb) % m.zb);
+      const double kp = m.stiffness->pair_stiffness(s, ta, tb);
+      const double d = delta - m.stiffness->pair_gap(s, ta, tb);
+      ksum += kp;
+      // (partial-width faults have a piecewise law; the energy check runs on healthy meshes)
+      if (d > 0 && std::isfinite(d)) e += 0.5 * kp * d * d;
+    }
+    if (m.back_flank && delta < -m.backlash) e += 0.5 * ksum * (delta + m.backlash) * (delta + m.backlash);
+    return e;
+  }
+};
+
+void DynamicsOptions::validate(const std::string& where) const {
+  auto positive = [&](double v, const char* field) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not > 0"));
+    }
+  };
+  auto nonneg = [&](double v, const char* field) {
+    if (!(v >= 0.0) || !std::isfinite(v)) {
+      throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not >= 0"));
+    }
+  };
+  if (!(speed.kind == SpeedProfile::Kind::kConstant && speed.rpm == 0.0)) speed.validate(where + ": speed");
+  nonneg(coupling_stiffness_nm_per_rad, "coupling_stiffness_nm_per_rad");
+  if (!(coupling_damping_ratio > 0 && coupling_damping_ratio <= 2)) {
+    throw diag::InputError(diag::format_error(where, "coupling_damping_ratio", "must be in (0, 2]"));
+  }
+  if (!(mesh_damping_ratio >= 0 && mesh_damping_ratio <= 1)) {
+    throw diag::InputError(diag::format_error(where, "mesh_damping_ratio",
+                                              std::to_string(mesh_damping_ratio) + " is not in [0, 1]"));
+  }
+  positive(bearing_stiffness_x_n_per_m, "bearing_stiffness_x_n_per_m");
+  positive(bearing_stiffness_y_n_per_m, "bearing_stiffness_y_n_per_m");
+  nonneg(bearing_damping_ratio, "bearing_damping_ratio");
+  nonneg(shaft_torsional_stiffness_nm_per_rad, "shaft_torsional_stiffness_nm_per_rad");
+  nonneg(shaft_damping_ratio, "shaft_damping_ratio");
+  nonneg(runout_m, "runout_m");
+  if (accuracy_grade < 0 || accuracy_grade > 12) {
+    throw diag::InputError(diag::format_error(where, "accuracy_grade",
+                                              std::to_string(accuracy_grade) + " is not in 0..12"));
+  }
+  stiffness.validate();
+  friction.validate(where + ": friction");
+}
+
+GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.gb = &gb;
+  m.opt = options;
+  const std::string where = "dynamics";
+  if (m.opt.speed.kind == SpeedProfile::Kind::kConstant && m.opt.speed.rpm == 0.0) {
+    m.opt.speed = SpeedProfile::constant(gb.input().speed_rpm);
+  }
+  if (m.opt.input_torque_nm < 0) m.opt.input_torque_nm = gb.input().torque_nm;
+  m.opt.validate(where);
+  if (gb.meshes().empty() || gb.power_path().empty()) {
+    throw diag::InputError(diag::format_error(
+        where, "meshes", "the dynamic simulator needs at least one mesh on the input-output path"));
+  }
+
+  // DOFs: gears first, then x, y of every shaft that carries gears.
+  m.gears = static_cast<int>(gb.gears().size());
+  m.n = m.gears;
+  m.shaft_x.assign(gb.shafts().size(), -1);
+  for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
+    if (!gb.shafts()[s].gears.empty()) {
+      m.shaft_x[s] = m.n;
+      m.n += 2;
+    }
+  }
+  m.mass.assign(m.n, 0.0);
+  m.ratio.assign(m.gears, 0.0);
+  for (int g = 0; g < m.gears; ++g) {
+    const diag::Gear gear(gb.gears()[g].spec);
+    const int s = gb.shaft_of_gear(g);
+    m.mass[g] = gear.disc_inertia_kg_m2();
+    m.mass[m.shaft_x[s]] += gear.disc_mass_kg();
+    m.mass[m.shaft_x[s] + 1] += gear.disc_mass_kg();
+    m.ratio[g] = std::abs(gb.shafts()[s].speed_ratio);
+  }
+  m.in_gear = gb.power_path().front().up_gear;
+  m.out_gear = gb.power_path().back().down_gear;
+  m.torque_in = m.opt.input_torque_nm;
+  // Load torque that balances the input torque in a lossless box: T_in * |u_total|.
+  m.torque_load = m.torque_in * m.ratio[m.in_gear] / m.ratio[m.out_gear];
+
+  std::mt19937_64 rng(m.opt.seed);
+  std::uniform_real_distribution<double> uniform_phase(0.0, 2 * kPi);
+  std::vector<double> runout_phase(m.gears);
+  for (double& p : runout_phase) p = uniform_phase(rng);
+
+  // Meshes.
+  m.meshes.resize(gb.meshes().size());
+  for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+    const diag::Mesh& mesh = gb.meshes()[j];
+    MeshData& d = m.meshes[j];
+    const diag::GearPair& pair = mesh.pair;
+    d.a = mesh.driver;
+    d.b = mesh.driven;
+    const int sa = gb.shaft_of_gear(d.a), sb = gb.shaft_of_gear(d.b);
+    d.xa = m.shaft_x[sa];
+    d.xb = m.shaft_x[sb];
+    d.rba = pair.driver().base_radius_m();
+    d.rbb = pair.driven().base_radius_m();
+    d.ra = m.ratio[d.a];
+    d.rb = m.ratio[d.b];
+    d.za = pair.driver().teeth();
+    d.zb = pair.driven().teeth();
+    d.pitch_a = 2 * kPi / d.za;
+    d.inv_pitch_a = 1.0 / d.pitch_a;
+    d.s_start = pair.s_start_m();
+    d.s_end = pair.s_end_m();
+    d.pb = pair.base_pitch_m();
+    d.loa = pair.loa_length_m();
+    d.s_pitch = pair.s_pitch_m();
+    // Frame: centre line along +x in the fixed frame (shafts laid out left to right along the
+    // power path); mirrored in y when the driver turns clockwise (negative speed ratio).
+    const double aw = pair.working_pressure_angle_rad();
+    const double sigma = gb.shafts()[sa].speed_ratio >= 0 ? 1.0 : -1.0;
+    d.nx = std::sin(aw);
+    d.ny = sigma * std::cos(aw);
+    d.tx = -std::cos(aw);
+    d.ty = sigma * std::sin(aw);
+
+    std::vector<ToothFault> faults;
+    for (const GearFault& f : m.opt.faults) {
+      const int g = gb.gear_index(f.gear);
+      if (g < 0) {
+        throw diag::InputError(diag::format_error(where, "faults: gear",
+                                                  "'" + f.gear + "' is not a gear of the gearbox"));
+      }
+      if (g == d.a || g == d.b) {
+        ToothFault tf = f.fault;
+        tf.gear = g == d.a ? 0 : 1;
+        faults.push_back(tf);
+      }
+    }
+    std::vector<double> errors_a, errors_b;
+    if (m.opt.accuracy_grade > 0) {
+      // Each gear's pitch errors drawn once from the seed and the gear index, so a gear meshing
+      // twice (an idler) has the same errors in both meshes.
+      errors_a = pitch_errors_iso1328(pair.driver(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.a);
+      errors_b = pitch_errors_iso1328(pair.driven(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.b);
+    }
+    d.stiffness = std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
+    d.faulty = d.stiffness->has_faults();
+    d.k_mean = d.stiffness->mean_mesh_stiffness();
+    d.inv_k_mean = 1.0 / d.k_mean;
+    const double inv_je = d.rba * d.rba / m.mass[d.a] + d.rbb * d.rbb / m.mass[d.b];
+    d.c_z = 2 * m.opt.mesh_damping_ratio * std::sqrt(d.k_mean / inv_je);
+    double b = m.opt.backlash_m >= 0 ? m.opt.backlash_m : mesh.spec.backlash_m;
+    if (m.opt.backlash_m < 0 && mesh.spec.backlash_m == 0.0) {
+      const double a_mm = pair.centre_distance_m() * 1e3, m_mm = pair.driver().module_m() * 1e3;
+      b = (2.0 / 3.0) * (0.06 + 0.0005 * a_mm + 0.03 * m_mm) * 1e-3;
+    }
+    d.backlash = b;
+    d.back_flank = m.opt.back_flank;
+    d.runout_a = d.runout_b = m.opt.runout_m;
+    d.phase_a = runout_phase[d.a];
+    d.phase_b = runout_phase[d.b];
+    m.tabulate_friction(d, m.opt.speed.speed_rad_per_s(0.0));
+  }
+
+  // Shaft torsion between consecutive gears on one shaft.
+  for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
+    const auto& gears = gb.shafts()[s].gears;
+    for (std::size_t i = 1; i < gears.size(); ++i) {
+      Link l;
+      l.g1 = gears[i - 1];
+      l.g2 = gears[i];
+      l.k = m.opt.shaft_torsional_stiffness_nm_per_rad;
+      if (l.k == 0.0) {
+        double d_root = std::numeric_limits<double>::infinity();
+        for (int g : gears) d_root = std::min(d_root, 2 * diag::Gear(gb.gears()[g].spec).root_radius_m());
+        const double d = 0.6 * d_root;
+        l.k = kShearModulusSteelPa * kPi * std::pow(d, 4) / 32.0 / kDefaultShaftLengthM;
+      }
+      const double j_red = m.mass[l.g1] * m.mass[l.g2] / (m.mass[l.g1] + m.mass[l.g2]);
+      l.c = 2 * m.opt.shaft_damping_ratio * std::sqrt(l.k * j_red);
+      m.links.push_back(l);
+    }
+  }
+
+  // Bearings: two per shaft.
+  m.kx.assign(m.n, 0.0);
+  m.ky.assign(m.n, 0.0);
+  m.cx.assign(m.n, 0.0);
+  m.cy.assign(m.n, 0.0);
+  for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
+    const int x = m.shaft_x[s];
+    if (x < 0) continue;
+    m.kx[x] = 2 * m.opt.bearing_stiffness_x_n_per_m;
+    m.ky[x] = 2 * m.opt.bearing_stiffness_y_n_per_m;
+    m.cx[x] = 2 * m.opt.bearing_damping_ratio * std::sqrt(m.kx[x] * m.mass[x]);
+    m.cy[x] = 2 * m.opt.bearing_damping_ratio * std::sqrt(m.ky[x] * m.mass[x + 1]);
+  }
+
+  // Drive and load.
+  if (m.opt.motor == MotorMode::kSpeed) {
+    m.k_c = m.opt.coupling_stiffness_nm_per_rad;
+    if (m.k_c == 0.0) {
+      double f_min = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < m.meshes.size(); ++j) {
+        const MeshData& d = m.meshes[j];
+        const double inv_je = d.rba * d.rba / m.mass[d.a] + d.rbb * d.rbb / m.mass[d.b];
+        f_min = std::min(f_min, std::sqrt(d.k_mean * inv_je));
+      }
+      const double w_c = f_min / 20.0;
+      m.k_c = m.mass[m.in_gear] * w_c * w_c;
+    }
+    m.c_c = 2 * m.opt.coupling_damping_ratio * std::sqrt(m.k_c * m.mass[m.in_gear]);
+  } else {
+    // Generator load: torque_load * (omega_out / omega_out,nominal); the slope is c_load.
+    const double w_out = m.opt.speed.speed_rad_per_s(0.0) * m.ratio[m.out_gear];
+    m.c_load = m.torque_load / w_out;
+  }
+  m.inv_mass.resize(m.n);
+  for (int i = 0; i < m.n; ++i) m.inv_mass[i] = 1.0 / m.mass[i];
+}
+
+GearboxModel::~GearboxModel() = default;
+GearboxModel::GearboxModel(GearboxModel&&) noexcept = default;
+
+int GearboxModel::dofs() const { return impl_->n; }
+int GearboxModel::shaft_x_dof(int shaft) const { return impl_->shaft_x.at(shaft); }
+const DynamicsOptions& GearboxModel::options() const { return impl_->opt; }
+const diag::Gearbox& GearboxModel::gearbox() const { return *impl_->gb; }
+double GearboxModel::gear_speed_ratio(int gear) const { return impl_->ratio.at(gear); }
+int GearboxModel::input_gear() const { return impl_->in_gear; }
+int GearboxModel::output_gear() const { return impl_->out_gear; }
+double GearboxModel::load_torque_nm() const { return impl_->torque_load; }
+double GearboxModel::input_torque_nm() const { return impl_->torque_in; }
+double GearboxModel::mean_mesh_stiffness_n_per_m(int mesh) const { return impl_->meshes.at(mesh).k_mean; }
+double GearboxModel::mesh_backlash_m(int mesh) const { return impl_->meshes.at(mesh).backlash; }
+
+std::pair<double, double> GearboxModel::loa_direction(int mesh) const {
+  const MeshData& d = impl_->meshes.at(mesh);
+  return {d.nx, d.ny};
+}
+
+std::pair<double, double> GearboxModel::normal_direction(int mesh) const {
+  const MeshData& d = impl_->meshes.at(mesh);
+  return {-d.tx, -d.ty};  // (cos a_w, -sin a_w) in the mesh frame (SPEC section 1)
+}
+
+double GearboxModel::gear_angle_rad(int gear, double t, const double* y) const {
+  return impl_->ratio.at(gear) * impl_->nominal_angle(t) + y[gear];
+}
+
+double GearboxModel::mesh_torsional_frequency_hz(int mesh) const {
+  const Impl& m = *impl_;
+  const MeshData& d = m.meshes.at(mesh);
+  const double inv_je = d.rba * d.rba / m.mass[d.a] + d.rbb * d.rbb / m.mass[d.b];
+  return std::sqrt(d.k_mean * inv_je) / (2 * kPi);
+}
+
+void GearboxModel::update_speed(double t) {
+  Impl& m = *impl_;
+  const double w = m.nominal_speed(t);
+  for (MeshData& d : m.meshes) {
+    if (m.opt.friction.law == FrictionLaw::kNone || m.opt.friction.law == FrictionLaw::kConstant) continue;
+    if (std::abs(w - d.omega_table) > 0.02 * std::abs(d.omega_table)) m.tabulate_friction(d, w);
+  }
+}
+
+void GearboxModel::derivatives(double t, const double* y, double* dydt, Observation* obs) const {
+  const Impl& m = *impl_;
+  const int n = m.n;
+  const double* q = y;
+  const double* v = y + n;
+  double* f = dydt + n;  // forces first, scaled by 1/M at the end
+  for (int i = 0; i < n; ++i) {
+    dydt[i] = v[i];
+    f[i] = 0.0;
+  }
+  const double alpha = m.opt.speed.acceleration_rad_per_s2(t);
+  const double w_in = m.nominal_speed(t);
+  if (alpha != 0.0) {
+    for (int g = 0; g < m.gears; ++g) f[g] -= m.mass[g] * m.ratio[g] * alpha;
+  }
+  double damping_power = 0.0, friction_power = 0.0, motor_power = 0.0, load_power = 0.0;
+  // Drive and load.
+  if (m.opt.motor == MotorMode::kSpeed) {
+    const int g = m.in_gear;
+    const double tc = -m.k_c * q[g] - m.c_c * v[g];
+    f[g] += tc;
+    motor_power = tc * w_in * m.ratio[g];  // the coupling torque times the motor's speed
+    damping_power += m.c_c * v[g] * v[g];
+    const double w_out = m.ratio[m.out_gear] * w_in + v[m.out_gear];
+    f[m.out_gear] -= m.torque_load;
+    load_power = m.torque_load * w_out;
+  } else {
+    f[m.in_gear] += m.torque_in;
+    motor_power = m.torque_in * (m.ratio[m.in_gear] * w_in + v[m.in_gear]);
+    const double w_out = m.ratio[m.out_gear] * w_in + v[m.out_gear];
+    const double tl = m.c_load * w_out;
+    f[m.out_gear] -= tl;
+    load_power = tl * w_out;
+  }
+  // Shafts.
+  for (const Link& l : m.links) {
+    const double dv = v[l.g1] - v[l.g2];
+    const double tau = l.k * (q[l.g1] - q[l.g2]) + l.c * dv;
+    f[l.g1] -= tau;
+    f[l.g2] += tau;
+    damping_power += l.c * dv * dv;
+  }
+  // Bearings.
+  for (int x : m.shaft_x) {
+    if (x < 0) continue;
+    f[x] -= m.kx[x] * q[x] + m.cx[x] * v[x];
+    f[x + 1] -= m.ky[x] * q[x + 1] + m.cy[x] * v[x + 1];
+    damping_power += m.cx[x] * v[x] * v[x] + m.cy[x] * v[x + 1] * v[x + 1];
+  }
+  // Meshes.
+  for (std::size_t j = 0; j < m.meshes.size(); ++j) {
+    const MeshData& d = m.meshes[j];
+    double delta, delta_dot, theta_a;
+    m.mesh_kinematics(d, t, q, v, delta, delta_dot, theta_a);
+    const double cycles = std::floor(theta_a * d.inv_pitch_a);
+    const double phase = theta_a - cycles * d.pitch_a;
+    const long long nc = static_cast<long long>(cycles);
+    double force = 0.0, fric = 0.0, moment_a = 0.0, moment_b = 0.0, ksum = 0.0, c_share = 0.0;
+    int pairs = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double s = d.s_start + d.rba * phase + k * d.pb;
+      if (s > d.s_end) break;
+      const int ta = static_cast<int>(((nc - k) % d.za + d.za) % d.za);
+      const int tb = static_cast<int>(((nc - k) % d.zb + d.zb) % d.zb);
+      const double kp = d.stiffness->pair_stiffness(s, ta, tb);
+      ksum += kp;
+      double elastic;
+      if (d.faulty) {
+        // Partial-width chips and spalls have a piecewise-linear force law.
+        elastic = d.stiffness->pair_force(s, ta, tb, delta);
+        if (!(elastic > 0.0)) continue;
+      } else {
+        const double comp = delta - d.stiffness->pair_gap(s, ta, tb);
+        if (!(comp > 0.0)) continue;
+        elastic = kp * comp;
+      }
+      const double cp = d.c_z * kp * d.inv_k_mean;
+      const double fi = elastic + cp * delta_dot;
+      if (fi <= 0.0) continue;
+      ++pairs;
+      c_share += cp;
+      force += fi;
+      if (d.friction) {
+        const double sigma = s < d.s_pitch ? -1.0 : (s > d.s_pitch ? 1.0 : 0.0);
+        const double ff = sigma * m.mu_at(d, s) * fi;
+        fric += ff;
+        moment_a -= ff * s;
+        moment_b += ff * (d.loa - s);
+      }
+    }
+    int contact = pairs > 0 ? 1 : 0;
+    if (d.back_flank && delta < -d.backlash) {
+      const double fb = ksum * (delta + d.backlash) + d.c_z * delta_dot;
+      if (fb < 0.0) {
+        force += fb;
+        c_share += d.c_z;
+        contact = -1;
+      }
+    }
+    damping_power += c_share * delta_dot * delta_dot;
+    // Normal force: -F n on A, +F n on B; torques -r_ba F on a, +r_bb F on b.
+    f[d.a] += -d.rba * force + moment_a;
+    f[d.b] += d.rbb * force + moment_b;
+    f[d.xa] += -force * d.nx - fric * d.tx;
+    f[d.xa + 1] += -force * d.ny - fric * d.ty;
+    f[d.xb] += force * d.nx + fric * d.tx;
+    f[d.xb + 1] += force * d.ny + fric * d.ty;
+    if (obs) {
+      // Friction power: the friction forces times the sliding of the surfaces along t.
+      const double wa = d.ra * w_in + v[d.a], wb = d.rb * w_in + v[d.b];
+      MeshState& st = obs->meshes[j];
+      st.delta_m = delta;
+      st.force_n = force;
+      st.friction_n = fric;
+      st.stiffness_n_per_m = ksum;
+      st.contact = contact;
+      st.pairs = pairs;
+      // Power of the friction forces and moments on both gears (negative = dissipated).
+      const double p = moment_a * wa + moment_b * wb +
+                       (-fric * d.tx) * v[d.xa] + (-fric * d.ty) * v[d.xa + 1] +
+                       (fric * d.tx) * v[d.xb] + (fric * d.ty) * v[d.xb + 1];
+      friction_power -= p;
+    }
+  }
+  for (int i = 0; i < n; ++i) f[i] *= m.inv_mass[i];
+  if (obs) {
+    obs->acceleration.assign(f, f + n);
+    obs->motor_power_w = motor_power;
+    obs->load_power_w = load_power;
+    obs->damping_power_w = damping_power;
+    obs->friction_power_w = friction_power;
+  }
+}
+
+std::vector<double> GearboxModel::equilibrium_state() const {
+  const Impl& m = *impl_;
+  const int n = m.n;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  for (const MeshData& d : m.meshes) {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    g[d.a] += d.rba;
+    g[d.b] -= d.rbb;
+    g[d.xa] += d.nx;
+    g[d.xa + 1] += d.ny;
+    g[d.xb] -= d.nx;
+    g[d.xb + 1] -= d.ny;
+    K += d.k_mean * g * g.transpose();
+  }
+  for (const Link& l : m.links) {
+    K(l.g1, l.g1) += l.k;
+    K(l.g2, l.g2) += l.k;
+    K(l.g1, l.g2) -= l.k;
+    K(l.g2, l.g1) -= l.k;
+  }
+  for (int x : m.shaft_x) {
+    if (x < 0) continue;
+    K(x, x) += m.kx[x];
+    K(x + 1, x + 1) += m.ky[x];
+  }
+  Eigen::VectorXd F = Eigen::VectorXd::Zero(n);
+  if (m.opt.motor == MotorMode::kSpeed) {
+    K(m.in_gear, m.in_gear) += m.k_c;
+    F[m.out_gear] -= m.torque_load;
+  } else {
+    F[m.in_gear] += m.torque_in;
+    F[m.out_gear] -= m.torque_load;
+  }
+  const Eigen::VectorXd q = K.completeOrthogonalDecomposition().solve(F);
+  std::vector<double> y(2 * n, 0.0);
+  for (int i = 0; i < n; ++i) y[i] = q[i];
+  return y;
+}
+
+std::vector<double> GearboxModel::natural_frequencies_hz() const {
+  const Impl& m = *impl_;
+  const int n = m.n;
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  for (const MeshData& d : m.meshes) {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    g[d.a] += d.rba;
+    g[d.b] -= d.rbb;
+    g[d.xa] += d.nx;
+    g[d.xa + 1] += d.ny;
+    g[d.xb] -= d.nx;
+    g[d.xb + 1] -= d.ny;
+    K += d.k_mean * g * g.transpose();
+  }
+  for (const Link& l : m.links) {
+    K(l.g1, l.g1) += l.k;
+    K(l.g2, l.g2) += l.k;
+    K(l.g1, l.g2) -= l.k;
+    K(l.g2, l.g1) -= l.k;
+  }
+  for (int x : m.shaft_x) {
+    if (x < 0) continue;
+    K(x, x) += m.kx[x];
+    K(x + 1, x + 1) += m.ky[x];
+  }
+  if (m.opt.motor == MotorMode::kSpeed) K(m.in_gear, m.in_gear) += m.k_c;
+  // Mass-normalised: M^-1/2 K M^-1/2 is symmetric.
+  Eigen::VectorXd s(n);
+  for (int i = 0; i < n; ++i) s[i] = 1.0 / std::sqrt(m.mass[i]);
+  const Eigen::MatrixXd A = s.asDiagonal() * K * s.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(A);
+  std::vector<double> f(n);
+  for (int i = 0; i < n; ++i) f[i] = std::sqrt(std::max(0.0, es.eigenvalues()[i])) / (2 * kPi);
+  std::sort(f.begin(), f.end());
+  return f;
+}
+
+double GearboxModel::total_energy_j(double t, const double* y) const {
+  const Impl& m = *impl_;
+  const double* q = y;
+  const double* v = y + m.n;
+  const double w_in = m.nominal_speed(t);
+  double e = 0.0;
+  for (int g = 0; g < m.gears; ++g) {
+    const double w = m.ratio[g] * w_in + v[g];
+    e += 0.5 * m.mass[g] * w * w;
+  }
+  for (int i = m.gears; i < m.n; ++i) e += 0.5 * m.mass[i] * v[i] * v[i];
+  for (const Link& l : m.links) e += 0.5 * l.k * (q[l.g1] - q[l.g2]) * (q[l.g1] - q[l.g2]);
+  for (int x : m.shaft_x) {
+    if (x < 0) continue;
+    e += 0.5 * m.kx[x] * q[x] * q[x] + 0.5 * m.ky[x] * q[x + 1] * q[x + 1];
+  }
+  if (m.opt.motor == MotorMode::kSpeed) e += 0.5 * m.k_c * q[m.in_gear] * q[m.in_gear];
+  for (const MeshData& d : m.meshes) {
+    double delta, delta_dot, theta_a;
+    m.mesh_kinematics(d, t, q, v, delta, delta_dot, theta_a);
+    e += m.mesh_energy(d, theta_a, delta);
+  }
+  return e;
+}
+
+double GearboxModel::parametric_work_j(double t0, const double* y0, double t1,
+                                       const double* y1) const {
+  const Impl& m = *impl_;
+  double w = 0.0;
+  for (const MeshData& d : m.meshes) {
+    double delta0, dd0, th0, delta1, dd1, th1;
+    m.mesh_kinematics(d, t0, y0, y0 + m.n, delta0, dd0, th0);
+    m.mesh_kinematics(d, t1, y1, y1 + m.n, delta1, dd1, th1);
+    w += 0.5 * ((m.mesh_energy(d, th1, delta0) - m.mesh_energy(d, th0, delta0)) +
+                (m.mesh_energy(d, th1, delta1) - m.mesh_energy(d, th0, delta1)));
+  }
+  return w;
+}
+
+}  // namespace sim

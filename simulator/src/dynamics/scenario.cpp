@@ -1,0 +1,202 @@
+#include "sim/dynamics/scenario.hpp"
+
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "diag/error.hpp"
+#include "diag/io/json_fields.hpp"
+
+namespace sim {
+
+using nlohmann::json;
+
+namespace {
+
+std::string indexed(const std::string& key, std::size_t i) {
+  return key + "[" + std::to_string(i) + "]";
+}
+
+SpeedProfile parse_speed(const json& j, const std::string& where) {
+  diag::Fields f(j, where, "speed", {"rpm", "ramp", "measured"});
+  const int given = f.has("rpm") + f.has("ramp") + f.has("measured");
+  if (given != 1) f.fail("", "give exactly one of rpm, ramp, measured");
+  if (f.has("rpm")) return SpeedProfile::constant(f.positive("rpm"));
+  if (f.has("ramp")) {
+    diag::Fields r(f.raw("ramp"), where, "speed.ramp", {"from_rpm", "to_rpm", "start_s", "duration_s"});
+    return SpeedProfile::ramp(r.positive("from_rpm"), r.positive("to_rpm"), r.non_negative("start_s", 0.0),
+                              r.positive("duration_s"));
+  }
+  diag::Fields m(f.raw("measured"), where, "speed.measured", {"time_s", "rpm"});
+  SpeedProfile p;
+  p.kind = SpeedProfile::Kind::kMeasured;
+  for (const char* key : {"time_s", "rpm"}) {
+    if (!m.has(key) || !m.raw(key).is_array()) m.fail(key, "required array of numbers");
+    for (const json& v : m.raw(key)) {
+      if (!v.is_number()) m.fail(key, "must hold numbers only");
+      (std::string(key) == "time_s" ? p.time_s : p.rpm_values).push_back(v.get<double>());
+    }
+  }
+  p.validate(where + ": speed.measured");
+  return p;
+}
+
+GearFault parse_fault(const json& j, const std::string& where, const std::string& path) {
+  diag::Fields f(j, where, path,
+                 {"gear", "tooth", "type", "depth_mm", "size_mm", "length_mm", "depth_um",
+                  "width_fraction", "position_mm"});
+  GearFault g;
+  g.gear = f.str("gear");
+  g.fault.tooth = f.integer("tooth");
+  if (g.fault.tooth < 0) f.fail("tooth", "must be >= 0");
+  const std::string type = f.str("type");
+  g.fault.width_fraction = f.num("width_fraction", 1.0);
+  if (!(g.fault.width_fraction > 0.0 && g.fault.width_fraction <= 1.0)) {
+    f.fail("width_fraction", "must be in (0, 1]");
+  }
+  if (type == "crack") {
+    g.fault.kind = ToothFault::Kind::kRootCrack;
+    g.fault.size_m = f.positive("depth_mm") * 1e-3;
+  } else if (type == "chip") {
+    g.fault.kind = ToothFault::Kind::kChip;
+    g.fault.size_m = f.positive("size_mm") * 1e-3;
+  } else if (type == "missing") {
+    g.fault.kind = ToothFault::Kind::kMissing;
+  } else if (type == "spall") {
+    g.fault.kind = ToothFault::Kind::kSpall;
+    g.fault.size_m = f.positive("length_mm") * 1e-3;
+    g.fault.depth_m = f.positive("depth_um") * 1e-6;
+    if (f.has("position_mm")) g.fault.s_center_m = f.num("position_mm") * 1e-3;
+  } else {
+    f.fail("type", "'" + type + "' is not one of crack, chip, missing, spall");
+  }
+  return g;
+}
+
+}  // namespace
+
+Scenario parse_scenario(const json& j, const std::string& where) {
+  Scenario sc;
+  DynamicsOptions& d = sc.dynamics;
+  RunOptions& r = sc.run;
+  diag::Fields f(j, where, "",
+                 {"speed", "torque_nm", "motor", "coupling_stiffness_nm_per_rad",
+                  "mesh_damping_ratio", "bearing_stiffness_n_per_m", "bearing_stiffness_x_n_per_m",
+                  "bearing_stiffness_y_n_per_m", "bearing_damping_ratio",
+                  "shaft_torsional_stiffness_nm_per_rad", "backlash_um", "back_flank", "friction",
+                  "oil", "faults", "accuracy_grade", "runout_um", "sensors", "integrator",
+                  "settle_s", "duration_s", "fs_hz", "seed", "stiffness"});
+  if (f.has("speed")) d.speed = parse_speed(f.raw("speed"), where);
+  d.input_torque_nm = f.has("torque_nm") ? f.non_negative("torque_nm", 0.0) : -1.0;
+  const std::string motor = f.str("motor", "speed");
+  if (motor == "speed") {
+    d.motor = MotorMode::kSpeed;
+  } else if (motor == "torque") {
+    d.motor = MotorMode::kTorque;
+  } else {
+    f.fail("motor", "'" + motor + "' is not speed or torque");
+  }
+  d.coupling_stiffness_nm_per_rad = f.non_negative("coupling_stiffness_nm_per_rad", 0.0);
+  d.mesh_damping_ratio = f.non_negative("mesh_damping_ratio", d.mesh_damping_ratio);
+  if (f.has("bearing_stiffness_n_per_m")) {
+    d.bearing_stiffness_x_n_per_m = d.bearing_stiffness_y_n_per_m = f.positive("bearing_stiffness_n_per_m");
+  }
+  d.bearing_stiffness_x_n_per_m = f.positive("bearing_stiffness_x_n_per_m", d.bearing_stiffness_x_n_per_m);
+  d.bearing_stiffness_y_n_per_m = f.positive("bearing_stiffness_y_n_per_m", d.bearing_stiffness_y_n_per_m);
+  d.bearing_damping_ratio = f.non_negative("bearing_damping_ratio", d.bearing_damping_ratio);
+  d.shaft_torsional_stiffness_nm_per_rad = f.non_negative("shaft_torsional_stiffness_nm_per_rad", 0.0);
+  if (f.has("backlash_um")) d.backlash_m = f.non_negative("backlash_um", 0.0) * 1e-6;
+  d.back_flank = f.boolean("back_flank", true);
+  if (f.has("friction")) {
+    diag::Fields fr(f.raw("friction"), where, "friction", {"law", "mu", "mu_cap"});
+    try {
+      d.friction.law = friction_law_from_string(fr.str("law", "drozdov"));
+    } catch (const diag::InputError& e) {
+      fr.fail("law", e.what());
+    }
+    d.friction.mu_constant = fr.non_negative("mu", d.friction.mu_constant);
+    d.friction.mu_cap = fr.positive("mu_cap", d.friction.mu_cap);
+  }
+  if (f.has("oil")) {
+    diag::Fields o(f.raw("oil"), where, "oil", {"iso_vg", "nu40_cst", "nu100_cst", "temperature_c"});
+    if (o.has("iso_vg")) {
+      try {
+        d.friction.oil = Lubricant::iso_vg(o.integer("iso_vg"));
+      } catch (const diag::InputError& e) {
+        o.fail("iso_vg", e.what());
+      }
+    }
+    if (o.has("nu40_cst") || o.has("nu100_cst")) {
+      d.friction.oil.nu40_cst = o.positive("nu40_cst");
+      d.friction.oil.nu100_cst = o.positive("nu100_cst");
+    }
+    d.friction.oil_temperature_c = o.num("temperature_c", d.friction.oil_temperature_c);
+  }
+  if (f.has("faults")) {
+    if (!f.raw("faults").is_array()) f.fail("faults", "must be an array");
+    const json& arr = f.raw("faults");
+    for (std::size_t i = 0; i < arr.size(); ++i) {
+      d.faults.push_back(parse_fault(arr[i], where, indexed("faults", i)));
+    }
+  }
+  if (f.has("accuracy_grade")) d.accuracy_grade = f.integer("accuracy_grade");
+  d.runout_m = f.non_negative("runout_um", 0.0) * 1e-6;
+  if (f.has("sensors")) {
+    diag::Fields s(f.raw("sensors"), where, "sensors",
+                   {"noise_m_per_s2", "casing_frequency_hz", "casing_damping_ratio", "mesh_channels"});
+    r.accel_noise_m_per_s2 = s.non_negative("noise_m_per_s2", r.accel_noise_m_per_s2);
+    r.casing_frequency_hz = s.non_negative("casing_frequency_hz", r.casing_frequency_hz);
+    r.casing_damping_ratio = s.positive("casing_damping_ratio", r.casing_damping_ratio);
+    r.mesh_channels = s.boolean("mesh_channels", r.mesh_channels);
+  }
+  if (f.has("integrator")) {
+    diag::Fields in(f.raw("integrator"), where, "integrator",
+                    {"method", "step_s", "steps_per_period", "steps_per_mesh", "rel_tol", "abs_tol"});
+    const std::string method = in.str("method", "rk4");
+    if (method == "rk4") {
+      r.method = RunOptions::Method::kRk4;
+    } else if (method == "gsl_rk8pd") {
+      r.method = RunOptions::Method::kGslRk8pd;
+    } else {
+      in.fail("method", "'" + method + "' is not rk4 or gsl_rk8pd");
+    }
+    r.step_s = in.non_negative("step_s", 0.0);
+    if (in.has("steps_per_period")) r.steps_per_period = in.integer("steps_per_period");
+    if (in.has("steps_per_mesh")) r.steps_per_mesh = in.integer("steps_per_mesh");
+    r.gsl_rel_tol = in.positive("rel_tol", r.gsl_rel_tol);
+    r.gsl_abs_tol = in.positive("abs_tol", r.gsl_abs_tol);
+  }
+  if (f.has("stiffness")) {
+    diag::Fields st(f.raw("stiffness"), where, "stiffness", {"fillet_foundation"});
+    d.stiffness.fillet_foundation = st.boolean("fillet_foundation", d.stiffness.fillet_foundation);
+  }
+  if (f.has("settle_s")) r.settle_s = f.non_negative("settle_s", 0.0);
+  r.duration_s = f.positive("duration_s", r.duration_s);
+  r.fs_hz = f.positive("fs_hz", r.fs_hz);
+  if (f.has("seed")) {
+    const int seed = f.integer("seed");
+    if (seed < 0) f.fail("seed", "must be >= 0");
+    d.seed = r.seed = static_cast<std::uint64_t>(seed);
+  }
+  d.validate(where);
+  try {
+    r.validate();
+  } catch (const diag::InputError& e) {
+    throw diag::InputError(where + ": " + e.what());
+  }
+  return sc;
+}
+
+Scenario load_scenario(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  if (!in) throw diag::InputError(path.string() + ": cannot open the scenario file");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::parse_error& e) {
+    throw diag::InputError(path.string() + ": not valid JSON: " + e.what());
+  }
+  return parse_scenario(j, path.string());
+}
+
+}  // namespace sim

@@ -1,0 +1,501 @@
+#include "sim/dynamics/simulate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
+
+#include "diag/dsp/fir.hpp"
+#include "diag/error.hpp"
+#include "sim/dynamics/rk4.hpp"
+
+namespace sim {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDivergenceFactor = 1000.0;  // mesh deflection beyond 1000 static deflections
+
+// Base excitation of a single-degree-of-freedom casing: absolute acceleration of the mass over
+// the base acceleration, H(s) = (2 z w s + w^2) / (s^2 + 2 z w s + w^2), bilinear transform with
+// the resonance pre-warped.
+class Resonator {
+ public:
+  Resonator(double f_hz, double zeta, double fs_hz) {
+    const double w = 2 * kPi * f_hz;
+    const double c = w / std::tan(w / (2 * fs_hz));  // pre-warped bilinear constant
+    const double a0 = c * c + 2 * zeta * w * c + w * w;
+    b0_ = (2 * zeta * w * c + w * w) / a0;
+    b1_ = (2 * w * w) / a0;
+    b2_ = (w * w - 2 * zeta * w * c) / a0;
+    a1_ = (2 * w * w - 2 * c * c) / a0;
+    a2_ = (c * c - 2 * zeta * w * c + w * w) / a0;
+  }
+  double operator()(double x) {
+    const double y = b0_ * x + s1_;
+    s1_ = b1_ * x - a1_ * y + s2_;
+    s2_ = b2_ * x - a2_ * y;
+    return y;
+  }
+
+ private:
+  double b0_, b1_, b2_, a1_, a2_, s1_ = 0, s2_ = 0;
+};
+
+enum class Source { kAccel, kTransmissionError, kAngle, kMeshForce, kMeshFriction, kMeshDte, kMeshContact };
+
+struct ChannelPlan {
+  Channel channel;
+  Source source;
+  int index = 0;         // DOF (x DOF for accelerations), gear, or mesh
+  double cx = 0, cy = 0; // projection of (x'', y'')
+  bool filtered = true;
+  bool casing = false;
+};
+
+std::string mesh_name(const diag::Gearbox& gb, int j) {
+  const diag::Mesh& m = gb.meshes()[j];
+  return gb.gears()[m.driver].name + "_" + gb.gears()[m.driven].name;
+}
+
+}  // namespace
+
+void RunOptions::validate() const {
+  const std::string where = "run";
+  auto positive = [&](double v, const char* field) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not > 0"));
+    }
+  };
+  positive(duration_s, "duration_s");
+  positive(fs_hz, "fs_hz");
+  if (!(step_s >= 0.0)) throw diag::InputError(diag::format_error(where, "step_s", "must be >= 0"));
+  if (steps_per_period < 8) throw diag::InputError(diag::format_error(where, "steps_per_period", "must be >= 8"));
+  if (steps_per_mesh < 8) throw diag::InputError(diag::format_error(where, "steps_per_mesh", "must be >= 8"));
+  positive(gsl_rel_tol, "gsl_rel_tol");
+  positive(gsl_abs_tol, "gsl_abs_tol");
+  if (!(accel_noise_m_per_s2 >= 0.0)) {
+    throw diag::InputError(diag::format_error(where, "accel_noise_m_per_s2", "must be >= 0"));
+  }
+  if (!(casing_frequency_hz >= 0.0)) {
+    throw diag::InputError(diag::format_error(where, "casing_frequency_hz", "must be >= 0"));
+  }
+  if (casing_frequency_hz > 0.0 && casing_frequency_hz >= 0.45 * fs_hz) {
+    throw diag::InputError(diag::format_error(
+        where, "casing_frequency_hz",
+        std::to_string(casing_frequency_hz) + " Hz is not below 0.45 fs = " + std::to_string(0.45 * fs_hz)));
+  }
+  if (!(casing_damping_ratio > 0.0 && casing_damping_ratio < 1.0)) {
+    throw diag::InputError(diag::format_error(where, "casing_damping_ratio", "must be in (0, 1)"));
+  }
+}
+
+const Channel* DynamicResult::find(const std::string& name) const {
+  for (const Channel& c : channels) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
+                               const RunOptions& run) {
+  run.validate();
+  GearboxModel model(gb, dynamics);
+  const DynamicsOptions& opt = model.options();
+  DynamicResult result;
+  result.fs_hz = run.fs_hz;
+
+  // ---- step and decimation ----
+  const std::vector<double> nat = model.natural_frequencies_hz();
+  const double f_max = nat.back();
+  double f_low = 0.0;
+  for (double f : nat) {
+    if (f > 1e-6 * f_max) {
+      f_low = f;
+      break;
+    }
+  }
+  const double w_in_max = opt.speed.max_rpm() * 2 * kPi / 60.0;
+  double f_mesh_max = 0.0;
+  for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+    const diag::Mesh& m = gb.meshes()[j];
+    f_mesh_max = std::max(f_mesh_max, gb.gears()[m.driver].spec.teeth *
+                                          model.gear_speed_ratio(m.driver) * w_in_max / (2 * kPi));
+  }
+  const double h_needed = std::min(1.0 / (f_max * run.steps_per_period),
+                                   1.0 / (f_mesh_max * run.steps_per_mesh));
+  int D = std::max(4, static_cast<int>(std::ceil(1.0 / (run.fs_hz * h_needed) - 1e-9)));
+  if (run.step_s > 0.0) {
+    const double stability = run.step_s * 2 * kPi * f_max;
+    if (stability > 2.0) {
+      std::ostringstream w;
+      w << "step " << run.step_s << " s is beyond the RK4 stability bound for the highest natural "
+        << "frequency " << f_max << " Hz (h w_max = " << stability << " > 2); using "
+        << 1.0 / (run.fs_hz * D) << " s";
+      result.warnings.push_back(w.str());
+    } else {
+      const int d_user = std::max(1, static_cast<int>(std::lround(1.0 / (run.fs_hz * run.step_s))));
+      D = d_user;
+      if (std::abs(1.0 / (run.fs_hz * D) - run.step_s) > 1e-9 * run.step_s) {
+        std::ostringstream w;
+        w << "step " << run.step_s << " s rounded to " << 1.0 / (run.fs_hz * D)
+          << " s (a whole number of steps per output sample)";
+        result.warnings.push_back(w.str());
+      }
+    }
+  }
+  const double h = 1.0 / (run.fs_hz * D);
+  result.step_s = h;
+  result.decimation = D;
+  double settle = run.settle_s;
+  if (settle < 0.0) settle = std::max(0.05, 20.0 / std::max(f_low, 1e-3));
+  const diag::Decimator probe(D);
+  const int delay_out = probe.delay_out_samples();
+  long long settle_out = static_cast<long long>(std::ceil(settle * run.fs_hz));
+  settle_out = std::max<long long>(settle_out, delay_out);
+  const long long n_out = static_cast<long long>(std::llround(run.duration_s * run.fs_hz));
+  if (n_out < 1) throw diag::InputError("run: duration_s: shorter than one sample");
+  // Inputs pushed from output index (settle_out - delay_out); total outputs wanted n_out +
+  // delay_out (the first delay_out are dropped), which needs delay_out * D more inputs after.
+  const long long first_push_step = (settle_out - delay_out) * D;
+  const long long total_steps = (settle_out + n_out + delay_out) * D + 1;
+
+  // ---- channels ----
+  std::vector<ChannelPlan> plans;
+  if (run.bearing_channels) {
+    for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
+      const int x = model.shaft_x_dof(static_cast<int>(s));
+      if (x < 0) continue;
+      std::vector<int> shaft_meshes;
+      for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+        const diag::Mesh& m = gb.meshes()[j];
+        if (gb.shaft_of_gear(m.driver) == static_cast<int>(s) ||
+            gb.shaft_of_gear(m.driven) == static_cast<int>(s)) {
+          shaft_meshes.push_back(static_cast<int>(j));
+        }
+      }
+      for (int b = 1; b <= 2; ++b) {
+        const std::string bearing = gb.shafts()[s].name + "_bearing" + std::to_string(b);
+        auto add = [&](const std::string& suffix, diag::Direction dir, double cx, double cy) {
+          ChannelPlan p;
+          p.channel.name = bearing + "_" + suffix;
+          p.channel.unit = "m/s^2";
+          p.channel.direction = dir;
+          p.channel.location = bearing;
+          p.source = Source::kAccel;
+          p.index = x;
+          p.cx = cx;
+          p.cy = cy;
+          p.casing = run.casing_frequency_hz > 0.0;
+          plans.push_back(p);
+        };
+        for (int j : shaft_meshes) {
+          const std::string suffix = shaft_meshes.size() > 1 ? "_" + mesh_name(gb, j) : "";
+          const auto [nx, ny] = model.loa_direction(j);
+          const auto [mx, my] = model.normal_direction(j);
+          add("along_loa" + suffix, diag::Direction::kAlongLoa, nx, ny);
+          add("normal_loa" + suffix, diag::Direction::kNormalLoa, mx, my);
+        }
+        add("horizontal", diag::Direction::kHorizontal, 1.0, 0.0);
+        add("vertical", diag::Direction::kVertical, 0.0, 1.0);
+      }
+    }
+  }
+  {
+    ChannelPlan p;
+    p.channel = {"transmission_error", "rad", diag::Direction::kAngle, gb.shafts()[gb.shaft_of_gear(model.output_gear())].name, {}};
+    p.source = Source::kTransmissionError;
+    plans.push_back(p);
+    p.channel = {"input_angle", "rad", diag::Direction::kAngle, gb.shafts()[gb.shaft_of_gear(model.input_gear())].name, {}};
+    p.source = Source::kAngle;
+    p.index = model.input_gear();
+    plans.push_back(p);
+    p.channel = {"output_angle", "rad", diag::Direction::kAngle, gb.shafts()[gb.shaft_of_gear(model.output_gear())].name, {}};
+    p.index = model.output_gear();
+    plans.push_back(p);
+  }
+  if (run.mesh_channels) {
+    for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+      const std::string mn = mesh_name(gb, static_cast<int>(j));
+      ChannelPlan p;
+      p.index = static_cast<int>(j);
+      p.channel = {mn + "_force", "N", diag::Direction::kUnspecified, mn, {}};
+      p.source = Source::kMeshForce;
+      plans.push_back(p);
+      p.channel = {mn + "_friction", "N", diag::Direction::kUnspecified, mn, {}};
+      p.source = Source::kMeshFriction;
+      plans.push_back(p);
+      p.channel = {mn + "_dte", "m", diag::Direction::kUnspecified, mn, {}};
+      p.source = Source::kMeshDte;
+      plans.push_back(p);
+      p.channel = {mn + "_contact", "", diag::Direction::kUnspecified, mn, {}};
+      p.source = Source::kMeshContact;
+      p.filtered = false;
+      plans.push_back(p);
+    }
+  }
+  std::vector<diag::Decimator> decimators;
+  std::vector<Resonator> casings;
+  for (const ChannelPlan& p : plans) {
+    decimators.emplace_back(p.filtered ? D : 1);
+    casings.emplace_back(run.casing_frequency_hz > 0 ? run.casing_frequency_hz : 1.0,
+                         run.casing_damping_ratio, run.fs_hz * D);
+  }
+  std::vector<std::vector<double>> raw(plans.size());
+  for (auto& r : raw) r.reserve(static_cast<std::size_t>(n_out + 2 * delay_out + 2));
+
+  // Tachometers: one per shaft with gears, from the first gear's total angle.
+  std::vector<int> tacho_gear;
+  std::vector<double> tacho_duty;
+  for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
+    if (gb.shafts()[s].gears.empty()) continue;
+    const int g = gb.shafts()[s].gears.front();
+    tacho_gear.push_back(g);
+    const double f_shaft = model.gear_speed_ratio(g) * w_in_max / (2 * kPi);
+    tacho_duty.push_back(std::clamp(3.0 * f_shaft / run.fs_hz, 0.02, 0.25));
+    Channel c;
+    c.name = gb.shafts()[s].name;
+    c.unit = "";
+    c.direction = diag::Direction::kTacho;
+    c.location = gb.shafts()[s].name;
+    c.samples.reserve(static_cast<std::size_t>(n_out));
+    result.tachos.push_back(c);
+  }
+
+  // Static deflections for the divergence check.
+  std::vector<double> static_delta(gb.meshes().size());
+  for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+    const diag::Mesh& m = gb.meshes()[j];
+    const double torque_driver = model.input_torque_nm() / model.gear_speed_ratio(m.driver);
+    const double f = torque_driver / diag::Gear(gb.gears()[m.driver].spec).base_radius_m();
+    static_delta[j] = std::max(f / model.mean_mesh_stiffness_n_per_m(static_cast<int>(j)), 1e-9);
+  }
+
+  // ---- integration ----
+  std::vector<double> y = model.equilibrium_state();
+  const int n = model.dofs();
+  Observation obs;
+  obs.meshes.resize(gb.meshes().size());
+  obs.acceleration.resize(n);
+  Rk4 rk4(2 * n);
+
+  struct GslParams {
+    const GearboxModel* model;
+  } params{&model};
+  gsl_odeiv2_system sys{
+      [](double t, const double* yy, double* dy, void* p) -> int {
+        static_cast<GslParams*>(p)->model->derivatives(t, yy, dy);
+        return GSL_SUCCESS;
+      },
+      nullptr, static_cast<std::size_t>(2 * n), &params};
+  gsl_odeiv2_driver* driver = nullptr;
+  if (run.method == RunOptions::Method::kGslRk8pd) {
+    driver = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, h, run.gsl_abs_tol,
+                                           run.gsl_rel_tol);
+  }
+  struct DriverGuard {
+    gsl_odeiv2_driver* d;
+    ~DriverGuard() {
+      if (d) gsl_odeiv2_driver_free(d);
+    }
+  } guard{driver};
+
+  // The state at the start of the current step (RK4 advances y in place; the angle channels and
+  // tachometers need the state at t, like the observation).
+  std::vector<double> scratch = y;
+  std::vector<double> dydt(2 * n);
+  std::vector<double> one(1);
+  const bool speed_varies = opt.speed.kind != SpeedProfile::Kind::kConstant;
+  long long out_index = -1;  // output samples emitted after the first push (incl. dropped ones)
+  double t = 0.0;
+  for (long long k = 0; k < total_steps; ++k) {
+    t = k * h;
+    if (speed_varies) model.update_speed(t);
+    const bool record = k >= first_push_step;
+    if (driver) {
+      if (record) model.derivatives(t, y.data(), dydt.data(), &obs);
+    } else {
+      rk4.step(model, t, h, y.data(), record ? &obs : nullptr);
+      // (the observation is at t, the state is now at t + h)
+    }
+    if (record) {
+      const long long rel = k - first_push_step;
+      const bool at_output = rel % D == 0;
+      for (std::size_t c = 0; c < plans.size(); ++c) {
+        const ChannelPlan& p = plans[c];
+        double value = 0.0;
+        switch (p.source) {
+          case Source::kAccel:
+            value = p.cx * obs.acceleration[p.index] + p.cy * obs.acceleration[p.index + 1];
+            if (p.casing) value = casings[c](value);
+            break;
+          case Source::kTransmissionError:
+          case Source::kAngle:
+            value = 0.0;  // filled below from the state at t
+            break;
+          case Source::kMeshForce: value = obs.meshes[p.index].force_n; break;
+          case Source::kMeshFriction: value = obs.meshes[p.index].friction_n; break;
+          case Source::kMeshDte: value = obs.meshes[p.index].delta_m; break;
+          case Source::kMeshContact: value = obs.meshes[p.index].contact; break;
+        }
+        if (p.source == Source::kTransmissionError || p.source == Source::kAngle) {
+          // State at t: for RK4 y is already at t + h; keep the pre-step copy in scratch.
+          const double* ys = driver ? y.data() : scratch.data();
+          if (p.source == Source::kAngle) {
+            value = model.gear_angle_rad(p.index, t, ys);
+          } else {
+            value = ys[model.input_gear()] * model.gear_speed_ratio(model.output_gear()) /
+                        model.gear_speed_ratio(model.input_gear()) -
+                    ys[model.output_gear()];
+          }
+        }
+        if (!p.filtered) {
+          if (at_output) raw[c].push_back(value);
+        } else {
+          one[0] = value;
+          decimators[c].push(one, raw[c]);
+        }
+      }
+      if (at_output) {
+        ++out_index;
+        if (out_index >= delay_out && out_index < delay_out + n_out) {
+          const double* ys = driver ? y.data() : scratch.data();
+          for (std::size_t i = 0; i < tacho_gear.size(); ++i) {
+            const double a = model.gear_angle_rad(tacho_gear[i], t, ys);
+            const double frac = a / (2 * kPi) - std::floor(a / (2 * kPi));
+            result.tachos[i].samples.push_back(frac < tacho_duty[i] ? 1.0 : 0.0);
+          }
+        }
+      }
+      for (std::size_t j = 0; j < obs.meshes.size(); ++j) {
+        if (!std::isfinite(obs.meshes[j].force_n) ||
+            std::abs(obs.meshes[j].delta_m) > kDivergenceFactor * static_delta[j]) {
+          std::ostringstream msg;
+          msg << "simulation diverged at t = " << t << " s: mesh " << mesh_name(gb, static_cast<int>(j))
+              << " deflection " << obs.meshes[j].delta_m << " m exceeds " << kDivergenceFactor
+              << " static deflections; the scenario is not physical (check stiffness, damping, "
+              << "speed) or the step " << h << " s is too large";
+          throw diag::InputError(msg.str());
+        }
+      }
+    }
+    if (driver) {
+      double tt = t;
+      const int status = gsl_odeiv2_driver_apply(driver, &tt, t + h, y.data());
+      if (status != GSL_SUCCESS) {
+        throw diag::InputError("simulation: GSL odeiv2 failed at t = " + std::to_string(t) +
+                               " s: " + gsl_strerror(status));
+      }
+    }
+    scratch.assign(y.begin(), y.end());
+    for (double v : y) {
+      if (!std::isfinite(v)) {
+        throw diag::InputError("simulation diverged at t = " + std::to_string(t) +
+                               " s: the state is not finite; reduce the step or check the scenario");
+      }
+    }
+  }
+
+  // ---- assemble channels ----
+  std::mt19937_64 rng(run.seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (std::size_t c = 0; c < plans.size(); ++c) {
+    Channel ch = plans[c].channel;
+    const auto& r = raw[c];
+    const std::size_t first = static_cast<std::size_t>(delay_out);
+    if (r.size() < first + static_cast<std::size_t>(n_out)) {
+      throw std::logic_error("simulate_dynamic: channel " + ch.name + " is short");
+    }
+    ch.samples.assign(r.begin() + first, r.begin() + first + n_out);
+    if (plans[c].source == Source::kAccel && run.accel_noise_m_per_s2 > 0) {
+      for (double& v : ch.samples) v += run.accel_noise_m_per_s2 * gauss(rng);
+    }
+    result.channels.push_back(std::move(ch));
+  }
+  for (Channel& tc : result.tachos) tc.samples.resize(static_cast<std::size_t>(n_out), 0.0);
+
+  // ---- truth ----
+  nlohmann::json truth;
+  truth["kind"] = "dynamic";
+  truth["model"] = "lumped gearbox dynamics (SPEC section 1): rotations + shaft translations";
+  truth["input_speed_rpm_max"] = opt.speed.max_rpm();
+  truth["input_speed_rpm_min"] = opt.speed.min_rpm();
+  truth["input_torque_nm"] = model.input_torque_nm();
+  truth["load_torque_nm"] = model.load_torque_nm();
+  truth["friction_law"] = static_cast<int>(opt.friction.law);
+  truth["oil_temperature_c"] = opt.friction.oil_temperature_c;
+  truth["mesh_damping_ratio"] = opt.mesh_damping_ratio;
+  truth["natural_frequencies_hz"] = nat;
+  nlohmann::json meshes = nlohmann::json::array();
+  for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+    const int jj = static_cast<int>(j);
+    meshes.push_back({{"name", mesh_name(gb, jj)},
+                      {"mean_stiffness_n_per_m", model.mean_mesh_stiffness_n_per_m(jj)},
+                      {"torsional_frequency_hz", model.mesh_torsional_frequency_hz(jj)},
+                      {"backlash_m", model.mesh_backlash_m(jj)},
+                      {"contact_ratio", gb.meshes()[j].pair.contact_ratio()},
+                      {"mesh_frequency_hz", gb.mesh_frequency_hz(jj)}});
+  }
+  truth["meshes"] = meshes;
+  nlohmann::json faults = nlohmann::json::array();
+  for (const GearFault& f : opt.faults) {
+    const int g = gb.gear_index(f.gear);
+    const char* kind = "";
+    switch (f.fault.kind) {
+      case ToothFault::Kind::kRootCrack: kind = "crack"; break;
+      case ToothFault::Kind::kChip: kind = "chip"; break;
+      case ToothFault::Kind::kMissing: kind = "missing"; break;
+      case ToothFault::Kind::kSpall: kind = "spall"; break;
+    }
+    faults.push_back({{"gear", f.gear},
+                      {"shaft", gb.shafts()[gb.shaft_of_gear(g)].name},
+                      {"tooth", f.fault.tooth},
+                      {"type", kind},
+                      {"size_m", f.fault.size_m},
+                      {"depth_m", f.fault.depth_m},
+                      {"width_fraction", f.fault.width_fraction},
+                      {"shaft_frequency_hz", gb.shaft_speed_hz(gb.shaft_of_gear(g))}});
+  }
+  truth["faults"] = faults;
+  truth["accuracy_grade"] = opt.accuracy_grade;
+  truth["runout_m"] = opt.runout_m;
+  truth["integrator"] = {{"method", run.method == RunOptions::Method::kRk4 ? "rk4" : "gsl_rk8pd"},
+                         {"step_s", h},
+                         {"decimation", D},
+                         {"settle_s", static_cast<double>(settle_out) / run.fs_hz}};
+  truth["warnings"] = result.warnings;
+  result.truth = truth;
+  return result;
+}
+
+diag::Recording to_recording(const diag::Gearbox& gb, const DynamicResult& r) {
+  diag::Recording rec;
+  for (const Channel& c : r.channels) {
+    diag::Signal s;
+    s.name = c.name;
+    s.fs_hz = r.fs_hz;
+    s.unit = c.unit;
+    s.direction = c.direction;
+    s.location = c.location;
+    s.samples = c.samples;
+    rec.signals.push_back(std::move(s));
+  }
+  for (const Channel& c : r.tachos) {
+    diag::Signal s;
+    s.name = c.name;
+    s.fs_hz = r.fs_hz;
+    s.direction = diag::Direction::kTacho;
+    s.location = c.location;
+    s.samples = c.samples;
+    rec.tachos.push_back(std::move(s));
+  }
+  rec.gearbox_json = gb.description_json();
+  rec.truth_json = r.truth.dump();
+  rec.metadata["simulator"] = "dynamic";
+  return rec;
+}
+
+}  // namespace sim
