@@ -36,6 +36,7 @@ struct MeshData {
   double mu_inv_ds = 0;
   bool friction = false;
   bool faulty = false;         // faults on either gear: use MeshStiffness::pair_force
+  bool per_tooth = false;      // faults or pitch errors: the teeth in contact matter
   double runout_a = 0, runout_b = 0, phase_a = 0, phase_b = 0;
   double omega_table = -1;     // driver speed at which mu was tabulated [rad/s]
 };
@@ -63,8 +64,19 @@ struct GearboxModel::Impl {
   double k_c = 0, c_c = 0;       // coupling (speed mode)
   double torque_in = 0, torque_load = 0, c_load = 0;
 
-  double nominal_angle(double t) const { return opt.speed.angle_rad(t); }
-  double nominal_speed(double t) const { return opt.speed.speed_rad_per_s(t); }
+  bool constant_speed = true;    // the speed profile is constant: omega_c t, no profile calls
+  double omega_c = 0.0;
+  double nominal_angle(double t) const {
+    return constant_speed ? omega_c * t : opt.speed.angle_rad(t);
+  }
+  double nominal_speed(double t) const {
+    return constant_speed ? omega_c : opt.speed.speed_rad_per_s(t);
+  }
+  struct Support {  // one shaft's bearings: x DOF (y = x + 1), stiffness and damping
+    int x;
+    double kx, ky, cx, cy;
+  };
+  std::vector<Support> supports;
 
   void tabulate_friction(MeshData& m, double omega_in) {
     const double omega_a = omega_in * m.ra;
@@ -173,6 +185,8 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
   }
   if (m.opt.input_torque_nm < 0) m.opt.input_torque_nm = gb.input().torque_nm;
   m.opt.validate(where);
+  m.constant_speed = m.opt.speed.kind == SpeedProfile::Kind::kConstant;
+  m.omega_c = m.opt.speed.speed_rad_per_s(0.0);
   if (gb.meshes().empty() || gb.power_path().empty()) {
     throw diag::InputError(diag::format_error(
         where, "meshes", "the dynamic simulator needs at least one mesh on the input-output path"));
@@ -264,6 +278,7 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     }
     d.stiffness = std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
     d.faulty = d.stiffness->has_faults();
+    d.per_tooth = d.faulty || !errors_a.empty() || !errors_b.empty();
     d.k_mean = d.stiffness->mean_mesh_stiffness();
     d.inv_k_mean = 1.0 / d.k_mean;
     const double inv_je = d.rba * d.rba / m.mass[d.a] + d.rbb * d.rbb / m.mass[d.b];
@@ -313,6 +328,7 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     m.ky[x] = 2 * m.opt.bearing_stiffness_y_n_per_m;
     m.cx[x] = 2 * m.opt.bearing_damping_ratio * std::sqrt(m.kx[x] * m.mass[x]);
     m.cy[x] = 2 * m.opt.bearing_damping_ratio * std::sqrt(m.ky[x] * m.mass[x + 1]);
+    m.supports.push_back({x, m.kx[x], m.ky[x], m.cx[x], m.cy[x]});
   }
 
   // Drive and load.
@@ -393,29 +409,35 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
     dydt[i] = v[i];
     f[i] = 0.0;
   }
-  const double alpha = m.opt.speed.acceleration_rad_per_s2(t);
   const double w_in = m.nominal_speed(t);
-  if (alpha != 0.0) {
-    for (int g = 0; g < m.gears; ++g) f[g] -= m.mass[g] * m.ratio[g] * alpha;
+  if (!m.constant_speed) {
+    const double alpha = m.opt.speed.acceleration_rad_per_s2(t);
+    if (alpha != 0.0) {
+      for (int g = 0; g < m.gears; ++g) f[g] -= m.mass[g] * m.ratio[g] * alpha;
+    }
   }
+  // Powers are bookkept only for an observation.
   double damping_power = 0.0, friction_power = 0.0, motor_power = 0.0, load_power = 0.0;
   // Drive and load.
   if (m.opt.motor == MotorMode::kSpeed) {
     const int g = m.in_gear;
     const double tc = -m.k_c * q[g] - m.c_c * v[g];
     f[g] += tc;
-    motor_power = tc * w_in * m.ratio[g];  // the coupling torque times the motor's speed
-    damping_power += m.c_c * v[g] * v[g];
-    const double w_out = m.ratio[m.out_gear] * w_in + v[m.out_gear];
     f[m.out_gear] -= m.torque_load;
-    load_power = m.torque_load * w_out;
+    if (obs) {
+      motor_power = tc * w_in * m.ratio[g];  // the coupling torque times the motor's speed
+      damping_power += m.c_c * v[g] * v[g];
+      load_power = m.torque_load * (m.ratio[m.out_gear] * w_in + v[m.out_gear]);
+    }
   } else {
     f[m.in_gear] += m.torque_in;
-    motor_power = m.torque_in * (m.ratio[m.in_gear] * w_in + v[m.in_gear]);
     const double w_out = m.ratio[m.out_gear] * w_in + v[m.out_gear];
     const double tl = m.c_load * w_out;
     f[m.out_gear] -= tl;
-    load_power = tl * w_out;
+    if (obs) {
+      motor_power = m.torque_in * (m.ratio[m.in_gear] * w_in + v[m.in_gear]);
+      load_power = tl * w_out;
+    }
   }
   // Shafts.
   for (const Link& l : m.links) {
@@ -423,14 +445,14 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
     const double tau = l.k * (q[l.g1] - q[l.g2]) + l.c * dv;
     f[l.g1] -= tau;
     f[l.g2] += tau;
-    damping_power += l.c * dv * dv;
+    if (obs) damping_power += l.c * dv * dv;
   }
   // Bearings.
-  for (int x : m.shaft_x) {
-    if (x < 0) continue;
-    f[x] -= m.kx[x] * q[x] + m.cx[x] * v[x];
-    f[x + 1] -= m.ky[x] * q[x + 1] + m.cy[x] * v[x + 1];
-    damping_power += m.cx[x] * v[x] * v[x] + m.cy[x] * v[x + 1] * v[x + 1];
+  for (const Impl::Support& b : m.supports) {
+    const int x = b.x;
+    f[x] -= b.kx * q[x] + b.cx * v[x];
+    f[x + 1] -= b.ky * q[x + 1] + b.cy * v[x + 1];
+    if (obs) damping_power += b.cx * v[x] * v[x] + b.cy * v[x + 1] * v[x + 1];
   }
   // Meshes.
   for (std::size_t j = 0; j < m.meshes.size(); ++j) {
@@ -445,8 +467,13 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
     for (int k = 0; k < 3; ++k) {
       const double s = d.s_start + d.rba * phase + k * d.pb;
       if (s > d.s_end) break;
-      const int ta = static_cast<int>(((nc - k) % d.za + d.za) % d.za);
-      const int tb = static_cast<int>(((nc - k) % d.zb + d.zb) % d.zb);
+      // Tooth indices matter only with faults or pitch errors (integer division is the most
+      // expensive operation here, so healthy meshes skip it).
+      int ta = 0, tb = 0;
+      if (d.per_tooth) {
+        ta = static_cast<int>(((nc - k) % d.za + d.za) % d.za);
+        tb = static_cast<int>(((nc - k) % d.zb + d.zb) % d.zb);
+      }
       const double kp = d.stiffness->pair_stiffness(s, ta, tb);
       ksum += kp;
       double elastic;
@@ -482,7 +509,7 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
         contact = -1;
       }
     }
-    damping_power += c_share * delta_dot * delta_dot;
+    if (obs) damping_power += c_share * delta_dot * delta_dot;
     // Normal force: -F n on A, +F n on B; torques -r_ba F on a, +r_bb F on b.
     f[d.a] += -d.rba * force + moment_a;
     f[d.b] += d.rbb * force + moment_b;
