@@ -405,12 +405,13 @@ void MeshStiffness::add_fault(const ToothFault& f) {
 double MeshStiffness::full_width_pair_stiffness(double s_m, int i, int j) const {
   const double x = (s_m - s0_) * inv_ds_;
   const int a = state1_[i], b = state2_[j];
-  const double c1 = (a >= 0 && !states_[a].compliance.empty())
-                        ? interpolate(states_[a].compliance, x)
-                        : interpolate(c1_, x);
-  const double c2 = (b >= 0 && !states_[b].compliance.empty())
-                        ? interpolate(states_[b].compliance, x)
-                        : interpolate(c2_, x);
+  const bool cracked1 = a >= 0 && !states_[a].compliance.empty();
+  const bool cracked2 = b >= 0 && !states_[b].compliance.empty();
+  // Uncracked teeth take the healthy table itself, so that a chip or spall scales exactly the
+  // value a healthy pair would have.
+  if (!cracked1 && !cracked2) return interpolate(k_pair_, x);
+  const double c1 = cracked1 ? interpolate(states_[a].compliance, x) : interpolate(c1_, x);
+  const double c2 = cracked2 ? interpolate(states_[b].compliance, x) : interpolate(c2_, x);
   return 1.0 / (c_hertz_ + c1 + c2);
 }
 
