@@ -1,5 +1,7 @@
 // Mesh stiffness of a spur pair: the potential-energy method against the literature's closed
 // forms, ISO 6336-1 method B, tooth faults, ISO 1328 pitch errors and the table input.
+#include "sim/mesh/mesh_stiffness.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,7 +14,6 @@
 #include "diag/error.hpp"
 #include "diag/geometry/gear_pair.hpp"
 #include "diag/units.hpp"
-#include "sim/mesh/mesh_stiffness.hpp"
 
 namespace {
 
@@ -54,9 +55,9 @@ Naive tian_involute(double rb, double alpha1, double alpha2, double E, double nu
     const double a = lo + i * d;
     const double w = (i == 0 || i == kN) ? 1 : (i % 2 ? 4 : 2);
     const double h = rb * (std::sin(a) + (alpha2 - a) * std::cos(a));  // half thickness
-    const double H = h + std::min(h, h_q);                              // section height
-    const double dx = rb * (alpha2 - a) * std::cos(a);                  // dx / d(alpha)
-    const double x = rb * (std::cos(a) - (alpha2 - a) * std::sin(a));   // along the centre line
+    const double H = h + std::min(h, h_q);                             // section height
+    const double dx = rb * (alpha2 - a) * std::cos(a);                 // dx / d(alpha)
+    const double x = rb * (std::cos(a) - (alpha2 - a) * std::sin(a));  // along the centre line
     const double xc = rb * (std::cos(alpha1) + (alpha1 + alpha2) * std::sin(alpha1));
     const double hc = rb * ((alpha1 + alpha2) * std::cos(alpha1) - std::sin(alpha1));
     const double m = std::cos(alpha1) * (xc - x) - hc * std::sin(alpha1);
@@ -87,9 +88,7 @@ double tian_bending_literal(double alpha1, double alpha2, double E, double L) {
   return s * d / 3;
 }
 
-double half_base_angle(int z, double alpha) {
-  return kPi / (2.0 * z) + std::tan(alpha) - alpha;
-}
+double half_base_angle(int z, double alpha) { return kPi / (2.0 * z) + std::tan(alpha) - alpha; }
 
 // ------------------------------------------------------------------------------------------
 // Single tooth compliances
@@ -144,8 +143,8 @@ TEST(ToothCompliance, AddsTheStraightSegmentBetweenRootAndBaseCircle) {
   for (double frac : {0.3, 0.6, 0.95}) {
     const double rho = frac * std::sqrt(g.tip_radius_m() * g.tip_radius_m() - rb * rb);
     const double a1 = rho / rb - a2;
-    const double rc = std::hypot(rb, rho), psi = a2 - (std::tan(std::acos(rb / rc)) -
-                                                        std::acos(rb / rc));
+    const double rc = std::hypot(rb, rho),
+                 psi = a2 - (std::tan(std::acos(rb / rc)) - std::acos(rb / rc));
     const double yc = rc * std::cos(psi), hc = rc * std::sin(psi);
     auto M = [&](double y) { return std::cos(a1) * (yc - y) - hc * std::sin(a1); };
     const Naive n = tian_involute(rb, a1, a2, E, nu, b);
@@ -230,9 +229,9 @@ TEST(MeshStiffness, PairStiffnessIsTheSeriesOfHertzAndBothTeeth) {
   constexpr double kRelTol = 1e-5;
   for (double f : {0.0, 0.137, 0.5, 0.731, 1.0}) {
     const double s = p.s_start_m() + f * p.path_of_contact_m();
-    const double expect = 1 / (1 / sim::hertz_stiffness(p) +
-                               sim::tooth_compliance(p.driver(), s).total() +
-                               sim::tooth_compliance(p.driven(), L - s).total());
+    const double expect =
+        1 / (1 / sim::hertz_stiffness(p) + sim::tooth_compliance(p.driver(), s).total() +
+             sim::tooth_compliance(p.driven(), L - s).total());
     EXPECT_NEAR(ms.pair_stiffness(s, 3, 7), expect, kRelTol * expect) << f;
   }
   EXPECT_EQ(ms.pair_stiffness(p.s_start_m() - 1e-6, 0, 0), 0.0);
@@ -334,8 +333,8 @@ TEST(Iso6336, PotentialEnergyMeanStiffnessAgreesWithIsoWhenTheFilletFoundationIs
   // 15 %: the PEM-vs-FE spread reported by Cooley et al., ISO's own accuracy claim being of the
   // same order (its C_M is a single empirical constant).
   constexpr double kRelTol = 0.15;
-  for (const diag::GearPair& p : {seed_pair(), make_pair(18, 36, 3.0, 20.0),
-                                  make_pair(30, 30, 5.0, 30.0)}) {
+  for (const diag::GearPair& p :
+       {seed_pair(), make_pair(18, 36, 3.0, 20.0), make_pair(30, 30, 5.0, 30.0)}) {
     const double b = p.driver().spec().face_width_m;
     const double iso = sim::iso6336_method_b(p).c_gamma_alpha_n_per_m2;
     const double pem = MeshStiffness(p).mean_mesh_stiffness() / b;
@@ -346,8 +345,9 @@ TEST(Iso6336, PotentialEnergyMeanStiffnessAgreesWithIsoWhenTheFilletFoundationIs
     // Without the rim's compliance the teeth are far stiffer (Cooley et al.: overestimate).
     EXPECT_GT(pem_rigid_rim / iso, 1.5);
     // And the single-pair maximum against ISO's single stiffness c'.
-    EXPECT_NEAR(MeshStiffness(p).max_pair_stiffness() / b / sim::iso6336_method_b(p).c_prime_n_per_m2,
-                1.0, kRelTol);
+    EXPECT_NEAR(
+        MeshStiffness(p).max_pair_stiffness() / b / sim::iso6336_method_b(p).c_prime_n_per_m2, 1.0,
+        kRelTol);
   }
 }
 
@@ -383,8 +383,8 @@ TEST(ToothFaults, HalfWidthCrackIsTheParallelOfCrackedAndIntactHalves) {
   const double cc = sim::tooth_compliance(p.driven(), p.loa_length_m() - s, {}, q).total();
   const double ch = sim::tooth_compliance(p.driven(), p.loa_length_m() - s).total();
   const double tooth = 1 / (0.5 / cc + 0.5 / ch);
-  const double expect = 1 / (1 / sim::hertz_stiffness(p) +
-                             sim::tooth_compliance(p.driver(), s).total() + tooth);
+  const double expect =
+      1 / (1 / sim::hertz_stiffness(p) + sim::tooth_compliance(p.driver(), s).total() + tooth);
   EXPECT_NEAR(ms.pair_stiffness(s, 0, 2), expect, 1e-5 * expect);  // interpolation, as above
 }
 
@@ -423,8 +423,8 @@ TEST(ToothFaults, MissingToothLeavesTheSinglePairZoneWithoutStiffness) {
   EXPECT_EQ(ms.pair_gap(s_single, 4, 4), kInf);
   EXPECT_EQ(ms.pair_force(s_single, 4, 4, 1e-3), 0.0);
   // In the double-pair zone the mate pair carries alone.
-  const double phi2 = phi_for(p, 4, p.s_start_m() + 0.2 * (p.s_end_m() - p.base_pitch_m() -
-                                                            p.s_start_m()));
+  const double phi2 =
+      phi_for(p, 4, p.s_start_m() + 0.2 * (p.s_end_m() - p.base_pitch_m() - p.s_start_m()));
   const sim::MeshContacts c = ms.contacts(phi2);
   ASSERT_EQ(c.count, 2);
   EXPECT_DOUBLE_EQ(ms.faulty_mesh_stiffness(phi2), ms.pair_stiffness(c.pairs[1].s_m, 3, 3));
@@ -587,8 +587,7 @@ TEST(PitchErrors, EnterThePairGapAsTheSumOfBothFlanks) {
   const std::vector<double> e1 = sim::pitch_errors_iso1328(p.driver(), 6, 1);
   const std::vector<double> e2 = sim::pitch_errors_iso1328(p.driven(), 6, 2);
   const MeshStiffness ms(p, {}, {}, e1, e2);
-  const MeshStiffness chip(p, {}, {ToothFault{ToothFault::Kind::kSpall, 0, 4, 1e-3, 5e-6}}, e1,
-                           e2);
+  const MeshStiffness chip(p, {}, {ToothFault{ToothFault::Kind::kSpall, 0, 4, 1e-3, 5e-6}}, e1, e2);
   EXPECT_EQ(ms.pair_gap(p.s_pitch_m(), 4, 9), e1[4] + e2[9]);
   EXPECT_DOUBLE_EQ(chip.pair_gap(p.s_pitch_m(), 4, 9), e1[4] + e2[9] + 5e-6);
   const double k = ms.pair_stiffness(p.s_pitch_m(), 4, 9), d = 30e-6;
@@ -633,10 +632,10 @@ TEST(StiffnessTable, ReproducesTheTableAtTheStaticLoadAndSplitsLikeThePem) {
     EXPECT_NEAR(t.mesh_stiffness(phi), expect, 3e-4 * expect) << a;
     const sim::MeshContacts c = t.contacts(phi);
     if (c.count == 2) {  // the split follows the analytical pairs
-      const double ratio_t = t.pair_stiffness(c.pairs[0].s_m, 0, 0) /
-                             t.pair_stiffness(c.pairs[1].s_m, 0, 0);
-      const double ratio_p = pem.pair_stiffness(c.pairs[0].s_m, 0, 0) /
-                             pem.pair_stiffness(c.pairs[1].s_m, 0, 0);
+      const double ratio_t =
+          t.pair_stiffness(c.pairs[0].s_m, 0, 0) / t.pair_stiffness(c.pairs[1].s_m, 0, 0);
+      const double ratio_p =
+          pem.pair_stiffness(c.pairs[0].s_m, 0, 0) / pem.pair_stiffness(c.pairs[1].s_m, 0, 0);
       EXPECT_NEAR(ratio_t, ratio_p, 1e-4 * ratio_p);
     }
     ++checked;

@@ -165,10 +165,10 @@ class MeshStiffness {
   // The pairs in contact at driver rotation phi1 [rad] with their teeth (numbering above).
   MeshContacts contacts(double phi1_rad) const;
 
-  double mesh_stiffness(double phi1_rad) const;       // healthy teeth: sum over pairs in contact
+  double mesh_stiffness(double phi1_rad) const;         // healthy teeth: sum over pairs in contact
   double faulty_mesh_stiffness(double phi1_rad) const;  // same with the actual teeth's
                                                         // pair_stiffness (gaps not applied)
-  double mean_mesh_stiffness() const;                 // average over one mesh period [N/m]
+  double mean_mesh_stiffness() const;                   // average over one mesh period [N/m]
   double max_pair_stiffness() const { return k_max_; }  // largest pair stiffness [N/m]
   const diag::GearPair& pair() const { return pair_; }
   bool has_faults() const { return !faults_.empty(); }
@@ -179,7 +179,7 @@ class MeshStiffness {
     double fraction, gap_m;
   };
   struct ToothState {  // a faulty tooth
-    struct Interval {    // on [s_lo, s_hi], `fraction` of the face lies gap_m back (+inf: lost)
+    struct Interval {  // on [s_lo, s_hi], `fraction` of the face lies gap_m back (+inf: lost)
       double s_lo, s_hi, fraction, gap_m;
     };
     std::vector<double> compliance;  // the tooth's compliance on the grid [m/N]; empty: healthy
@@ -208,9 +208,10 @@ class MeshStiffness {
   diag::GearPair pair_;
   StiffnessOptions options_;
   double s0_ = 0, ds_ = 0, inv_ds_ = 0, last_ = 0;
-  std::vector<double> k_pair_;            // healthy pair stiffness on the grid [N/m]
-  std::vector<double> c1_, c2_;           // healthy tooth compliances on the grid [m/N]
-  double c_hertz_ = 0;                    // 1 / k_h [m/N]
+  double theta_ = 0, rb1_ = 0, pb_ = 0, s_end_tol_ = 0;  // mesh period, r_b1, p_b, s_end + 0.5 nm
+  std::vector<double> k_pair_;                           // healthy pair stiffness on the grid [N/m]
+  std::vector<double> c1_, c2_;  // healthy tooth compliances on the grid [m/N]
+  double c_hertz_ = 0;           // 1 / k_h [m/N]
   double k_max_ = 0;
   std::vector<std::uint8_t> faulty1_, faulty2_;  // per tooth: has a fault
   std::vector<double> gap1_, gap2_;              // per tooth: pitch error gap [m]
