@@ -188,7 +188,9 @@ TEST(ToothCompliance, CrackLowersStiffnessMonotonicallyWithDepthAcrossTheCentreL
   const diag::GearPair p = seed_pair();
   const diag::Gear& g = p.driver();
   const double rho = p.s_pitch_m();
-  const double h_root_cut = 1.8 * 0.5 * 6.5e-3;  // well inside the allowed depth for m = 4 mm
+  // The root half thickness of this tooth is ~4.3 mm (r_b sin(alpha2)): cuts up to 5.85 mm stay
+  // below the allowed 1.8 h_root and pass the centre line (case 2) from q ~ 6.1 mm on.
+  const double h_root_cut = 5.85e-3;
   double previous = sim::tooth_compliance(g, rho).total();
   for (double q = 0.25e-3; q * std::sin(kPi / 4) < h_root_cut; q += 0.25e-3) {
     const double c = sim::tooth_compliance(g, rho, {}, q).total();
@@ -588,6 +590,9 @@ TEST(PitchErrors, EnterThePairGapAsTheSumOfBothFlanks) {
   const std::vector<double> e2 = sim::pitch_errors_iso1328(p.driven(), 6, 2);
   const MeshStiffness ms(p, {}, {}, e1, e2);
   const MeshStiffness chip(p, {}, {ToothFault{ToothFault::Kind::kSpall, 0, 4, 1e-3, 5e-6}}, e1, e2);
+  EXPECT_TRUE(ms.has_pitch_errors());
+  EXPECT_FALSE(ms.has_faults());
+  EXPECT_FALSE(MeshStiffness(p).has_pitch_errors());
   EXPECT_EQ(ms.pair_gap(p.s_pitch_m(), 4, 9), e1[4] + e2[9]);
   EXPECT_DOUBLE_EQ(chip.pair_gap(p.s_pitch_m(), 4, 9), e1[4] + e2[9] + 5e-6);
   const double k = ms.pair_stiffness(p.s_pitch_m(), 4, 9), d = 30e-6;

@@ -322,6 +322,7 @@ MeshStiffness::MeshStiffness(const diag::GearPair& pair, const StiffnessOptions&
     }
     for (double v : e) {
       if (!std::isfinite(v)) throw InputError(format_error(where, f, "must be finite"));
+      has_pitch_errors_ = has_pitch_errors_ || v != 0.0;
     }
     gap = std::move(e);
   };

@@ -136,8 +136,8 @@ class MeshStiffness {
                                   const StiffnessOptions& options = {});
 
   // Stiffness [N/m] of the pair driver_tooth / driven_tooth at s once it carries load: 0 outside
-  // the path of contact (1 nm allowance) and for a missing tooth. Fast when both teeth are
-  // healthy: one flag test and a linear interpolation. Teeth must be in 0 .. z - 1.
+  // the path of contact (allowance 1e-3 grid cell) and for a missing tooth. Fast when both teeth
+  // are healthy: one flag test and a linear interpolation. Teeth must be in 0 .. z - 1.
   double pair_stiffness(double s_m, int driver_tooth, int driven_tooth) const {
     const double x = (s_m - s0_) * inv_ds_;
     if (!(x >= -kEdgeCells && x <= last_ + kEdgeCells)) return 0.0;
@@ -172,6 +172,7 @@ class MeshStiffness {
   double max_pair_stiffness() const { return k_max_; }  // largest pair stiffness [N/m]
   const diag::GearPair& pair() const { return pair_; }
   bool has_faults() const { return !faults_.empty(); }
+  bool has_pitch_errors() const { return has_pitch_errors_; }  // any nonzero per-tooth gap
   const std::vector<ToothFault>& faults() const { return faults_; }
 
  private:
@@ -215,7 +216,8 @@ class MeshStiffness {
   double k_max_ = 0;
   std::vector<std::uint8_t> faulty1_, faulty2_;  // per tooth: has a fault
   std::vector<double> gap1_, gap2_;              // per tooth: pitch error gap [m]
-  std::vector<int> state1_, state2_;             // per tooth: index into states_ or -1
+  bool has_pitch_errors_ = false;
+  std::vector<int> state1_, state2_;  // per tooth: index into states_ or -1
   std::vector<ToothState> states_;
   std::vector<ToothFault> faults_;
 };
