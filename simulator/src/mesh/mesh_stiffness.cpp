@@ -60,8 +60,8 @@ const GaussLegendre& gauss() {
 // h: half thickness; t = rho / r_b the roll parameter of an involute point.
 struct Tooth {
   double rb, rf, ra, alpha2, E, G, b;
-  double t_lo;          // roll parameter where the involute part of the beam starts
-  bool has_rect;        // r_f < r_b: straight part at h = h_b from y_f to y_b
+  double t_lo;    // roll parameter where the involute part of the beam starts
+  bool has_rect;  // r_f < r_b: straight part at h = h_b from y_f to y_b
   double h_b, y_f, y_b;
   double y_root, h_root;  // beam root (crack start) on the loaded flank
   double y_tip;           // centre of the top land
@@ -74,8 +74,8 @@ struct Tooth {
     rf = g.root_radius_m();
     ra = g.tip_radius_m();
     const double a = sp.pressure_angle_rad;
-    alpha2 = kPi / (2.0 * sp.teeth) + diag::involute(a) + 2.0 * sp.profile_shift * std::tan(a) /
-                                                              sp.teeth;
+    alpha2 = kPi / (2.0 * sp.teeth) + diag::involute(a) +
+             2.0 * sp.profile_shift * std::tan(a) / sp.teeth;
     E = sp.material.youngs_modulus_pa;
     G = E / (2.0 * (1.0 + sp.material.poisson_ratio));
     b = sp.face_width_m;
@@ -151,7 +151,10 @@ ToothCompliance compliance_at(const Tooth& T, double t_c, const StiffnessOptions
         double lo = t0, hi = t1;
         for (int it = 0; it < 80; ++it) {
           const double m = 0.5 * (lo + hi);
-          if ((T.h(m) - h_q < 0) == (f0 < 0)) lo = m; else hi = m;
+          if ((T.h(m) - h_q < 0) == (f0 < 0))
+            lo = m;
+          else
+            hi = m;
         }
         extra.push_back(0.5 * (lo + hi));
       }
@@ -189,7 +192,8 @@ ToothCompliance compliance_at(const Tooth& T, double t_c, const StiffnessOptions
     const double uf = T.rb / ca - T.rf;  // load line crosses the centre line at y = r_b / cos(a1)
     const double Sf = 2.0 * T.rf * T.theta_f;
     const double q = uf / Sf, ta = std::tan(a1);
-    c.fillet_m_per_n = ca * ca / (T.E * T.b) * (X[0] * q * q + X[1] * q + X[2] * (1.0 + X[3] * ta * ta));
+    c.fillet_m_per_n =
+        ca * ca / (T.E * T.b) * (X[0] * q * q + X[1] * q + X[2] * (1.0 + X[3] * ta * ta));
   }
   return c;
 }
@@ -205,8 +209,8 @@ void check_crack(const Tooth& T, double depth, const StiffnessOptions& o, const 
   if (!(depth >= 0) || !std::isfinite(depth) || cut > 1.8 * T.h_root) {
     std::ostringstream m;
     m << "must be >= 0 and leave 10 % of the root section: depth sin(crack angle) <= "
-      << diag::units::m_to_mm(1.8 * T.h_root) << " mm (got depth "
-      << diag::units::m_to_mm(depth) << " mm)";
+      << diag::units::m_to_mm(1.8 * T.h_root) << " mm (got depth " << diag::units::m_to_mm(depth)
+      << " mm)";
     throw InputError(format_error(where, field, m.str()));
   }
 }
@@ -241,8 +245,8 @@ ToothCompliance tooth_compliance(const diag::Gear& gear, double rho_m,
   constexpr double kRelTol = 1e-9;  // round-off at the tip / root ends of the profile
   if (!(t_c >= T.t_lo * (1 - kRelTol) && rho_m <= T.rho_tip * (1 + kRelTol)) || !(rho_m > 0)) {
     std::ostringstream m;
-    m << "must lie on the flank, in (" << T.t_lo * T.rb << ", " << T.rho_tip << "] m (got "
-      << rho_m << ")";
+    m << "must lie on the flank, in (" << T.t_lo * T.rb << ", " << T.rho_tip << "] m (got " << rho_m
+      << ")";
     throw InputError(format_error("tooth_compliance", "rho_m", m.str()));
   }
   check_crack(T, crack_depth_m, options, "tooth_compliance", "crack_depth_m");
@@ -274,6 +278,11 @@ MeshStiffness::MeshStiffness(const diag::GearPair& pair, const StiffnessOptions&
   ds_ = pair_.path_of_contact_m() / (n - 1);
   inv_ds_ = 1.0 / ds_;
   last_ = n - 1;
+  theta_ = pair_.mesh_period_rad();
+  rb1_ = pair_.driver().base_radius_m();
+  pb_ = pair_.base_pitch_m();
+  constexpr double kEdgeTol = 5e-10;  // as GearPair::contacts_at
+  s_end_tol_ = pair_.s_end_m() + kEdgeTol;
   const Tooth t1(pair_.driver(), options_), t2(pair_.driven(), options_);
   const double L = pair_.loa_length_m();
   c_hertz_ = 1.0 / hertz_stiffness(pair_);
@@ -313,6 +322,7 @@ MeshStiffness::MeshStiffness(const diag::GearPair& pair, const StiffnessOptions&
     }
     for (double v : e) {
       if (!std::isfinite(v)) throw InputError(format_error(where, f, "must be finite"));
+      has_pitch_errors_ = has_pitch_errors_ || v != 0.0;
     }
     gap = std::move(e);
   };
@@ -330,13 +340,13 @@ void MeshStiffness::add_fault(const ToothFault& f) {
   }
   const diag::Gear& g = f.gear == 0 ? pair_.driver() : pair_.driven();
   if (f.tooth < 0 || f.tooth >= g.teeth()) {
-    throw InputError(format_error(where, field + ".tooth",
-                                  fail_value(f.tooth, "in [0, " + std::to_string(g.teeth() - 1) +
-                                                          "]")));
+    throw InputError(
+        format_error(where, field + ".tooth",
+                     fail_value(f.tooth, "in [0, " + std::to_string(g.teeth() - 1) + "]")));
   }
   if (!(f.width_fraction > 0 && f.width_fraction <= 1)) {
-    throw InputError(format_error(where, field + ".width_fraction",
-                                  fail_value(f.width_fraction, "in (0, 1]")));
+    throw InputError(
+        format_error(where, field + ".width_fraction", fail_value(f.width_fraction, "in (0, 1]")));
   }
   if (f.kind != ToothFault::Kind::kMissing && !(f.size_m > 0 && std::isfinite(f.size_m))) {
     throw InputError(format_error(where, field + ".size_m", fail_value(f.size_m, "> 0")));
@@ -405,12 +415,13 @@ void MeshStiffness::add_fault(const ToothFault& f) {
 double MeshStiffness::full_width_pair_stiffness(double s_m, int i, int j) const {
   const double x = (s_m - s0_) * inv_ds_;
   const int a = state1_[i], b = state2_[j];
-  const double c1 = (a >= 0 && !states_[a].compliance.empty())
-                        ? interpolate(states_[a].compliance, x)
-                        : interpolate(c1_, x);
-  const double c2 = (b >= 0 && !states_[b].compliance.empty())
-                        ? interpolate(states_[b].compliance, x)
-                        : interpolate(c2_, x);
+  const bool cracked1 = a >= 0 && !states_[a].compliance.empty();
+  const bool cracked2 = b >= 0 && !states_[b].compliance.empty();
+  // Uncracked teeth take the healthy table itself, so that a chip or spall scales exactly the
+  // value a healthy pair would have.
+  if (!cracked1 && !cracked2) return interpolate(k_pair_, x);
+  const double c1 = cracked1 ? interpolate(states_[a].compliance, x) : interpolate(c1_, x);
+  const double c2 = cracked2 ? interpolate(states_[b].compliance, x) : interpolate(c2_, x);
   return 1.0 / (c_hertz_ + c1 + c2);
 }
 
@@ -482,16 +493,13 @@ double MeshStiffness::pair_force(double s_m, int i, int j, double compression_m)
 
 MeshContacts MeshStiffness::contacts(double phi1) const {
   // Same positions, in the same floating-point steps, as diag::GearPair::contacts_at.
-  const double theta = pair_.mesh_period_rad();
-  double frac = std::fmod(phi1, theta);
-  if (frac < 0) frac += theta;
-  const long long k = std::llround((phi1 - frac) / theta);
-  const int z1 = pair_.driver().teeth(), z2 = pair_.driven().teeth();
-  constexpr double kEdgeTol = 5e-10;  // as GearPair::contacts_at
+  double frac = std::fmod(phi1, theta_);
+  if (frac < 0) frac += theta_;
+  const long long k = std::llround((phi1 - frac) / theta_);
+  const int z1 = static_cast<int>(faulty1_.size()), z2 = static_cast<int>(faulty2_.size());
   MeshContacts c;
-  const double s_end = pair_.s_end_m(), pb = pair_.base_pitch_m();
-  for (double p = pair_.s_start_m() + pair_.driver().base_radius_m() * frac;
-       p <= s_end + kEdgeTol && c.count < static_cast<int>(c.pairs.size()); p += pb) {
+  for (double p = s0_ + rb1_ * frac; p <= s_end_tol_ && c.count < static_cast<int>(c.pairs.size());
+       p += pb_) {
     c.pairs[c.count] = {p, positive_mod(k - c.count, z1), positive_mod(k - c.count, z2)};
     ++c.count;
   }
@@ -499,10 +507,12 @@ MeshContacts MeshStiffness::contacts(double phi1) const {
 }
 
 double MeshStiffness::mesh_stiffness(double phi1) const {
-  const MeshContacts c = contacts(phi1);
+  // The positions of contacts(), without the tooth bookkeeping.
+  double frac = std::fmod(phi1, theta_);
+  if (frac < 0) frac += theta_;
   double k = 0;
-  for (int i = 0; i < c.count; ++i) {
-    k += interpolate(k_pair_, (c.pairs[i].s_m - s0_) * inv_ds_);
+  for (double p = s0_ + rb1_ * frac; p <= s_end_tol_; p += pb_) {
+    k += interpolate(k_pair_, (p - s0_) * inv_ds_);
   }
   return k;
 }
@@ -537,8 +547,8 @@ MeshStiffness MeshStiffness::from_table(const diag::GearPair& pair, std::vector<
                     (i == 0 || angle_deg[i] > angle_deg[i - 1]);
     if (!ok) {
       std::ostringstream m;
-      m << "must increase strictly within the mesh period [0, " << period_deg
-        << ") deg (entry " << i << " is " << angle_deg[i] << ")";
+      m << "must increase strictly within the mesh period [0, " << period_deg << ") deg (entry "
+        << i << " is " << angle_deg[i] << ")";
       throw InputError(format_error(where, "angle_deg", m.str()));
     }
   }
@@ -585,11 +595,20 @@ MeshStiffness MeshStiffness::from_table(const diag::GearPair& pair, std::vector<
     std::size_t hi = static_cast<std::size_t>(it - angle_deg.begin());
     double a0, a1, k0, k1;
     if (hi == 0) {
-      a0 = angle_deg[n - 1] - period_deg; k0 = k_tab[n - 1]; a1 = angle_deg[0]; k1 = k_tab[0];
+      a0 = angle_deg[n - 1] - period_deg;
+      k0 = k_tab[n - 1];
+      a1 = angle_deg[0];
+      k1 = k_tab[0];
     } else if (hi == n) {
-      a0 = angle_deg[n - 1]; k0 = k_tab[n - 1]; a1 = angle_deg[0] + period_deg; k1 = k_tab[0];
+      a0 = angle_deg[n - 1];
+      k0 = k_tab[n - 1];
+      a1 = angle_deg[0] + period_deg;
+      k1 = k_tab[0];
     } else {
-      a0 = angle_deg[hi - 1]; k0 = k_tab[hi - 1]; a1 = angle_deg[hi]; k1 = k_tab[hi];
+      a0 = angle_deg[hi - 1];
+      k0 = k_tab[hi - 1];
+      a1 = angle_deg[hi];
+      k1 = k_tab[hi];
     }
     return k0 + (deg - a0) / (a1 - a0) * (k1 - k0);
   };
@@ -616,13 +635,13 @@ MeshStiffness MeshStiffness::from_table(const diag::GearPair& pair, std::vector<
 Iso6336Stiffness iso6336_method_b(const diag::GearPair& pair) {
   const diag::GearSpec& a = pair.driver().spec();
   const diag::GearSpec& b = pair.driven().spec();
-  constexpr double C[10] = {0,        0.04723, 0.15551, 0.25791, -0.00635,
+  constexpr double C[10] = {0,        0.04723,  0.15551,  0.25791, -0.00635,
                             -0.11654, -0.00193, -0.24188, 0.00529, 0.00182};
   const double zn1 = a.teeth, zn2 = b.teeth;  // spur: z_n = z
   const double x1 = a.profile_shift, x2 = b.profile_shift;
   const double q = C[1] + C[2] / zn1 + C[3] / zn2 + C[4] * x1 + C[5] * x1 / zn1 + C[6] * x2 +
                    C[7] * x2 / zn2 + C[8] * x1 * x1 + C[9] * x2 * x2;  // [mm um / N]
-  const double c_th = 1.0 / q;                                          // [N / (mm um)]
+  const double c_th = 1.0 / q;                                         // [N / (mm um)]
   constexpr double kCM = 0.8, kCR = 1.0;
   auto cb = [](const diag::GearSpec& g) {
     const double hfp = g.addendum_coefficient + g.clearance_coefficient;  // h_fP / m

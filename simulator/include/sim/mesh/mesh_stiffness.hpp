@@ -136,8 +136,8 @@ class MeshStiffness {
                                   const StiffnessOptions& options = {});
 
   // Stiffness [N/m] of the pair driver_tooth / driven_tooth at s once it carries load: 0 outside
-  // the path of contact (1 nm allowance) and for a missing tooth. Fast when both teeth are
-  // healthy: one flag test and a linear interpolation. Teeth must be in 0 .. z - 1.
+  // the path of contact (allowance 1e-3 grid cell) and for a missing tooth. Fast when both teeth
+  // are healthy: one flag test and a linear interpolation. Teeth must be in 0 .. z - 1.
   double pair_stiffness(double s_m, int driver_tooth, int driven_tooth) const {
     const double x = (s_m - s0_) * inv_ds_;
     if (!(x >= -kEdgeCells && x <= last_ + kEdgeCells)) return 0.0;
@@ -165,13 +165,14 @@ class MeshStiffness {
   // The pairs in contact at driver rotation phi1 [rad] with their teeth (numbering above).
   MeshContacts contacts(double phi1_rad) const;
 
-  double mesh_stiffness(double phi1_rad) const;       // healthy teeth: sum over pairs in contact
+  double mesh_stiffness(double phi1_rad) const;         // healthy teeth: sum over pairs in contact
   double faulty_mesh_stiffness(double phi1_rad) const;  // same with the actual teeth's
                                                         // pair_stiffness (gaps not applied)
-  double mean_mesh_stiffness() const;                 // average over one mesh period [N/m]
+  double mean_mesh_stiffness() const;                   // average over one mesh period [N/m]
   double max_pair_stiffness() const { return k_max_; }  // largest pair stiffness [N/m]
   const diag::GearPair& pair() const { return pair_; }
   bool has_faults() const { return !faults_.empty(); }
+  bool has_pitch_errors() const { return has_pitch_errors_; }  // any nonzero per-tooth gap
   const std::vector<ToothFault>& faults() const { return faults_; }
 
  private:
@@ -179,7 +180,7 @@ class MeshStiffness {
     double fraction, gap_m;
   };
   struct ToothState {  // a faulty tooth
-    struct Interval {    // on [s_lo, s_hi], `fraction` of the face lies gap_m back (+inf: lost)
+    struct Interval {  // on [s_lo, s_hi], `fraction` of the face lies gap_m back (+inf: lost)
       double s_lo, s_hi, fraction, gap_m;
     };
     std::vector<double> compliance;  // the tooth's compliance on the grid [m/N]; empty: healthy
@@ -208,13 +209,15 @@ class MeshStiffness {
   diag::GearPair pair_;
   StiffnessOptions options_;
   double s0_ = 0, ds_ = 0, inv_ds_ = 0, last_ = 0;
-  std::vector<double> k_pair_;            // healthy pair stiffness on the grid [N/m]
-  std::vector<double> c1_, c2_;           // healthy tooth compliances on the grid [m/N]
-  double c_hertz_ = 0;                    // 1 / k_h [m/N]
+  double theta_ = 0, rb1_ = 0, pb_ = 0, s_end_tol_ = 0;  // mesh period, r_b1, p_b, s_end + 0.5 nm
+  std::vector<double> k_pair_;                           // healthy pair stiffness on the grid [N/m]
+  std::vector<double> c1_, c2_;  // healthy tooth compliances on the grid [m/N]
+  double c_hertz_ = 0;           // 1 / k_h [m/N]
   double k_max_ = 0;
   std::vector<std::uint8_t> faulty1_, faulty2_;  // per tooth: has a fault
   std::vector<double> gap1_, gap2_;              // per tooth: pitch error gap [m]
-  std::vector<int> state1_, state2_;             // per tooth: index into states_ or -1
+  bool has_pitch_errors_ = false;
+  std::vector<int> state1_, state2_;  // per tooth: index into states_ or -1
   std::vector<ToothState> states_;
   std::vector<ToothFault> faults_;
 };
