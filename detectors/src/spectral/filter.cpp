@@ -81,7 +81,8 @@ std::vector<double> fft_bandpass(std::span<const double> x, const BandOptions& b
   const double hi = band.upper_hz();
   for (std::size_t k = 0; k < X.size(); ++k) {
     const double f = static_cast<double>(k) * df;
-    if (f < band.low_hz || f > hi) X[k] = 0.0;
+    // A bin exactly on an edge is kept despite round-off in k df (slack 1e-9 bin).
+    if (f < band.low_hz - 1e-9 * df || f > hi + 1e-9 * df) X[k] = 0.0;
   }
   std::vector<double> y(n);
   fft.inverse(X, y);
@@ -106,15 +107,18 @@ std::vector<double> design_lowpass_fir(const FirLowpassOptions& options) {
   const double fc = options.cutoff_hz / options.fs_hz;  // cycles per sample
   const std::ptrdiff_t m = static_cast<std::ptrdiff_t>(options.taps / 2);
   std::vector<double> h(options.taps);
-  double sum = 0.0;
-  for (std::ptrdiff_t j = 0; j < static_cast<std::ptrdiff_t>(options.taps); ++j) {
-    const double t = static_cast<double>(j - m);
+  // Computed on one half and mirrored, so the taps are exactly symmetric (exact linear phase).
+  for (std::ptrdiff_t j = 0; j <= m; ++j) {
+    const double t = static_cast<double>(m - j);
     const double sinc = t == 0.0 ? 1.0
                                  : std::sin(2.0 * std::numbers::pi * fc * t) /
                                        (2.0 * std::numbers::pi * fc * t);
-    h[static_cast<std::size_t>(j)] = w[static_cast<std::size_t>(j)] * 2.0 * fc * sinc;
-    sum += h[static_cast<std::size_t>(j)];
+    const double v = w[static_cast<std::size_t>(j)] * 2.0 * fc * sinc;
+    h[static_cast<std::size_t>(j)] = v;
+    h[static_cast<std::size_t>(2 * m - j)] = v;
   }
+  double sum = 0.0;
+  for (double v : h) sum += v;
   for (double& v : h) v /= sum;
   return h;
 }
