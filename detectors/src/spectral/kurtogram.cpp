@@ -4,6 +4,7 @@
 #include <complex>
 #include <cstring>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include "detect/spectral/fft.hpp"
@@ -99,6 +100,8 @@ void KurtogramOptions::validate() const {
     fail("kurtogram", "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
   if (max_level < 1 || max_level > 20)
     fail("kurtogram", "max_level", std::to_string(max_level) + " is not in [1, 20]");
+  if (!(taper_fraction >= 0 && taper_fraction <= 0.25))
+    fail("kurtogram", "taper_fraction", std::to_string(taper_fraction) + " is not in [0, 0.25]");
 }
 
 Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& options) {
@@ -114,6 +117,15 @@ Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& opti
   const double mean = mean_of(x);
   std::vector<double> centred(n);
   for (std::size_t j = 0; j < n; ++j) centred[j] = x[j] - mean;
+  // The DFT sees the record as periodic: a steady tone that does not fit a whole number of
+  // periods jumps at the wrap, and that one impulse per record leaks into the bands next to the
+  // tone as a spuriously impulsive signal. Half-cosine ramps at both ends remove the jump.
+  const std::size_t ramp = static_cast<std::size_t>(options.taper_fraction * double(n));
+  for (std::size_t j = 0; j < ramp; ++j) {
+    const double g = 0.5 - 0.5 * std::cos(std::numbers::pi * (double(j) + 0.5) / double(ramp));
+    centred[j] *= g;
+    centred[n - 1 - j] *= g;
+  }
   RealFft fft(n);
   std::vector<std::complex<double>> X(fft.bins());
   fft.forward(centred, X);

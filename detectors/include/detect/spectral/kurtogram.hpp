@@ -20,7 +20,9 @@
 // 3 at each step). Here every band is cut from one DFT of the whole record with brick-wall
 // edges: c is the inverse DFT of the band's bins, zero-padded to twice their number (the same
 // factor-2 oversampling as the paper's complex decimated signals). Same bands, same statistic;
-// sharper band edges and no leakage between neighbours; cost O(N log N) per level.
+// sharper band edges and no leakage between neighbours; cost O(N log N) per level. Being
+// circular, it needs the record's ends tapered (taper_fraction) so that a steady tone cut
+// mid-period does not appear as one impulse per record in the bands beside it.
 #pragma once
 
 #include <cstddef>
@@ -54,6 +56,9 @@ struct KurtogramOptions {
   double fs_hz = 1.0;  // sampling rate [Hz], finite, > 0
   int max_level = 6;   // deepest level, [1, 20]; x needs >= 2^(max_level + 7) samples (Antoni's
                        // rule nlevel <= log2(N) - 7: at least 64 bins in the narrowest band)
+  double taper_fraction = 0.01;  // half-cosine ramp at each end of the record, as a fraction of
+                                 // its length, [0, 0.25]: removes the wrap-around jump the DFT
+                                 // filter bank would otherwise read as an impulse
 
   void validate() const;  // throws diag::InputError "kurtogram: <field>: ..."
 };
