@@ -2,14 +2,14 @@
 // (filter.hpp's tests live here: the band-pass is the envelope spectrum's first step).
 #include "detect/spectral/envelope.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "detect/spectral/filter.hpp"
 #include "diag/error.hpp"

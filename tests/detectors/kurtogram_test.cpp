@@ -1,13 +1,13 @@
 // Spectral kurtosis and the fast kurtogram.
 #include "detect/spectral/kurtogram.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "diag/error.hpp"
 

@@ -2,14 +2,14 @@
 // spectrum's log-inverse; they use the same record builders).
 #include "detect/spectral/spectrum.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "detect/spectral/cepstrum.hpp"
 #include "diag/error.hpp"
@@ -52,8 +52,8 @@ double reading(const detect::Spectrum& s, double f_hz) {
 TEST(AmplitudeSpectrum, FlatTopReadsOffBinSinesWithinATenthOfAPercent) {
   constexpr double kRelTol = 1e-3;
   const double fs = 10'000.0;
-  const std::size_t n = 8192;  // 1.22 Hz bins
-  const std::vector<Tone> t{{1.0, 123.37, 0.3},       // 0.04 bin off centre
+  const std::size_t n = 8192;                             // 1.22 Hz bins
+  const std::vector<Tone> t{{1.0, 123.37, 0.3},           // 0.04 bin off centre
                             {0.3, 517.8125 + 0.61, 1.1},  // about half a bin off
                             {2.5, 2001.9, -0.7},
                             {0.75, 3210.0 + 0.5 * fs / n, 2.0}};  // exactly half a bin off

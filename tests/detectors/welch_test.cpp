@@ -2,6 +2,8 @@
 // (its rows average to Welch).
 #include "detect/spectral/welch.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,8 +16,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "detect/spectral/spectrogram.hpp"
 #include "diag/error.hpp"
@@ -53,12 +53,18 @@ bool scipy_available() {
 
 std::string scipy_window(WindowType w) {
   switch (w) {
-    case WindowType::kRectangular: return "boxcar";
-    case WindowType::kHann: return "hann";
-    case WindowType::kHamming: return "hamming";
-    case WindowType::kBlackmanHarris: return "blackmanharris";
-    case WindowType::kFlatTopMatlab: return "flattop";
-    case WindowType::kFlatTop: break;  // not in scipy
+    case WindowType::kRectangular:
+      return "boxcar";
+    case WindowType::kHann:
+      return "hann";
+    case WindowType::kHamming:
+      return "hamming";
+    case WindowType::kBlackmanHarris:
+      return "blackmanharris";
+    case WindowType::kFlatTopMatlab:
+      return "flattop";
+    case WindowType::kFlatTop:
+      break;  // not in scipy
   }
   return "";
 }
@@ -78,8 +84,9 @@ std::vector<std::vector<double>> scipy_welch(const std::vector<double>& x,
     for (const auto& o : cases) {
       c << o.fs_hz << ' ' << o.nperseg << ' ' << o.overlap() << ' ' << o.fft_length() << ' '
         << scipy_window(o.window) << ' '
-        << (o.detrend == Detrend::kNone ? "none"
-                                        : o.detrend == Detrend::kConstant ? "constant" : "linear")
+        << (o.detrend == Detrend::kNone       ? "none"
+            : o.detrend == Detrend::kConstant ? "constant"
+                                              : "linear")
         << ' ' << (o.scaling == PsdScaling::kDensity ? "density" : "spectrum") << '\n';
     }
   }
@@ -128,18 +135,36 @@ TEST(Welch, MatchesScipyForDefaultsAndEveryOption) {
     edit(o);
     cases.push_back(o);
   };
-  add([](WelchOptions& o) { o.nperseg = 1000; });                   // not a power of two
-  add([](WelchOptions& o) { o.nperseg = 777; o.noverlap = 0; });    // odd, no overlap
-  add([](WelchOptions& o) { o.nperseg = 512; o.noverlap = 500; });  // heavy overlap
-  add([](WelchOptions& o) { o.nperseg = 300; o.nfft = 1024; });     // zero padding
-  add([](WelchOptions& o) { o.nperseg = 300; o.nfft = 301; });      // odd nfft
+  add([](WelchOptions& o) { o.nperseg = 1000; });  // not a power of two
+  add([](WelchOptions& o) {
+    o.nperseg = 777;
+    o.noverlap = 0;
+  });  // odd, no overlap
+  add([](WelchOptions& o) {
+    o.nperseg = 512;
+    o.noverlap = 500;
+  });  // heavy overlap
+  add([](WelchOptions& o) {
+    o.nperseg = 300;
+    o.nfft = 1024;
+  });  // zero padding
+  add([](WelchOptions& o) {
+    o.nperseg = 300;
+    o.nfft = 301;
+  });  // odd nfft
   add([](WelchOptions& o) { o.detrend = Detrend::kLinear; });
   add([](WelchOptions& o) { o.detrend = Detrend::kNone; });
-  add([](WelchOptions& o) { o.scaling = PsdScaling::kSpectrum; o.nperseg = 4096; });
+  add([](WelchOptions& o) {
+    o.scaling = PsdScaling::kSpectrum;
+    o.nperseg = 4096;
+  });
   add([](WelchOptions& o) { o.window = WindowType::kHamming; });
   add([](WelchOptions& o) { o.window = WindowType::kBlackmanHarris; });
   add([](WelchOptions& o) { o.window = WindowType::kFlatTopMatlab; });
-  add([](WelchOptions& o) { o.window = WindowType::kRectangular; o.nperseg = 64; });
+  add([](WelchOptions& o) {
+    o.window = WindowType::kRectangular;
+    o.nperseg = 64;
+  });
   const auto ref = scipy_welch(x, cases);
   ASSERT_EQ(ref.size(), cases.size()) << "running scipy failed";
   for (std::size_t c = 0; c < cases.size(); ++c) {
@@ -290,11 +315,9 @@ TEST(Welch, BadOptionsAndInputsAreNamedInTheError) {
   o.fs_hz = -1;
   EXPECT_NE(message([&] { o.validate(); }).find("welch: fs_hz"), std::string::npos);
   o.fs_hz = 1;
-  EXPECT_NE(message([&] { detect::welch({}, o); }).find("welch: x: 0 samples"),
-            std::string::npos);
+  EXPECT_NE(message([&] { detect::welch({}, o); }).find("welch: x: 0 samples"), std::string::npos);
   const std::vector<double> one{1.0};
-  EXPECT_NE(message([&] { detect::welch(one, o); }).find("fewer than nperseg"),
-            std::string::npos);
+  EXPECT_NE(message([&] { detect::welch(one, o); }).find("fewer than nperseg"), std::string::npos);
   auto bad = x;
   bad[500] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_NE(message([&] { detect::welch(bad, o); }).find("non-finite"), std::string::npos);
@@ -333,8 +356,8 @@ TEST(Spectrogram, RowsAverageToWelch) {
     mean /= static_cast<double>(sg.time_s.size());
     EXPECT_NEAR(mean, psd.value[k], kRoundOff * peak) << k;
   }
-  EXPECT_DOUBLE_EQ(sg.time_s[0], 250.0 / fs);   // centre of the first segment
-  EXPECT_DOUBLE_EQ(sg.time_s[1], 650.0 / fs);   // step 400
+  EXPECT_DOUBLE_EQ(sg.time_s[0], 250.0 / fs);  // centre of the first segment
+  EXPECT_DOUBLE_EQ(sg.time_s[1], 650.0 / fs);  // step 400
 }
 
 // A tone that jumps from 100 Hz to 300 Hz half way: each segment's largest amplitude is the
@@ -344,7 +367,8 @@ TEST(Spectrogram, FollowsATonesFrequencyAndAmplitudeInTime) {
   const double fs = 1024.0;
   std::vector<double> x(8192);
   for (std::size_t j = 0; j < x.size(); ++j)
-    x[j] = j < 4096 ? 2.0 * std::sin(kTwoPi * 100.0 * j / fs) : 0.5 * std::sin(kTwoPi * 300.0 * j / fs);
+    x[j] = j < 4096 ? 2.0 * std::sin(kTwoPi * 100.0 * j / fs)
+                    : 0.5 * std::sin(kTwoPi * 300.0 * j / fs);
   detect::SpectrogramOptions so;
   so.fs_hz = fs;
   so.nperseg = 256;  // 4 Hz bins; segments at multiples of 128 samples never straddle 4096

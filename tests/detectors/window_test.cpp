@@ -1,10 +1,10 @@
 #include "detect/spectral/window.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "diag/error.hpp"
 
@@ -61,9 +61,12 @@ TEST(Window, CoherentGainAndEnbwMatchTheClosedFormAndPublishedValues) {
       {WindowType::kBlackmanHarris, {0.35875, 0.48829, 0.14128, 0.01168}, 2.00, 0.005},
       {WindowType::kFlatTop,
        {1.0 / hft, 1.9383379 / hft, 1.3045202 / hft, 0.4028270 / hft, 0.0350665 / hft},
-       3.8112, 0.00005},
+       3.8112,
+       0.00005},
       {WindowType::kFlatTopMatlab,
-       {0.21557895, 0.41663158, 0.277263158, 0.083578947, 0.006947368}, 3.77, 0.005},
+       {0.21557895, 0.41663158, 0.277263158, 0.083578947, 0.006947368},
+       3.77,
+       0.005},
   };
   for (const Case& c : cases) {
     const auto w = detect::make_window(c.type, 1000);
@@ -91,9 +94,9 @@ TEST(Window, OneSampleIsOneAndZeroSamplesIsAnError) {
 }
 
 TEST(Window, NamesRoundTripAndUnknownNamesAreRejected) {
-  for (WindowType t : {WindowType::kRectangular, WindowType::kHann, WindowType::kHamming,
-                       WindowType::kBlackmanHarris, WindowType::kFlatTop,
-                       WindowType::kFlatTopMatlab}) {
+  for (WindowType t :
+       {WindowType::kRectangular, WindowType::kHann, WindowType::kHamming,
+        WindowType::kBlackmanHarris, WindowType::kFlatTop, WindowType::kFlatTopMatlab}) {
     EXPECT_EQ(detect::parse_window(to_string(t)), t);
   }
   try {

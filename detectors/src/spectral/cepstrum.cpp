@@ -53,8 +53,7 @@ Cepstrum real_cepstrum(std::span<const double> x, const CepstrumOptions& options
   const std::size_t half = nfft / 2 + 1;
   c.quefrency_s.resize(half);
   c.value.assign(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(half));
-  for (std::size_t q = 0; q < half; ++q)
-    c.quefrency_s[q] = static_cast<double>(q) / options.fs_hz;
+  for (std::size_t q = 0; q < half; ++q) c.quefrency_s[q] = static_cast<double>(q) / options.fs_hz;
   return c;
 }
 

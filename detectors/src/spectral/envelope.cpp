@@ -87,8 +87,8 @@ void EnvelopeSpectrumOptions::validate() const {
 Spectrum envelope_spectrum(std::span<const double> x, const EnvelopeSpectrumOptions& options) {
   options.validate();
   check_input(x, "envelope_spectrum");
-  std::vector<double> env = band_envelope(x, {options.fs_hz, options.band_low_hz,
-                                              options.band_high_hz});
+  std::vector<double> env =
+      band_envelope(x, {options.fs_hz, options.band_low_hz, options.band_high_hz});
   SpectrumOptions so;
   so.fs_hz = options.fs_hz;
   so.window = options.window;

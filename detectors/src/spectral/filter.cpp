@@ -102,17 +102,17 @@ void FirLowpassOptions::validate() const {
 
 std::vector<double> design_lowpass_fir(const FirLowpassOptions& options) {
   options.validate();
-  const std::vector<double> w = make_window(options.window, options.taps,
-                                            WindowSymmetry::kSymmetric);
+  const std::vector<double> w =
+      make_window(options.window, options.taps, WindowSymmetry::kSymmetric);
   const double fc = options.cutoff_hz / options.fs_hz;  // cycles per sample
   const std::ptrdiff_t m = static_cast<std::ptrdiff_t>(options.taps / 2);
   std::vector<double> h(options.taps);
   // Computed on one half and mirrored, so the taps are exactly symmetric (exact linear phase).
   for (std::ptrdiff_t j = 0; j <= m; ++j) {
     const double t = static_cast<double>(m - j);
-    const double sinc = t == 0.0 ? 1.0
-                                 : std::sin(2.0 * std::numbers::pi * fc * t) /
-                                       (2.0 * std::numbers::pi * fc * t);
+    const double sinc =
+        t == 0.0 ? 1.0
+                 : std::sin(2.0 * std::numbers::pi * fc * t) / (2.0 * std::numbers::pi * fc * t);
     const double v = w[static_cast<std::size_t>(j)] * 2.0 * fc * sinc;
     h[static_cast<std::size_t>(j)] = v;
     h[static_cast<std::size_t>(2 * m - j)] = v;
@@ -123,8 +123,7 @@ std::vector<double> design_lowpass_fir(const FirLowpassOptions& options) {
   return h;
 }
 
-std::vector<double> design_decimation_lowpass(double fs_hz, std::size_t factor,
-                                              std::size_t taps) {
+std::vector<double> design_decimation_lowpass(double fs_hz, std::size_t factor, std::size_t taps) {
   if (factor < 2)
     throw diag::InputError(diag::format_error("decimation_lowpass", "factor",
                                               std::to_string(factor) + " is not >= 2"));
@@ -133,13 +132,13 @@ std::vector<double> design_decimation_lowpass(double fs_hz, std::size_t factor,
   o.fs_hz = fs_hz;
   o.taps = taps;
   o.window = WindowType::kBlackmanHarris;
-  o.cutoff_hz = fs_hz / (2.0 * static_cast<double>(factor)) -
-                4.0 * fs_hz / static_cast<double>(taps);
+  o.cutoff_hz =
+      fs_hz / (2.0 * static_cast<double>(factor)) - 4.0 * fs_hz / static_cast<double>(taps);
   if (!(o.cutoff_hz > 0))
-    throw diag::InputError(diag::format_error(
-        "decimation_lowpass", "taps",
-        std::to_string(taps) + " is too few for factor " + std::to_string(factor) +
-            "; need more than 8 factor"));
+    throw diag::InputError(diag::format_error("decimation_lowpass", "taps",
+                                              std::to_string(taps) + " is too few for factor " +
+                                                  std::to_string(factor) +
+                                                  "; need more than 8 factor"));
   return design_lowpass_fir(o);
 }
 
@@ -150,14 +149,13 @@ std::vector<double> filter_zero_phase(std::span<const double> x, std::span<const
 std::vector<double> decimate(std::span<const double> x, std::size_t factor,
                              std::span<const double> taps) {
   const char* where = factor == 1 ? "filter_zero_phase" : "decimate";
-  if (factor == 0)
-    throw diag::InputError(diag::format_error(where, "factor", "0 is not >= 1"));
+  if (factor == 0) throw diag::InputError(diag::format_error(where, "factor", "0 is not >= 1"));
   check_taps(taps, where);
   if (x.size() <= taps.size() / 2)
-    throw diag::InputError(diag::format_error(
-        where, "x",
-        std::to_string(x.size()) + " samples; need more than half the taps (" +
-            std::to_string(taps.size() / 2) + ") for the mirrored ends"));
+    throw diag::InputError(
+        diag::format_error(where, "x",
+                           std::to_string(x.size()) + " samples; need more than half the taps (" +
+                               std::to_string(taps.size() / 2) + ") for the mirrored ends"));
   check_finite(x, where);
   std::vector<double> y((x.size() + factor - 1) / factor);
   for (std::size_t m = 0; m < y.size(); ++m) y[m] = centred_sum(x, taps, m * factor);

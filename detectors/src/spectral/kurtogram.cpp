@@ -51,22 +51,23 @@ void SpectralKurtosisOptions::validate() const {
   if (nperseg < 8 || nperseg > (std::size_t{1} << 24))
     fail(w, "nperseg", std::to_string(nperseg) + " is not in [8, 2^24]");
   if (noverlap < -1 || (noverlap >= 0 && static_cast<std::size_t>(noverlap) >= nperseg))
-    fail(w, "noverlap", std::to_string(noverlap) + " is not in [0, nperseg) = [0, " +
-                            std::to_string(nperseg) + ") or -1 (3 nperseg / 4)");
+    fail(w, "noverlap",
+         std::to_string(noverlap) + " is not in [0, nperseg) = [0, " + std::to_string(nperseg) +
+             ") or -1 (3 nperseg / 4)");
 }
 
 SpectralKurtosis spectral_kurtosis(std::span<const double> x,
                                    const SpectralKurtosisOptions& options) {
   options.validate();
   const std::size_t n = options.nperseg;
-  const std::size_t overlap = options.noverlap < 0 ? 3 * n / 4
-                                                   : static_cast<std::size_t>(options.noverlap);
+  const std::size_t overlap =
+      options.noverlap < 0 ? 3 * n / 4 : static_cast<std::size_t>(options.noverlap);
   const std::size_t step = n - overlap;
   const std::size_t needed = n + 3 * step;
   if (x.size() < needed)
     fail("spectral_kurtosis", "x",
-         std::to_string(x.size()) + " samples; need at least 4 segments = " +
-             std::to_string(needed));
+         std::to_string(x.size()) +
+             " samples; need at least 4 segments = " + std::to_string(needed));
   check_finite(x, "spectral_kurtosis");
   const double mean = mean_of(x);
   const std::vector<double> w = make_window(options.window, n);
@@ -153,7 +154,8 @@ Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& opti
     for (std::size_t i = 0; i < bands; ++i) {
       // Bins with i B <= k df < (i + 1) B, B / df = n / (2 bands).
       const std::size_t k_lo = (i * n + 2 * bands - 1) / (2 * bands);
-      const std::size_t k_hi = i + 1 == bands ? half + 1 : ((i + 1) * n + 2 * bands - 1) / (2 * bands);
+      const std::size_t k_hi =
+          i + 1 == bands ? half + 1 : ((i + 1) * n + 2 * bands - 1) / (2 * bands);
       const std::size_t m = k_hi - k_lo;
       const std::size_t len = 2 * m;  // complex band signal, oversampled by 2
       auto it = ffts.find(len);

@@ -161,14 +161,13 @@ Psd WelchAccumulator::result() const {
       fail("x", "sample " + std::to_string(samples_ - pending_size_ + j) + " is not finite");
   }
   if (segments_ == 0)
-    fail("x", std::to_string(samples_) + " samples is fewer than nperseg = " +
-                  std::to_string(nperseg_));
+    fail("x",
+         std::to_string(samples_) + " samples is fewer than nperseg = " + std::to_string(nperseg_));
   Psd r;
   r.scaling = options_.scaling;
   r.segments = segments_;
   r.resolution_hz = options_.fs_hz / static_cast<double>(nfft_);
-  r.enbw_hz = static_cast<double>(nperseg_) * window_sum_sq_ / (window_sum_ * window_sum_) *
-              options_.fs_hz / static_cast<double>(nperseg_);
+  r.enbw_hz = options_.fs_hz * window_sum_sq_ / (window_sum_ * window_sum_);  // bins x fs/n
   const double scale = options_.scaling == PsdScaling::kDensity
                            ? 1.0 / (options_.fs_hz * window_sum_sq_)
                            : 1.0 / (window_sum_ * window_sum_);

@@ -17,10 +17,14 @@ struct CosineSum {
 
 CosineSum coefficients(WindowType type) {
   switch (type) {
-    case WindowType::kRectangular: return {{1.0}, 1};
-    case WindowType::kHann: return {{0.5, 0.5}, 2};
-    case WindowType::kHamming: return {{0.54, 0.46}, 2};
-    case WindowType::kBlackmanHarris: return {{0.35875, 0.48829, 0.14128, 0.01168}, 4};
+    case WindowType::kRectangular:
+      return {{1.0}, 1};
+    case WindowType::kHann:
+      return {{0.5, 0.5}, 2};
+    case WindowType::kHamming:
+      return {{0.54, 0.46}, 2};
+    case WindowType::kBlackmanHarris:
+      return {{0.35875, 0.48829, 0.14128, 0.01168}, 4};
     case WindowType::kFlatTop: {
       constexpr double c[] = {1.0, 1.9383379, 1.3045202, 0.4028270, 0.0350665};
       constexpr double peak = c[0] + c[1] + c[2] + c[3] + c[4];
@@ -39,8 +43,8 @@ std::vector<double> make_window(WindowType type, std::size_t n, WindowSymmetry s
   const CosineSum c = coefficients(type);
   std::vector<double> w(n, 1.0);
   if (n == 1) return w;
-  const double d = symmetry == WindowSymmetry::kPeriodic ? static_cast<double>(n)
-                                                         : static_cast<double>(n - 1);
+  const double d =
+      symmetry == WindowSymmetry::kPeriodic ? static_cast<double>(n) : static_cast<double>(n - 1);
   for (std::size_t j = 0; j < n; ++j) {
     const double z = 2.0 * std::numbers::pi * static_cast<double>(j) / d;
     double v = 0.0;
@@ -71,20 +75,26 @@ double enbw_bins(std::span<const double> w) {
 
 std::string_view to_string(WindowType type) {
   switch (type) {
-    case WindowType::kRectangular: return "rectangular";
-    case WindowType::kHann: return "hann";
-    case WindowType::kHamming: return "hamming";
-    case WindowType::kBlackmanHarris: return "blackmanharris";
-    case WindowType::kFlatTop: return "flattop";
-    case WindowType::kFlatTopMatlab: return "flattop-matlab";
+    case WindowType::kRectangular:
+      return "rectangular";
+    case WindowType::kHann:
+      return "hann";
+    case WindowType::kHamming:
+      return "hamming";
+    case WindowType::kBlackmanHarris:
+      return "blackmanharris";
+    case WindowType::kFlatTop:
+      return "flattop";
+    case WindowType::kFlatTopMatlab:
+      return "flattop-matlab";
   }
   return "unknown";
 }
 
 WindowType parse_window(std::string_view name, std::string_view field) {
-  for (WindowType t : {WindowType::kRectangular, WindowType::kHann, WindowType::kHamming,
-                       WindowType::kBlackmanHarris, WindowType::kFlatTop,
-                       WindowType::kFlatTopMatlab}) {
+  for (WindowType t :
+       {WindowType::kRectangular, WindowType::kHann, WindowType::kHamming,
+        WindowType::kBlackmanHarris, WindowType::kFlatTop, WindowType::kFlatTopMatlab}) {
     if (name == to_string(t)) return t;
   }
   throw diag::InputError(diag::format_error(

@@ -35,9 +35,9 @@ struct BandOptions {
 std::vector<double> fft_bandpass(std::span<const double> x, const BandOptions& band);
 
 struct FirLowpassOptions {
-  double fs_hz = 1.0;                             // sampling rate [Hz], finite, > 0
-  double cutoff_hz = 0.25;                        // -6 dB point [Hz], (0, fs/2)
-  std::size_t taps = 101;                         // odd, [3, 2^16 + 1]
+  double fs_hz = 1.0;                               // sampling rate [Hz], finite, > 0
+  double cutoff_hz = 0.25;                          // -6 dB point [Hz], (0, fs/2)
+  std::size_t taps = 101;                           // odd, [3, 2^16 + 1]
   WindowType window = WindowType::kBlackmanHarris;  // symmetric form is used
 
   void validate() const;  // throws diag::InputError "fir_lowpass: <field>: ..."

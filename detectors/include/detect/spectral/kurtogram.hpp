@@ -64,9 +64,9 @@ struct KurtogramOptions {
 };
 
 struct KurtogramLevel {
-  double level = 0;               // l: 0, 1, log2 3 = 1.585, 2, 2.585, ...
-  double bandwidth_hz = 0;        // fs / 2^(l+1)
-  std::vector<double> kurtosis;   // one per band, band i centred at (i + 1/2) bandwidth
+  double level = 0;              // l: 0, 1, log2 3 = 1.585, 2, 2.585, ...
+  double bandwidth_hz = 0;       // fs / 2^(l+1)
+  std::vector<double> kurtosis;  // one per band, band i centred at (i + 1/2) bandwidth
 };
 
 struct Kurtogram {

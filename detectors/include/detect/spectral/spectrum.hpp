@@ -24,12 +24,12 @@ enum class AmplitudeScaling {
 };
 
 struct SpectrumOptions {
-  double fs_hz = 1.0;                          // sampling rate [Hz], finite, > 0
-  WindowType window = WindowType::kFlatTop;    // periodic form is used
+  double fs_hz = 1.0;                        // sampling rate [Hz], finite, > 0
+  WindowType window = WindowType::kFlatTop;  // periodic form is used
   AmplitudeScaling scaling = AmplitudeScaling::kPeak;
-  std::size_t nfft = 0;                        // DFT length; 0: the record length; else >= it,
-                                               // <= 2^28 (zero padding)
-  bool remove_mean = false;                    // subtract the record's mean before windowing
+  std::size_t nfft = 0;      // DFT length; 0: the record length; else >= it,
+                             // <= 2^28 (zero padding)
+  bool remove_mean = false;  // subtract the record's mean before windowing
 
   void validate() const;  // throws diag::InputError naming the field
 };

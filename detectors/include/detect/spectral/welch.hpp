@@ -39,12 +39,12 @@ enum class PsdScaling {
 };
 
 struct WelchOptions {
-  double fs_hz = 1.0;                       // sampling rate [Hz], finite, > 0
-  std::size_t nperseg = 256;                // segment length [samples], [8, 2^24]
-  long long noverlap = -1;                  // samples shared by consecutive segments,
-                                            // [0, nperseg); -1: nperseg / 2 (scipy default)
-  std::size_t nfft = 0;                     // DFT length, 0: nperseg; else [nperseg, 2^26]
-  WindowType window = WindowType::kHann;    // periodic form (scipy get_window default)
+  double fs_hz = 1.0;                     // sampling rate [Hz], finite, > 0
+  std::size_t nperseg = 256;              // segment length [samples], [8, 2^24]
+  long long noverlap = -1;                // samples shared by consecutive segments,
+                                          // [0, nperseg); -1: nperseg / 2 (scipy default)
+  std::size_t nfft = 0;                   // DFT length, 0: nperseg; else [nperseg, 2^26]
+  WindowType window = WindowType::kHann;  // periodic form (scipy get_window default)
   Detrend detrend = Detrend::kConstant;
   PsdScaling scaling = PsdScaling::kDensity;
 
@@ -58,9 +58,9 @@ struct Psd {
   std::vector<double> frequency_hz;  // k fs / nfft, k = 0..nfft/2
   std::vector<double> value;         // density [x^2/Hz] or spectrum [x^2], see scaling
   PsdScaling scaling = PsdScaling::kDensity;
-  std::size_t segments = 0;          // K, the segments averaged
-  double resolution_hz = 0;          // fs / nfft
-  double enbw_hz = 0;                // window ENBW: enbw_bins fs / nperseg
+  std::size_t segments = 0;  // K, the segments averaged
+  double resolution_hz = 0;  // fs / nfft
+  double enbw_hz = 0;        // window ENBW: enbw_bins fs / nperseg
 };
 
 // One-shot Welch PSD. x must hold at least nperseg samples, all finite (diag::InputError
@@ -90,10 +90,10 @@ class WelchAccumulator {
   std::vector<double> window_;
   double window_sum_ = 0, window_sum_sq_ = 0;
   RealFft fft_;
-  std::vector<double> work_;                  // nfft: windowed (zero-padded) segment
+  std::vector<double> work_;  // nfft: windowed (zero-padded) segment
   std::vector<std::complex<double>> spectrum_;
-  std::vector<double> power_;                 // sum over segments of |X_k|^2
-  std::vector<double> pending_;               // samples not yet consumed, < nperseg of them
+  std::vector<double> power_;    // sum over segments of |X_k|^2
+  std::vector<double> pending_;  // samples not yet consumed, < nperseg of them
   std::size_t pending_size_ = 0;
   std::size_t segments_ = 0;
   std::size_t samples_ = 0;
