@@ -1,0 +1,66 @@
+#include "detect/spectral/spectrum.hpp"
+
+#include <cmath>
+#include <complex>
+#include <string>
+
+#include "detect/spectral/fft.hpp"
+#include "diag/error.hpp"
+
+namespace detect {
+namespace {
+
+constexpr std::size_t kMaxNfft = std::size_t{1} << 28;
+
+[[noreturn]] void fail(const std::string& field, const std::string& reason) {
+  throw diag::InputError(diag::format_error("amplitude_spectrum", field, reason));
+}
+
+}  // namespace
+
+void SpectrumOptions::validate() const {
+  if (!(std::isfinite(fs_hz) && fs_hz > 0))
+    fail("fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
+  if (nfft > kMaxNfft) fail("nfft", std::to_string(nfft) + " is not in [0, 2^28]");
+}
+
+Spectrum amplitude_spectrum(std::span<const double> x, const SpectrumOptions& options) {
+  options.validate();
+  const std::size_t n = x.size();
+  if (n < 2) fail("x", std::to_string(n) + " samples; need at least 2");
+  const std::size_t nfft = options.nfft == 0 ? n : options.nfft;
+  if (nfft < n)
+    fail("nfft", std::to_string(nfft) + " is shorter than the record (" + std::to_string(n) +
+                     " samples); 0 or >= the record length");
+  double mean = 0.0;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (!std::isfinite(x[j])) fail("x", "sample " + std::to_string(j) + " is not finite");
+    mean += x[j];
+  }
+  mean = options.remove_mean ? mean / static_cast<double>(n) : 0.0;
+
+  const std::vector<double> w = make_window(options.window, n);
+  double wsum = 0.0;
+  for (double v : w) wsum += v;
+  std::vector<double> buf(nfft, 0.0);
+  for (std::size_t j = 0; j < n; ++j) buf[j] = w[j] * (x[j] - mean);
+  RealFft fft(nfft);
+  std::vector<std::complex<double>> X(fft.bins());
+  fft.forward(buf, X);
+
+  Spectrum s;
+  s.resolution_hz = options.fs_hz / static_cast<double>(nfft);
+  s.enbw_hz = enbw_bins(w) * options.fs_hz / static_cast<double>(n);
+  s.frequency_hz.resize(X.size());
+  s.amplitude.resize(X.size());
+  const double interior =
+      (options.scaling == AmplitudeScaling::kPeak ? 2.0 : std::sqrt(2.0)) / wsum;
+  for (std::size_t k = 0; k < X.size(); ++k) {
+    s.frequency_hz[k] = static_cast<double>(k) * s.resolution_hz;
+    const bool edge = k == 0 || (nfft % 2 == 0 && k == nfft / 2);
+    s.amplitude[k] = std::abs(X[k]) * (edge ? 1.0 / wsum : interior);
+  }
+  return s;
+}
+
+}  // namespace detect

@@ -1,0 +1,211 @@
+// Analytic signal, envelope, envelope spectrum, and the filters they are built on
+// (filter.hpp's tests live here: the band-pass is the envelope spectrum's first step).
+#include "detect/spectral/envelope.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "detect/spectral/filter.hpp"
+#include "diag/error.hpp"
+
+namespace {
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+// AM: A (1 + m cos(2 pi fm t)) cos(2 pi fc t).
+std::vector<double> am(double a, double m, double fm, double fc, double fs, std::size_t n) {
+  std::vector<double> x(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double t = static_cast<double>(j) / fs;
+    x[j] = a * (1.0 + m * std::cos(kTwoPi * fm * t)) * std::cos(kTwoPi * fc * t);
+  }
+  return x;
+}
+
+// The Hilbert transform of cos is sin: for a whole number of cycles the analytic signal of
+// cos(w t) is exp(i w t), to FFT round-off; odd lengths too.
+TEST(AnalyticSignal, OfACosineIsTheComplexExponential) {
+  constexpr double kRoundOff = 1e-12;
+  for (std::size_t n : {1000u, 999u}) {
+    std::vector<double> x(n);
+    for (std::size_t j = 0; j < n; ++j) x[j] = std::cos(kTwoPi * 37.0 * j / n + 0.4) + 0.25;
+    const auto z = detect::analytic_signal(x);
+    for (std::size_t j = 0; j < n; ++j) {
+      EXPECT_NEAR(z[j].real(), x[j], kRoundOff);
+      EXPECT_NEAR(z[j].imag(), std::sin(kTwoPi * 37.0 * j / n + 0.4), kRoundOff);  // DC: no H
+    }
+  }
+}
+
+// Against a naive DFT-domain construction inside the test (scipy.signal.hilbert's recipe: h = 1
+// at DC and Nyquist, 2 between, 0 above) on random data, even and odd lengths.
+TEST(AnalyticSignal, MatchesTheNaiveDftRecipeOnRandomData) {
+  constexpr double kRoundOff = 1e-11;  // O(n) naive DFT sums of O(1) terms, n = 64, 65
+  std::mt19937_64 rng(4);
+  std::normal_distribution<double> g;
+  for (std::size_t n : {64u, 65u}) {
+    std::vector<double> x(n);
+    for (double& v : x) v = g(rng);
+    std::vector<std::complex<double>> X(n), z(n);
+    for (std::size_t k = 0; k < n; ++k)
+      for (std::size_t j = 0; j < n; ++j) X[k] += x[j] * std::polar(1.0, -kTwoPi * k * j / n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const double h = k == 0 || 2 * k == n ? 1.0 : (2 * k < n ? 2.0 : 0.0);
+      X[k] *= h;
+    }
+    for (std::size_t j = 0; j < n; ++j) {
+      for (std::size_t k = 0; k < n; ++k) z[j] += X[k] * std::polar(1.0, kTwoPi * k * j / n);
+      z[j] /= static_cast<double>(n);
+    }
+    const auto got = detect::analytic_signal(x);
+    for (std::size_t j = 0; j < n; ++j) EXPECT_NEAR(std::abs(got[j] - z[j]), 0.0, kRoundOff);
+  }
+}
+
+// The brief's test. Carrier 3 kHz modulated at 97 Hz with depth m = 0.4, amplitude 1.7: the
+// envelope is 1.7 (1 + 0.4 cos(2 pi 97 t)), so the envelope spectrum reads A m = 0.68 at 97 Hz.
+// 1 s at 20 kHz puts every line on a bin and the rectangular window reads exactly (FFT
+// round-off). A second AM component (carrier 7 kHz modulated at 150 Hz) lies outside the
+// 2-4 kHz band and must not show.
+TEST(EnvelopeSpectrum, AmSignalShowsTheModulationLineWithItsAmplitude) {
+  constexpr double kRoundOff = 1e-9;  // two 20000-point FFT round trips of O(1) data
+  const double fs = 20'000.0;
+  const std::size_t n = 20'000;
+  auto x = am(1.7, 0.4, 97.0, 3000.0, fs, n);
+  const auto other = am(1.0, 0.8, 150.0, 7000.0, fs, n);
+  for (std::size_t j = 0; j < n; ++j) x[j] += other[j];
+  detect::EnvelopeSpectrumOptions o;
+  o.fs_hz = fs;
+  o.band_low_hz = 2000.0;
+  o.band_high_hz = 4000.0;
+  const auto s = detect::envelope_spectrum(x, o);
+  EXPECT_DOUBLE_EQ(s.frequency_hz[97], 97.0);
+  EXPECT_NEAR(s.amplitude[97], 1.7 * 0.4, kRoundOff);
+  EXPECT_NEAR(s.amplitude[150], 0.0, kRoundOff);
+  EXPECT_NEAR(s.amplitude[0], 0.0, kRoundOff);  // mean removed
+  // Without the band the two envelopes beat: the 150 Hz line appears.
+  o.band_low_hz = 0.0;
+  o.band_high_hz = 0.0;
+  EXPECT_GT(detect::envelope_spectrum(x, o).amplitude[150], 0.1);
+}
+
+// The same AM in white noise at a non-bin-centred modulation frequency, read with the flat-top:
+// within 1 % of A m. Error budget: flat-top flatness 0.05 %; noise: the band's noise (sigma 0.3
+// over 2 kHz of 10 kHz) beats with the carrier into the envelope, a white floor of amplitude
+// about 2 sigma sqrt(band/ (fs/2)) sqrt(ENBW / n) ~ 1.4e-3 = 0.2 % of 0.68 per bin.
+TEST(EnvelopeSpectrum, AmInNoiseReadsTheModulationDepthWithinOnePercent) {
+  constexpr double kRelTol = 0.01;
+  const double fs = 20'000.0;
+  const std::size_t n = 40'000;
+  auto x = am(1.7, 0.4, 97.37, 3000.0, fs, n);
+  std::mt19937_64 rng(12);
+  std::normal_distribution<double> g(0.0, 0.3);
+  for (double& v : x) v += g(rng);
+  detect::EnvelopeSpectrumOptions o;
+  o.fs_hz = fs;
+  o.band_low_hz = 2000.0;
+  o.band_high_hz = 4000.0;
+  o.window = detect::WindowType::kFlatTop;
+  const auto s = detect::envelope_spectrum(x, o);
+  double peak = 0.0, f_peak = 0.0;
+  for (std::size_t k = 1; k < s.amplitude.size(); ++k) {
+    if (s.amplitude[k] > peak) {
+      peak = s.amplitude[k];
+      f_peak = s.frequency_hz[k];
+    }
+  }
+  EXPECT_NEAR(f_peak, 97.37, 0.5);  // within one 0.5 Hz bin
+  EXPECT_NEAR(peak, 0.68, kRelTol * 0.68);
+}
+
+TEST(EnvelopeSpectrum, BadBandAndInputsAreNamed) {
+  detect::EnvelopeSpectrumOptions o;
+  o.fs_hz = 1000.0;
+  o.band_low_hz = 300.0;
+  o.band_high_hz = 200.0;
+  try {
+    o.validate();
+    FAIL();
+  } catch (const diag::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("envelope_spectrum: band_low_hz", 0), 0u) << e.what();
+  }
+  o.band_high_hz = 600.0;  // above fs/2
+  EXPECT_THROW(o.validate(), diag::InputError);
+  EXPECT_THROW(detect::envelope(std::vector<double>{1.0}), diag::InputError);
+  EXPECT_THROW(detect::envelope(std::vector<double>{1.0, std::nan("")}), diag::InputError);
+}
+
+// ---- filter.hpp ----
+
+// Brick-wall band-pass on whole-period tones: the in-band tone passes exactly, the others go.
+TEST(FftBandpass, KeepsInBandTonesExactlyAndRemovesTheRest) {
+  constexpr double kRoundOff = 1e-12;
+  const double fs = 1000.0;
+  const std::size_t n = 1000;
+  std::vector<double> x(n), inband(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    inband[j] = 0.7 * std::sin(kTwoPi * 120.0 * j / fs);
+    x[j] = inband[j] + 2.0 + std::cos(kTwoPi * 30.0 * j / fs) + std::sin(kTwoPi * 400.0 * j / fs);
+  }
+  const auto y = detect::fft_bandpass(x, {fs, 100.0, 200.0});
+  for (std::size_t j = 0; j < n; ++j) EXPECT_NEAR(y[j], inband[j], kRoundOff);
+}
+
+// Frequency response of the designed low-pass, evaluated naively: H(f) = sum_j h_j e^{-i w j}.
+double gain(const std::vector<double>& h, double f_over_fs) {
+  std::complex<double> s = 0.0;
+  for (std::size_t j = 0; j < h.size(); ++j) s += h[j] * std::polar(1.0, -kTwoPi * f_over_fs * j);
+  return std::abs(s);
+}
+
+// Windowed-sinc design: symmetric taps (linear phase), unit DC gain, -6 dB at the cut-off (the
+// sinc's half-amplitude point, to the window's smoothing: 1 %), and the Blackman-Harris stop band
+// below -90 dB from cutoff + 4 fs / taps (half the window's main lobe) on.
+TEST(FirLowpass, IsSymmetricWithUnitDcGainAndAStopBandBelowMinus90Db) {
+  detect::FirLowpassOptions o;
+  o.fs_hz = 1000.0;
+  o.cutoff_hz = 100.0;
+  o.taps = 201;
+  const auto h = detect::design_lowpass_fir(o);
+  ASSERT_EQ(h.size(), 201u);
+  for (std::size_t j = 0; j < h.size(); ++j) EXPECT_DOUBLE_EQ(h[j], h[h.size() - 1 - j]);
+  EXPECT_NEAR(gain(h, 0.0), 1.0, 1e-14);
+  EXPECT_NEAR(gain(h, 0.1), 0.5, 0.01);
+  const double stop = 0.1 + 4.0 / 201.0;
+  for (double f = stop; f <= 0.5; f += 0.0005) EXPECT_LT(gain(h, f), 3.2e-5) << f;  // -90 dB
+  EXPECT_THROW((detect::FirLowpassOptions{1000.0, 600.0, 201}).validate(), diag::InputError);
+  EXPECT_THROW((detect::FirLowpassOptions{1000.0, 100.0, 200}).validate(), diag::InputError);
+}
+
+// Zero phase: a pass-band sine comes out with no delay and unit gain (interior samples; the
+// mirrored ends are approximate); decimation by 4 keeps a tone at 0.7 of the new Nyquist and
+// suppresses one above the new Nyquist below -90 dB (it would alias otherwise).
+TEST(FirLowpass, FiltersWithZeroPhaseAndDecimatesWithoutAliasing) {
+  const double fs = 4000.0;
+  const std::size_t n = 20'000, factor = 4;
+  const auto h = detect::design_decimation_lowpass(fs, factor);
+  ASSERT_EQ(h.size(), 64 * factor + 1);
+  const double f_pass = 0.7 * fs / (2.0 * factor), f_alias = 1.2 * fs / (2.0 * factor);
+  std::vector<double> pass(n), both(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    pass[j] = std::sin(kTwoPi * f_pass * j / fs + 0.2);
+    both[j] = pass[j] + std::sin(kTwoPi * f_alias * j / fs);
+  }
+  const auto y = detect::filter_zero_phase(pass, h);
+  constexpr double kPassRipple = 1e-4;  // Blackman-Harris side lobes -92 dB = 2.5e-5, x 4 margin
+  for (std::size_t j = h.size(); j + h.size() < n; ++j) EXPECT_NEAR(y[j], pass[j], kPassRipple);
+  const auto d = detect::decimate(both, factor, h);
+  ASSERT_EQ(d.size(), n / factor);
+  for (std::size_t m = h.size(); m + h.size() < d.size(); ++m)
+    EXPECT_NEAR(d[m], pass[m * factor], kPassRipple + 3.2e-5) << m;
+  EXPECT_THROW(detect::decimate(both, 4, std::vector<double>{1.0, 1.0}), diag::InputError);
+  EXPECT_THROW(detect::design_decimation_lowpass(fs, 4, 17), diag::InputError);
+}
+
+}  // namespace
