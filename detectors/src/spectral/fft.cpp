@@ -21,10 +21,23 @@ std::mutex& planner_mutex() {
   return m;
 }
 
-// Plans live for the process (a few hundred bytes each); they are made on fftw_malloc'ed arrays
-// and executed with the new-array interface on equally aligned scratch buffers.
+// Plans live for the process (a few hundred bytes each) and are destroyed at exit; they are made
+// on fftw_malloc'ed arrays and executed with the new-array interface on equally aligned scratch
+// buffers.
+struct PlanCache {
+  std::map<std::size_t, Plans> plans;
+  ~PlanCache() {
+    for (auto& [n, p] : plans) {
+      fftw_destroy_plan(p.forward);
+      fftw_destroy_plan(p.inverse);
+    }
+    fftw_cleanup();
+  }
+};
+
 Plans plans_for(std::size_t n) {
-  static std::map<std::size_t, Plans> cache;
+  static PlanCache store;
+  auto& cache = store.plans;
   std::lock_guard<std::mutex> lock(planner_mutex());
   auto it = cache.find(n);
   if (it != cache.end()) return it->second;
