@@ -1,12 +1,12 @@
 #include "detect/angular/resample.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "detect/angular/order_spectrum.hpp"
 #include "detect/spectral/fft.hpp"
@@ -142,7 +142,8 @@ TEST(OrderSpectrum, ConstantOrderOnARunUpIsASharpLineAtItsOrderWithItsAmplitude)
   const Ramp r{0.15, 10.0, 10.0};
   const auto p = r.pulses(duration);
   std::vector<double> x(static_cast<std::size_t>(duration * fs));
-  for (std::size_t n = 0; n < x.size(); ++n) x[n] = a * std::cos(2 * kPi * 27 * r.revs(n / fs) + 0.3);
+  for (std::size_t n = 0; n < x.size(); ++n)
+    x[n] = a * std::cos(2 * kPi * 27 * r.revs(n / fs) + 0.3);
 
   // Ordinary spectrum (Hann, whole record): smeared.
   detect::RealFft fft(x.size());
@@ -164,7 +165,8 @@ TEST(OrderSpectrum, ConstantOrderOnARunUpIsASharpLineAtItsOrderWithItsAmplitude)
   const auto y = detect::resample_by_angle(x, fs, p, ro);
   const auto os = detect::order_spectrum(y);
   ASSERT_EQ(os.segments, 1);
-  const auto peak = std::max_element(os.amplitude.begin(), os.amplitude.end()) - os.amplitude.begin();
+  const auto peak =
+      std::max_element(os.amplitude.begin(), os.amplitude.end()) - os.amplitude.begin();
   EXPECT_DOUBLE_EQ(os.order[static_cast<std::size_t>(peak)], 27.0);
   constexpr double kAmpTol = 5e-4;
   EXPECT_NEAR(os.amplitude[static_cast<std::size_t>(peak)], a, kAmpTol * a);

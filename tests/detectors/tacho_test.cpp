@@ -1,11 +1,11 @@
 #include "detect/angular/tacho.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "diag/error.hpp"
 
@@ -142,7 +142,7 @@ TEST(Tacho, DoubledPulseIsDroppedAndReported) {
 TEST(Tacho, WithRepairOffAnomaliesAreReportedAndNothingChanges) {
   const Ramp r{0.0, 10.0, 0.0};
   auto t = r.pulses(5.0, 1);
-  t.erase(t.begin() + 20);                         // a missed pulse
+  t.erase(t.begin() + 20);                          // a missed pulse
   t.insert(t.begin() + 31, 0.5 * (t[30] + t[31]));  // an extra pulse in the middle
   TachoOptions opt;
   opt.repair = false;

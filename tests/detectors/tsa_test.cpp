@@ -1,5 +1,7 @@
 #include "detect/angular/tsa.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -7,8 +9,6 @@
 #include <random>
 #include <set>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "detect/angular/resample.hpp"
 #include "diag/error.hpp"
@@ -117,7 +117,8 @@ TEST(Tsa, KeepsTheSynchronousPartUnderARunUpAndNoiseFallsAsOneOverSqrtN) {
   const double phase0 = r.revs(p.front());
   double s2 = 0;
   for (std::size_t m = 0; m < y.samples.size(); ++m) {
-    const double d = y.samples[m] - synchronous(phase0 + y.first_rev + static_cast<double>(m) / 256);
+    const double d =
+        y.samples[m] - synchronous(phase0 + y.first_rev + static_cast<double>(m) / 256);
     s2 += d * d;
   }
   const double sigma_r = std::sqrt(s2 / static_cast<double>(y.samples.size()));
@@ -202,8 +203,8 @@ TEST(TsaOrders, RegularResidualAndDifferenceKeepExactlyTheirOrders) {
   const std::vector<int> mesh{27, 40};
   // Hand-listed regular lines with one sideband: order 0, shaft order 1, 27 h +- {0,1} for
   // h = 1..4 (108 <= 128 < 135) and 40 h +- {0,1} for h = 1..3 (120 <= 128 < 160).
-  const std::set<int> regular1{0,  1,  26, 27, 28,  53,  54,  55,  80,  81,  82,  107, 108,
-                               109, 39, 40, 41, 79, 80, 81, 119, 120, 121};
+  const std::set<int> regular1{0,   1,   26, 27, 28, 53, 54, 55, 80,  81,  82, 107,
+                               108, 109, 39, 40, 41, 79, 80, 81, 119, 120, 121};
   // Without sidebands.
   const std::set<int> regular0{0, 1, 27, 54, 81, 108, 40, 80, 120};
   constexpr double kLineTol = 1e-10;
@@ -218,7 +219,8 @@ TEST(TsaOrders, RegularResidualAndDifferenceKeepExactlyTheirOrders) {
   for (int k = 0; k <= n / 2; ++k) all.insert(k);
   auto complement = [&](const std::set<int>& s) {
     std::set<int> c;
-    for (int k : all) if (!s.count(k)) c.insert(k);
+    for (int k : all)
+      if (!s.count(k)) c.insert(k);
     return c;
   };
   expect_lines(detect::tsa_regular(x, mesh, 0), regular0, "regular(0)");

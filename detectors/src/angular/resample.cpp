@@ -67,8 +67,7 @@ double transition_rel(int zero_crossings) {
 ShaftAngle::ShaftAngle(std::span<const double> t, int pulses_per_rev) : ppr_(pulses_per_rev) {
   require(pulses_per_rev >= 1, "ShaftAngle", "pulses_per_rev",
           std::to_string(pulses_per_rev) + " is not >= 1");
-  require(t.size() >= static_cast<std::size_t>(pulses_per_rev) + 1, "ShaftAngle",
-          "pulse_times_s",
+  require(t.size() >= static_cast<std::size_t>(pulses_per_rev) + 1, "ShaftAngle", "pulse_times_s",
           "has " + std::to_string(t.size()) + " pulses; one revolution needs " +
               std::to_string(pulses_per_rev + 1));
   for (std::size_t i = 0; i < t.size(); ++i) {
@@ -120,8 +119,7 @@ double ShaftAngle::revs_at(double t) const {
   const std::size_t i = interval_of_time(t);
   const double h = t_[i + 1] - t_[i];
   const double s = (t - t_[i]) / h;
-  return (static_cast<double>(i) + hermite(s, slope_[i] * h / dth, slope_[i + 1] * h / dth)) *
-         dth;
+  return (static_cast<double>(i) + hermite(s, slope_[i] * h / dth, slope_[i + 1] * h / dth)) * dth;
 }
 
 double ShaftAngle::speed_rev_per_s(double t) const {
@@ -156,7 +154,10 @@ double ShaftAngle::time_at(double revs) const {
   double lo = 0, hi = 1, s = q;
   for (int it = 0; it < 60; ++it) {
     const double f = hermite(s, m0, m1) - q;
-    if (f > 0) hi = s; else lo = s;
+    if (f > 0)
+      hi = s;
+    else
+      lo = s;
     const double df = hermite_slope(s, m0, m1);
     double next = df > 0 ? s - f / df : 0.5 * (lo + hi);
     if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
@@ -211,8 +212,13 @@ AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
   const double last_sample = static_cast<double>(x.size()) - 1;
 
   // Kernel cutoff g = 2 f_c / fs (cycles per sample x 2) and half-width K = z / g [samples].
+  // The speed is floored at a tenth of the record's mean: the monotonicity limiter may set a zero
+  // slope at an end pulse, which would ask for an infinitely long kernel.
+  const double speed_floor =
+      0.1 * angle.total_revs() / (angle.last_pulse_s() - angle.first_pulse_s());
   auto cutoff = [&](double t) {
-    const double f_nyq = std::min(0.5 * spr * angle.speed_rev_per_s(t), 0.5 * fs_hz);
+    const double f = std::max(angle.speed_rev_per_s(t), speed_floor);
+    const double f_nyq = std::min(0.5 * spr * f, 0.5 * fs_hz);
     return 2 * (f_nyq / guard) / fs_hz;
   };
 

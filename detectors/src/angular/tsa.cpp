@@ -27,7 +27,8 @@ std::vector<double> filter_orders(std::span<const double> x, std::span<const int
                                   const char* where) {
   const std::vector<bool> regular = tsa_regular_orders(x.size(), mesh_orders, sidebands, opt);
   for (std::size_t i = 0; i < x.size(); ++i) {
-    require(std::isfinite(x[i]), where, "one_rev", "sample " + std::to_string(i) + " is NaN or Inf");
+    require(std::isfinite(x[i]), where, "one_rev",
+            "sample " + std::to_string(i) + " is NaN or Inf");
   }
   RealFft fft(x.size());
   std::vector<std::complex<double>> spec(fft.bins());
@@ -67,8 +68,9 @@ Tsa tsa(const AngleResampled& r, int min_revolutions) {
   require(min_revolutions >= 1, "tsa", "min_revolutions",
           std::to_string(min_revolutions) + " is not >= 1");
   require(r.samples.size() == static_cast<std::size_t>(r.revolutions) * r.samples_per_rev, "tsa",
-          "resampled", "holds " + std::to_string(r.samples.size()) + " samples, not revolutions x " +
-                           "samples_per_rev");
+          "resampled",
+          "holds " + std::to_string(r.samples.size()) + " samples, not revolutions x " +
+              "samples_per_rev");
   require(r.revolutions >= min_revolutions, "tsa", "min_revolutions",
           "the record holds " + std::to_string(r.revolutions) +
               " whole revolutions of this shaft, fewer than the " +
@@ -107,7 +109,8 @@ std::vector<bool> tsa_regular_orders(std::size_t n, std::span<const int> mesh_or
   const long nyq = static_cast<long>(n / 2);
   std::vector<bool> keep(static_cast<std::size_t>(nyq) + 1, false);
   keep[0] = true;
-  for (long k = 1; k <= std::min<long>(opt.shaft_orders, nyq); ++k) keep[static_cast<std::size_t>(k)] = true;
+  for (long k = 1; k <= std::min<long>(opt.shaft_orders, nyq); ++k)
+    keep[static_cast<std::size_t>(k)] = true;
   for (int z : mesh_orders) {
     require(z >= 1 && z <= nyq, "tsa order filter", "mesh_orders",
             "order " + std::to_string(z) + " is not in [1, " + std::to_string(nyq) +

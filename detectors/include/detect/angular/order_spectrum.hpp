@@ -21,8 +21,8 @@ struct OrderSpectrumOptions {
     kHann,         // sidelobes -31 dB, falling 18 dB/octave; amplitude exact on a line
     kRectangular,  // narrowest line; exact for orders on a line, leaks for the others
   };
-  int segment_revs = 0;       // revolutions per segment, >= 0 (0: whole record, one segment)
-  double overlap = 0.5;       // segment overlap fraction, [0, 0.9]
+  int segment_revs = 0;  // revolutions per segment, >= 0 (0: whole record, one segment)
+  double overlap = 0.5;  // segment overlap fraction, [0, 0.9]
   Window window = Window::kHann;
 
   void validate() const;  // throws diag::InputError naming the field

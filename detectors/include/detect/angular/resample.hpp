@@ -44,10 +44,10 @@ class ShaftAngle {
   // revolution). Throws diag::InputError otherwise.
   ShaftAngle(std::span<const double> pulse_times_s, int pulses_per_rev = 1);
 
-  double revs_at(double t_s) const;            // angle [rev], 0 at the first pulse
-  double time_at(double revs) const;           // inverse of revs_at [s]
-  double speed_rev_per_s(double t_s) const;    // d(revs)/dt [rev/s]
-  double total_revs() const;                   // angle of the last pulse [rev]
+  double revs_at(double t_s) const;          // angle [rev], 0 at the first pulse
+  double time_at(double revs) const;         // inverse of revs_at [s]
+  double speed_rev_per_s(double t_s) const;  // d(revs)/dt [rev/s]
+  double total_revs() const;                 // angle of the last pulse [rev]
   double first_pulse_s() const { return t_.front(); }
   double last_pulse_s() const { return t_.back(); }
   int pulses_per_rev() const { return ppr_; }
@@ -79,8 +79,8 @@ struct ResampleOptions {
 struct AngleResampled {
   std::vector<double> samples;  // x at angles first_rev + m / samples_per_rev
   int samples_per_rev = 0;
-  double first_rev = 0;         // angle of samples[0] [rev], from the first pulse; an integer
-  int revolutions = 0;          // whole revolutions held: samples.size() / samples_per_rev
+  double first_rev = 0;  // angle of samples[0] [rev], from the first pulse; an integer
+  int revolutions = 0;   // whole revolutions held: samples.size() / samples_per_rev
 };
 
 // Resamples whole revolutions: those whose interpolation kernels lie inside the record. Throws

@@ -10,7 +10,8 @@
 //   period. For a smooth edge the error is at most |x''| T^2 / (8 |x'|) (T = 1/fs_hz) at the
 //   crossing.
 // Auto threshold: the midpoint of the robust minimum and maximum (the 10th smallest and 10th
-// largest samples, so that up to 9 isolated spikes or dropouts do not move it).
+// largest samples, fewer in records under 200 samples, so that up to 9 isolated spikes or
+// dropouts do not move it).
 //
 // Repair. Intervals d_i between pulses are compared with the median m_i of the intervals in a
 // window centred on them (local, so a run-up or run-down is fine; it shrinks to 3 intervals at
@@ -34,9 +35,9 @@
 namespace detect {
 
 struct TachoOptions {
-  int pulses_per_rev = 1;        // pulses per shaft revolution, >= 1
-  double threshold = std::numeric_limits<double>::quiet_NaN();  // trigger level [signal units];
-                                 // NaN: auto, midpoint of the robust minimum and maximum
+  int pulses_per_rev = 1;  // pulses per shaft revolution, >= 1
+  // Trigger level [signal units]; NaN: auto, the midpoint of the robust minimum and maximum.
+  double threshold = std::numeric_limits<double>::quiet_NaN();
   double hysteresis_fraction = 0.1;  // hysteresis band as a fraction of (robust max - robust
                                      // min), [0, 0.9]
   double repair_tolerance = 0.3;     // tolerance on interval / local median, in units of the
@@ -59,11 +60,11 @@ struct TachoRepair {
 std::string_view to_string(TachoRepair::Kind k);
 
 struct TachoResult {
-  std::vector<double> pulse_times_s;   // after repair, strictly increasing [s]
-  std::vector<TachoRepair> repairs;    // in time order
-  double threshold = 0;                // level used [signal units]
-  double hysteresis = 0;               // full width of the hysteresis band [signal units]
-  int pulses_per_rev = 1;              // copied from the options
+  std::vector<double> pulse_times_s;  // after repair, strictly increasing [s]
+  std::vector<TachoRepair> repairs;   // in time order
+  double threshold = 0;               // level used [signal units]
+  double hysteresis = 0;              // full width of the hysteresis band [signal units]
+  int pulses_per_rev = 1;             // copied from the options
 };
 
 // Throws diag::InputError for fs_hz <= 0 or non-finite samples. A signal without a usable edge

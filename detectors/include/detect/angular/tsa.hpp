@@ -51,7 +51,7 @@ struct Tsa {
   std::vector<double> samples;  // one revolution, samples_per_rev values, sample j at angle j/spr
   int revolutions = 0;          // revolutions averaged
   int samples_per_rev = 0;
-  double first_rev = 0;         // angle (from the first pulse) of the first revolution averaged
+  double first_rev = 0;  // angle (from the first pulse) of the first revolution averaged
 };
 
 // pulse_times_s: pulses of THIS shaft (scale_pulses() derives them from another shaft's tacho).
@@ -74,9 +74,8 @@ struct TsaOrderOptions {
 // The span forms take one revolution of any length >= 8.
 std::vector<double> tsa_regular(std::span<const double> one_rev, std::span<const int> mesh_orders,
                                 int sideband_orders = 0, const TsaOrderOptions& options = {});
-std::vector<double> tsa_residual(std::span<const double> one_rev,
-                                 std::span<const int> mesh_orders, int sideband_orders = 0,
-                                 const TsaOrderOptions& options = {});
+std::vector<double> tsa_residual(std::span<const double> one_rev, std::span<const int> mesh_orders,
+                                 int sideband_orders = 0, const TsaOrderOptions& options = {});
 std::vector<double> tsa_difference(std::span<const double> one_rev,
                                    std::span<const int> mesh_orders, int extra_sideband_orders = 0,
                                    const TsaOrderOptions& options = {});
