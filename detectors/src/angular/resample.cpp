@@ -13,9 +13,14 @@ using diag::InputError;
 
 namespace {
 
+[[noreturn]] void fail(const std::string& where, const std::string& field,
+                       const std::string& reason) {
+  throw InputError(diag::format_error(where, field, reason));
+}
+// Checks in loops over samples use `if (!ok) fail(...)` so the message is built only on failure.
 void require(bool ok, const std::string& where, const std::string& field,
              const std::string& reason) {
-  if (!ok) throw InputError(diag::format_error(where, field, reason));
+  if (!ok) fail(where, field, reason);
 }
 
 // Cubic Hermite basis on [0, 1]: p(s) = H01(s) + m0 H10(s) + m1 H11(s) goes from 0 to 1 with
@@ -29,27 +34,34 @@ double hermite_slope(double s, double m0, double m1) {
   return (-6 * s2 + 6 * s) + m0 * (3 * s2 - 4 * s + 1) + m1 * (3 * s2 - 2 * s);
 }
 
-// Kaiser window w(r) = I0(beta sqrt(1 - r^2)) / I0(beta), tabulated on r in [0, 1] and read with
-// linear interpolation (table step 1/4096: interpolation error < 1e-6 for beta = 8).
-class KaiserTable {
+// The interpolation kernel as a function of r = (u - n) / K in [-1, 1]: since g (u - n) = Z r,
+// sinc(g (u - n)) w((u - n) / K) = sinc(Z r) w(r) does not depend on the cutoff, so one table
+// serves every speed. w is the Kaiser window I0(beta sqrt(1 - r^2)) / I0(beta). The table has
+// 512 points per zero crossing, read with linear interpolation: error <= (pi Z)^2 (1/(512 Z))^2 / 8
+// = 5e-6 of the kernel's peak.
+class KernelTable {
  public:
-  explicit KaiserTable(double beta) : w_(kSize + 1) {
+  KernelTable(int zero_crossings, double beta)
+      : size_(512 * zero_crossings), h_(static_cast<std::size_t>(size_) + 2, 0.0) {
     const double norm = std::cyl_bessel_i(0.0, beta);
-    for (int i = 0; i <= kSize; ++i) {
-      const double r = static_cast<double>(i) / kSize;
-      w_[i] = std::cyl_bessel_i(0.0, beta * std::sqrt(std::max(0.0, 1 - r * r))) / norm;
+    for (int i = 0; i <= size_; ++i) {
+      const double r = static_cast<double>(i) / size_;
+      const double x = std::numbers::pi * zero_crossings * r;
+      const double sinc = i == 0 ? 1.0 : std::sin(x) / x;
+      h_[i] = sinc * std::cyl_bessel_i(0.0, beta * std::sqrt(std::max(0.0, 1 - r * r))) / norm;
     }
+    // h_[size_ + 1] stays 0: r == 1 exactly reads a zero neighbour.
   }
   double operator()(double r) const {  // r in [0, 1]
-    const double p = r * kSize;
-    const int i = std::min(static_cast<int>(p), kSize - 1);
-    const double f = p - i;
-    return w_[i] + f * (w_[i + 1] - w_[i]);
+    const double p = r * size_;
+    const auto i = static_cast<std::size_t>(p);
+    const double f = p - static_cast<double>(i);
+    return h_[i] + f * (h_[i + 1] - h_[i]);
   }
 
  private:
-  static constexpr int kSize = 4096;
-  std::vector<double> w_;
+  int size_;
+  std::vector<double> h_;
 };
 
 // Kaiser beta for 80 dB stopband (Kaiser's formula 0.1102 (A - 8.7)), and the matching
@@ -71,10 +83,10 @@ ShaftAngle::ShaftAngle(std::span<const double> t, int pulses_per_rev) : ppr_(pul
           "has " + std::to_string(t.size()) + " pulses; one revolution needs " +
               std::to_string(pulses_per_rev + 1));
   for (std::size_t i = 0; i < t.size(); ++i) {
-    require(std::isfinite(t[i]), "ShaftAngle", "pulse_times_s",
-            "pulse " + std::to_string(i) + " is NaN or Inf");
-    require(i == 0 || t[i] > t[i - 1], "ShaftAngle", "pulse_times_s",
-            "not strictly increasing at pulse " + std::to_string(i));
+    if (!std::isfinite(t[i]))
+      fail("ShaftAngle", "pulse_times_s", "pulse " + std::to_string(i) + " is NaN or Inf");
+    if (i > 0 && !(t[i] > t[i - 1]))
+      fail("ShaftAngle", "pulse_times_s", "not strictly increasing at pulse " + std::to_string(i));
   }
   t_.assign(t.begin(), t.end());
   const std::size_t n = t_.size();
@@ -154,18 +166,17 @@ double ShaftAngle::time_at(double revs) const {
   double lo = 0, hi = 1, s = q;
   for (int it = 0; it < 60; ++it) {
     const double f = hermite(s, m0, m1) - q;
+    if (std::abs(f) <= 4e-16) break;  // p is in [0, 1]: a few ulps
     if (f > 0)
       hi = s;
     else
       lo = s;
     const double df = hermite_slope(s, m0, m1);
     double next = df > 0 ? s - f / df : 0.5 * (lo + hi);
-    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-    if (std::abs(next - s) < 1e-15) {
-      s = next;
-      break;
-    }
+    if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
+    const bool done = std::abs(next - s) <= 1e-15;
     s = next;
+    if (done) break;
   }
   return t_[i] + s * h;
 }
@@ -202,8 +213,8 @@ AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
   require(fs_hz > 0 && std::isfinite(fs_hz), "resample_by_angle", "fs_hz",
           std::to_string(fs_hz) + " is not > 0");
   for (std::size_t i = 0; i < x.size(); ++i) {
-    require(std::isfinite(x[i]), "resample_by_angle", "x",
-            "sample " + std::to_string(i) + " is NaN or Inf");
+    if (!std::isfinite(x[i]))
+      fail("resample_by_angle", "x", "sample " + std::to_string(i) + " is NaN or Inf");
   }
   const ShaftAngle angle(pulse_times_s, opt.pulses_per_rev);
   const int spr = opt.samples_per_rev;
@@ -254,31 +265,21 @@ AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
   out.revolutions = static_cast<int>(last - first);
   out.samples.resize(static_cast<std::size_t>(out.revolutions) * spr);
 
-  const KaiserTable window(kKaiserBeta);
+  const KernelTable kernel(z, kKaiserBeta);
   const long n_max = static_cast<long>(x.size()) - 1;
-  const double pi = std::numbers::pi;
   for (std::size_t m = 0; m < out.samples.size(); ++m) {
     const double theta = out.first_rev + static_cast<double>(m) / spr;
     const double t = angle.time_at(theta);
     const double g = cutoff(t);
     const double half = z / g;
+    const double inv_half = g / z;
     const double u = t * fs_hz;
     const long n0 = std::max<long>(0, static_cast<long>(std::ceil(u - half)));
     const long n1 = std::min<long>(n_max, static_cast<long>(std::floor(u + half)));
-    // sin(pi g (u - n)) by rotation: each step in n subtracts pi g from the argument.
-    const double step = pi * g;
-    const double cs = std::cos(step), sn = std::sin(step);
-    double a = step * (u - static_cast<double>(n0));
-    double sa = std::sin(a), ca = std::cos(a);
     double acc = 0;
     for (long n = n0; n <= n1; ++n) {
-      const double r = std::abs(u - static_cast<double>(n)) / half;
-      const double sinc = std::abs(a) < 1e-9 ? 1.0 : sa / a;
-      if (r < 1) acc += x[static_cast<std::size_t>(n)] * sinc * window(r);
-      const double s_next = sa * cs - ca * sn;
-      ca = ca * cs + sa * sn;
-      sa = s_next;
-      a -= step;
+      const double r = std::abs(u - static_cast<double>(n)) * inv_half;
+      if (r < 1) acc += x[static_cast<std::size_t>(n)] * kernel(r);
     }
     out.samples[m] = g * acc;
   }

@@ -13,17 +13,22 @@ using diag::InputError;
 
 namespace {
 
+[[noreturn]] void fail(const std::string& where, const std::string& field,
+                       const std::string& reason) {
+  throw InputError(diag::format_error(where, field, reason));
+}
+// Checks in loops over samples use `if (!ok) fail(...)` so the message is built only on failure.
 void require(bool ok, const std::string& where, const std::string& field,
              const std::string& reason) {
-  if (!ok) throw InputError(diag::format_error(where, field, reason));
+  if (!ok) fail(where, field, reason);
 }
 
 void check_pulse_times(std::span<const double> t, const std::string& where) {
   for (std::size_t i = 0; i < t.size(); ++i) {
-    require(std::isfinite(t[i]), where, "pulse_times_s",
-            "pulse " + std::to_string(i) + " is NaN or Inf");
-    require(i == 0 || t[i] > t[i - 1], where, "pulse_times_s",
-            "not strictly increasing at pulse " + std::to_string(i));
+    if (!std::isfinite(t[i]))
+      fail(where, "pulse_times_s", "pulse " + std::to_string(i) + " is NaN or Inf");
+    if (i > 0 && !(t[i] > t[i - 1]))
+      fail(where, "pulse_times_s", "not strictly increasing at pulse " + std::to_string(i));
   }
 }
 
@@ -205,8 +210,8 @@ TachoResult tacho_pulses(std::span<const double> x, double fs_hz, const TachoOpt
   require(fs_hz > 0 && std::isfinite(fs_hz), "tacho_pulses", "fs_hz",
           std::to_string(fs_hz) + " is not > 0");
   for (std::size_t i = 0; i < x.size(); ++i) {
-    require(std::isfinite(x[i]), "tacho_pulses", "tacho",
-            "sample " + std::to_string(i) + " is NaN or Inf");
+    if (!std::isfinite(x[i]))
+      fail("tacho_pulses", "tacho", "sample " + std::to_string(i) + " is NaN or Inf");
   }
   TachoResult none;
   none.pulses_per_rev = opt.pulses_per_rev;

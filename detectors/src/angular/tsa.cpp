@@ -14,9 +14,14 @@ using diag::InputError;
 
 namespace {
 
+[[noreturn]] void fail(const std::string& where, const std::string& field,
+                       const std::string& reason) {
+  throw InputError(diag::format_error(where, field, reason));
+}
+// Checks in loops over samples use `if (!ok) fail(...)` so the message is built only on failure.
 void require(bool ok, const std::string& where, const std::string& field,
              const std::string& reason) {
-  if (!ok) throw InputError(diag::format_error(where, field, reason));
+  if (!ok) fail(where, field, reason);
 }
 
 bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
@@ -27,8 +32,8 @@ std::vector<double> filter_orders(std::span<const double> x, std::span<const int
                                   const char* where) {
   const std::vector<bool> regular = tsa_regular_orders(x.size(), mesh_orders, sidebands, opt);
   for (std::size_t i = 0; i < x.size(); ++i) {
-    require(std::isfinite(x[i]), where, "one_rev",
-            "sample " + std::to_string(i) + " is NaN or Inf");
+    if (!std::isfinite(x[i]))
+      fail(where, "one_rev", "sample " + std::to_string(i) + " is NaN or Inf");
   }
   RealFft fft(x.size());
   std::vector<std::complex<double>> spec(fft.bins());
