@@ -1,20 +1,20 @@
 #include "detect/gear/bearing_faults.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "detect/gear/fault_bands.hpp"
 #include "diag/error.hpp"
 
 namespace {
 
-using detect::BearingFault;
 using detect::BearingDecisionStatus;
+using detect::BearingFault;
 
 constexpr double kRoundOff = 1e-12;
 
@@ -28,7 +28,8 @@ diag::BearingSpec cwru_6205() {
   return b;
 }
 
-// ---- Fault frequencies ------------------------------------------------------------------------------
+// ---- Fault frequencies
+// ------------------------------------------------------------------------------
 
 // The Case Western Reserve University bearing data centre's table for the 6205-2RS JEM (multiples
 // of the shaft speed): BPFI 5.4152, BPFO 3.5848, FTF 0.39828, BSF 4.7135. The table's "BSF" is the
@@ -91,7 +92,8 @@ TEST(BearingFrequencies, RejectImpossibleGeometryNamingTheField) {
   expect_field(cwru_6205(), 0.0, "shaft_hz");
 }
 
-// ---- Bands ---------------------------------------------------------------------------------------------
+// ---- Bands
+// ---------------------------------------------------------------------------------------------
 
 TEST(FaultBands, PlaceHarmonicsAndSidebandsWithTheGivenWidth) {
   const auto f = detect::bearing_frequencies(cwru_6205(), 30.0);
@@ -171,8 +173,8 @@ TEST(FaultBandMetrics, MatchHandComputedPeaksAndEnergies) {
 TEST(MeasureLine, ReadsProminenceOverTheMedianFloor) {
   std::vector<double> f(101), a(101, 1.0);
   for (int k = 0; k <= 100; ++k) f[k] = 0.5 * k;
-  a[40] = 8.0;  // 20 Hz
-  a[46] = 50.0; // 23 Hz: in the floor window, must not move the median
+  a[40] = 8.0;   // 20 Hz
+  a[46] = 50.0;  // 23 Hz: in the floor window, must not move the median
   const auto m = detect::measure_line({f, a}, 20.3, 1.0, 6.0);
   ASSERT_TRUE(m.valid);
   EXPECT_DOUBLE_EQ(m.frequency_hz, 20.0);
@@ -181,11 +183,12 @@ TEST(MeasureLine, ReadsProminenceOverTheMedianFloor) {
   EXPECT_FALSE(detect::measure_line({f, a}, 49.8, 1.0, 6.0).valid);  // window leaves the spectrum
 }
 
-// ---- Bearing decision ------------------------------------------------------------------------------
+// ---- Bearing decision
+// ------------------------------------------------------------------------------
 
 // A synthetic envelope amplitude spectrum, 0..1000 Hz at 0.5 Hz: Rayleigh noise (the magnitude of
-// a complex Gaussian bin, scale sigma = 1, median 1.18) plus, for each comb, lines at h f0 (1 + slip)
-// h = 1..3 of amplitude level / h over the noise median (an envelope comb decays with the
+// a complex Gaussian bin, scale sigma = 1, median 1.18) plus, for each comb, lines at h f0 (1 +
+// slip) h = 1..3 of amplitude level / h over the noise median (an envelope comb decays with the
 // harmonic), each with +- f_r sidebands at a third of its height when sideband_hz > 0.
 struct Comb {
   double f0_hz;
@@ -246,17 +249,18 @@ TEST(DiagnoseBearing, NamesAnOuterRaceComb) {
 TEST(DiagnoseBearing, NamesInnerRaceAndBallCombs) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
-  const auto inner = detect::diagnose_bearing(
-      {f, envelope_spectrum(f, 3, {{bf.bpfi_hz, 10.0, bf.shaft_hz}})}, bf);
+  const auto inner =
+      detect::diagnose_bearing({f, envelope_spectrum(f, 3, {{bf.bpfi_hz, 10.0, bf.shaft_hz}})}, bf);
   EXPECT_EQ(inner.fault, BearingFault::kInnerRace);
   const auto ball =
       detect::diagnose_bearing({f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 10.0, 0.0}})}, bf);
   EXPECT_EQ(ball.fault, BearingFault::kBall);
 }
 
-// Noise alone: nothing is named, on any of 200 seeds (the per-seed false-alarm probability from
-// the thresholds' rationale in fault_bands.hpp is ~1e-3 over the four families, so 200 clean runs
-// is what the design predicts; one false alarm in 200 would already be a warning).
+// Noise alone: nothing is named on any of 200 seeds. The thresholds' rationale (fault_bands.hpp)
+// predicts about 1e-3 false alarms per spectrum here (search windows of 5..20 bins, four
+// families), i.e. ~0.2 expected over 200 seeds; a detector with a threshold a few dB lower would
+// fail this test (at 6 dB a single noise bin passes with probability 0.06, not 0.001).
 TEST(DiagnoseBearing, NamesNothingOnNoiseAlone) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
@@ -274,8 +278,7 @@ TEST(DiagnoseBearing, NamesNothingOnNoiseAlone) {
 TEST(DiagnoseBearing, CallsTwoEqualFamiliesAmbiguous) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
-  const auto a =
-      envelope_spectrum(f, 11, {{bf.bpfo_hz, 10.0, 0.0}, {bf.bpfi_hz, 10.0, 0.0}});
+  const auto a = envelope_spectrum(f, 11, {{bf.bpfo_hz, 10.0, 0.0}, {bf.bpfi_hz, 10.0, 0.0}});
   const auto d = detect::diagnose_bearing({f, a}, bf);
   EXPECT_EQ(d.status, BearingDecisionStatus::kAmbiguous);
   EXPECT_EQ(d.fault, BearingFault::kNone);

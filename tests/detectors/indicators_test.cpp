@@ -1,13 +1,13 @@
 #include "detect/indicators/indicators.hpp"
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "detect/indicators/na4.hpp"
 #include "diag/error.hpp"
@@ -28,7 +28,8 @@ std::vector<double> gaussian(std::size_t n, std::uint64_t seed, double mean = 0,
 }
 
 // A revolution of n samples of sum_i a_i cos(k_i theta + phi_i).
-std::vector<double> orders(std::size_t n, std::initializer_list<std::tuple<int, double, double>> t) {
+std::vector<double> orders(std::size_t n,
+                           std::initializer_list<std::tuple<int, double, double>> t) {
   std::vector<double> x(n, 0.0);
   for (std::size_t j = 0; j < n; ++j) {
     const double th = 2 * pi * static_cast<double>(j) / static_cast<double>(n);
@@ -113,7 +114,8 @@ TEST(Indicators, RejectEmptySignalsAndReturnNaNForZeroVariance) {
   EXPECT_TRUE(std::isnan(detect::crest_factor(zero)));
 }
 
-// ---- Streaming moments ----------------------------------------------------------------------------
+// ---- Streaming moments
+// ----------------------------------------------------------------------------
 
 // Chunked accumulation agrees with a long-double two-pass reference written here, whatever the
 // chunk size, and so does the one-shot moments(); the data have a mean 1e6 times their spread,
@@ -153,8 +155,8 @@ TEST(MomentAccumulator, ChunkedEqualsTwoPassReferenceForAnyChunkSize) {
     EXPECT_EQ(m.max, *std::max_element(x.begin(), x.end())) << what;
   };
   check(detect::moments(x), "one-shot");
-  for (std::size_t chunk : {std::size_t{1}, std::size_t{3}, std::size_t{1000}, std::size_t{65536},
-                            n}) {
+  for (std::size_t chunk :
+       {std::size_t{1}, std::size_t{3}, std::size_t{1000}, std::size_t{65536}, n}) {
     detect::MomentAccumulator acc;
     for (std::size_t i = 0; i < n; i += chunk)
       acc.add(std::span<const double>(x).subspan(i, std::min(chunk, n - i)));
@@ -176,7 +178,8 @@ TEST(MomentAccumulator, MergingTwoHalvesEqualsTheWhole) {
   EXPECT_THROW(empty.result(), diag::InputError);
 }
 
-// ---- Gear metrics on synthetic revolutions -------------------------------------------------------
+// ---- Gear metrics on synthetic revolutions
+// -------------------------------------------------------
 
 // A term A cos(k theta + phi) lands in order k with amplitude A, whatever the phase.
 TEST(GearMetrics, OrderAmplitudesReadEachTermsAmplitude) {
@@ -218,8 +221,8 @@ TEST(GearMetrics, Fm0MatchesHandComputedValues) {
 //   SER = (0.1 + 0.2 + 0.05) / 1 = 0.35;  SI = (0.1 + 0.2) / 2 = 0.15;
 //   RMS = sqrt((1 + 0.01 + 0.04 + 0.0025 + 0.09) / 2) = sqrt(0.57125); SLF = 0.3 / RMS.
 TEST(GearMetrics, SidebandMetricsMatchHandComputedValues) {
-  const auto x = orders(512, {{20, 1.0, 0.0}, {19, 0.1, 0.5}, {21, 0.2, 1.5}, {23, 0.05, 2.0},
-                              {27, 0.3, 0.0}});
+  const auto x = orders(
+      512, {{20, 1.0, 0.0}, {19, 0.1, 0.5}, {21, 0.2, 1.5}, {23, 0.05, 2.0}, {27, 0.3, 0.0}});
   detect::GearMetricOptions opt;
   opt.mesh_order = 20;
   const auto a = detect::order_amplitudes(x);
@@ -258,7 +261,8 @@ TEST(GearMetrics, OptionsNameTheFieldAtFault) {
   EXPECT_NO_THROW(opt.validate(256));
 }
 
-// ---- NA4 ---------------------------------------------------------------------------------------------
+// ---- NA4
+// ---------------------------------------------------------------------------------------------
 
 // Records (population variance v, fourth central moment mu4):
 //   r1 = {1,-1,1,-1}: v = 1, mu4 = 1;   r2 = {2,-2,2,-2}: v = 4, mu4 = 16;

@@ -1,12 +1,12 @@
 #include "detect/gear/sidebands.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "detect/spectral/fft.hpp"
 #include "diag/error.hpp"
@@ -21,8 +21,8 @@ using std::numbers::pi;
 constexpr double kFs = 8192.0;
 constexpr std::size_t kN = 65536;
 constexpr double kMeshHz = 1000.0;
-constexpr double kShaftA = 20.0;   // two shafts 1.7 Hz apart: 13.6 bins, so their sideband lines
-constexpr double kShaftB = 21.7;   // at k = 1..3 are 13.6..41 bins apart (separable)
+constexpr double kShaftA = 20.0;  // two shafts 1.7 Hz apart: 13.6 bins, so their sideband lines
+constexpr double kShaftB = 21.7;  // at k = 1..3 are 13.6..41 bins apart (separable)
 constexpr double kNoiseSd = 0.05;
 
 struct Modulation {

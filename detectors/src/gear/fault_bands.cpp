@@ -59,9 +59,9 @@ double bin_energy(const SpectrumView& s, std::size_t k, SpectrumScale scale) {
 
 void SpectrumView::validate(const std::string& where) const {
   if (frequency_hz.size() != value.size())
-    throw InputError(diag::format_error(
-        where, "spectrum", "frequency_hz has " + std::to_string(frequency_hz.size()) +
-                               " bins but value has " + std::to_string(value.size())));
+    throw InputError(diag::format_error(where, "spectrum",
+                                        "frequency_hz has " + std::to_string(frequency_hz.size()) +
+                                            " bins but value has " + std::to_string(value.size())));
   if (frequency_hz.size() < 3)
     fail(where, "spectrum.frequency_hz.size", frequency_hz.size(), ">= 3 bins");
   for (std::size_t k = 0; k < frequency_hz.size(); ++k) {
@@ -159,10 +159,10 @@ FaultBandMetrics fault_band_metrics(const SpectrumView& s, std::span<const Fault
 LineMeasurement measure_line(const SpectrumView& s, double expected_hz, double search_hw,
                              double floor_hw) {
   if (!(search_hw >= 0) || !(floor_hw > search_hw))
-    throw InputError(diag::format_error(
-        "measure_line", "floor_halfwidth_hz",
-        "must exceed search_halfwidth_hz >= 0 (got " + std::to_string(floor_hw) + " and " +
-            std::to_string(search_hw) + ")"));
+    throw InputError(diag::format_error("measure_line", "floor_halfwidth_hz",
+                                        "must exceed search_halfwidth_hz >= 0 (got " +
+                                            std::to_string(floor_hw) + " and " +
+                                            std::to_string(search_hw) + ")"));
   LineMeasurement m;
   m.expected_hz = expected_hz;
   const auto& f = s.frequency_hz;
@@ -197,8 +197,8 @@ LineMeasurement measure_line(const SpectrumView& s, double expected_hz, double s
                    scratch.end());
   double median = scratch[mid];
   if (scratch.size() % 2 == 0) {
-    const double below = *std::max_element(scratch.begin(),
-                                           scratch.begin() + static_cast<std::ptrdiff_t>(mid));
+    const double below =
+        *std::max_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid));
     median = 0.5 * (median + below);
   }
   m.floor = median;

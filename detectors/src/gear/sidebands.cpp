@@ -35,7 +35,8 @@ SidebandAnalysis analyse_sidebands(const SpectrumView& spectrum, double mesh_hz,
                                    const SidebandOptions& opt) {
   opt.validate();
   spectrum.validate("analyse_sidebands");
-  if (!(mesh_hz > 0) || !std::isfinite(mesh_hz)) fail("analyse_sidebands", "mesh_hz", mesh_hz, "> 0");
+  if (!(mesh_hz > 0) || !std::isfinite(mesh_hz))
+    fail("analyse_sidebands", "mesh_hz", mesh_hz, "> 0");
   for (std::size_t i = 0; i < shafts.size(); ++i)
     if (!(shafts[i].frequency_hz > 0) || !std::isfinite(shafts[i].frequency_hz))
       fail("analyse_sidebands", "shafts[" + std::to_string(i) + "].frequency_hz",

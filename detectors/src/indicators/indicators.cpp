@@ -52,9 +52,7 @@ double Moments::rms() const { return std::sqrt(mean * mean + variance()); }
 double Moments::peak() const { return std::max(std::abs(min), std::abs(max)); }
 double Moments::peak_to_peak() const { return max - min; }
 double Moments::crest_factor() const { return ratio_or_nan(peak(), rms()); }
-double Moments::kurtosis() const {
-  return ratio_or_nan(static_cast<double>(count) * m4, m2 * m2);
-}
+double Moments::kurtosis() const { return ratio_or_nan(static_cast<double>(count) * m4, m2 * m2); }
 double Moments::skewness() const {
   return ratio_or_nan(std::sqrt(static_cast<double>(count)) * m3, m2 * std::sqrt(m2));
 }
@@ -116,8 +114,8 @@ void MomentAccumulator::merge(const Moments& b) {
 
 const Moments& MomentAccumulator::result() const {
   if (m_.count == 0)
-    throw InputError(diag::format_error("MomentAccumulator::result", "count",
-                                        "no samples were added"));
+    throw InputError(
+        diag::format_error("MomentAccumulator::result", "count", "no samples were added"));
   return m_;
 }
 
@@ -199,8 +197,8 @@ void GearMetricOptions::validate(std::size_t tsa_samples) const {
   if (ser_sidebands < 1 || ser_sidebands > 64)
     fail("ser_sidebands", std::to_string(ser_sidebands) + " (valid 1..64)");
   if (ser_sidebands >= mesh_order)
-    fail("ser_sidebands", std::to_string(ser_sidebands) + " (must be < mesh_order = " +
-                              std::to_string(mesh_order) + ")");
+    fail("ser_sidebands", std::to_string(ser_sidebands) +
+                              " (must be < mesh_order = " + std::to_string(mesh_order) + ")");
   const long top = std::max(static_cast<long>(mesh_harmonics) * mesh_order,
                             static_cast<long>(mesh_order) + ser_sidebands);
   if (2 * top >= static_cast<long>(tsa_samples))

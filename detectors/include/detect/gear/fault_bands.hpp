@@ -34,19 +34,19 @@ struct FaultFrequency {
 };
 
 struct FaultBandOptions {
-  int harmonics = 1;        // bands centred at h f0, h = 1..harmonics; 1..100
-  int sidebands = 0;        // plus h f0 +- k f_sb, k = 1..sidebands, for families with f_sb > 0;
-                            // 0..20
-  double width_hz = 0;      // total width of every band [Hz], >= 0; 0: 10 % of the family's
-                            // fundamental (so bands scale with each family)
-  void validate() const;    // throws diag::InputError naming the field
+  int harmonics = 1;      // bands centred at h f0, h = 1..harmonics; 1..100
+  int sidebands = 0;      // plus h f0 +- k f_sb, k = 1..sidebands, for families with f_sb > 0;
+                          // 0..20
+  double width_hz = 0;    // total width of every band [Hz], >= 0; 0: 10 % of the family's
+                          // fundamental (so bands scale with each family)
+  void validate() const;  // throws diag::InputError naming the field
 };
 
 struct FaultBand {
-  std::string label;   // "2xBPFI-1xSB": harmonic, family label, sideband order
-  int family = 0;      // index into the frequencies given
-  int harmonic = 1;    // h
-  int sideband = 0;    // k (signed; 0 = the harmonic itself)
+  std::string label;  // "2xBPFI-1xSB": harmonic, family label, sideband order
+  int family = 0;     // index into the frequencies given
+  int harmonic = 1;   // h
+  int sideband = 0;   // k (signed; 0 = the harmonic itself)
   double centre_hz = 0;
   double low_hz = 0;   // centre - width/2, clipped at 0
   double high_hz = 0;  // centre + width/2
@@ -96,13 +96,13 @@ FaultBandMetrics fault_band_metrics(const SpectrumView& spectrum, std::span<cons
 inline constexpr double kMaxProminenceDb = 300.0;
 
 struct LineMeasurement {
-  double expected_hz = 0;   // where the line was looked for
-  double frequency_hz = 0;  // the largest bin within expected +- search half-width
-  double amplitude = 0;     // its value
-  double floor = 0;         // median of the bins within the floor half-width, search window excluded
-  double prominence_db = 0; // 20 log10(amplitude / floor), in [-300, 300]; 0 when !valid
-  bool valid = false;       // false when the search window leaves the spectrum or the floor has
-                            // fewer than 3 bins
+  double expected_hz = 0;    // where the line was looked for
+  double frequency_hz = 0;   // the largest bin within expected +- search half-width
+  double amplitude = 0;      // its value
+  double floor = 0;          // median of the floor window's bins (search window left out)
+  double prominence_db = 0;  // 20 log10(amplitude / floor), in [-300, 300]; 0 when !valid
+  bool valid = false;        // false when the search window leaves the spectrum or the floor
+                             // window holds fewer than 3 bins
 };
 
 // Measures the line near expected_hz in an amplitude spectrum. floor_halfwidth_hz must exceed
@@ -126,7 +126,8 @@ enum class BearingDecisionStatus {
 // slip_fraction h f0) and a floor over floor_bins bins on each side beyond it. A harmonic is
 // detected when its prominence reaches line_threshold_db. The family's score is the sum of the
 // detected harmonics' prominences divided by `harmonics` (undetected ones count 0) [dB].
-// A family passes when at least min_harmonics harmonics are detected and score >= score_threshold_db.
+// A family passes when at least min_harmonics harmonics are detected and score >=
+// score_threshold_db.
 //
 // Why these defaults: the bins of a noise-only (envelope) amplitude spectrum are close to Rayleigh
 // distributed, median 1.18 sigma; one bin exceeds 10 dB over the median (3.72 sigma) with
@@ -135,16 +136,16 @@ enum class BearingDecisionStatus {
 // 3 (w 1e-3)^2 = 3e-4. A defect comb that the eye sees in an envelope spectrum sits 15-30 dB over
 // the floor. Report nothing rather than the wrong fault: a near tie is kAmbiguous.
 struct BearingDecisionOptions {
-  int harmonics = 3;               // harmonics per family, 1..20
-  int min_harmonics = 2;           // detected harmonics needed to pass, 1..harmonics
-  double slip_fraction = 0.01;     // relative search half-width (bearing slip 1-2 %), [0, 0.1]
-  int search_bins = 2;             // minimal search half-width [bins], 0..50
-  int floor_bins = 25;             // floor window beyond the search window, each side [bins], >= 3
-  double line_threshold_db = 10;   // a harmonic is detected at this prominence [dB], > 0
-  double score_threshold_db = 8;   // family score needed to pass [dB], > 0
-  double margin_db = 6;            // winner's score over any other passing family's [dB], >= 0
-  bool include_cage = true;        // score the FTF family too
-  void validate() const;           // throws diag::InputError naming the field
+  int harmonics = 3;              // harmonics per family, 1..20
+  int min_harmonics = 2;          // detected harmonics needed to pass, 1..harmonics
+  double slip_fraction = 0.01;    // relative search half-width (bearing slip 1-2 %), [0, 0.1]
+  int search_bins = 2;            // minimal search half-width [bins], 0..50
+  int floor_bins = 25;            // floor window beyond the search window, each side [bins], >= 3
+  double line_threshold_db = 10;  // a harmonic is detected at this prominence [dB], > 0
+  double score_threshold_db = 8;  // family score needed to pass [dB], > 0
+  double margin_db = 6;           // winner's score over any other passing family's [dB], >= 0
+  bool include_cage = true;       // score the FTF family too
+  void validate() const;          // throws diag::InputError naming the field
 };
 
 struct FamilyScore {
@@ -163,8 +164,8 @@ struct BearingDecision {
   std::vector<BearingFault> candidates;      // the passing families (two or more when ambiguous)
 };
 
-// `envelope` is an amplitude envelope spectrum (the bearing's impacts show at the fault rate and its
-// harmonics). Throws diag::InputError for a malformed spectrum or options.
+// `envelope` is an amplitude envelope spectrum (the bearing's impacts show at the fault rate and
+// its harmonics). Throws diag::InputError for a malformed spectrum or options.
 BearingDecision diagnose_bearing(const SpectrumView& envelope, const BearingFrequencies& f,
                                  const BearingDecisionOptions& opt = {});
 

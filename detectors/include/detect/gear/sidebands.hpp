@@ -36,20 +36,20 @@ struct ShaftCandidate {
 };
 
 struct SidebandOptions {
-  int mesh_harmonics = 3;          // H: mesh harmonics examined, 1..20
-  int sidebands = 3;               // K: sideband orders on each side, 1..20
-  int search_bins = 2;             // peak search half-width [bins], 0..20
-  int floor_bins = 20;             // floor window beyond the search window, each side [bins], >= 3
-  double line_threshold_db = 10;   // a sideband line is detected at this prominence [dB], > 0
-  int min_lines = 2;               // detected lines for a family to pass, >= 1
-  double margin_db = 6;            // the winner's score over any other passing family's [dB], >= 0
-  void validate() const;           // throws diag::InputError naming the field
+  int mesh_harmonics = 3;         // H: mesh harmonics examined, 1..20
+  int sidebands = 3;              // K: sideband orders on each side, 1..20
+  int search_bins = 2;            // peak search half-width [bins], 0..20
+  int floor_bins = 20;            // floor window beyond the search window, each side [bins], >= 3
+  double line_threshold_db = 10;  // a sideband line is detected at this prominence [dB], > 0
+  int min_lines = 2;              // detected lines for a family to pass, >= 1
+  double margin_db = 6;           // the winner's score over any other passing family's [dB], >= 0
+  void validate() const;          // throws diag::InputError naming the field
 };
 
 struct SidebandLine {
-  int harmonic = 1;          // h
-  int order = 1;             // k, signed: -1 is the first lower sideband
-  LineMeasurement line;      // expected_hz = h f_mesh + k f_shaft
+  int harmonic = 1;      // h
+  int order = 1;         // k, signed: -1 is the first lower sideband
+  LineMeasurement line;  // expected_hz = h f_mesh + k f_shaft
   bool detected = false;
 };
 
@@ -58,7 +58,7 @@ struct ShaftSidebands {
   double frequency_hz = 0;
   std::vector<SidebandLine> lines;  // h ascending, then k = -K..-1, 1..K
   int detected = 0;
-  double score_db = 0;               // sum of the detected lines' prominences
+  double score_db = 0;  // sum of the detected lines' prominences
   bool passes = false;
 };
 
@@ -69,10 +69,10 @@ enum class SidebandStatus {
 };
 
 struct SidebandAnalysis {
-  std::vector<LineMeasurement> mesh;  // h f_mesh, h = 1..H (valid == false beyond the spectrum)
-  std::vector<ShaftSidebands> shafts; // in the candidates' order
+  std::vector<LineMeasurement> mesh;   // h f_mesh, h = 1..H (valid == false beyond the spectrum)
+  std::vector<ShaftSidebands> shafts;  // in the candidates' order
   SidebandStatus status = SidebandStatus::kNoSidebands;
-  int pointed = -1;                   // index into shafts when status == kPointed, else -1
+  int pointed = -1;  // index into shafts when status == kPointed, else -1
 };
 
 // `spectrum`: an amplitude spectrum (uniform bins: the bin spacing is taken as

@@ -73,12 +73,12 @@ class MomentAccumulator {
   Moments m_;
 };
 
-double rms(std::span<const double> x);            // sqrt(sum x^2 / N)
-double peak(std::span<const double> x);           // max |x|
-double peak_to_peak(std::span<const double> x);   // max x - min x
-double crest_factor(std::span<const double> x);   // peak / rms
-double kurtosis(std::span<const double> x);       // N sum (x-x_bar)^4 / (sum (x-x_bar)^2)^2
-double skewness(std::span<const double> x);       // sqrt(N) sum (x-x_bar)^3 / (sum ...^2)^(3/2)
+double rms(std::span<const double> x);           // sqrt(sum x^2 / N)
+double peak(std::span<const double> x);          // max |x|
+double peak_to_peak(std::span<const double> x);  // max x - min x
+double crest_factor(std::span<const double> x);  // peak / rms
+double kurtosis(std::span<const double> x);      // N sum (x-x_bar)^4 / (sum (x-x_bar)^2)^2
+double skewness(std::span<const double> x);      // sqrt(N) sum (x-x_bar)^3 / (sum ...^2)^(3/2)
 
 // ---- Gear metrics from the TSA and its derived signals -----------------------------------------
 
@@ -102,12 +102,12 @@ double energy_ratio(std::span<const double> difference, std::span<const double> 
 std::vector<double> order_amplitudes(std::span<const double> tsa_rev);
 
 struct GearMetricOptions {
-  int mesh_order = 0;       // teeth on the monitored gear = mesh order of the TSA's shaft
-                            // [cycles/rev], >= 1; with the other fields, orders up to
-                            // mesh_harmonics * mesh_order + ser_sidebands must lie below N/2
-  int mesh_harmonics = 3;   // H: mesh harmonics 1..H summed in FM0's denominator, 1..32
-  int ser_sidebands = 6;    // sidebands on each side of the mesh order summed in SER [ML: 6],
-                            // 1..64 and < mesh_order (lower sidebands must be positive orders)
+  int mesh_order = 0;      // teeth on the monitored gear = mesh order of the TSA's shaft
+                           // [cycles/rev], >= 1; with the other fields, orders up to
+                           // mesh_harmonics * mesh_order + ser_sidebands must lie below N/2
+  int mesh_harmonics = 3;  // H: mesh harmonics 1..H summed in FM0's denominator, 1..32
+  int ser_sidebands = 6;   // sidebands on each side of the mesh order summed in SER [ML: 6],
+                           // 1..64 and < mesh_order (lower sidebands must be positive orders)
 
   // Throws diag::InputError naming the field; tsa_samples: samples per revolution N.
   void validate(std::size_t tsa_samples) const;
@@ -142,10 +142,10 @@ struct GearSignals {
 
 struct GearIndicators {
   double rms = 0, peak = 0, crest_factor = 0, kurtosis = 0;  // of the TSA
-  double fm0 = 0;  // TSA
-  double fm4 = 0;  // difference
-  double m6a = 0;  // difference
-  double m8a = 0;  // difference
+  double fm0 = 0;                                            // TSA
+  double fm4 = 0;                                            // difference
+  double m6a = 0;                                            // difference
+  double m8a = 0;                                            // difference
   double na4 = 0;  // residual, against the run ensemble (see na4.hpp)
   double er = 0;   // difference / regular
   double ser = 0;  // TSA spectrum
