@@ -1,0 +1,172 @@
+// Fault frequency bands, spectral metrics inside them, spectral-line measurement against the local
+// floor, and a rolling-bearing fault decision from an envelope spectrum (MATLAB faultBands,
+// bearingFaultBands and faultBandMetrics equivalents, plus the decision MATLAB leaves to the user).
+//
+// Spectra are given as two arrays of equal length: bin frequencies (strictly increasing, any
+// spacing) and values (amplitude or power, >= 0). Nothing here computes a spectrum.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "detect/gear/bearing_faults.hpp"
+
+namespace detect {
+
+struct SpectrumView {
+  std::span<const double> frequency_hz;  // bin frequencies [Hz], strictly increasing, >= 3 bins
+  std::span<const double> value;         // amplitude or power at each bin, >= 0, same length
+
+  // Throws diag::InputError naming `where` and the array at fault. O(n).
+  void validate(const std::string& where) const;
+};
+
+// ---- Bands --------------------------------------------------------------------------------------
+
+struct FaultFrequency {
+  std::string label;        // e.g. "BPFO"
+  double frequency_hz = 0;  // fundamental [Hz], > 0
+  double sideband_hz = 0;   // sideband spacing for this family [Hz], >= 0 (0: no sidebands), e.g.
+                            // f_r around BPFI (a rotating inner-race defect is load-modulated
+                            // once per turn), FTF around the ball-fault line
+};
+
+struct FaultBandOptions {
+  int harmonics = 1;      // bands centred at h f0, h = 1..harmonics; 1..100
+  int sidebands = 0;      // plus h f0 +- k f_sb, k = 1..sidebands, for families with f_sb > 0;
+                          // 0..20
+  double width_hz = 0;    // total width of every band [Hz], >= 0; 0: 10 % of the family's
+                          // fundamental (so bands scale with each family)
+  void validate() const;  // throws diag::InputError naming the field
+};
+
+struct FaultBand {
+  std::string label;  // "2xBPFI-1xSB": harmonic, family label, sideband order
+  int family = 0;     // index into the frequencies given
+  int harmonic = 1;   // h
+  int sideband = 0;   // k (signed; 0 = the harmonic itself)
+  double centre_hz = 0;
+  double low_hz = 0;   // centre - width/2, clipped at 0
+  double high_hz = 0;  // centre + width/2
+};
+
+// Every band, family by family, harmonics ascending, sidebands -K..K within each harmonic; bands
+// whose centre is <= 0 (a lower sideband below DC) are left out.
+std::vector<FaultBand> fault_bands(std::span<const FaultFrequency> families,
+                                   const FaultBandOptions& opt);
+
+// The four bearing families in the order FTF, BPFO, BPFI, BALL (ball_fault_hz = 2 BSF), with
+// sidebands at f_r around BPFI and at FTF around BALL when opt.sidebands > 0.
+std::vector<FaultFrequency> bearing_fault_families(const BearingFrequencies& f);
+std::vector<FaultBand> bearing_fault_bands(const BearingFrequencies& f,
+                                           const FaultBandOptions& opt);
+
+// ---- Metrics in bands ---------------------------------------------------------------------------
+
+enum class SpectrumScale {
+  kAmplitude,     // values are amplitudes: a bin's energy is value^2
+  kPower,         // values are powers per bin (periodogram lines): energy is the value
+  kPowerDensity,  // values are a PSD [unit^2/Hz]: energy is value x bin width (half the distance
+                  // between the neighbouring bins; one full spacing at the ends)
+};
+
+struct BandMetrics {
+  double peak_value = 0;         // largest value in the band (0 when the band holds no bin)
+  double peak_frequency_hz = 0;  // its frequency (NaN when the band holds no bin)
+  double energy = 0;             // sum of bin energies in [low_hz, high_hz]
+  double energy_fraction = 0;    // energy / total energy of the whole spectrum
+  int bins = 0;                  // bins inside the band
+};
+
+struct FaultBandMetrics {
+  std::vector<BandMetrics> bands;  // one per band, in the order given
+  double total_band_energy = 0;    // sum over bands (a bin in two overlapping bands counts twice,
+                                   // as MATLAB's TotalBandPower does)
+  double total_energy = 0;         // over every bin of the spectrum
+};
+
+FaultBandMetrics fault_band_metrics(const SpectrumView& spectrum, std::span<const FaultBand> bands,
+                                    SpectrumScale scale = SpectrumScale::kAmplitude);
+
+// ---- One spectral line against its local floor --------------------------------------------------
+
+// Prominences are capped here: a noise-free synthetic spectrum has a zero floor.
+inline constexpr double kMaxProminenceDb = 300.0;
+
+struct LineMeasurement {
+  double expected_hz = 0;    // where the line was looked for
+  double frequency_hz = 0;   // the largest bin within expected +- search half-width
+  double amplitude = 0;      // its value
+  double floor = 0;          // median of the floor window's bins (search window left out)
+  double prominence_db = 0;  // 20 log10(amplitude / floor), in [-300, 300]; 0 when !valid
+  bool valid = false;        // false when the search window leaves the spectrum or the floor
+                             // window holds fewer than 3 bins
+};
+
+// Measures the line near expected_hz in an amplitude spectrum. floor_halfwidth_hz must exceed
+// search_halfwidth_hz. `spectrum` is not re-validated (validate() it once). O(bins in windows).
+LineMeasurement measure_line(const SpectrumView& spectrum, double expected_hz,
+                             double search_halfwidth_hz, double floor_halfwidth_hz);
+
+// ---- Bearing fault decision from an envelope spectrum -------------------------------------------
+
+enum class BearingFault { kNone, kCage, kOuterRace, kInnerRace, kBall };
+const char* to_string(BearingFault f);
+
+enum class BearingDecisionStatus {
+  kNoFault,    // no family passes the thresholds
+  kFault,      // one family passes and beats every other passing family by margin_db
+  kAmbiguous,  // two or more families pass within margin_db of each other: no fault is named
+};
+
+// Scoring (per family, fundamental f0 = FTF, BPFO, BPFI or 2 BSF): for h = 1..harmonics the line at
+// h f0 is measured (measure_line) with a search half-width of max(search_bins bins,
+// slip_fraction h f0) and a floor over floor_bins bins on each side beyond it. A harmonic is
+// detected when its prominence reaches line_threshold_db. The family's score is the sum of the
+// detected harmonics' prominences divided by `harmonics` (undetected ones count 0) [dB].
+// A family passes when at least min_harmonics harmonics are detected and score >=
+// score_threshold_db.
+//
+// Why these defaults: the bins of a noise-only (envelope) amplitude spectrum are close to Rayleigh
+// distributed, median 1.18 sigma; one bin exceeds 10 dB over the median (3.72 sigma) with
+// probability exp(-3.72^2 / 2) = 1e-3. A search window of w bins then detects noise with
+// probability about w 1e-3 (w ~ 10: 1 %), and two detected harmonics of three with about
+// 3 (w 1e-3)^2 = 3e-4. A defect comb that the eye sees in an envelope spectrum sits 15-30 dB over
+// the floor. Report nothing rather than the wrong fault: a near tie is kAmbiguous.
+struct BearingDecisionOptions {
+  int harmonics = 3;              // harmonics per family, 1..20
+  int min_harmonics = 2;          // detected harmonics needed to pass, 1..harmonics
+  double slip_fraction = 0.01;    // relative search half-width (bearing slip 1-2 %), [0, 0.1]
+  int search_bins = 2;            // minimal search half-width [bins], 0..50
+  int floor_bins = 25;            // floor window beyond the search window, each side [bins], >= 3
+  double line_threshold_db = 10;  // a harmonic is detected at this prominence [dB], > 0
+  double score_threshold_db = 8;  // family score needed to pass [dB], > 0
+  double margin_db = 6;           // winner's score over any other passing family's [dB], >= 0
+  bool include_cage = true;       // score the FTF family too
+  void validate() const;          // throws diag::InputError naming the field
+};
+
+struct FamilyScore {
+  BearingFault fault = BearingFault::kNone;
+  double fundamental_hz = 0;
+  std::vector<LineMeasurement> lines;  // h = 1..harmonics
+  int detected = 0;                    // lines at or above line_threshold_db
+  double score_db = 0;
+  bool passes = false;
+};
+
+struct BearingDecision {
+  BearingDecisionStatus status = BearingDecisionStatus::kNoFault;
+  BearingFault fault = BearingFault::kNone;  // set only when status == kFault
+  std::vector<FamilyScore> families;         // every scored family, in FTF, BPFO, BPFI, BALL order
+  std::vector<BearingFault> candidates;      // the passing families (two or more when ambiguous)
+};
+
+// `envelope` is an amplitude envelope spectrum (the bearing's impacts show at the fault rate and
+// its harmonics). Throws diag::InputError for a malformed spectrum or options.
+BearingDecision diagnose_bearing(const SpectrumView& envelope, const BearingFrequencies& f,
+                                 const BearingDecisionOptions& opt = {});
+
+}  // namespace detect

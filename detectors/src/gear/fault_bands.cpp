@@ -1,0 +1,300 @@
+#include "detect/gear/fault_bands.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "diag/error.hpp"
+
+namespace detect {
+
+using diag::InputError;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+template <typename T>
+[[noreturn]] void fail(const std::string& where, const std::string& field, T value,
+                       const std::string& range) {
+  std::ostringstream os;
+  os << value << " (valid " << range << ")";
+  throw InputError(diag::format_error(where, field, os.str()));
+}
+
+std::string band_label(const std::string& family, int h, int k) {
+  std::string s = std::to_string(h) + "x" + family;
+  if (k != 0) s += (k > 0 ? "+" : "-") + std::to_string(std::abs(k)) + "xSB";
+  return s;
+}
+
+// Index range [first, last) of bins with lo <= f <= hi.
+std::pair<std::size_t, std::size_t> bins_between(std::span<const double> f, double lo, double hi) {
+  const auto first = std::lower_bound(f.begin(), f.end(), lo);
+  const auto last = std::upper_bound(first, f.end(), hi);
+  return {static_cast<std::size_t>(first - f.begin()), static_cast<std::size_t>(last - f.begin())};
+}
+
+double bin_energy(const SpectrumView& s, std::size_t k, SpectrumScale scale) {
+  const double v = s.value[k];
+  switch (scale) {
+    case SpectrumScale::kAmplitude:
+      return v * v;
+    case SpectrumScale::kPower:
+      return v;
+    case SpectrumScale::kPowerDensity: {
+      const auto& f = s.frequency_hz;
+      const std::size_t n = f.size();
+      const double width = k == 0       ? f[1] - f[0]
+                           : k == n - 1 ? f[n - 1] - f[n - 2]
+                                        : 0.5 * (f[k + 1] - f[k - 1]);
+      return v * width;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+void SpectrumView::validate(const std::string& where) const {
+  if (frequency_hz.size() != value.size())
+    throw InputError(diag::format_error(where, "spectrum",
+                                        "frequency_hz has " + std::to_string(frequency_hz.size()) +
+                                            " bins but value has " + std::to_string(value.size())));
+  if (frequency_hz.size() < 3)
+    fail(where, "spectrum.frequency_hz.size", frequency_hz.size(), ">= 3 bins");
+  for (std::size_t k = 0; k < frequency_hz.size(); ++k) {
+    if (!std::isfinite(frequency_hz[k]) || (k > 0 && !(frequency_hz[k] > frequency_hz[k - 1])))
+      fail(where, "spectrum.frequency_hz[" + std::to_string(k) + "]", frequency_hz[k],
+           "finite, strictly increasing");
+    if (!(value[k] >= 0) || !std::isfinite(value[k]))
+      fail(where, "spectrum.value[" + std::to_string(k) + "]", value[k], "finite, >= 0");
+  }
+}
+
+// ---- Bands --------------------------------------------------------------------------------------
+
+void FaultBandOptions::validate() const {
+  if (harmonics < 1 || harmonics > 100) fail("FaultBandOptions", "harmonics", harmonics, "1..100");
+  if (sidebands < 0 || sidebands > 20) fail("FaultBandOptions", "sidebands", sidebands, "0..20");
+  if (!(width_hz >= 0) || !std::isfinite(width_hz))
+    fail("FaultBandOptions", "width_hz", width_hz, ">= 0");
+}
+
+std::vector<FaultBand> fault_bands(std::span<const FaultFrequency> families,
+                                   const FaultBandOptions& opt) {
+  opt.validate();
+  std::vector<FaultBand> bands;
+  for (std::size_t i = 0; i < families.size(); ++i) {
+    const FaultFrequency& fam = families[i];
+    const std::string field = "families[" + std::to_string(i) + "]";
+    if (!(fam.frequency_hz > 0) || !std::isfinite(fam.frequency_hz))
+      fail("fault_bands", field + ".frequency_hz", fam.frequency_hz, "> 0");
+    if (!(fam.sideband_hz >= 0) || !std::isfinite(fam.sideband_hz))
+      fail("fault_bands", field + ".sideband_hz", fam.sideband_hz, ">= 0");
+    const double width = opt.width_hz > 0 ? opt.width_hz : 0.1 * fam.frequency_hz;
+    const int k_max = fam.sideband_hz > 0 ? opt.sidebands : 0;
+    for (int h = 1; h <= opt.harmonics; ++h) {
+      for (int k = -k_max; k <= k_max; ++k) {
+        const double centre = h * fam.frequency_hz + k * fam.sideband_hz;
+        if (centre <= 0) continue;
+        FaultBand b;
+        b.label = band_label(fam.label, h, k);
+        b.family = static_cast<int>(i);
+        b.harmonic = h;
+        b.sideband = k;
+        b.centre_hz = centre;
+        b.low_hz = std::max(0.0, centre - 0.5 * width);
+        b.high_hz = centre + 0.5 * width;
+        bands.push_back(std::move(b));
+      }
+    }
+  }
+  return bands;
+}
+
+std::vector<FaultFrequency> bearing_fault_families(const BearingFrequencies& f) {
+  return {{"FTF", f.ftf_hz, 0.0},
+          {"BPFO", f.bpfo_hz, 0.0},
+          {"BPFI", f.bpfi_hz, f.shaft_hz},
+          {"BALL", f.ball_fault_hz, f.ftf_hz}};
+}
+
+std::vector<FaultBand> bearing_fault_bands(const BearingFrequencies& f,
+                                           const FaultBandOptions& opt) {
+  const std::vector<FaultFrequency> fam = bearing_fault_families(f);
+  return fault_bands(fam, opt);
+}
+
+// ---- Metrics ------------------------------------------------------------------------------------
+
+FaultBandMetrics fault_band_metrics(const SpectrumView& s, std::span<const FaultBand> bands,
+                                    SpectrumScale scale) {
+  s.validate("fault_band_metrics");
+  FaultBandMetrics out;
+  for (std::size_t k = 0; k < s.value.size(); ++k) out.total_energy += bin_energy(s, k, scale);
+  out.bands.reserve(bands.size());
+  for (const FaultBand& b : bands) {
+    BandMetrics m;
+    m.peak_frequency_hz = kNaN;
+    const auto [first, last] = bins_between(s.frequency_hz, b.low_hz, b.high_hz);
+    for (std::size_t k = first; k < last; ++k) {
+      m.energy += bin_energy(s, k, scale);
+      if (m.bins == 0 || s.value[k] > m.peak_value) {
+        m.peak_value = s.value[k];
+        m.peak_frequency_hz = s.frequency_hz[k];
+      }
+      ++m.bins;
+    }
+    m.energy_fraction = out.total_energy > 0 ? m.energy / out.total_energy : 0.0;
+    out.total_band_energy += m.energy;
+    out.bands.push_back(m);
+  }
+  return out;
+}
+
+// ---- Lines --------------------------------------------------------------------------------------
+
+LineMeasurement measure_line(const SpectrumView& s, double expected_hz, double search_hw,
+                             double floor_hw) {
+  if (!(search_hw >= 0) || !(floor_hw > search_hw))
+    throw InputError(diag::format_error("measure_line", "floor_halfwidth_hz",
+                                        "must exceed search_halfwidth_hz >= 0 (got " +
+                                            std::to_string(floor_hw) + " and " +
+                                            std::to_string(search_hw) + ")"));
+  LineMeasurement m;
+  m.expected_hz = expected_hz;
+  const auto& f = s.frequency_hz;
+  if (expected_hz - search_hw < f.front() || expected_hz + search_hw > f.back()) return m;
+  const auto [first, last] = bins_between(f, expected_hz - search_hw, expected_hz + search_hw);
+  std::size_t best = first;
+  if (first == last) {
+    // Window narrower than a bin: take the nearest bin.
+    best = first < f.size() && (first == 0 || f[first] - expected_hz < expected_hz - f[first - 1])
+               ? first
+               : first - 1;
+  } else {
+    for (std::size_t k = first; k < last; ++k)
+      if (s.value[k] > s.value[best]) best = k;
+  }
+  m.frequency_hz = f[best];
+  m.amplitude = s.value[best];
+
+  // Floor: the bins of [expected - floor_hw, expected + floor_hw] outside the search window (and
+  // outside the chosen bin). A median of at most a few hundred values: a small stack-free buffer
+  // would do, but thread_local scratch keeps measure_line allocation-free after the first call.
+  thread_local std::vector<double> scratch;
+  scratch.clear();
+  const auto [lo_first, lo_last] = bins_between(f, expected_hz - floor_hw, expected_hz + floor_hw);
+  for (std::size_t k = lo_first; k < lo_last; ++k) {
+    if ((k >= first && k < last) || k == best) continue;
+    scratch.push_back(s.value[k]);
+  }
+  if (scratch.size() < 3) return m;
+  const std::size_t mid = scratch.size() / 2;
+  std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid),
+                   scratch.end());
+  double median = scratch[mid];
+  if (scratch.size() % 2 == 0) {
+    const double below =
+        *std::max_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid));
+    median = 0.5 * (median + below);
+  }
+  m.floor = median;
+  m.valid = true;
+  if (m.amplitude <= 0) {
+    m.prominence_db = m.floor > 0 ? -kMaxProminenceDb : 0.0;
+  } else if (m.floor <= 0) {
+    m.prominence_db = kMaxProminenceDb;
+  } else {
+    m.prominence_db =
+        std::clamp(20.0 * std::log10(m.amplitude / m.floor), -kMaxProminenceDb, kMaxProminenceDb);
+  }
+  return m;
+}
+
+// ---- Bearing decision ---------------------------------------------------------------------------
+
+const char* to_string(BearingFault f) {
+  switch (f) {
+    case BearingFault::kNone:
+      return "none";
+    case BearingFault::kCage:
+      return "cage";
+    case BearingFault::kOuterRace:
+      return "outer_race";
+    case BearingFault::kInnerRace:
+      return "inner_race";
+    case BearingFault::kBall:
+      return "ball";
+  }
+  return "?";
+}
+
+void BearingDecisionOptions::validate() const {
+  const std::string w = "BearingDecisionOptions";
+  if (harmonics < 1 || harmonics > 20) fail(w, "harmonics", harmonics, "1..20");
+  if (min_harmonics < 1 || min_harmonics > harmonics)
+    fail(w, "min_harmonics", min_harmonics, "1..harmonics");
+  if (!(slip_fraction >= 0 && slip_fraction <= 0.1))
+    fail(w, "slip_fraction", slip_fraction, "[0, 0.1]");
+  if (search_bins < 0 || search_bins > 50) fail(w, "search_bins", search_bins, "0..50");
+  if (floor_bins < 3) fail(w, "floor_bins", floor_bins, ">= 3");
+  if (!(line_threshold_db > 0)) fail(w, "line_threshold_db", line_threshold_db, "> 0");
+  if (!(score_threshold_db > 0)) fail(w, "score_threshold_db", score_threshold_db, "> 0");
+  if (!(margin_db >= 0)) fail(w, "margin_db", margin_db, ">= 0");
+}
+
+BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequencies& f,
+                                 const BearingDecisionOptions& opt) {
+  opt.validate();
+  env.validate("diagnose_bearing");
+  const auto& fr = env.frequency_hz;
+  const double df = (fr.back() - fr.front()) / static_cast<double>(fr.size() - 1);
+
+  BearingDecision d;
+  const std::pair<BearingFault, double> fams[] = {{BearingFault::kCage, f.ftf_hz},
+                                                  {BearingFault::kOuterRace, f.bpfo_hz},
+                                                  {BearingFault::kInnerRace, f.bpfi_hz},
+                                                  {BearingFault::kBall, f.ball_fault_hz}};
+  for (const auto& [fault, f0] : fams) {
+    if (fault == BearingFault::kCage && !opt.include_cage) continue;
+    FamilyScore fs;
+    fs.fault = fault;
+    fs.fundamental_hz = f0;
+    double sum_db = 0;
+    for (int h = 1; h <= opt.harmonics; ++h) {
+      const double centre = h * f0;
+      const double search = std::max(opt.search_bins * df, opt.slip_fraction * centre);
+      const LineMeasurement m = measure_line(env, centre, search, search + opt.floor_bins * df);
+      if (m.valid && m.prominence_db >= opt.line_threshold_db) {
+        ++fs.detected;
+        sum_db += m.prominence_db;
+      }
+      fs.lines.push_back(m);
+    }
+    fs.score_db = sum_db / opt.harmonics;
+    fs.passes = fs.detected >= opt.min_harmonics && fs.score_db >= opt.score_threshold_db;
+    d.families.push_back(std::move(fs));
+  }
+
+  const FamilyScore* best = nullptr;
+  for (const FamilyScore& fs : d.families) {
+    if (!fs.passes) continue;
+    d.candidates.push_back(fs.fault);
+    if (best == nullptr || fs.score_db > best->score_db) best = &fs;
+  }
+  if (best == nullptr) return d;  // kNoFault
+  for (const FamilyScore& fs : d.families) {
+    if (&fs != best && fs.passes && best->score_db - fs.score_db < opt.margin_db) {
+      d.status = BearingDecisionStatus::kAmbiguous;
+      return d;
+    }
+  }
+  d.status = BearingDecisionStatus::kFault;
+  d.fault = best->fault;
+  return d;
+}
+
+}  // namespace detect

@@ -1,0 +1,99 @@
+#include "detect/gear/sidebands.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "diag/error.hpp"
+
+namespace detect {
+
+namespace {
+
+template <typename T>
+[[noreturn]] void fail(const std::string& where, const std::string& field, T value,
+                       const std::string& range) {
+  std::ostringstream os;
+  os << value << " (valid " << range << ")";
+  throw diag::InputError(diag::format_error(where, field, os.str()));
+}
+
+}  // namespace
+
+void SidebandOptions::validate() const {
+  const std::string w = "SidebandOptions";
+  if (mesh_harmonics < 1 || mesh_harmonics > 20) fail(w, "mesh_harmonics", mesh_harmonics, "1..20");
+  if (sidebands < 1 || sidebands > 20) fail(w, "sidebands", sidebands, "1..20");
+  if (search_bins < 0 || search_bins > 20) fail(w, "search_bins", search_bins, "0..20");
+  if (floor_bins < 3) fail(w, "floor_bins", floor_bins, ">= 3");
+  if (!(line_threshold_db > 0)) fail(w, "line_threshold_db", line_threshold_db, "> 0");
+  if (min_lines < 1) fail(w, "min_lines", min_lines, ">= 1");
+  if (!(margin_db >= 0)) fail(w, "margin_db", margin_db, ">= 0");
+}
+
+SidebandAnalysis analyse_sidebands(const SpectrumView& spectrum, double mesh_hz,
+                                   std::span<const ShaftCandidate> shafts,
+                                   const SidebandOptions& opt) {
+  opt.validate();
+  spectrum.validate("analyse_sidebands");
+  if (!(mesh_hz > 0) || !std::isfinite(mesh_hz))
+    fail("analyse_sidebands", "mesh_hz", mesh_hz, "> 0");
+  for (std::size_t i = 0; i < shafts.size(); ++i)
+    if (!(shafts[i].frequency_hz > 0) || !std::isfinite(shafts[i].frequency_hz))
+      fail("analyse_sidebands", "shafts[" + std::to_string(i) + "].frequency_hz",
+           shafts[i].frequency_hz, "> 0");
+
+  const auto& f = spectrum.frequency_hz;
+  const double df = (f.back() - f.front()) / static_cast<double>(f.size() - 1);
+  const double search = opt.search_bins * df;
+  const double floor = search + opt.floor_bins * df;
+
+  SidebandAnalysis out;
+  for (int h = 1; h <= opt.mesh_harmonics; ++h)
+    out.mesh.push_back(measure_line(spectrum, h * mesh_hz, search, floor));
+
+  for (const ShaftCandidate& c : shafts) {
+    ShaftSidebands s;
+    s.name = c.name;
+    s.frequency_hz = c.frequency_hz;
+    for (int h = 1; h <= opt.mesh_harmonics; ++h) {
+      for (int k = -opt.sidebands; k <= opt.sidebands; ++k) {
+        if (k == 0) continue;
+        SidebandLine l;
+        l.harmonic = h;
+        l.order = k;
+        const double expected = h * mesh_hz + k * c.frequency_hz;
+        if (expected > 0) {
+          l.line = measure_line(spectrum, expected, search, floor);
+        } else {
+          l.line.expected_hz = expected;  // below DC: reported, never detected
+        }
+        l.detected = l.line.valid && l.line.prominence_db >= opt.line_threshold_db;
+        if (l.detected) {
+          ++s.detected;
+          s.score_db += l.line.prominence_db;
+        }
+        s.lines.push_back(l);
+      }
+    }
+    s.passes = s.detected >= opt.min_lines;
+    out.shafts.push_back(std::move(s));
+  }
+
+  int best = -1;
+  for (int i = 0; i < static_cast<int>(out.shafts.size()); ++i)
+    if (out.shafts[i].passes && (best < 0 || out.shafts[i].score_db > out.shafts[best].score_db))
+      best = i;
+  if (best < 0) return out;
+  for (int i = 0; i < static_cast<int>(out.shafts.size()); ++i) {
+    if (i != best && out.shafts[i].passes &&
+        out.shafts[best].score_db - out.shafts[i].score_db < opt.margin_db) {
+      out.status = SidebandStatus::kAmbiguous;
+      return out;
+    }
+  }
+  out.status = SidebandStatus::kPointed;
+  out.pointed = best;
+  return out;
+}
+
+}  // namespace detect
