@@ -121,6 +121,9 @@ int cmd_simulate(int argc, char** argv) {
   if (mode != "dynamic") {
     throw diag::InputError("--mode: '" + mode + "' is not dynamic or kinematic");
   }
+  if (std::filesystem::path(output).extension() != ".h5") {
+    throw diag::InputError("--output: '" + output + "': the dynamic mode writes an HDF5 recording (.h5)");
+  }
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
   sim::Scenario sc;
   if (!scenario.empty()) sc = sim::load_scenario(scenario);

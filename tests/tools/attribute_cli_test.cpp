@@ -1,4 +1,5 @@
-// geardiag simulate / attribute / validate / demo, end to end through the binary.
+// geardiag simulate (dynamic and kinematic) / sweep / attribute / validate / demo, end to end
+// through the binary.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -135,6 +136,57 @@ TEST(AttributeCli, DemoAttributesTheSeedExample) {
   EXPECT_NE(d.out.find("status: attributed"), std::string::npos);
   EXPECT_NE(d.out.find("counter      z2,z3"), std::string::npos) << d.out;
   EXPECT_NE(d.out.find("output       z4"), std::string::npos) << d.out;
+}
+
+// The dynamic simulator through the CLI: the minimal description simulates on defaults into a
+// recording whose channels carry their directions; a scenario fault lands in the truth.
+TEST(SimulateCli, DynamicModeWritesARecordingWithDirectionsAndTruth) {
+  const fs::path scenario = scratch("scenario.json");
+  std::ofstream(scenario) << R"({"faults": [{"gear": "z2", "tooth": 3, "type": "crack", "depth_mm": 1.0}],
+                               "sensors": {"noise_m_per_s2": 0.01}})";
+  const fs::path out = scratch("dyn.h5");
+  auto s = run("simulate --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
+               " --scenario " + scenario.string() + " --duration 0.2 --fs 10000 --rpm 1200 -o " +
+               out.string());
+  ASSERT_EQ(s.code, 0) << s.out;
+  auto info = run("info " + out.string() + " --json");
+  ASSERT_EQ(info.code, 0) << info.out;
+  const nlohmann::json j = nlohmann::json::parse(info.out.substr(info.out.find('{')));
+  const std::string dump = j.dump();
+  for (const char* needle : {"input_bearing1_along_loa", "\"along_loa\"", "\"normal_loa\"",
+                             "\"horizontal\"", "\"vertical\"", "transmission_error", "z1_z2_force"}) {
+    EXPECT_NE(dump.find(needle), std::string::npos) << needle;
+  }
+  EXPECT_NE(dump.find("crack"), std::string::npos);  // the truth names the fault
+}
+
+TEST(SimulateCli, BadScenarioIsRefusedNamingTheFieldAndWritesNothing) {
+  const fs::path scenario = scratch("bad_scenario.json");
+  std::ofstream(scenario) << R"({"friction": {"law": "grease"}})";
+  const fs::path out = scratch("never.h5");
+  auto s = run("simulate --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
+               " --scenario " + scenario.string() + " --duration 0.1 -o " + out.string());
+  EXPECT_EQ(s.code, 2) << s.out;
+  EXPECT_NE(s.out.find("friction.law"), std::string::npos) << s.out;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(SweepCli, RunsUpAndDownAndWritesJson) {
+  const fs::path json = scratch("sweep.json");
+  auto s = run("sweep --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/seed000_pair.json").string() +
+               " --from-rpm 2000 --to-rpm 3000 --steps 4 --dwell 0.01 --down --json " + json.string());
+  ASSERT_EQ(s.code, 0) << s.out;
+  EXPECT_NE(s.out.find("run down"), std::string::npos) << s.out;
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["up"].size(), 4u);
+  EXPECT_EQ(j["down"].size(), 4u);
+  EXPECT_TRUE(j["up"][0].contains("pinion_wheel_force"));
+  EXPECT_GT(j["natural_frequencies_hz"].size(), 0u);
+  auto bad = run("sweep --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/seed000_pair.json").string() +
+                 " --from-rpm 3000 --to-rpm 2000");
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("to_rpm"), std::string::npos) << bad.out;
 }
 
 }  // namespace
