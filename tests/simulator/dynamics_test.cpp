@@ -112,6 +112,21 @@ TEST(GearboxModel, TorsionalModeIsTheClassicFormulaOnRigidBearings) {
   EXPECT_NEAR(f[1], model.mesh_torsional_frequency_hz(0), 1e-4 * f[1]);
 }
 
+// A measured/FEM stiffness table replaces the potential-energy stiffness: a table of constant
+// k0 (at two loads) gives mean mesh stiffness k0 (4e-3: the split between pairs is blended within
+// a grid cell of each change of the pair count) and a scenario naming an unknown mesh is refused.
+TEST(GearboxModel, AStiffnessTableSetsTheMeshStiffness) {
+  const diag::Gearbox gb = seed_pair();
+  const sim::Scenario sc = sim::parse_scenario(nlohmann::json::parse(R"({"stiffness": {"tables": [
+      {"mesh": "pinion_wheel", "angle_deg": [0, 2, 4, 6], "load_n": [1000, 100000],
+       "k_n_per_m": [[3e8, 3e8], [3e8, 3e8], [3e8, 3e8], [3e8, 3e8]]}]}})"), "sc.json");
+  const sim::GearboxModel model(gb, sc.dynamics);
+  EXPECT_NEAR(model.mean_mesh_stiffness_n_per_m(0), 3e8, 4e-3 * 3e8);
+  sim::Scenario bad = sc;
+  bad.dynamics.stiffness_tables[0].mesh = "pinion_idler";
+  EXPECT_THROW(sim::GearboxModel(gb, bad.dynamics), diag::InputError);
+}
+
 // ---- seed result 2: normal-to-LOA vibration is friction's ----
 
 sim::RunOptions short_run(double duration = 0.1, double fs = 40000) {

@@ -276,7 +276,23 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
       errors_a = pitch_errors_iso1328(pair.driver(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.a);
       errors_b = pitch_errors_iso1328(pair.driven(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.b);
     }
-    d.stiffness = std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
+    const std::string name = gb.gears()[d.a].name + "_" + gb.gears()[d.b].name;
+    const StiffnessTable* table = nullptr;
+    for (const StiffnessTable& t : m.opt.stiffness_tables) {
+      if (t.mesh == name) table = &t;
+    }
+    if (table) {
+      if (!faults.empty() || !errors_a.empty() || !errors_b.empty()) {
+        throw diag::InputError(diag::format_error(
+            where, "stiffness.tables: " + name,
+            "a tabulated mesh cannot also have tooth faults or pitch errors"));
+      }
+      const double f_static = m.opt.input_torque_nm / d.ra / d.rba;
+      d.stiffness = std::make_unique<MeshStiffness>(MeshStiffness::from_table(
+          pair, table->angle_deg, table->load_n, table->k_n_per_m, f_static, m.opt.stiffness));
+    } else {
+      d.stiffness = std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
+    }
     d.faulty = d.stiffness->has_faults();
     d.per_tooth = d.faulty || !errors_a.empty() || !errors_b.empty();
     d.k_mean = d.stiffness->mean_mesh_stiffness();
@@ -294,6 +310,15 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     d.phase_a = runout_phase[d.a];
     d.phase_b = runout_phase[d.b];
     m.tabulate_friction(d, m.opt.speed.speed_rad_per_s(0.0));
+  }
+
+  for (const StiffnessTable& t : m.opt.stiffness_tables) {
+    bool found = false;
+    for (const MeshData& d : m.meshes) found |= gb.gears()[d.a].name + "_" + gb.gears()[d.b].name == t.mesh;
+    if (!found) {
+      throw diag::InputError(diag::format_error(where, "stiffness.tables",
+                                                "'" + t.mesh + "' is not a mesh <driver>_<driven> of the gearbox"));
+    }
   }
 
   // Shaft torsion between consecutive gears on one shaft.

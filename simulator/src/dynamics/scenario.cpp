@@ -167,8 +167,35 @@ Scenario parse_scenario(const json& j, const std::string& where) {
     r.gsl_abs_tol = in.positive("abs_tol", r.gsl_abs_tol);
   }
   if (f.has("stiffness")) {
-    diag::Fields st(f.raw("stiffness"), where, "stiffness", {"fillet_foundation"});
+    diag::Fields st(f.raw("stiffness"), where, "stiffness", {"fillet_foundation", "tables"});
     d.stiffness.fillet_foundation = st.boolean("fillet_foundation", d.stiffness.fillet_foundation);
+    if (st.has("tables")) {
+      if (!st.raw("tables").is_array()) st.fail("tables", "must be an array");
+      const json& arr = st.raw("tables");
+      for (std::size_t i = 0; i < arr.size(); ++i) {
+        const std::string path = "stiffness." + indexed("tables", i);
+        diag::Fields t(arr[i], where, path, {"mesh", "angle_deg", "load_n", "k_n_per_m"});
+        StiffnessTable table;
+        table.mesh = t.str("mesh");
+        auto numbers = [&](const json& a, const std::string& key) {
+          if (!a.is_array()) t.fail(key, "must be an array of numbers");
+          std::vector<double> v;
+          for (const json& x : a) {
+            if (!x.is_number()) t.fail(key, "must hold numbers only");
+            v.push_back(x.get<double>());
+          }
+          return v;
+        };
+        if (!t.has("angle_deg") || !t.has("load_n") || !t.has("k_n_per_m")) {
+          t.fail("", "needs angle_deg, load_n and k_n_per_m");
+        }
+        table.angle_deg = numbers(t.raw("angle_deg"), "angle_deg");
+        table.load_n = numbers(t.raw("load_n"), "load_n");
+        if (!t.raw("k_n_per_m").is_array()) t.fail("k_n_per_m", "must be an array of rows");
+        for (const json& row : t.raw("k_n_per_m")) table.k_n_per_m.push_back(numbers(row, "k_n_per_m"));
+        d.stiffness_tables.push_back(std::move(table));
+      }
+    }
   }
   if (f.has("settle_s")) r.settle_s = f.non_negative("settle_s", 0.0);
   r.duration_s = f.positive("duration_s", r.duration_s);

@@ -58,6 +58,15 @@ struct GearFault {
   ToothFault fault;    // fault.gear (0/1) is filled in per mesh; fault.tooth is the tooth index
 };
 
+// A measured or FEM mesh stiffness table for one mesh (MeshStiffness::from_table): total mesh
+// stiffness k[i][j] [N/m] at driver angle angle_deg[i] within the mesh period and load load_n[j].
+struct StiffnessTable {
+  std::string mesh;                       // "<driver>_<driven>" gear names
+  std::vector<double> angle_deg;
+  std::vector<double> load_n;
+  std::vector<std::vector<double>> k_n_per_m;
+};
+
 struct DynamicsOptions {
   SpeedProfile speed;                 // input shaft speed; kind kConstant with rpm 0 means: the
                                       // gearbox's input speed_rpm
@@ -80,6 +89,8 @@ struct DynamicsOptions {
                                                // (2/3)(0.06 + 0.0005 a + 0.03 m) mm
   bool back_flank = true;                      // false: infinite backlash (the seed's h(delta))
   StiffnessOptions stiffness;                  // potential-energy method options
+  std::vector<StiffnessTable> stiffness_tables;  // meshes whose stiffness comes from a table
+                                                 // (no faults or pitch errors on those meshes)
   FrictionOptions friction;                    // law, mu, oil and temperature
   std::vector<GearFault> faults;               // tooth faults
   int accuracy_grade = 0;                      // ISO 1328-1 grade of pitch errors, 0: none, 1..12
