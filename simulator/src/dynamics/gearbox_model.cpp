@@ -118,6 +118,35 @@ struct GearboxModel::Impl {
     }
   }
 
+  // Stiffness matrix at mean mesh stiffness: each mesh k g g^T with g = d delta / dq (SPEC: K from
+  // the gradient of delta), the shafts' torsion, the bearings and the motor coupling.
+  Eigen::MatrixXd stiffness_matrix() const {
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  for (const MeshData& d : meshes) {
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+    g[d.a] += d.rba;
+    g[d.b] -= d.rbb;
+    g[d.xa] += d.nx;
+    g[d.xa + 1] += d.ny;
+    g[d.xb] -= d.nx;
+    g[d.xb + 1] -= d.ny;
+    K += d.k_mean * g * g.transpose();
+  }
+  for (const Link& l : links) {
+    K(l.g1, l.g1) += l.k;
+    K(l.g2, l.g2) += l.k;
+    K(l.g1, l.g2) -= l.k;
+    K(l.g2, l.g1) -= l.k;
+  }
+  for (int x : shaft_x) {
+    if (x < 0) continue;
+    K(x, x) += kx[x];
+    K(x + 1, x + 1) += ky[x];
+  }
+    if (opt.motor == MotorMode::kSpeed) K(in_gear, in_gear) += k_c;
+    return K;
+  }
+
   // Spring energy of mesh m with contacts placed by driver angle theta_pos and compression delta.
   double mesh_energy(const MeshData& m, double theta_pos, double delta) const {
     const double cycles = std::floor(theta_pos * m.inv_pitch_a);
@@ -572,31 +601,9 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
 std::vector<double> GearboxModel::equilibrium_state() const {
   const Impl& m = *impl_;
   const int n = m.n;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
-  for (const MeshData& d : m.meshes) {
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
-    g[d.a] += d.rba;
-    g[d.b] -= d.rbb;
-    g[d.xa] += d.nx;
-    g[d.xa + 1] += d.ny;
-    g[d.xb] -= d.nx;
-    g[d.xb + 1] -= d.ny;
-    K += d.k_mean * g * g.transpose();
-  }
-  for (const Link& l : m.links) {
-    K(l.g1, l.g1) += l.k;
-    K(l.g2, l.g2) += l.k;
-    K(l.g1, l.g2) -= l.k;
-    K(l.g2, l.g1) -= l.k;
-  }
-  for (int x : m.shaft_x) {
-    if (x < 0) continue;
-    K(x, x) += m.kx[x];
-    K(x + 1, x + 1) += m.ky[x];
-  }
+  const Eigen::MatrixXd K = m.stiffness_matrix();
   Eigen::VectorXd F = Eigen::VectorXd::Zero(n);
   if (m.opt.motor == MotorMode::kSpeed) {
-    K(m.in_gear, m.in_gear) += m.k_c;
     F[m.out_gear] -= m.torque_load;
   } else {
     F[m.in_gear] += m.torque_in;
@@ -611,29 +618,7 @@ std::vector<double> GearboxModel::equilibrium_state() const {
 std::vector<double> GearboxModel::natural_frequencies_hz() const {
   const Impl& m = *impl_;
   const int n = m.n;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
-  for (const MeshData& d : m.meshes) {
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
-    g[d.a] += d.rba;
-    g[d.b] -= d.rbb;
-    g[d.xa] += d.nx;
-    g[d.xa + 1] += d.ny;
-    g[d.xb] -= d.nx;
-    g[d.xb + 1] -= d.ny;
-    K += d.k_mean * g * g.transpose();
-  }
-  for (const Link& l : m.links) {
-    K(l.g1, l.g1) += l.k;
-    K(l.g2, l.g2) += l.k;
-    K(l.g1, l.g2) -= l.k;
-    K(l.g2, l.g1) -= l.k;
-  }
-  for (int x : m.shaft_x) {
-    if (x < 0) continue;
-    K(x, x) += m.kx[x];
-    K(x + 1, x + 1) += m.ky[x];
-  }
-  if (m.opt.motor == MotorMode::kSpeed) K(m.in_gear, m.in_gear) += m.k_c;
+  const Eigen::MatrixXd K = m.stiffness_matrix();
   // Mass-normalised: M^-1/2 K M^-1/2 is symmetric.
   Eigen::VectorXd s(n);
   for (int i = 0; i < n; ++i) s[i] = 1.0 / std::sqrt(m.mass[i]);
