@@ -13,15 +13,8 @@ using diag::InputError;
 
 namespace {
 
-[[noreturn]] void fail(const std::string& where, const std::string& field,
-                       const std::string& reason) {
-  throw InputError(diag::format_error(where, field, reason));
-}
-// Checks in loops over samples use `if (!ok) fail(...)` so the message is built only on failure.
-void require(bool ok, const std::string& where, const std::string& field,
-             const std::string& reason) {
-  if (!ok) fail(where, field, reason);
-}
+using diag::fail;
+using diag::require;
 
 // Cubic Hermite basis on [0, 1]: p(s) = H01(s) + m0 H10(s) + m1 H11(s) goes from 0 to 1 with
 // slopes m0, m1 (slopes normalised by the secant).

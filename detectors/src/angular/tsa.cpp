@@ -14,15 +14,8 @@ using diag::InputError;
 
 namespace {
 
-[[noreturn]] void fail(const std::string& where, const std::string& field,
-                       const std::string& reason) {
-  throw InputError(diag::format_error(where, field, reason));
-}
-// Checks in loops over samples use `if (!ok) fail(...)` so the message is built only on failure.
-void require(bool ok, const std::string& where, const std::string& field,
-             const std::string& reason) {
-  if (!ok) fail(where, field, reason);
-}
+using diag::fail;
+using diag::require;
 
 bool power_of_two(int n) { return n > 0 && (n & (n - 1)) == 0; }
 

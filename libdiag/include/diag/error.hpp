@@ -22,4 +22,15 @@ class InputError : public std::runtime_error {
 std::string format_error(const std::string& where, const std::string& field,
                          const std::string& reason);
 
+// Throws InputError("where: field: reason").
+[[noreturn]] inline void fail(const std::string& where, const std::string& field,
+                              const std::string& reason) {
+  throw InputError(format_error(where, field, reason));
+}
+// Checks in loops over samples use `if (!ok) fail(...)` so the message is built only on failure.
+inline void require(bool ok, const std::string& where, const std::string& field,
+                    const std::string& reason) {
+  if (!ok) fail(where, field, reason);
+}
+
 }  // namespace diag
