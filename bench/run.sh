@@ -12,7 +12,7 @@ out="$dir/bench-results"
 mkdir -p "$out"
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
 cpu=$(lscpu 2>/dev/null | sed -n 's/^Model name:[[:space:]]*//p' | head -n1)
-echo "machine: ${cpu:-unknown}, $(nproc) cores; $(date -u +%Y-%m-%d); load average: $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "machine: ${cpu:-unknown}, $(nproc --all) cores; $(date -u +%Y-%m-%d); load average: $(cut -d' ' -f1-3 /proc/loadavg)"
 gb() {  # name, extra args...
   local name=$1
   shift
