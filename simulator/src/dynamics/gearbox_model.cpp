@@ -17,6 +17,10 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kShearModulusSteelPa = 79.3e9;
 constexpr double kDefaultShaftLengthM = 0.1;
 constexpr int kFrictionTablePoints = 257;
+// derivatives() accumulates the forces in a local array: stores to it cannot alias the model's
+// parameters, so the compiler keeps those in registers instead of reloading every one after each
+// force update (stores through a double* into dydt may alias any double member of Impl).
+constexpr int kMaxDofs = 256;
 
 struct MeshData {
   int a = -1, b = -1;          // driver / driven gear (= their rotation DOF)
@@ -37,6 +41,7 @@ struct MeshData {
   bool friction = false;
   bool faulty = false;         // faults on either gear: use MeshStiffness::pair_force
   bool per_tooth = false;      // faults or pitch errors: the teeth in contact matter
+  bool gap_free = true;        // no pitch errors and no faults: every pair's gap is exactly 0
   double runout_a = 0, runout_b = 0, phase_a = 0, phase_b = 0;
   double omega_table = -1;     // driver speed at which mu was tabulated [rad/s]
 };
@@ -231,6 +236,11 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
       m.n += 2;
     }
   }
+  if (m.n > kMaxDofs) {
+    throw diag::InputError(diag::format_error(where, "gears", std::to_string(m.n) +
+                                              " degrees of freedom; at most " +
+                                              std::to_string(kMaxDofs) + " are supported"));
+  }
   m.mass.assign(m.n, 0.0);
   m.ratio.assign(m.gears, 0.0);
   for (int g = 0; g < m.gears; ++g) {
@@ -324,6 +334,7 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     }
     d.faulty = d.stiffness->has_faults();
     d.per_tooth = d.faulty || !errors_a.empty() || !errors_b.empty();
+    d.gap_free = !d.per_tooth;
     d.k_mean = d.stiffness->mean_mesh_stiffness();
     d.inv_k_mean = 1.0 / d.k_mean;
     const double inv_je = d.rba * d.rba / m.mass[d.a] + d.rbb * d.rbb / m.mass[d.b];
@@ -458,11 +469,8 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
   const int n = m.n;
   const double* q = y;
   const double* v = y + n;
-  double* f = dydt + n;  // forces first, scaled by 1/M at the end
-  for (int i = 0; i < n; ++i) {
-    dydt[i] = v[i];
-    f[i] = 0.0;
-  }
+  double f[kMaxDofs];  // forces, scaled by 1/M into dydt at the end
+  std::fill_n(f, n, 0.0);
   const double w_in = m.nominal_speed(t);
   if (!m.constant_speed) {
     const double alpha = m.opt.speed.acceleration_rad_per_s2(t);
@@ -528,7 +536,8 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
         ta = static_cast<int>(((nc - k) % d.za + d.za) % d.za);
         tb = static_cast<int>(((nc - k) % d.zb + d.zb) % d.zb);
       }
-      const double kp = d.stiffness->pair_stiffness(s, ta, tb);
+      const double kp = d.faulty ? d.stiffness->pair_stiffness(s, ta, tb)
+                                 : d.stiffness->healthy_pair_stiffness(s);
       ksum += kp;
       double elastic;
       if (d.faulty) {
@@ -536,7 +545,7 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
         elastic = d.stiffness->pair_force(s, ta, tb, delta);
         if (!(elastic > 0.0)) continue;
       } else {
-        const double comp = delta - d.stiffness->pair_gap(s, ta, tb);
+        const double comp = d.gap_free ? delta : delta - d.stiffness->pair_gap(s, ta, tb);
         if (!(comp > 0.0)) continue;
         elastic = kp * comp;
       }
@@ -588,7 +597,11 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
       friction_power -= p;
     }
   }
-  for (int i = 0; i < n; ++i) f[i] *= m.inv_mass[i];
+  for (int i = 0; i < n; ++i) {
+    f[i] *= m.inv_mass[i];
+    dydt[i] = v[i];
+    dydt[n + i] = f[i];
+  }
   if (obs) {
     obs->acceleration.assign(f, f + n);
     obs->motor_power_w = motor_power;

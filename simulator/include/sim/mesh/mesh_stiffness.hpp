@@ -147,6 +147,14 @@ class MeshStiffness {
     return interpolate(k_pair_, x);
   }
 
+  // pair_stiffness for a mesh without faults (has_faults() false): the same value without the
+  // per-tooth fault test.
+  double healthy_pair_stiffness(double s_m) const {
+    const double x = (s_m - s0_) * inv_ds_;
+    if (!(x >= -kEdgeCells && x <= last_ + kEdgeCells)) return 0.0;
+    return interpolate(k_pair_, x);
+  }
+
   // Compression [m] the pair must exceed before it carries load (faults + pitch errors); +inf:
   // never (missing tooth, full-width chip). Where a partial-width spall has a second, deeper
   // contact, this is the first one (pair_force has both).
