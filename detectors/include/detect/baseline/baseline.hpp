@@ -1,11 +1,10 @@
 // Baseline comparison: unit-free features of a vibration channel, a robust healthy baseline
 // (median / MAD per feature) and an anomaly score with an alarm threshold.
 //
-// ---- Features (baseline_features)
-// ---------------------------------------------------------------- Every feature is dimensionless
-// and independent of the sensor's gain and of the sampling rate when the rate is only nominal (band
-// edges are fractions of fs), so a baseline can be compared across sensors of unknown calibration
-// and recordings of unknown rate:
+// ---- Features (baseline_features) ----
+// Every feature is dimensionless and independent of the sensor's gain and of the sampling rate
+// when the rate is only nominal (band edges are fractions of fs), so a baseline can be compared
+// across sensors of unknown calibration and recordings of unknown rate:
 //   kurtosis_log   ln K,  K = N sum (x - x_bar)^4 / (sum (x - x_bar)^2)^2   (3 for Gaussian noise)
 //   crest_log      ln CF, CF = max |x - x_bar| / std(x)                  (sqrt 2 for a sine)
 //   skewness       sqrt(N) sum (x - x_bar)^3 / (sum (x - x_bar)^2)^(3/2)
@@ -25,9 +24,8 @@
 // and the low-frequency content (left out below f_lo, where shaft-rate harmonics and rigid-body
 // motion live; with nperseg = 1024 and fs/256 the lowest band also holds at least 4 Welch bins).
 //
-// ---- Baseline and score (Baseline)
-// --------------------------------------------------------------- fit: per feature j over the
-// healthy feature sets, centre c_j = median, spread
+// ---- Baseline and score (Baseline) ----
+// fit: per feature j over the healthy feature sets, centre c_j = median, spread
 //   s_j = max(1.4826 MAD_j, spread_floor),  MAD_j = median |x_j - c_j|
 // (1.4826 MAD is the standard deviation for Gaussian data; Rousseeuw & Croux, JASA 88 (1993)).
 // score: z_j = (x_j - c_j) / s_j (robust sigmas), anomaly_score = (1/d) sum_j z_j^2 over the d
@@ -37,12 +35,17 @@
 // standard normals, d * score would be chi-square with d degrees of freedom and a threshold near 1
 // would do; but the features are strongly correlated (band shares sum to one, channels see one
 // machine) and the worst case, all z_j equal, makes the score chi-square with ONE degree of
-// freedom whatever d is. P(chi2_1 > 25) = P(|z| > 5) = 5.7e-7: the false-alarm rate stays below
-// that for any correlation between Gaussian features. The factor of about 2.3 between the
-// chi2_1 99.9 % point (10.8) and 25 is the allowance for operating points outside the ones the
-// baseline holds: a baseline fitted over a few loads sees their spread only, and a healthy
-// machine at a new load extrapolates (measured: RMS 3.1 sigma at 0 % load from 20-80 % on the
-// SpectraQuest set, against 7-11 sigma for its broken tooth at every load).
+// freedom whatever d is. That case is the worst for every correlation: with R the features'
+// correlation matrix, d * score = sum mu_i Z_i^2 (mu_i the eigenvalues of R, sum d), and
+// P(sum lambda_i Z_i^2 >= t) over lambda_i >= 0, sum lambda_i = 1 is largest at a single
+// lambda = 1 for every t > 1.5364 (Szekely & Bakirov, "Extremal probabilities for Gaussian
+// quadratic forms", Probab. Theory Relat. Fields 126 (2003) 184-202). So for Gaussian features,
+// P(false alarm) <= P(chi2_1 > 25) = P(|z| > 5) = 5.7e-7, whatever their correlation.
+// The factor of about 2.3 between the chi2_1 99.9 % point (10.8) and 25 is the allowance for
+// operating points outside the ones the baseline holds: a baseline fitted over a few loads sees
+// their spread only, and a healthy machine at a new load extrapolates (measured on the
+// SpectraQuest set: RMS 3.2 sigma for the healthy gear at 0 % load from a 20-80 % baseline,
+// against 7-11 sigma for its broken tooth at every load).
 // CAUTION: a feature whose baseline never varies (a constant) has spread spread_floor; choose
 // the floor in the features' units (default 0.05: a 5 % change of a ratio, below repeatability).
 #pragma once
