@@ -88,14 +88,29 @@ std::vector<const diag::Signal*> shaft_channels(const diag::Recording& rec, cons
 }
 
 // e = d with the orders k * step (k >= 1) removed for every step in `steps`.
-std::vector<double> remove_orders(const std::vector<double>& d, const std::vector<int>& steps) {
-  if (steps.empty()) return d;
+// Also removes, around every harmonic of the shaft's own mesh orders, the sidebands 2 .. 1 + extra
+// (the first went with the difference signal), and every order above max_order_fraction of the
+// Nyquist order.
+std::vector<double> remove_orders(const std::vector<double>& d, const std::vector<int>& steps,
+                                  const std::vector<int>& own_orders, int extra,
+                                  double max_order_fraction) {
   RealFft fft(d.size());
   std::vector<std::complex<double>> spec(fft.bins());
   fft.forward(d, spec);
   for (int step : steps) {
     for (std::size_t k = static_cast<std::size_t>(step); k < spec.size(); k += step) spec[k] = 0;
   }
+  const int top = static_cast<int>(spec.size()) - 1;
+  for (int z : own_orders) {
+    for (int h = z; h - 1 - extra <= top; h += z) {
+      for (int j = 2; j <= 1 + extra; ++j) {
+        if (h - j >= 0 && h - j <= top) spec[h - j] = 0;
+        if (h + j <= top) spec[h + j] = 0;
+      }
+    }
+  }
+  const std::size_t keep = static_cast<std::size_t>(max_order_fraction * (spec.size() - 1));
+  for (std::size_t k = keep + 1; k < spec.size(); ++k) spec[k] = 0;
   std::vector<double> e(d.size());
   fft.inverse(spec, e);
   return e;
@@ -148,6 +163,15 @@ void GearDamageOptions::validate() const {
   }
   if (pulse_fit_degree < 0 || pulse_fit_degree > 8) {
     fail("pulse_fit_degree", std::to_string(pulse_fit_degree) + " is outside [0, 8]");
+  }
+  if (extra_sideband_orders < 0) {
+    fail("extra_sideband_orders", std::to_string(extra_sideband_orders) + " is negative");
+  }
+  if (!(max_order_fraction > 0.0 && max_order_fraction <= 1.0)) {
+    fail("max_order_fraction", std::to_string(max_order_fraction) + " is outside (0, 1]");
+  }
+  if (!(min_exclusive_share >= 0.0 && min_exclusive_share < 1.0)) {
+    fail("min_exclusive_share", std::to_string(min_exclusive_share) + " is outside [0, 1)");
   }
   if (min_revolutions < 2) {
     fail("min_revolutions", std::to_string(min_revolutions) + " is below 2");
@@ -245,6 +269,8 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         mesh_orders.push_back(order);
       }
     }
+    std::vector<int> own_orders;
+    for (int g : sh.gears) own_orders.push_back(gb.gears()[g].spec.teeth);
     // Orders shared with faster shafts.
     std::vector<int> shared_steps;
     for (const diag::Shaft& other : shafts) {
@@ -276,17 +302,28 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         break;
       }
       const std::vector<double> diff = tsa_difference(t, mesh_orders);
-      const std::vector<double> excl = remove_orders(diff, shared_steps);
+      const std::vector<double> excl = remove_orders(diff, shared_steps, own_orders,
+                                                     options.extra_sideband_orders,
+                                                     options.max_order_fraction);
       const double score = fm4(excl);
+      // Share of the exclusive signal in the difference signal over the same band.
+      const std::vector<double> band =
+          shared_steps.empty() ? excl
+                               : remove_orders(diff, {}, own_orders, options.extra_sideband_orders,
+                                               options.max_order_fraction);
+      const double share = std::inner_product(excl.begin(), excl.end(), excl.begin(), 0.0) /
+                           std::inner_product(band.begin(), band.end(), band.begin(), 0.0);
       if (std::isnan(sd.score) || score > sd.score) {
+        sd.exclusive_share = share;
         sd.score = score;
         sd.channel = ch->name;
         sd.revolutions = t.revolutions;
         sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
       }
     }
-    sd.damaged = sd.score > options.damaged_fm4;
-    sd.uncertain = !sd.damaged && sd.score > options.healthy_fm4;
+    const bool own = !(sd.exclusive_share < options.min_exclusive_share);
+    sd.damaged = own && sd.score > options.damaged_fm4;
+    sd.uncertain = own && !sd.damaged && sd.score > options.healthy_fm4;
     res.shafts.push_back(sd);
   }
 
@@ -347,6 +384,7 @@ nlohmann::json to_json(const GearDamageResult& r) {
                            {"revolutions", s.revolutions},
                            {"channel", s.channel},
                            {"score", num(s.score)},
+                           {"exclusive_share", num(s.exclusive_share)},
                            {"damaged", s.damaged},
                            {"uncertain", s.uncertain},
                            {"fm4", num(s.indicators.fm4)},
