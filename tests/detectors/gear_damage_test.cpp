@@ -1,12 +1,12 @@
 #include "detect/gear/gear_damage.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
 #include <string>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -21,13 +21,13 @@ using std::numbers::pi;
 // optionally, a local amplification of one mesh tone once per revolution of one shaft: the
 // signature of a localised tooth fault. The input tacho is a 0/1 train sampled at fs, so its
 // edges are uncertain by half a sample, as the simulator's.
-constexpr double kFs = 10000.0;       // [Hz]
-constexpr double kInputHz = 25.3;     // not a divisor of fs: the sample grid does not lock on
-constexpr double kDurationS = 2.2;    // 13.9 output revolutions, >= min_revolutions + margins
-constexpr double kNoiseRms = 1.0;     // [m/s^2]
-constexpr double kMeshAmp = 5.0;      // [m/s^2]
-constexpr double kBurstAmp = 12.0;    // [m/s^2]: in a 55-revolution counter TSA the noise is
-                                      // 1/sqrt(55) = 0.13, so the burst is 90x the noise there
+constexpr double kFs = 10000.0;     // [Hz]
+constexpr double kInputHz = 25.3;   // not a divisor of fs: the sample grid does not lock on
+constexpr double kDurationS = 2.2;  // 13.9 output revolutions, >= min_revolutions + margins
+constexpr double kNoiseRms = 1.0;   // [m/s^2]
+constexpr double kMeshAmp = 5.0;    // [m/s^2]
+constexpr double kBurstAmp = 12.0;  // [m/s^2]: in a 55-revolution counter TSA the noise is
+                                    // 1/sqrt(55) = 0.13, so the burst is 90x the noise there
 
 diag::Gearbox gearbox() {
   return diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");

@@ -1,9 +1,9 @@
 #include "validate/gear_damage_loop.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"

@@ -65,8 +65,8 @@ void GearDamageLoopOptions::validate() const {
   if (!root_crack && !chip && !missing) fail("root_crack/chip/missing", "no fault kind enabled");
   if (!(fs_hz > 0)) fail("fs_hz", std::to_string(fs_hz) + " must be > 0");
   if (slowest_shaft_revolutions < detector.min_revolutions + 3) {
-    fail("slowest_shaft_revolutions", std::to_string(slowest_shaft_revolutions) +
-                                          " is below detector.min_revolutions + 3");
+    fail("slowest_shaft_revolutions",
+         std::to_string(slowest_shaft_revolutions) + " is below detector.min_revolutions + 3");
   }
   if (steps_per_period < 8) fail("steps_per_period", std::to_string(steps_per_period) + " < 8");
   detector.validate();
@@ -116,7 +116,8 @@ GearDamageLoopReport run_gear_damage_loop(const diag::Gearbox& gb,
         f.fault.size_m = max_crack * uniform(rng, opt.min_crack_fraction, opt.max_crack_fraction);
       } else if (c.kind == "chip") {
         f.fault.kind = sim::ToothFault::Kind::kChip;
-        f.fault.size_m = ge.spec.module_m * uniform(rng, opt.min_chip_modules, opt.max_chip_modules);
+        f.fault.size_m =
+            ge.spec.module_m * uniform(rng, opt.min_chip_modules, opt.max_chip_modules);
       } else {
         f.fault.kind = sim::ToothFault::Kind::kMissing;
       }
@@ -137,10 +138,14 @@ GearDamageLoopReport run_gear_damage_loop(const diag::Gearbox& gb,
     if (c.faulty) {
       ++rep.faulty_total;
       c.correct = c.result.status == "damaged" && c.found_shaft == c.truth_shaft;
-      if (c.correct) ++rep.faulty_correct;
-      else if (c.result.status == "healthy") ++rep.faulty_missed;
-      else if (c.result.status == "ambiguous") ++rep.faulty_ambiguous;
-      else ++rep.faulty_wrong_shaft;
+      if (c.correct)
+        ++rep.faulty_correct;
+      else if (c.result.status == "healthy")
+        ++rep.faulty_missed;
+      else if (c.result.status == "ambiguous")
+        ++rep.faulty_ambiguous;
+      else
+        ++rep.faulty_wrong_shaft;
     } else {
       ++rep.healthy_total;
       c.correct = c.result.findings.empty();
@@ -157,13 +162,14 @@ std::string format_report(const GearDamageLoopReport& r) {
   for (std::size_t i = 0; i < r.cases.size(); ++i) {
     const GearDamageCase& c = r.cases[i];
     if (c.correct) continue;
-    o << "case " << i << ": " << (c.faulty ? c.kind + " on " + c.gear + " tooth " +
-                                                 std::to_string(c.tooth) + " (" + c.truth_shaft +
-                                                 ")"
-                                           : std::string("healthy"))
+    o << "case " << i << ": "
+      << (c.faulty ? c.kind + " on " + c.gear + " tooth " + std::to_string(c.tooth) + " (" +
+                         c.truth_shaft + ")"
+                   : std::string("healthy"))
       << " size " << c.size_m * 1e3 << " mm, " << c.rpm << " rpm, " << c.torque_nm << " N m, noise "
       << c.noise_m_per_s2 << " -> " << c.result.status << " " << c.found_shaft << "; scores";
-    for (const auto& s : c.result.shafts) o << " " << s.shaft << "=" << s.score << "/" << s.exclusive_share;
+    for (const auto& s : c.result.shafts)
+      o << " " << s.shaft << "=" << s.score << "/" << s.exclusive_share;
     o << "\n";
   }
   o << "faulty: " << r.faulty_correct << "/" << r.faulty_total << " right shaft ("

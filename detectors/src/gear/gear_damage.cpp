@@ -1,14 +1,13 @@
 #include "detect/gear/gear_damage.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <sstream>
-
-#include <Eigen/Dense>
-#include <nlohmann/json.hpp>
 
 #include "detect/angular/resample.hpp"
 #include "detect/angular/tacho.hpp"
@@ -194,7 +193,8 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   // ---- reference tacho ----
   std::string ref = options.reference_shaft;
   if (!ref.empty() && gb.shaft_index(ref) < 0) {
-    throw diag::InputError(diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
+    throw diag::InputError(
+        diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
   }
   const diag::Signal* tacho = nullptr;
   auto tacho_of = [&](const std::string& shaft) -> const diag::Signal* {
@@ -216,8 +216,8 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     }
   }
   if (!tacho) {
-    throw diag::InputError(diag::format_error(where, "tachos",
-                                              "no tacho for shaft '" + ref + "' in the recording"));
+    throw diag::InputError(
+        diag::format_error(where, "tachos", "no tacho for shaft '" + ref + "' in the recording"));
   }
   for (const auto& [shaft, names] : options.channels) {
     if (gb.shaft_index(shaft) < 0) {
@@ -233,15 +233,14 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   std::ostringstream note;
   if (!tr.repairs.empty()) note << tr.repairs.size() << " tacho repair(s) on '" << ref << "'. ";
   if (tr.pulse_times_s.size() < 3) {
-    throw diag::InputError(diag::format_error(where, "tacho '" + tacho->name + "'",
-                                              std::to_string(tr.pulse_times_s.size()) +
-                                                  " pulses; at least 3 are needed"));
+    throw diag::InputError(diag::format_error(
+        where, "tacho '" + tacho->name + "'",
+        std::to_string(tr.pulse_times_s.size()) + " pulses; at least 3 are needed"));
   }
-  const std::vector<double> ref_pulses =
-      smooth_pulses(tr.pulse_times_s, options.pulse_fit_degree);
+  const std::vector<double> ref_pulses = smooth_pulses(tr.pulse_times_s, options.pulse_fit_degree);
   const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
-  const double ref_hz = (tr.pulse_times_s.size() - 1) /
-                        (tr.pulse_times_s.back() - tr.pulse_times_s.front());
+  const double ref_hz =
+      (tr.pulse_times_s.size() - 1) / (tr.pulse_times_s.back() - tr.pulse_times_s.front());
 
   TsaOptions to;
   to.samples_per_rev = options.samples_per_rev;
@@ -302,9 +301,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         break;
       }
       const std::vector<double> diff = tsa_difference(t, mesh_orders);
-      const std::vector<double> excl = remove_orders(diff, shared_steps, own_orders,
-                                                     options.extra_sideband_orders,
-                                                     options.max_order_fraction);
+      const std::vector<double> excl =
+          remove_orders(diff, shared_steps, own_orders, options.extra_sideband_orders,
+                        options.max_order_fraction);
       const double score = fm4(excl);
       // Share of the exclusive signal in the difference signal over the same band.
       const std::vector<double> band =
@@ -339,9 +338,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     for (int g : shafts[gb.shaft_index(sd.shaft)].gears) f.gears.push_back(gb.gears()[g].name);
     f.channel = sd.channel;
     f.score = sd.score;
-    f.confidence = std::clamp((sd.score - options.healthy_fm4) /
-                                  (2.0 * (options.damaged_fm4 - options.healthy_fm4)),
-                              0.0, 1.0);
+    f.confidence = std::clamp(
+        (sd.score - options.healthy_fm4) / (2.0 * (options.damaged_fm4 - options.healthy_fm4)), 0.0,
+        1.0);
     f.note = why;
     return f;
   };

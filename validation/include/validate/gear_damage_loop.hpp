@@ -21,12 +21,12 @@
 namespace validate {
 
 struct GearDamageLoopOptions {
-  int cases = 100;                  // random cases, >= 1
-  double healthy_share = 0.25;      // share of healthy cases, [0, 1]
-  std::uint64_t seed = 1;           // the whole loop is reproducible from this seed
-  double min_rpm = 1800.0;          // input speed, uniform in [min_rpm, max_rpm] [rpm], > 0
+  int cases = 100;              // random cases, >= 1
+  double healthy_share = 0.25;  // share of healthy cases, [0, 1]
+  std::uint64_t seed = 1;       // the whole loop is reproducible from this seed
+  double min_rpm = 1800.0;      // input speed, uniform in [min_rpm, max_rpm] [rpm], > 0
   double max_rpm = 2600.0;
-  double min_torque_nm = 30.0;      // input torque, uniform [N m], > 0
+  double min_torque_nm = 30.0;  // input torque, uniform [N m], > 0
   double max_torque_nm = 80.0;
   double min_noise_m_per_s2 = 2.0;  // accelerometer noise RMS, uniform [m/s^2], >= 0
   double max_noise_m_per_s2 = 10.0;
@@ -37,12 +37,12 @@ struct GearDamageLoopOptions {
   double min_crack_fraction = 0.5, max_crack_fraction = 0.95;
   // Chip depth along the profile from the tip, as a fraction of the module, uniform, (0, 2].
   double min_chip_modules = 0.5, max_chip_modules = 1.0;
-  double fs_hz = 10000.0;           // output sampling rate [Hz]
+  double fs_hz = 10000.0;              // output sampling rate [Hz]
   int slowest_shaft_revolutions = 11;  // recorded revolutions of the slowest shaft, >= 3 more
                                        // than detector.min_revolutions (the resampling kernel
                                        // needs margins at both ends)
-  int steps_per_period = 20;        // RK4 steps per period of the highest natural frequency (see
-                                    // sim::RunOptions; 10 keeps RK4 stable and the loop fast)
+  int steps_per_period = 20;           // RK4 steps per period of the highest natural frequency (see
+                                       // sim::RunOptions; 10 keeps RK4 stable and the loop fast)
   detect::GearDamageOptions detector;
 
   void validate() const;  // throws diag::InputError naming the field
@@ -65,7 +65,9 @@ struct GearDamageLoopReport {
   int faulty_total = 0, faulty_correct = 0, faulty_missed = 0, faulty_wrong_shaft = 0,
       faulty_ambiguous = 0;
   int healthy_total = 0, healthy_false_alarms = 0;
-  double faulty_accuracy() const { return faulty_total ? double(faulty_correct) / faulty_total : 1; }
+  double faulty_accuracy() const {
+    return faulty_total ? double(faulty_correct) / faulty_total : 1;
+  }
 };
 
 GearDamageLoopReport run_gear_damage_loop(const diag::Gearbox& gb,

@@ -42,10 +42,9 @@
 #pragma once
 
 #include <map>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "detect/indicators/indicators.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -54,11 +53,11 @@
 namespace detect {
 
 struct GearDamageOptions {
-  int samples_per_rev = 512;   // TSA angular resolution [samples/rev], power of two >= 64; keep
-                               // >= 2.8 x 3 x the largest tooth count so that three mesh
-                               // harmonics pass the resampling filter unattenuated
-  int min_revolutions = 8;     // fewer whole revolutions of a shaft than this: the shaft is
-                               // skipped (noted), >= 2
+  int samples_per_rev = 512;  // TSA angular resolution [samples/rev], power of two >= 64; keep
+                              // >= 2.8 x 3 x the largest tooth count so that three mesh
+                              // harmonics pass the resampling filter unattenuated
+  int min_revolutions = 8;    // fewer whole revolutions of a shaft than this: the shaft is
+                              // skipped (noted), >= 2
   // Degree of the least-squares polynomial t(k) fitted to the reference tacho's pulse times
   // (k the pulse index), which replaces them; 0: the pulse times as detected. [0, 8]. Why: a
   // 0/1 pulse train's edges are known only to +- half a sampling period (tacho.hpp), which at the
@@ -94,27 +93,27 @@ struct GearDamageOptions {
   // simulated gearboxes gave 2.7-3.6 on the counter and output shafts and 4.4-4.9 on the input
   // shaft (1000-2500 rpm: its mesh harmonics are the largest). damaged_fm4 = 6 leaves > 1 above
   // the worst healthy value seen; validation/gear_damage_loop measures the false-alarm rate.
-  double damaged_fm4 = 6.0;    // score above this: damaged, > healthy_fm4
-  double healthy_fm4 = 4.5;    // score above this (and below damaged_fm4): uncertain, > 3
+  double damaged_fm4 = 6.0;     // score above this: damaged, > healthy_fm4
+  double healthy_fm4 = 4.5;     // score above this (and below damaged_fm4): uncertain, > 3
   std::string reference_shaft;  // shaft whose tacho gives the pulses; empty: the input shaft's
                                 // tacho, else the first tacho whose location is a known shaft
   std::map<std::string, std::vector<std::string>> channels;  // shaft -> channels to use
-                                                               // (overrides the automatic choice)
+                                                             // (overrides the automatic choice)
 
   void validate() const;  // throws diag::InputError naming the field
 };
 
 struct ShaftDamage {
   std::string shaft;
-  double frequency_hz = 0;  // mean rotation frequency over the record [Hz]
-  int revolutions = 0;      // whole revolutions averaged (0: skipped)
-  GearIndicators indicators;  // of the TSA and difference signal of `channel`, for the
-                              // shaft's first gear as the monitored mesh (reporting only)
-  std::string channel;        // the channel that gave the score
-  double score = 0;           // FM4 of the exclusive difference signal (NaN when skipped)
-  double exclusive_share = 1; // energy of the exclusive over the difference signal
-  bool damaged = false;       // score > damaged_fm4 and exclusive_share >= min_exclusive_share
-  bool uncertain = false;     // healthy_fm4 < score <= damaged_fm4
+  double frequency_hz = 0;     // mean rotation frequency over the record [Hz]
+  int revolutions = 0;         // whole revolutions averaged (0: skipped)
+  GearIndicators indicators;   // of the TSA and difference signal of `channel`, for the
+                               // shaft's first gear as the monitored mesh (reporting only)
+  std::string channel;         // the channel that gave the score
+  double score = 0;            // FM4 of the exclusive difference signal (NaN when skipped)
+  double exclusive_share = 1;  // energy of the exclusive over the difference signal
+  bool damaged = false;        // score > damaged_fm4 and exclusive_share >= min_exclusive_share
+  bool uncertain = false;      // healthy_fm4 < score <= damaged_fm4
 };
 
 struct GearDamageFinding {
