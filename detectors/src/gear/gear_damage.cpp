@@ -1,0 +1,409 @@
+#include "detect/gear/gear_damage.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <sstream>
+
+#include "detect/angular/resample.hpp"
+#include "detect/angular/tacho.hpp"
+#include "detect/angular/tsa.hpp"
+#include "detect/spectral/fft.hpp"
+#include "diag/error.hpp"
+
+namespace detect {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// Relative tolerance for "this speed ratio is the integer / rational p/q": the gearbox ratios are
+// exact products of tooth-count ratios, so only round-off separates them from p/q.
+constexpr double kRatioTol = 1e-9;
+constexpr int kMaxDenominator = 64;
+
+void fail(const std::string& field, const std::string& reason) {
+  throw diag::InputError(diag::format_error("GearDamageOptions", field, reason));
+}
+
+bool is_integer(double x, int* n) {
+  const double r = std::round(x);
+  if (r < 1 || std::abs(x - r) > kRatioTol * std::max(1.0, x)) return false;
+  *n = static_cast<int>(r);
+  return true;
+}
+
+// Smallest p with ratio = p / q, q <= kMaxDenominator; 0 when the ratio is not such a fraction.
+int shared_order_step(double ratio) {
+  for (int q = 1; q <= kMaxDenominator; ++q) {
+    int p = 0;
+    if (is_integer(ratio * q, &p)) return p;
+  }
+  return 0;
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) {
+  return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;
+}
+
+bool is_motion_direction(diag::Direction d) {
+  return d == diag::Direction::kAlongLoa || d == diag::Direction::kNormalLoa ||
+         d == diag::Direction::kHorizontal || d == diag::Direction::kVertical;
+}
+
+// Signals of the bearings of `shaft` (simulator names "<shaft>_bearing<k>" or the gearbox's own
+// bearings on that shaft).
+std::vector<const diag::Signal*> shaft_channels(const diag::Recording& rec, const diag::Gearbox& gb,
+                                                const std::string& shaft) {
+  auto on_shaft = [&](const diag::Signal& s) {
+    if (s.location.empty()) return false;
+    if (starts_with(s.location, shaft + "_bearing")) return true;
+    for (const auto& b : gb.bearings()) {
+      if (b.shaft == shaft && b.name == s.location) return true;
+    }
+    return false;
+  };
+  // First bearing only (the simulator's bearing1 / bearing2 see the same shaft motion), along
+  // each line of action of the shaft.
+  std::vector<const diag::Signal*> along, any;
+  std::string first_bearing;
+  for (const auto& s : rec.signals) {
+    if (!on_shaft(s)) continue;
+    if (first_bearing.empty()) first_bearing = s.location;
+    if (s.location != first_bearing) continue;
+    any.push_back(&s);
+    if (s.direction == diag::Direction::kAlongLoa) along.push_back(&s);
+  }
+  if (!along.empty()) return along;
+  if (!any.empty()) return any;
+  std::vector<const diag::Signal*> casing;
+  for (const auto& s : rec.signals) {
+    if (is_motion_direction(s.direction)) casing.push_back(&s);
+  }
+  return casing;
+}
+
+// e = d with the orders k * step (k >= 1) removed for every step in `steps`.
+// Also removes, around every harmonic of the shaft's own mesh orders, the sidebands 2 .. 1 + extra
+// (the first went with the difference signal), and every order above max_order_fraction of the
+// Nyquist order.
+std::vector<double> remove_orders(const std::vector<double>& d, const std::vector<int>& steps,
+                                  const std::vector<int>& own_orders, int extra,
+                                  double max_order_fraction) {
+  RealFft fft(d.size());
+  std::vector<std::complex<double>> spec(fft.bins());
+  fft.forward(d, spec);
+  for (int step : steps) {
+    for (std::size_t k = static_cast<std::size_t>(step); k < spec.size(); k += step) spec[k] = 0;
+  }
+  const int top = static_cast<int>(spec.size()) - 1;
+  for (int z : own_orders) {
+    for (int h = z; h - 1 - extra <= top; h += z) {
+      for (int j = 2; j <= 1 + extra; ++j) {
+        if (h - j >= 0 && h - j <= top) spec[h - j] = 0;
+        if (h + j <= top) spec[h + j] = 0;
+      }
+    }
+  }
+  const std::size_t keep = static_cast<std::size_t>(max_order_fraction * (spec.size() - 1));
+  for (std::size_t k = keep + 1; k < spec.size(); ++k) spec[k] = 0;
+  std::vector<double> e(d.size());
+  fft.inverse(spec, e);
+  return e;
+}
+
+// Least-squares polynomial of degree `degree` through (k, t_k), k the pulse index scaled to
+// [-1, 1] (conditioning), evaluated at every k: the pulse times with their jitter averaged out.
+std::vector<double> smooth_pulses(const std::vector<double>& t, int degree) {
+  const int n = static_cast<int>(t.size());
+  if (degree <= 0 || n <= degree + 1) return t;
+  Eigen::MatrixXd a(n, degree + 1);
+  Eigen::VectorXd b(n);
+  for (int k = 0; k < n; ++k) {
+    const double u = 2.0 * k / (n - 1) - 1.0;
+    double p = 1.0;
+    for (int j = 0; j <= degree; ++j, p *= u) a(k, j) = p;
+    b(k) = t[k] - t.front();
+  }
+  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
+  const Eigen::VectorXd fit = a * c;
+  std::vector<double> out(n);
+  for (int k = 0; k < n; ++k) out[k] = t.front() + fit(k);
+  return out;
+}
+
+GearIndicators indicators_for(const Tsa& t, const std::vector<double>& diff,
+                              const std::vector<int>& mesh_orders, int first_gear_teeth) {
+  GearIndicators ind;
+  const std::vector<double> regular = tsa_regular(t, mesh_orders, 0);
+  const std::vector<double> residual = tsa_residual(t, mesh_orders, 0);
+  GearMetricOptions mo;
+  mo.mesh_order = first_gear_teeth;
+  const int half = t.samples_per_rev / 2;
+  mo.ser_sidebands = std::min(6, first_gear_teeth - 1);
+  mo.mesh_harmonics = std::min(3, (half - 1 - mo.ser_sidebands) / std::max(1, first_gear_teeth));
+  if (mo.ser_sidebands < 1 || mo.mesh_harmonics < 1) {
+    ind.fm4 = fm4(diff), ind.m6a = m6a(diff), ind.m8a = m8a(diff);
+    ind.fm0 = ind.ser = ind.slf = ind.si = kNaN;
+    return ind;
+  }
+  GearSignals s{t.samples, diff, regular, residual};
+  return gear_indicators(s, mo);
+}
+
+}  // namespace
+
+void GearDamageOptions::validate() const {
+  if (samples_per_rev < 64 || (samples_per_rev & (samples_per_rev - 1)) != 0) {
+    fail("samples_per_rev", std::to_string(samples_per_rev) + " is not a power of two >= 64");
+  }
+  if (pulse_fit_degree < 0 || pulse_fit_degree > 8) {
+    fail("pulse_fit_degree", std::to_string(pulse_fit_degree) + " is outside [0, 8]");
+  }
+  if (extra_sideband_orders < 0) {
+    fail("extra_sideband_orders", std::to_string(extra_sideband_orders) + " is negative");
+  }
+  if (!(max_order_fraction > 0.0 && max_order_fraction <= 1.0)) {
+    fail("max_order_fraction", std::to_string(max_order_fraction) + " is outside (0, 1]");
+  }
+  if (!(min_exclusive_share >= 0.0 && min_exclusive_share < 1.0)) {
+    fail("min_exclusive_share", std::to_string(min_exclusive_share) + " is outside [0, 1)");
+  }
+  if (min_revolutions < 2) {
+    fail("min_revolutions", std::to_string(min_revolutions) + " is below 2");
+  }
+  if (!(healthy_fm4 > 3.0) || !std::isfinite(healthy_fm4)) {
+    fail("healthy_fm4", std::to_string(healthy_fm4) + " must be finite and > 3 (Gaussian noise)");
+  }
+  if (!(damaged_fm4 > healthy_fm4) || !std::isfinite(damaged_fm4)) {
+    fail("damaged_fm4", std::to_string(damaged_fm4) + " must be finite and > healthy_fm4 (" +
+                            std::to_string(healthy_fm4) + ")");
+  }
+}
+
+GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
+                                    const GearDamageOptions& options) {
+  options.validate();
+  const std::string where = "locate_gear_damage";
+  const auto& shafts = gb.shafts();
+
+  // ---- reference tacho ----
+  std::string ref = options.reference_shaft;
+  if (!ref.empty() && gb.shaft_index(ref) < 0) {
+    throw diag::InputError(
+        diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
+  }
+  const diag::Signal* tacho = nullptr;
+  auto tacho_of = [&](const std::string& shaft) -> const diag::Signal* {
+    for (const auto& t : rec.tachos) {
+      if (t.location == shaft || t.name == shaft) return &t;
+    }
+    return nullptr;
+  };
+  if (!ref.empty()) {
+    tacho = tacho_of(ref);
+  } else {
+    ref = shafts[gb.input_shaft()].name;
+    tacho = tacho_of(ref);
+    for (std::size_t i = 0; !tacho && i < rec.tachos.size(); ++i) {
+      if (gb.shaft_index(rec.tachos[i].location) >= 0) {
+        tacho = &rec.tachos[i];
+        ref = tacho->location;
+      }
+    }
+  }
+  if (!tacho) {
+    throw diag::InputError(
+        diag::format_error(where, "tachos", "no tacho for shaft '" + ref + "' in the recording"));
+  }
+  for (const auto& [shaft, names] : options.channels) {
+    if (gb.shaft_index(shaft) < 0) {
+      throw diag::InputError(
+          diag::format_error("GearDamageOptions", "channels", "unknown shaft '" + shaft + "'"));
+    }
+    for (const auto& n : names) rec.require(n, where);
+  }
+  // TachoOptions defaults: once-per-revolution pulses (the simulator's and most rigs' keyphasor).
+  const TachoResult tr = tacho_pulses(tacho->samples, tacho->fs_hz);
+  GearDamageResult res;
+  res.reference_shaft = ref;
+  std::ostringstream note;
+  if (!tr.repairs.empty()) note << tr.repairs.size() << " tacho repair(s) on '" << ref << "'. ";
+  if (tr.pulse_times_s.size() < 3) {
+    throw diag::InputError(diag::format_error(
+        where, "tacho '" + tacho->name + "'",
+        std::to_string(tr.pulse_times_s.size()) + " pulses; at least 3 are needed"));
+  }
+  const std::vector<double> ref_pulses = smooth_pulses(tr.pulse_times_s, options.pulse_fit_degree);
+  const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
+  const double ref_hz =
+      (tr.pulse_times_s.size() - 1) / (tr.pulse_times_s.back() - tr.pulse_times_s.front());
+
+  TsaOptions to;
+  to.samples_per_rev = options.samples_per_rev;
+  to.min_revolutions = options.min_revolutions;
+  const int half = options.samples_per_rev / 2;
+
+  for (std::size_t si = 0; si < shafts.size(); ++si) {
+    const diag::Shaft& sh = shafts[si];
+    if (sh.gears.empty()) continue;
+    ShaftDamage sd;
+    sd.shaft = sh.name;
+    sd.score = kNaN;
+    const double rel = std::abs(sh.speed_ratio) / ref_ratio;  // f_s / f_ref
+    sd.frequency_hz = ref_hz * rel;
+
+    // Every mesh frequency that is an integer order of this shaft, below the Nyquist order.
+    std::vector<int> mesh_orders;
+    for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
+      const double f_mesh_over_in =
+          gb.gears()[gb.meshes()[m].driver].spec.teeth *
+          std::abs(shafts[gb.shaft_of_gear(gb.meshes()[m].driver)].speed_ratio);
+      int order = 0;
+      if (is_integer(f_mesh_over_in / std::abs(sh.speed_ratio), &order) && order <= half &&
+          std::find(mesh_orders.begin(), mesh_orders.end(), order) == mesh_orders.end()) {
+        mesh_orders.push_back(order);
+      }
+    }
+    std::vector<int> own_orders;
+    for (int g : sh.gears) own_orders.push_back(gb.gears()[g].spec.teeth);
+    // Orders shared with faster shafts.
+    std::vector<int> shared_steps;
+    for (const diag::Shaft& other : shafts) {
+      if (other.gears.empty() || &other == &sh) continue;
+      const double r = std::abs(other.speed_ratio) / std::abs(sh.speed_ratio);
+      if (r <= 1.0 + kRatioTol) continue;
+      const int p = shared_order_step(r);
+      if (p > 0 && p <= half) shared_steps.push_back(p);
+    }
+
+    std::vector<const diag::Signal*> chans;
+    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
+      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
+    } else {
+      chans = shaft_channels(rec, gb, sh.name);
+    }
+    if (chans.empty()) {
+      note << "shaft '" << sh.name << "': no channel. ";
+      res.shafts.push_back(sd);
+      continue;
+    }
+    const std::vector<double> pulses = scale_pulses(ref_pulses, rel);
+    for (const diag::Signal* ch : chans) {
+      Tsa t;
+      try {
+        t = tsa(ch->samples, ch->fs_hz, pulses, to);
+      } catch (const diag::InputError& e) {
+        note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
+        break;
+      }
+      const std::vector<double> diff = tsa_difference(t, mesh_orders);
+      const std::vector<double> excl =
+          remove_orders(diff, shared_steps, own_orders, options.extra_sideband_orders,
+                        options.max_order_fraction);
+      const double score = fm4(excl);
+      // Share of the exclusive signal in the difference signal over the same band.
+      const std::vector<double> band =
+          shared_steps.empty() ? excl
+                               : remove_orders(diff, {}, own_orders, options.extra_sideband_orders,
+                                               options.max_order_fraction);
+      const double share = std::inner_product(excl.begin(), excl.end(), excl.begin(), 0.0) /
+                           std::inner_product(band.begin(), band.end(), band.begin(), 0.0);
+      if (std::isnan(sd.score) || score > sd.score) {
+        sd.exclusive_share = share;
+        sd.score = score;
+        sd.channel = ch->name;
+        sd.revolutions = t.revolutions;
+        sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
+      }
+    }
+    const bool own = !(sd.exclusive_share < options.min_exclusive_share);
+    sd.damaged = own && sd.score > options.damaged_fm4;
+    sd.uncertain = own && !sd.damaged && sd.score > options.healthy_fm4;
+    res.shafts.push_back(sd);
+  }
+
+  // ---- decision: the slowest damaged shaft ----
+  std::vector<std::size_t> order(res.shafts.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return res.shafts[a].frequency_hz < res.shafts[b].frequency_hz;
+  });
+  auto make_finding = [&](const ShaftDamage& sd, const std::string& why) {
+    GearDamageFinding f;
+    f.shaft = sd.shaft;
+    for (int g : shafts[gb.shaft_index(sd.shaft)].gears) f.gears.push_back(gb.gears()[g].name);
+    f.channel = sd.channel;
+    f.score = sd.score;
+    f.confidence = std::clamp(
+        (sd.score - options.healthy_fm4) / (2.0 * (options.damaged_fm4 - options.healthy_fm4)), 0.0,
+        1.0);
+    f.note = why;
+    return f;
+  };
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const ShaftDamage& sd = res.shafts[order[k]];
+    if (!sd.damaged) continue;
+    std::ostringstream why;
+    why << "FM4 of the exclusive difference signal " << sd.score << " > " << options.damaged_fm4
+        << " on " << sd.channel;
+    res.findings.push_back(make_finding(sd, why.str()));
+    res.status = "damaged";
+    for (std::size_t j = 0; j < k; ++j) {
+      const ShaftDamage& slower = res.shafts[order[j]];
+      if (!slower.uncertain) continue;
+      std::ostringstream w2;
+      w2 << "FM4 " << slower.score << " in the uncertain band (" << options.healthy_fm4 << ", "
+         << options.damaged_fm4 << "]: a fault here would also flag '" << sd.shaft << "'";
+      res.findings.push_back(make_finding(slower, w2.str()));
+      res.status = "ambiguous";
+    }
+    if (res.status == "ambiguous") {
+      for (auto& f : res.findings) f.confidence *= 0.5;
+    }
+    break;
+  }
+  res.note = note.str();
+  return res;
+}
+
+nlohmann::json to_json(const GearDamageResult& r) {
+  auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
+  nlohmann::json j;
+  j["status"] = r.status;
+  j["reference_shaft"] = r.reference_shaft;
+  j["note"] = r.note;
+  j["shafts"] = nlohmann::json::array();
+  for (const auto& s : r.shafts) {
+    j["shafts"].push_back({{"shaft", s.shaft},
+                           {"frequency_hz", s.frequency_hz},
+                           {"revolutions", s.revolutions},
+                           {"channel", s.channel},
+                           {"score", num(s.score)},
+                           {"exclusive_share", num(s.exclusive_share)},
+                           {"damaged", s.damaged},
+                           {"uncertain", s.uncertain},
+                           {"fm4", num(s.indicators.fm4)},
+                           {"m6a", num(s.indicators.m6a)},
+                           {"na4", num(s.indicators.na4)},
+                           {"kurtosis", num(s.indicators.kurtosis)},
+                           {"crest_factor", num(s.indicators.crest_factor)},
+                           {"er", num(s.indicators.er)},
+                           {"ser", num(s.indicators.ser)}});
+  }
+  j["findings"] = nlohmann::json::array();
+  for (const auto& f : r.findings) {
+    j["findings"].push_back({{"shaft", f.shaft},
+                             {"gears", f.gears},
+                             {"channel", f.channel},
+                             {"score", f.score},
+                             {"confidence", f.confidence},
+                             {"note", f.note}});
+  }
+  return j;
+}
+
+}  // namespace detect
