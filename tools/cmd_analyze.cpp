@@ -83,6 +83,8 @@ int cmd_analyze(int argc, char** argv) {
       "tsa-min-revs",
       po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
       "fewer whole revolutions skip a shaft's TSA, >= 2")(
+      "threads", po::value(&opt.threads)->default_value(opt.threads),
+      "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
   po::positional_options_description pos;

@@ -234,6 +234,18 @@ TEST(Analyze, JsonKeysAreStable) {
                           .dump());
 }
 
+TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
+  auto rec = pair_recording(kInputHz);
+  rec.signals.push_back(rec.signals[0]);
+  rec.signals.back().name = "copy";
+  rec.signals.back().location = "elsewhere";
+  detect::AnalyzeOptions one, four;
+  one.threads = 1;
+  four.threads = 4;
+  EXPECT_EQ(detect::to_json(detect::analyze_recording(rec, &gearbox(), one)).dump(),
+            detect::to_json(detect::analyze_recording(rec, &gearbox(), four)).dump());
+}
+
 TEST(Analyze, HtmlReportIsOneSelfContainedDocument) {
   const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
   const std::string h = detect::render_html_report(r);

@@ -1,6 +1,9 @@
 #include "detect/analysis/analyze.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <thread>
 #include <cmath>
 #include <iomanip>
 #include <numeric>
@@ -149,6 +152,7 @@ void AnalyzeOptions::validate() const {
           std::to_string(tsa_min_revolutions) + " is not >= 2");
   require(peaks_reported >= 0 && peaks_reported <= 100, "peaks_reported",
           std::to_string(peaks_reported) + " is not in [0, 100]");
+  require(threads >= 0 && threads <= 256, "threads", std::to_string(threads) + " is not in [0, 256]");
   require(plot_points >= 16, "plot_points", std::to_string(plot_points) + " is not >= 16");
   require(envelope_plot_max_hz >= 0 && std::isfinite(envelope_plot_max_hz),
           "envelope_plot_max_hz", "must be finite and >= 0");
@@ -238,7 +242,10 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   }
 
   std::vector<Spectrum> full(rec.signals.size()), full_env(rec.signals.size());
-  for (std::size_t ci = 0; ci < rec.signals.size(); ++ci) {
+  // One channel's analysis; channels are independent, so they run in parallel (FFT plans are
+  // shared and thread-safe, fft.hpp) and each writes only its own slots: same bytes whatever
+  // the thread count.
+  auto analyse = [&](std::size_t ci) -> ChannelAnalysis {
     const diag::Signal& sig = rec.signals[ci];
     ChannelAnalysis c;
     c.name = sig.name;
@@ -253,13 +260,11 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     const Moments mo = moments(x);
     c.time = {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
     if (!c.vibration) {
-      r.channels.push_back(std::move(c));
-      continue;
+      return c;
     }
     if (x.size() < 64) {
       c.notes.push_back("fewer than 64 samples: no spectra");
-      r.channels.push_back(std::move(c));
-      continue;
+      return c;
     }
     const double fs = sig.fs_hz, nyq = 0.5 * fs;
 
@@ -413,7 +418,31 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         c.tsa.push_back(std::move(ta));
       }
     }
-    r.channels.push_back(std::move(c));
+    return c;
+  };
+  const std::size_t nc = rec.signals.size();
+  r.channels.resize(nc);
+  std::vector<std::exception_ptr> errors(nc);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t ci = next++; ci < nc; ci = next++) {
+      try {
+        r.channels[ci] = analyse(ci);
+      } catch (...) {
+        errors[ci] = std::current_exception();
+      }
+    }
+  };
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t threads =
+      std::min<std::size_t>(nc, opt.threads > 0 ? static_cast<std::size_t>(opt.threads) : hw);
+  {
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+  }
+  for (const auto& e : errors) {
+    if (e) std::rethrow_exception(e);  // the first failing channel, in channel order
   }
 
   if (gb) {

@@ -60,6 +60,8 @@ struct AnalyzeOptions {
   int tacho_pulses_per_rev = 1;      // pulses per revolution of every tacho channel, >= 1
   int tsa_min_revolutions = 10;      // fewer whole revolutions: the shaft's TSA is skipped, >= 2
   int peaks_reported = 8;            // largest spectral / envelope peaks listed per channel, 0..100
+  int threads = 0;                   // channels analysed in parallel, [0, 256]; 0: one per
+                                     // hardware thread. The result does not depend on it.
   int plot_points = 1500;            // points kept per stored trace (peak-hold decimation), >= 16
   double envelope_plot_max_hz = 0;   // envelope trace kept up to here [Hz], >= 0; 0: 5 x the
                                      // highest bearing fault line, else 1 kHz (capped at fs/2)
