@@ -1,16 +1,16 @@
 // geardiag analyze: offline analysis of a recording into a readable summary, a JSON report and a
 // self-contained HTML report (detect/analysis). Exit 0 on success (findings or not), 2 on bad
 // input.
+#include <unistd.h>
+
+#include <boost/program_options.hpp>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <optional>
-#include <unistd.h>
-
-#include <boost/program_options.hpp>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
@@ -44,8 +44,8 @@ void write_text_atomic(const std::filesystem::path& path, const std::string& tex
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     std::filesystem::remove(tmp);
-    throw diag::InputError(path.string() + ": cannot rename the temporary file into place: " +
-                           ec.message());
+    throw diag::InputError(path.string() +
+                           ": cannot rename the temporary file into place: " + ec.message());
   }
 }
 
@@ -77,11 +77,9 @@ int cmd_analyze(int argc, char** argv) {
       "mesh harmonics examined for sidebands, 1..20")(
       "sidebands", po::value(&opt.sidebands.sidebands)->default_value(opt.sidebands.sidebands),
       "sideband orders on each side, 1..20")(
-      "tacho-ppr",
-      po::value(&opt.tacho_pulses_per_rev)->default_value(opt.tacho_pulses_per_rev),
+      "tacho-ppr", po::value(&opt.tacho_pulses_per_rev)->default_value(opt.tacho_pulses_per_rev),
       "tacho pulses per shaft revolution, >= 1")(
-      "tsa-min-revs",
-      po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
+      "tsa-min-revs", po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
       "fewer whole revolutions skip a shaft's TSA, >= 2")(
       "threads", po::value(&opt.threads)->default_value(opt.threads),
       "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(

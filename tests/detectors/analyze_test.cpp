@@ -5,10 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <set>
-
-#include <nlohmann/json.hpp>
 
 #include "detect/analysis/html_report.hpp"
 #include "detect/analysis/svg_plot.hpp"
@@ -23,8 +22,8 @@ constexpr double kInputHz = 10.0;            // 600 rpm
 constexpr int kZin = 18, kZout = 25;         // mesh 180 Hz; output 7.2 Hz (not a harmonic of 10)
 constexpr double kMeshHz = kZin * kInputHz;  // 180 Hz
 constexpr double kOutputHz = kInputHz * kZin / kZout;
-constexpr double kNoise = 0.05;              // [m/s^2] Gaussian, per sample
-constexpr double kModulation = 0.4;          // AM index of the damaged gear's shaft
+constexpr double kNoise = 0.05;      // [m/s^2] Gaussian, per sample
+constexpr double kModulation = 0.4;  // AM index of the damaged gear's shaft
 
 const char* kGearbox = R"({"name": "pair",
   "shafts": [{"name": "in"}, {"name": "out"}],
@@ -56,8 +55,8 @@ diag::Recording pair_recording(double modulation_hz, unsigned seed = 1) {
   for (std::size_t i = 0; i < n; ++i) {
     const double t = static_cast<double>(i) / kFs;
     const double am = 1 + kModulation * std::cos(2 * M_PI * modulation_hz * t);
-    along[i] = am * (std::sin(2 * M_PI * kMeshHz * t) + 0.5 * std::sin(4 * M_PI * kMeshHz * t)) +
-               g(rng);
+    along[i] =
+        am * (std::sin(2 * M_PI * kMeshHz * t) + 0.5 * std::sin(4 * M_PI * kMeshHz * t)) + g(rng);
     normal[i] = 0.1 * std::sin(2 * M_PI * kMeshHz * t + 0.7) + g(rng);
     tacho[i] = std::fmod(t * kInputHz, 1.0) < 0.05 ? 1.0 : 0.0;
   }
@@ -208,9 +207,9 @@ TEST(Analyze, JsonKeysAreStable) {
   }
   EXPECT_FALSE(j.contains("anomaly_score"));  // no baseline given
   const auto& c = j["channels"][0];
-  for (const char* k : {"name", "unit", "direction", "location", "fs_hz", "samples", "vibration",
-                        "indicators", "spectrum", "psd", "envelope", "meshes", "tsa", "bearings",
-                        "notes"}) {
+  for (const char* k :
+       {"name", "unit", "direction", "location", "fs_hz", "samples", "vibration", "indicators",
+        "spectrum", "psd", "envelope", "meshes", "tsa", "bearings", "notes"}) {
     EXPECT_TRUE(c.contains(k)) << k;
   }
   for (const char* k : {"rms", "peak", "crest_factor", "kurtosis", "skewness"}) {
@@ -221,7 +220,8 @@ TEST(Analyze, JsonKeysAreStable) {
   }
   EXPECT_EQ(c["meshes"][0]["sidebands"]["pointed_shaft"], "in");
   const auto& f = j["findings"][0];
-  for (const char* k : {"kind", "shaft", "gears", "frequency_hz", "channel", "confidence", "note"}) {
+  for (const char* k :
+       {"kind", "shaft", "gears", "frequency_hz", "channel", "confidence", "note"}) {
     EXPECT_TRUE(f.contains(k)) << k;
   }
   for (const char* k : {"location", "along_channel", "normal_channel", "mesh", "mesh_hz",
@@ -229,9 +229,9 @@ TEST(Analyze, JsonKeysAreStable) {
     EXPECT_TRUE(j["two_direction"][0].contains(k)) << k;
   }
   // Same input, same bytes.
-  EXPECT_EQ(j.dump(), detect::to_json(detect::analyze_recording(pair_recording(kInputHz),
-                                                                &gearbox()))
-                          .dump());
+  EXPECT_EQ(
+      j.dump(),
+      detect::to_json(detect::analyze_recording(pair_recording(kInputHz), &gearbox())).dump());
 }
 
 TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
@@ -252,7 +252,7 @@ TEST(Analyze, HtmlReportIsOneSelfContainedDocument) {
   EXPECT_EQ(h.rfind("<!DOCTYPE html>", 0), 0u);
   EXPECT_NE(h.find("</html>"), std::string::npos);
   EXPECT_EQ(h.find("<script"), std::string::npos);
-  EXPECT_EQ(h.find("http://") , h.find("http://www.w3.org/2000/svg"));  // only the SVG namespace
+  EXPECT_EQ(h.find("http://"), h.find("http://www.w3.org/2000/svg"));  // only the SVG namespace
   EXPECT_NE(h.find("<svg"), std::string::npos);
   EXPECT_NE(h.find("Two directions"), std::string::npos);
   EXPECT_NE(h.find("TSA of shaft in"), std::string::npos);
@@ -284,6 +284,14 @@ TEST(SvgPlot, DecimationKeepsANarrowLine) {
   EXPECT_EQ(*std::max_element(t.y.begin(), t.y.end()), 5.0);
   const auto k = std::find(t.y.begin(), t.y.end(), 5.0) - t.y.begin();
   EXPECT_EQ(t.x[static_cast<std::size_t>(k)], 54321.0);
+}
+
+TEST(SvgPlot, MaxOnlyDecimationKeepsEachBucketsLargestValue) {
+  std::vector<double> x(1000), y(1000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i), y[i] = (i % 7) * 1.0;
+  const auto t = detect::decimate_for_plot(x, y, 100, detect::Decimation::kMax);
+  ASSERT_EQ(t.y.size(), 100u);
+  for (double v : t.y) EXPECT_EQ(v, 6.0);  // every 10-sample bucket holds a 6
 }
 
 TEST(SvgPlot, NiceTicksAreOneTwoFiveSteps) {

@@ -84,7 +84,8 @@ TEST(TwoDirection, SwappingTheDirectionsNegatesTheRatio) {
   const auto ab = compare_two_directions(view(a), view(b), enbw_bins(a), 50.0);
   const auto ba = compare_two_directions(view(b), view(a), enbw_bins(a), 50.0);
   EXPECT_NEAR(ab.normal_to_along_db, -ba.normal_to_along_db, kDbTol);
-  EXPECT_GT(ab.normal_to_along_db, 0.0);  // b carries more mesh-harmonic energy: 1.53 vs 1.25 (squared amplitudes)
+  EXPECT_GT(ab.normal_to_along_db,
+            0.0);  // b carries more mesh-harmonic energy: 1.53 vs 1.25 (squared amplitudes)
 }
 
 TEST(TwoDirection, HarmonicsBeyondTheSpectrumAreNotSummed) {
@@ -101,8 +102,8 @@ TEST(TwoDirection, AZeroAlongSideIsClippedNotInfinite) {
   const auto b = hann_spectrum(tones({{50, 1.0}}));
   EXPECT_EQ(compare_two_directions(view(a), view(b), enbw_bins(a), 50.0).normal_to_along_db,
             detect::kMaxProminenceDb);
-  EXPECT_TRUE(std::isnan(compare_two_directions(view(a), view(a), enbw_bins(a), 50.0)
-                             .normal_to_along_db));
+  EXPECT_TRUE(
+      std::isnan(compare_two_directions(view(a), view(a), enbw_bins(a), 50.0).normal_to_along_db));
 }
 
 TEST(TwoDirection, BadArgumentsAreRefusedNamingTheField) {

@@ -2,6 +2,8 @@
 // input through the import path, exit codes for bad input, and an HTML render check in headless
 // Chromium (skipped when /usr/bin/chromium is absent; Debian package "chromium").
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -9,12 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <nlohmann/json.hpp>
 
 namespace {
 
@@ -125,8 +124,8 @@ TEST(AnalyzeCli, BadInputExitsWithCodeTwoNamingTheProblem) {
   const auto bad_fs = run("analyze " + simulated().string() + " --fs -5");
   EXPECT_EQ(bad_fs.code, 2);
   EXPECT_NE(bad_fs.out.find("--fs"), std::string::npos) << bad_fs.out;
-  const auto baseline = run("analyze " + simulated().string() + " --baseline " +
-                            simulated().string());
+  const auto baseline =
+      run("analyze " + simulated().string() + " --baseline " + simulated().string());
   EXPECT_EQ(baseline.code, 2);
   EXPECT_NE(baseline.out.find("not available"), std::string::npos) << baseline.out;
   const fs::path js = scratch("never.json");
@@ -154,8 +153,7 @@ TEST(AnalyzeCli, HtmlReportRendersInHeadlessChromium) {
   EXPECT_NE(dom.find("Findings"), std::string::npos);
   const std::string shot = std::string(chromium) +
                            " --headless --disable-gpu --no-sandbox --screenshot=" + png.string() +
-                           " --window-size=1200,2000 file://" + html.string() +
-                           " >/dev/null 2>&1";
+                           " --window-size=1200,2000 file://" + html.string() + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(shot.c_str()), 0);
   EXPECT_GT(fs::file_size(png), 10000u);  // a rendered page, not an empty image
 }

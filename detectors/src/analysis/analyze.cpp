@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <atomic>
-#include <exception>
-#include <thread>
 #include <cmath>
+#include <exception>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
+#include <thread>
 
 #include "detect/angular/order_spectrum.hpp"
 #include "detect/angular/resample.hpp"
@@ -67,7 +66,7 @@ Trace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y,
   const auto i0 = static_cast<std::size_t>(b - x.begin());
   const auto n = static_cast<std::size_t>(e - b);
   return decimate_for_plot(std::span<const double>(x).subspan(i0, n),
-                           std::span<const double>(y).subspan(i0, n), max_points);
+                           std::span<const double>(y).subspan(i0, n), max_points, Decimation::kMax);
 }
 
 std::string fmt(double v, int prec = 3) {
@@ -110,8 +109,8 @@ Kinematics kinematics(const diag::Recording& rec, const diag::Gearbox& gb, doubl
                       " pulses, too few for a speed: not used");
       continue;
     }
-    const double f_meas = static_cast<double>(p.size() - 1) / opt.tacho_pulses_per_rev /
-                          (p.back() - p.front());
+    const double f_meas =
+        static_cast<double>(p.size() - 1) / opt.tacho_pulses_per_rev / (p.back() - p.front());
     const double scale = f_meas / gb.shaft_speed_hz(s);
     for (std::size_t b = 0; b < ns; ++b) {
       k.speeds[b].speed_hz = gb.shaft_speed_hz(static_cast<int>(b)) * scale;
@@ -152,10 +151,11 @@ void AnalyzeOptions::validate() const {
           std::to_string(tsa_min_revolutions) + " is not >= 2");
   require(peaks_reported >= 0 && peaks_reported <= 100, "peaks_reported",
           std::to_string(peaks_reported) + " is not in [0, 100]");
-  require(threads >= 0 && threads <= 256, "threads", std::to_string(threads) + " is not in [0, 256]");
+  require(threads >= 0 && threads <= 256, "threads",
+          std::to_string(threads) + " is not in [0, 256]");
   require(plot_points >= 16, "plot_points", std::to_string(plot_points) + " is not >= 16");
-  require(envelope_plot_max_hz >= 0 && std::isfinite(envelope_plot_max_hz),
-          "envelope_plot_max_hz", "must be finite and >= 0");
+  require(envelope_plot_max_hz >= 0 && std::isfinite(envelope_plot_max_hz), "envelope_plot_max_hz",
+          "must be finite and >= 0");
   sidebands.validate();
   require(gear_metrics.mesh_harmonics >= 1 && gear_metrics.mesh_harmonics <= 32,
           "gear_metrics.mesh_harmonics", "is not in [1, 32]");
@@ -167,7 +167,7 @@ void AnalyzeOptions::validate() const {
 }
 
 Trace decimate_for_plot(std::span<const double> x, std::span<const double> y,
-                        std::size_t max_points) {
+                        std::size_t max_points, Decimation mode) {
   if (x.size() != y.size()) {
     throw diag::InputError("decimate_for_plot: x and y differ in length");
   }
@@ -178,7 +178,8 @@ Trace decimate_for_plot(std::span<const double> x, std::span<const double> y,
     t.y.assign(y.begin(), y.end());
     return t;
   }
-  const std::size_t buckets = max_points / 2;
+  const bool max_only = mode == Decimation::kMax;
+  const std::size_t buckets = max_only ? max_points : max_points / 2;
   t.x.reserve(2 * buckets);
   t.y.reserve(2 * buckets);
   for (std::size_t b = 0; b < buckets; ++b) {
@@ -187,6 +188,11 @@ Trace decimate_for_plot(std::span<const double> x, std::span<const double> y,
     for (std::size_t i = i0; i < i1; ++i) {
       if (y[i] < y[lo]) lo = i;
       if (y[i] > y[hi]) hi = i;
+    }
+    if (max_only) {
+      t.x.push_back(x[hi]);
+      t.y.push_back(y[hi]);
+      continue;
     }
     const std::size_t a = std::min(lo, hi), c = std::max(lo, hi);
     t.x.push_back(x[a]);
@@ -254,8 +260,8 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     c.direction = sig.direction;
     c.fs_hz = sig.fs_hz;
     c.samples = sig.samples.size();
-    c.vibration = sig.direction != diag::Direction::kTacho &&
-                  sig.direction != diag::Direction::kAngle;
+    c.vibration =
+        sig.direction != diag::Direction::kTacho && sig.direction != diag::Direction::kAngle;
     const std::span<const double> x(sig.samples);
     const Moments mo = moments(x);
     c.time = {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
@@ -278,21 +284,21 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     c.spectrum_resolution_hz = sp.resolution_hz;
     c.spectrum_enbw_hz = sp.enbw_hz;
     c.spectrum_peaks = largest_peaks(sp, opt.peaks_reported, nyq);
-    c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, plot_points);
+    c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, plot_points, Decimation::kMax);
     WelchOptions wo;
     wo.fs_hz = fs;
     wo.nperseg = std::min(opt.welch_nperseg, pow2_at_most(x.size()));
     const Psd psd = welch(x, wo);
-    c.psd = decimate_for_plot(psd.frequency_hz, psd.value, plot_points);
+    c.psd = decimate_for_plot(psd.frequency_hz, psd.value, plot_points, Decimation::kMax);
     c.psd_resolution_hz = psd.resolution_hz;
     c.psd_segments = psd.segments;
 
     // ---- envelope in the kurtogram's band ----
     EnvelopeSpectrumOptions eo;
     eo.fs_hz = fs;
-    const int level = std::min(
-        opt.kurtogram_max_level,
-        static_cast<int>(std::floor(std::log2(static_cast<double>(x.size())))) - 7);
+    const int level =
+        std::min(opt.kurtogram_max_level,
+                 static_cast<int>(std::floor(std::log2(static_cast<double>(x.size())))) - 7);
     if (level >= 1) {
       KurtogramOptions ko;
       ko.fs_hz = fs;
@@ -333,11 +339,10 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       for (std::size_t j = 0; j < gb->meshes().size(); ++j) {
         const diag::Mesh& m = gb->meshes()[j];
         const int sa = gb->shaft_of_gear(m.driver), sb = gb->shaft_of_gear(m.driven);
-        std::vector<ShaftCandidate> cand{
-            {gb->shafts()[static_cast<std::size_t>(sa)].name,
-             kin.speeds[static_cast<std::size_t>(sa)].speed_hz},
-            {gb->shafts()[static_cast<std::size_t>(sb)].name,
-             kin.speeds[static_cast<std::size_t>(sb)].speed_hz}};
+        std::vector<ShaftCandidate> cand{{gb->shafts()[static_cast<std::size_t>(sa)].name,
+                                          kin.speeds[static_cast<std::size_t>(sa)].speed_hz},
+                                         {gb->shafts()[static_cast<std::size_t>(sb)].name,
+                                          kin.speeds[static_cast<std::size_t>(sb)].speed_hz}};
         MeshAnalysis ma;
         ma.mesh = static_cast<int>(j);
         ma.name = r.meshes[j].name;
@@ -356,9 +361,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         const AngleResampled ar =
             resample_by_angle(x, fs, kin.pulses_s[static_cast<std::size_t>(input)], ro);
         const OrderSpectrum os = order_spectrum(ar);
-        c.order_spectrum = slice_for_plot(os.order, os.amplitude, 0,
-                                          std::min(1.2 * max_input_order, os.order.back()),
-                                          plot_points);
+        c.order_spectrum =
+            slice_for_plot(os.order, os.amplitude, 0,
+                           std::min(1.2 * max_input_order, os.order.back()), plot_points);
       } catch (const diag::InputError& e) {
         c.notes.push_back(std::string("order spectrum skipped: ") + e.what());
       }
@@ -369,11 +374,12 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         ShaftTsaAnalysis ta;
         ta.shaft = shaft.name;
         std::vector<int> orders;
-        for (int g : shaft.gears) orders.push_back(gb->gears()[static_cast<std::size_t>(g)].spec.teeth);
+        for (int g : shaft.gears)
+          orders.push_back(gb->gears()[static_cast<std::size_t>(g)].spec.teeth);
         const int zmax = *std::max_element(orders.begin(), orders.end());
         const double top = opt.gear_metrics.mesh_harmonics * zmax + opt.gear_metrics.ser_sidebands;
-        const int spr = static_cast<int>(
-            std::clamp<std::size_t>(pow2_at_least(kOrderOversampling * top), 64, kMaxSamplesPerRev));
+        const int spr = static_cast<int>(std::clamp<std::size_t>(
+            pow2_at_least(kOrderOversampling * top), 64, kMaxSamplesPerRev));
         const auto& pulses = kin.pulses_s[s];
         const int revs = pulses.size() > 1 ? static_cast<int>(pulses.size()) - 1 : 0;
         if (revs < opt.tsa_min_revolutions) {
@@ -408,8 +414,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
               ta.note = "gear " + ge.name + ": too few teeth or samples for the gear metrics";
               continue;
             }
-            row.indicators = gear_indicators(
-                {ta.tsa, ta.difference, ta.regular, ta.residual}, gm);
+            row.indicators = gear_indicators({ta.tsa, ta.difference, ta.regular, ta.residual}, gm);
             ta.gears.push_back(row);
           }
         } catch (const diag::InputError& e) {
@@ -520,10 +525,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         row.along_channel = a.name;
         row.normal_channel = r.channels[static_cast<std::size_t>(ni)].name;
         row.mesh = r.meshes[j].name;
-        row.comparison = compare_two_directions({sa.frequency_hz, sa.amplitude},
-                                                {sn.frequency_hz, sn.amplitude},
-                                                sa.enbw_hz / sa.resolution_hz,
-                                                r.meshes[j].frequency_hz, opt.two_direction);
+        row.comparison = compare_two_directions(
+            {sa.frequency_hz, sa.amplitude}, {sn.frequency_hz, sn.amplitude},
+            sa.enbw_hz / sa.resolution_hz, r.meshes[j].frequency_hz, opt.two_direction);
         r.two_direction.push_back(std::move(row));
       }
     }
@@ -568,8 +572,8 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       f.channel = best[winner].second;
       f.confidence = 0.2 + 0.3 * top / analysed;
       f.note = "sidebands of mesh " + r.meshes[j].name + " (" + fmt(f.frequency_hz, 5) +
-               " Hz) spaced at shaft " + winner + "'s rotation in " + std::to_string(top) +
-               " of " + std::to_string(analysed) + " channels (best " + f.channel + ", " +
+               " Hz) spaced at shaft " + winner + "'s rotation in " + std::to_string(top) + " of " +
+               std::to_string(analysed) + " channels (best " + f.channel + ", " +
                fmt(best[winner].first, 3) + " dB): a local defect or eccentricity of " +
                (f.gears.empty() ? winner : f.gears.front()) + " modulates the mesh";
       r.findings.push_back(std::move(f));
@@ -619,8 +623,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
                fmt(best[winner].first, 3) + " dB)";
       r.findings.push_back(std::move(f));
     }
-    std::stable_sort(r.findings.begin(), r.findings.end(),
-                     [](const Finding& a, const Finding& b) { return a.confidence > b.confidence; });
+    std::stable_sort(r.findings.begin(), r.findings.end(), [](const Finding& a, const Finding& b) {
+      return a.confidence > b.confidence;
+    });
   }
   return r;
 }
@@ -673,24 +678,31 @@ namespace {
 
 nlohmann::json peaks_json(const std::vector<Peak>& p) {
   nlohmann::json a = nlohmann::json::array();
-  for (const auto& k : p) a.push_back({{"frequency_hz", k.frequency_hz}, {"amplitude", k.amplitude}});
+  for (const auto& k : p)
+    a.push_back({{"frequency_hz", k.frequency_hz}, {"amplitude", k.amplitude}});
   return a;
 }
 
 const char* to_string(SidebandStatus s) {
   switch (s) {
-    case SidebandStatus::kNoSidebands: return "no_sidebands";
-    case SidebandStatus::kPointed: return "pointed";
-    case SidebandStatus::kAmbiguous: return "ambiguous";
+    case SidebandStatus::kNoSidebands:
+      return "no_sidebands";
+    case SidebandStatus::kPointed:
+      return "pointed";
+    case SidebandStatus::kAmbiguous:
+      return "ambiguous";
   }
   return "unknown";
 }
 
 const char* to_string(BearingDecisionStatus s) {
   switch (s) {
-    case BearingDecisionStatus::kNoFault: return "no_fault";
-    case BearingDecisionStatus::kFault: return "fault";
-    case BearingDecisionStatus::kAmbiguous: return "ambiguous";
+    case BearingDecisionStatus::kNoFault:
+      return "no_fault";
+    case BearingDecisionStatus::kFault:
+      return "fault";
+    case BearingDecisionStatus::kAmbiguous:
+      return "ambiguous";
   }
   return "unknown";
 }
@@ -783,11 +795,21 @@ nlohmann::json to_json(const AnalysisResult& r) {
       json gears = json::array();
       for (const auto& g : t.gears) {
         const GearIndicators& i = g.indicators;
-        gears.push_back({{"gear", g.gear}, {"teeth", g.teeth}, {"rms", i.rms},
-                         {"peak", i.peak}, {"crest_factor", i.crest_factor},
-                         {"kurtosis", i.kurtosis}, {"fm0", i.fm0}, {"fm4", i.fm4},
-                         {"m6a", i.m6a}, {"m8a", i.m8a}, {"na4", i.na4}, {"er", i.er},
-                         {"ser", i.ser}, {"slf", i.slf}, {"si", i.si}});
+        gears.push_back({{"gear", g.gear},
+                         {"teeth", g.teeth},
+                         {"rms", i.rms},
+                         {"peak", i.peak},
+                         {"crest_factor", i.crest_factor},
+                         {"kurtosis", i.kurtosis},
+                         {"fm0", i.fm0},
+                         {"fm4", i.fm4},
+                         {"m6a", i.m6a},
+                         {"m8a", i.m8a},
+                         {"na4", i.na4},
+                         {"er", i.er},
+                         {"ser", i.ser},
+                         {"slf", i.slf},
+                         {"si", i.si}});
       }
       tsa.push_back({{"shaft", t.shaft},
                      {"computed", t.computed},
@@ -893,8 +915,7 @@ std::string format_summary(const AnalysisResult& r) {
   if (!r.gearbox_name.empty()) o << ", gearbox " << r.gearbox_name;
   o << "\n";
   for (const auto& s : r.shafts) {
-    o << "  shaft " << s.shaft << ": " << fmt(s.speed_hz * 60, 6) << " rpm (" << s.source
-      << ")\n";
+    o << "  shaft " << s.shaft << ": " << fmt(s.speed_hz * 60, 6) << " rpm (" << s.source << ")\n";
   }
   for (const auto& m : r.meshes) {
     o << "  mesh " << m.name << ": " << fmt(m.frequency_hz, 6) << " Hz\n";

@@ -84,12 +84,11 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     for (const auto& f : r.findings) {
       std::string gears;
       for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
-      o << "<tr><td class=l>" << html_escape(f.kind) << "</td><td class=l>"
-        << html_escape(f.shaft) << (gears.empty() ? "" : " (" + html_escape(gears) + ")")
-        << "</td><td class=l>" << html_escape(f.bearing) << " " << html_escape(f.fault)
-        << "</td><td>" << f3(f.frequency_hz) << "</td><td class=l>" << html_escape(f.channel)
-        << "</td><td>" << f3(f.confidence) << "</td><td class=l>" << html_escape(f.note)
-        << "</td></tr>";
+      o << "<tr><td class=l>" << html_escape(f.kind) << "</td><td class=l>" << html_escape(f.shaft)
+        << (gears.empty() ? "" : " (" + html_escape(gears) + ")") << "</td><td class=l>"
+        << html_escape(f.bearing) << " " << html_escape(f.fault) << "</td><td>"
+        << f3(f.frequency_hz) << "</td><td class=l>" << html_escape(f.channel) << "</td><td>"
+        << f3(f.confidence) << "</td><td class=l>" << html_escape(f.note) << "</td></tr>";
     }
     o << "</table>\n";
   }
@@ -110,8 +109,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         << html_escape(t.mesh) << "</td><td>" << f3(t.comparison.mesh_hz) << "</td><td>"
         << f3(t.comparison.along_energy) << "</td><td>" << f3(t.comparison.normal_energy)
         << "</td><td><b>" << f3(t.comparison.normal_to_along_db) << "</b></td><td class=l>"
-        << html_escape(t.along_channel) << " / " << html_escape(t.normal_channel)
-        << "</td></tr>";
+        << html_escape(t.along_channel) << " / " << html_escape(t.normal_channel) << "</td></tr>";
     }
     o << "</table>\n";
   }
@@ -131,9 +129,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     o << "<h3>Against the baseline</h3><table><tr><th class=l>feature</th><th>value</th>"
          "<th>baseline mean</th><th>baseline std</th><th>z</th></tr>";
     for (const auto& d : r.baseline->deviations) {
-      o << "<tr><td class=l>" << html_escape(d.feature) << "</td><td>" << f3(d.value)
-        << "</td><td>" << f3(d.baseline_mean) << "</td><td>" << f3(d.baseline_std)
-        << "</td><td>" << f3(d.z) << "</td></tr>";
+      o << "<tr><td class=l>" << html_escape(d.feature) << "</td><td>" << f3(d.value) << "</td><td>"
+        << f3(d.baseline_mean) << "</td><td>" << f3(d.baseline_std) << "</td><td>" << f3(d.z)
+        << "</td></tr>";
     }
     o << "</table>\n";
   }
@@ -177,18 +175,17 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       for (std::size_t s = 0; s < m.sidebands.shafts.size(); ++s) {
         for (const auto& l : m.sidebands.shafts[s].lines) {
           if (l.harmonic != 1) continue;
-          sm.push_back({l.line.expected_hz,
-                        l.order == 1 ? m.sidebands.shafts[s].name : "", kColors[s % 6],
-                        !l.detected});
+          sm.push_back({l.line.expected_hz, l.order == 1 ? m.sidebands.shafts[s].name : "",
+                        kColors[s % 6], !l.detected});
         }
       }
       PlotOptions pz = po;
       pz.title = "Mesh " + m.name + " (" + f3(m.mesh_hz) + " Hz): sidebands, status " +
                  (m.sidebands.status == SidebandStatus::kPointed
-                      ? "pointed at " + m.sidebands.shafts[static_cast<std::size_t>(
-                                            m.sidebands.pointed)].name
-                      : m.sidebands.status == SidebandStatus::kAmbiguous ? "ambiguous"
-                                                                         : "none");
+                      ? "pointed at " +
+                            m.sidebands.shafts[static_cast<std::size_t>(m.sidebands.pointed)].name
+                  : m.sidebands.status == SidebandStatus::kAmbiguous ? "ambiguous"
+                                                                     : "none");
       pz.height_px = 220;
       const PlotSeries zs{m.zoom.x, m.zoom.y, "", "#1f77b4"};
       o << svg_line_plot(std::span(&zs, 1), pz, sm);
@@ -214,8 +211,8 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         }
       }
       PlotOptions pe = po;
-      pe.title = "Envelope spectrum, band " + f3(c.envelope_low_hz) + "-" +
-                 f3(c.envelope_high_hz) + " Hz (kurtogram)";
+      pe.title = "Envelope spectrum, band " + f3(c.envelope_low_hz) + "-" + f3(c.envelope_high_hz) +
+                 " Hz (kurtogram)";
       pe.y_db = false;
       const PlotSeries es{c.envelope.x, c.envelope.y, "", "#8c564b"};
       o << svg_line_plot(std::span(&es, 1), pe, {}, bands);
@@ -226,8 +223,8 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
           << " Hz; decision: "
           << (b.decision.status == BearingDecisionStatus::kFault
                   ? std::string(to_string(b.decision.fault))
-                  : b.decision.status == BearingDecisionStatus::kAmbiguous ? "ambiguous"
-                                                                           : "no fault")
+              : b.decision.status == BearingDecisionStatus::kAmbiguous ? "ambiguous"
+                                                                       : "no fault")
           << "</p>\n";
       }
     }
@@ -265,8 +262,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         angle[i] = 360.0 * static_cast<double>(i) / static_cast<double>(angle.size());
       }
       PlotOptions pt = po;
-      pt.title = "TSA of shaft " + t.shaft + " (" + std::to_string(t.revolutions) +
-                 " revolutions)";
+      pt.title = "TSA of shaft " + t.shaft + " (" + std::to_string(t.revolutions) + " revolutions)";
       pt.x_label = "shaft angle [deg]";
       pt.y_label = unit;
       pt.y_db = false;

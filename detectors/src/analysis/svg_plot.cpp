@@ -36,12 +36,23 @@ std::string html_escape(std::string_view s) {
   o.reserve(s.size());
   for (char c : s) {
     switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      case '\'': o += "&#39;"; break;
-      default: o += c;
+      case '&':
+        o += "&amp;";
+        break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      case '\'':
+        o += "&#39;";
+        break;
+      default:
+        o += c;
     }
   }
   return o;
@@ -114,7 +125,9 @@ std::string svg_line_plot(std::span<const PlotSeries> series, const PlotOptions&
   const double L = 70, R = 15, T = opt.title.empty() ? 15 : 30, B = 45;
   const double pw = W - L - R, ph = Hh - T - B;
   auto X = [&](double v) { return L + (v - x0) / (x1 - x0) * pw; };
-  auto Y = [&](double v) { return T + (1 - (std::clamp(v, ymin, ymax) - ymin) / (ymax - ymin)) * ph; };
+  auto Y = [&](double v) {
+    return T + (1 - (std::clamp(v, ymin, ymax) - ymin) / (ymax - ymin)) * ph;
+  };
 
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << opt.width_px << "\" height=\""
@@ -136,10 +149,10 @@ std::string svg_line_plot(std::span<const PlotSeries> series, const PlotOptions&
   const auto xt = nice_ticks(x0, x1, 8), yt = nice_ticks(ymin, ymax, 5);
   const double xs = xt.size() > 1 ? xt[1] - xt[0] : 1, ys = yt.size() > 1 ? yt[1] - yt[0] : 1;
   for (double v : xt) {
-    o << "<line x1=\"" << num(X(v)) << "\" y1=\"" << num(T) << "\" x2=\"" << num(X(v))
-      << "\" y2=\"" << num(T + ph) << "\" stroke=\"#ddd\"/>";
-    o << "<text x=\"" << num(X(v)) << "\" y=\"" << num(T + ph + 14)
-      << "\" text-anchor=\"middle\">" << tick_label(v, xs) << "</text>";
+    o << "<line x1=\"" << num(X(v)) << "\" y1=\"" << num(T) << "\" x2=\"" << num(X(v)) << "\" y2=\""
+      << num(T + ph) << "\" stroke=\"#ddd\"/>";
+    o << "<text x=\"" << num(X(v)) << "\" y=\"" << num(T + ph + 14) << "\" text-anchor=\"middle\">"
+      << tick_label(v, xs) << "</text>";
   }
   for (double v : yt) {
     o << "<line x1=\"" << num(L) << "\" y1=\"" << num(Y(v)) << "\" x2=\"" << num(L + pw)
@@ -147,8 +160,8 @@ std::string svg_line_plot(std::span<const PlotSeries> series, const PlotOptions&
     o << "<text x=\"" << num(L - 4) << "\" y=\"" << num(Y(v) + 4) << "\" text-anchor=\"end\">"
       << tick_label(v, ys) << "</text>";
   }
-  o << "<rect x=\"" << num(L) << "\" y=\"" << num(T) << "\" width=\"" << num(pw)
-    << "\" height=\"" << num(ph) << "\" fill=\"none\" stroke=\"#333\"/>";
+  o << "<rect x=\"" << num(L) << "\" y=\"" << num(T) << "\" width=\"" << num(pw) << "\" height=\""
+    << num(ph) << "\" fill=\"none\" stroke=\"#333\"/>";
   o << "<text x=\"" << num(L + pw / 2) << "\" y=\"" << num(Hh - 8) << "\" text-anchor=\"middle\">"
     << html_escape(opt.x_label) << "</text>";
   o << "<text transform=\"translate(14," << num(T + ph / 2)

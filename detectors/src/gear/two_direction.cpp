@@ -57,8 +57,8 @@ TwoDirectionComparison compare_two_directions(const SpectrumView& along, const S
     HarmonicEnergy e;
     e.harmonic = h;
     e.frequency_hz = h * mesh_hz;
-    const double w = opt.halfwidth_hz > 0 ? opt.halfwidth_hz
-                                          : std::max(4.0 * bin, 0.01 * e.frequency_hz);
+    const double w =
+        opt.halfwidth_hz > 0 ? opt.halfwidth_hz : std::max(4.0 * bin, 0.01 * e.frequency_hz);
     const double lo = e.frequency_hz - w, hi = e.frequency_hz + w;
     e.valid = lo >= along.frequency_hz.front() && hi <= along.frequency_hz.back() &&
               lo >= normal.frequency_hz.front() && hi <= normal.frequency_hz.back();

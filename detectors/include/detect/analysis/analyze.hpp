@@ -32,12 +32,11 @@
 #include <cstddef>
 #include <limits>
 #include <map>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "detect/angular/tsa.hpp"
 #include "detect/gear/bearing_faults.hpp"
@@ -91,11 +90,11 @@ struct TimeIndicators {
 };
 
 struct MeshAnalysis {
-  int mesh = -1;             // index into the gearbox's meshes
-  std::string name;          // "<driver>_<driven>"
+  int mesh = -1;     // index into the gearbox's meshes
+  std::string name;  // "<driver>_<driven>"
   double mesh_hz = 0;
   SidebandAnalysis sidebands;  // mesh harmonics (LineMeasurement) and candidate shafts' families
-  Trace zoom;                // full-resolution spectrum around the fundamental +- (K + 2) f_shaft
+  Trace zoom;                  // full-resolution spectrum around the fundamental +- (K + 2) f_shaft
 };
 
 struct GearMetricsRow {
@@ -106,7 +105,7 @@ struct GearMetricsRow {
 
 struct ShaftTsaAnalysis {
   std::string shaft;
-  bool computed = false;     // false: skipped, see note
+  bool computed = false;  // false: skipped, see note
   std::string note;
   int revolutions = 0;
   int samples_per_rev = 0;
@@ -136,16 +135,16 @@ struct ChannelAnalysis {
   Trace psd;                         // Welch PSD [unit^2/Hz] vs Hz
   double psd_resolution_hz = 0;
   std::size_t psd_segments = 0;
-  double envelope_low_hz = 0, envelope_high_hz = 0;  // demodulation band
+  double envelope_low_hz = 0, envelope_high_hz = 0;                   // demodulation band
   double kurtogram_level = std::numeric_limits<double>::quiet_NaN();  // NaN: not run
   double kurtogram_kurtosis = std::numeric_limits<double>::quiet_NaN();
   std::vector<Peak> envelope_peaks;
-  Trace envelope;                    // envelope spectrum [unit] vs Hz
-  std::vector<MeshAnalysis> meshes;  // one per gearbox mesh
-  Trace order_spectrum;              // amplitude vs input-shaft order (empty when not computed)
+  Trace envelope;                     // envelope spectrum [unit] vs Hz
+  std::vector<MeshAnalysis> meshes;   // one per gearbox mesh
+  Trace order_spectrum;               // amplitude vs input-shaft order (empty when not computed)
   std::vector<ShaftTsaAnalysis> tsa;  // one per shaft with gears
   std::vector<BearingAnalysis> bearings;
-  std::vector<std::string> notes;    // steps skipped on this channel and why
+  std::vector<std::string> notes;  // steps skipped on this channel and why
 };
 
 struct TwoDirectionRow {
@@ -168,13 +167,13 @@ struct MeshFrequency {
 // One conclusion, in the shape of `geardiag attribute --json` findings. Fields that do not apply
 // stay empty (strings), empty (gears) or NaN (frequency_hz) and are left out of the JSON.
 struct Finding {
-  std::string kind;     // "gear_sidebands", "bearing" (future: "gear_damage", "anomaly")
+  std::string kind;  // "gear_sidebands", "bearing" (future: "gear_damage", "anomaly")
   std::string shaft;
   std::vector<std::string> gears;
   std::string bearing;
-  std::string fault;    // bearing: "cage", "outer_race", "inner_race", "ball"
+  std::string fault;  // bearing: "cage", "outer_race", "inner_race", "ball"
   double frequency_hz = std::numeric_limits<double>::quiet_NaN();
-  std::string channel;  // the channel that shows it best
+  std::string channel;    // the channel that shows it best
   double confidence = 0;  // [0, 1]
   std::string note;
 };
@@ -223,9 +222,11 @@ nlohmann::json to_json(const AnalysisResult& r);
 // A readable multi-line summary for the terminal.
 std::string format_summary(const AnalysisResult& r);
 
-// Peak-hold decimation for plotting: splits (x, y) into at most max_points / 2 buckets and keeps
-// each bucket's min and max in x order, so that narrow lines survive. max_points >= 4.
+// Peak-hold decimation for plotting. kMinMax (waveforms): at most max_points / 2 buckets, each
+// bucket's min and max kept in x order; kMax (spectra): max_points buckets, each bucket's max,
+// so that narrow lines survive and a dB plot does not fill down to the floor. max_points >= 4.
+enum class Decimation { kMinMax, kMax };
 Trace decimate_for_plot(std::span<const double> x, std::span<const double> y,
-                        std::size_t max_points);
+                        std::size_t max_points, Decimation mode = Decimation::kMinMax);
 
 }  // namespace detect

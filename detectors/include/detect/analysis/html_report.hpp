@@ -18,7 +18,7 @@ namespace detect {
 
 struct HtmlReportOptions {
   std::string title = "geardiag analysis";
-  std::string source;            // the recording's file name, shown in the header
+  std::string source;             // the recording's file name, shown in the header
   int max_channel_sections = 24;  // vibration channels given plots, in order, >= 0 (the tables
                                   // always list every channel)
   int plot_width_px = 820;        // [200, 4000]

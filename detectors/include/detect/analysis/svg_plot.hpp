@@ -21,7 +21,7 @@ struct PlotSeries {
 
 struct PlotMarker {
   double x = 0;
-  std::string label;              // drawn at the top of the line; may be empty
+  std::string label;  // drawn at the top of the line; may be empty
   std::string color = "#d62728";
   bool dashed = true;
 };
@@ -33,8 +33,8 @@ struct PlotBand {
 };
 
 struct PlotOptions {
-  int width_px = 820;                  // [200, 4000]
-  int height_px = 260;                 // [100, 4000]
+  int width_px = 820;   // [200, 4000]
+  int height_px = 260;  // [100, 4000]
   std::string title, x_label, y_label;
   double x_min = std::numeric_limits<double>::quiet_NaN();  // NaN: from the data
   double x_max = std::numeric_limits<double>::quiet_NaN();
@@ -43,7 +43,7 @@ struct PlotOptions {
   bool y_db = false;
   bool db_power = false;
   double db_range = 100;
-  std::size_t max_points = 2000;       // per series after decimation, >= 4
+  std::size_t max_points = 2000;  // per series after decimation, >= 4
 };
 
 // Returns "<svg ...>...</svg>". Throws diag::InputError for bad options or series.

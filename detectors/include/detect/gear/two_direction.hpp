@@ -27,19 +27,19 @@
 namespace detect {
 
 struct TwoDirectionOptions {
-  int mesh_harmonics = 3;       // H: harmonics 1..H summed, 1..50
-  double halfwidth_hz = 0.0;    // band half-width around each harmonic [Hz], >= 0;
-                                // 0: max(4 bins, 1 % of the harmonic's frequency) (speed jitter,
-                                // the window's main lobe: 2.5 bins for Hann, 5 for flat-top)
-  void validate() const;        // throws diag::InputError naming the field
+  int mesh_harmonics = 3;     // H: harmonics 1..H summed, 1..50
+  double halfwidth_hz = 0.0;  // band half-width around each harmonic [Hz], >= 0;
+                              // 0: max(4 bins, 1 % of the harmonic's frequency) (speed jitter,
+                              // the window's main lobe: 2.5 bins for Hann, 5 for flat-top)
+  void validate() const;      // throws diag::InputError naming the field
 };
 
 struct HarmonicEnergy {
-  int harmonic = 1;          // h
-  double frequency_hz = 0;   // h f_mesh
-  double along = 0;          // E_h along the LOA [unit^2] (mean square of the tone)
-  double normal = 0;         // E_h normal to the LOA [unit^2]
-  bool valid = false;        // false when the band leaves either spectrum (not summed)
+  int harmonic = 1;         // h
+  double frequency_hz = 0;  // h f_mesh
+  double along = 0;         // E_h along the LOA [unit^2] (mean square of the tone)
+  double normal = 0;        // E_h normal to the LOA [unit^2]
+  bool valid = false;       // false when the band leaves either spectrum (not summed)
 };
 
 struct TwoDirectionComparison {
