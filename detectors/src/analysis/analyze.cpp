@@ -45,22 +45,23 @@ std::size_t pow2_at_most(std::size_t v) {
   return p;
 }
 
-std::vector<Peak> largest_peaks(const Spectrum& s, int count, double max_hz) {
-  std::vector<Peak> c;
+std::vector<SpectralPeak> largest_peaks(const Spectrum& s, int count, double max_hz) {
+  std::vector<SpectralPeak> c;
   const auto& a = s.amplitude;
   for (std::size_t k = 1; k + 1 < a.size(); ++k) {
     if (s.frequency_hz[k] > max_hz) break;
     if (a[k] > a[k - 1] && a[k] >= a[k + 1]) c.push_back({s.frequency_hz[k], a[k]});
   }
   const std::size_t n = std::min<std::size_t>(c.size(), static_cast<std::size_t>(count));
-  std::partial_sort(c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n), c.end(),
-                    [](const Peak& l, const Peak& r) { return l.amplitude > r.amplitude; });
+  std::partial_sort(
+      c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n), c.end(),
+      [](const SpectralPeak& l, const SpectralPeak& r) { return l.amplitude > r.amplitude; });
   c.resize(n);
   return c;
 }
 
-Trace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,
-                     double hi, std::size_t max_points) {
+PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,
+                         double hi, std::size_t max_points) {
   auto b = std::lower_bound(x.begin(), x.end(), lo);
   auto e = std::upper_bound(x.begin(), x.end(), hi);
   const auto i0 = static_cast<std::size_t>(b - x.begin());
@@ -78,7 +79,7 @@ std::string fmt(double v, int prec = 3) {
 // Once-per-revolution times of every shaft and the speeds, from the first usable tacho or from
 // the nominal input speed.
 struct Kinematics {
-  std::vector<ShaftSpeed> speeds;             // per shaft
+  std::vector<AnalysisShaftSpeed> speeds;     // per shaft
   std::vector<std::vector<double>> pulses_s;  // per shaft, once per revolution
 };
 
@@ -166,13 +167,13 @@ void AnalyzeOptions::validate() const {
   two_direction.validate();
 }
 
-Trace decimate_for_plot(std::span<const double> x, std::span<const double> y,
-                        std::size_t max_points, Decimation mode) {
+PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y,
+                            std::size_t max_points, Decimation mode) {
   if (x.size() != y.size()) {
     throw diag::InputError("decimate_for_plot: x and y differ in length");
   }
   if (max_points < 4) throw diag::InputError("decimate_for_plot: max_points: is not >= 4");
-  Trace t;
+  PlotTrace t;
   if (x.size() <= max_points) {
     t.x.assign(x.begin(), x.end());
     t.y.assign(y.begin(), y.end());
@@ -559,7 +560,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         }
       }
       if (top == 0 || top == second) continue;
-      Finding f;
+      AnalysisFinding f;
       f.kind = "gear_sidebands";
       f.shaft = winner;
       const diag::Mesh& m = gb->meshes()[j];
@@ -609,7 +610,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         }
       }
       if (top == 0 || top == second) continue;
-      Finding f;
+      AnalysisFinding f;
       f.kind = "bearing";
       f.bearing = b.name;
       f.shaft = b.shaft;
@@ -623,9 +624,10 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
                fmt(best[winner].first, 3) + " dB)";
       r.findings.push_back(std::move(f));
     }
-    std::stable_sort(r.findings.begin(), r.findings.end(), [](const Finding& a, const Finding& b) {
-      return a.confidence > b.confidence;
-    });
+    std::stable_sort(r.findings.begin(), r.findings.end(),
+                     [](const AnalysisFinding& a, const AnalysisFinding& b) {
+                       return a.confidence > b.confidence;
+                     });
   }
   return r;
 }
@@ -676,7 +678,7 @@ std::map<std::string, double> features(const AnalysisResult& r) {
 
 namespace {
 
-nlohmann::json peaks_json(const std::vector<Peak>& p) {
+nlohmann::json peaks_json(const std::vector<SpectralPeak>& p) {
   nlohmann::json a = nlohmann::json::array();
   for (const auto& k : p)
     a.push_back({{"frequency_hz", k.frequency_hz}, {"amplitude", k.amplitude}});

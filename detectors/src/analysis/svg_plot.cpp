@@ -81,7 +81,7 @@ std::string svg_line_plot(std::span<const PlotSeries> series, const PlotOptions&
   }
   if (opt.max_points < 4) throw diag::InputError("svg_line_plot: max_points: is not >= 4");
   if (!(opt.db_range > 0)) throw diag::InputError("svg_line_plot: db_range: is not > 0");
-  std::vector<Trace> tr;
+  std::vector<PlotTrace> tr;
   for (const auto& s : series) {
     if (s.x.size() != s.y.size()) {
       throw diag::InputError("svg_line_plot: series '" + s.label + "': x and y differ in length");

@@ -24,9 +24,9 @@
 //    channels at that bearing (location == bearing name; every vibration channel when none is);
 //  - the two-direction comparison (two_direction.hpp): for each location with an along_loa and a
 //    normal_loa channel, the mesh-harmonic energies in both and their normal-to-along ratio [dB].
-// Findings (Finding) summarise what points at a shaft, gear or bearing, each with a confidence
-// and a note. Steps that cannot run on this record (too few revolutions for a TSA, a record too
-// short for the kurtogram) are skipped with a note, not an error: they are outcomes.
+// Findings (AnalysisFinding) summarise what points at a shaft, gear or bearing, each with a
+// confidence and a note. Steps that cannot run on this record (too few revolutions for a TSA, a
+// record too short for the kurtogram) are skipped with a note, not an error: they are outcomes.
 #pragma once
 
 #include <cstddef>
@@ -76,11 +76,11 @@ struct AnalyzeOptions {
 };
 
 // A curve kept for plotting: at most plot_points (x, y) pairs, peak-hold decimated.
-struct Trace {
+struct PlotTrace {
   std::vector<double> x, y;
 };
 
-struct Peak {
+struct SpectralPeak {
   double frequency_hz = 0;
   double amplitude = 0;  // channel units (peak scaling)
 };
@@ -94,7 +94,7 @@ struct MeshAnalysis {
   std::string name;  // "<driver>_<driven>"
   double mesh_hz = 0;
   SidebandAnalysis sidebands;  // mesh harmonics (LineMeasurement) and candidate shafts' families
-  Trace zoom;                  // full-resolution spectrum around the fundamental +- (K + 2) f_shaft
+  PlotTrace zoom;              // full-resolution spectrum around the fundamental +- (K + 2) f_shaft
 };
 
 struct GearMetricsRow {
@@ -130,18 +130,18 @@ struct ChannelAnalysis {
   TimeIndicators time;
   double spectrum_resolution_hz = 0;
   double spectrum_enbw_hz = 0;
-  std::vector<Peak> spectrum_peaks;  // largest local maxima, descending amplitude
-  Trace spectrum;                    // amplitude spectrum [unit] vs Hz
-  Trace psd;                         // Welch PSD [unit^2/Hz] vs Hz
+  std::vector<SpectralPeak> spectrum_peaks;  // largest local maxima, descending amplitude
+  PlotTrace spectrum;                        // amplitude spectrum [unit] vs Hz
+  PlotTrace psd;                             // Welch PSD [unit^2/Hz] vs Hz
   double psd_resolution_hz = 0;
   std::size_t psd_segments = 0;
   double envelope_low_hz = 0, envelope_high_hz = 0;                   // demodulation band
   double kurtogram_level = std::numeric_limits<double>::quiet_NaN();  // NaN: not run
   double kurtogram_kurtosis = std::numeric_limits<double>::quiet_NaN();
-  std::vector<Peak> envelope_peaks;
-  Trace envelope;                     // envelope spectrum [unit] vs Hz
+  std::vector<SpectralPeak> envelope_peaks;
+  PlotTrace envelope;                 // envelope spectrum [unit] vs Hz
   std::vector<MeshAnalysis> meshes;   // one per gearbox mesh
-  Trace order_spectrum;               // amplitude vs input-shaft order (empty when not computed)
+  PlotTrace order_spectrum;           // amplitude vs input-shaft order (empty when not computed)
   std::vector<ShaftTsaAnalysis> tsa;  // one per shaft with gears
   std::vector<BearingAnalysis> bearings;
   std::vector<std::string> notes;  // steps skipped on this channel and why
@@ -152,21 +152,21 @@ struct TwoDirectionRow {
   TwoDirectionComparison comparison;
 };
 
-struct ShaftSpeed {
+struct AnalysisShaftSpeed {
   std::string shaft;
   double speed_hz = 0;
   std::string source;  // "tacho", "tacho <shaft> x ratio", "nominal"
   int tacho_repairs = 0;
 };
 
-struct MeshFrequency {
+struct AnalysisMesh {
   std::string name, driver, driven;
   double frequency_hz = 0;
 };
 
 // One conclusion, in the shape of `geardiag attribute --json` findings. Fields that do not apply
 // stay empty (strings), empty (gears) or NaN (frequency_hz) and are left out of the JSON.
-struct Finding {
+struct AnalysisFinding {
   std::string kind;  // "gear_sidebands", "bearing" (future: "gear_damage", "anomaly")
   std::string shaft;
   std::vector<std::string> gears;
@@ -180,27 +180,27 @@ struct Finding {
 
 // Integration point for baselines (detect/baseline, not in this build): a filled value renders
 // in the report and the JSON ("anomaly_score", "alarm", "baseline_deviations").
-struct BaselineDeviation {
+struct AnalysisBaselineDeviation {
   std::string feature;  // a key of features()
   double value = 0, baseline_mean = 0, baseline_std = 0, z = 0;
 };
-struct BaselineComparison {
+struct AnalysisBaseline {
   double anomaly_score = 0;
   double threshold = 0;
   bool alarm = false;
-  std::vector<BaselineDeviation> deviations;  // largest |z| first
+  std::vector<AnalysisBaselineDeviation> deviations;  // largest |z| first
 };
 
 struct AnalysisResult {
   std::string gearbox_name;  // empty without a gearbox
   std::string input_shaft;   // the gearbox's input shaft (order spectra are in its orders)
   double duration_s = 0;
-  std::vector<ShaftSpeed> shafts;
-  std::vector<MeshFrequency> meshes;
+  std::vector<AnalysisShaftSpeed> shafts;
+  std::vector<AnalysisMesh> meshes;
   std::vector<ChannelAnalysis> channels;
   std::vector<TwoDirectionRow> two_direction;
-  std::vector<Finding> findings;  // every finding, most confident first
-  std::optional<BaselineComparison> baseline;
+  std::vector<AnalysisFinding> findings;  // every finding, most confident first
+  std::optional<AnalysisBaseline> baseline;
   std::vector<std::string> notes;  // recording-level notes (speed source, skipped steps)
 };
 
@@ -222,11 +222,11 @@ nlohmann::json to_json(const AnalysisResult& r);
 // A readable multi-line summary for the terminal.
 std::string format_summary(const AnalysisResult& r);
 
-// Peak-hold decimation for plotting. kMinMax (waveforms): at most max_points / 2 buckets, each
-// bucket's min and max kept in x order; kMax (spectra): max_points buckets, each bucket's max,
+// SpectralPeak-hold decimation for plotting. kMinMax (waveforms): at most max_points / 2 buckets,
+// each bucket's min and max kept in x order; kMax (spectra): max_points buckets, each bucket's max,
 // so that narrow lines survive and a dB plot does not fill down to the floor. max_points >= 4.
 enum class Decimation { kMinMax, kMax };
-Trace decimate_for_plot(std::span<const double> x, std::span<const double> y,
-                        std::size_t max_points, Decimation mode = Decimation::kMinMax);
+PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y,
+                            std::size_t max_points, Decimation mode = Decimation::kMinMax);
 
 }  // namespace detect
