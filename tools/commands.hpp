@@ -12,6 +12,7 @@ int cmd_info(int argc, char** argv);
 int cmd_simulate(int argc, char** argv);
 int cmd_sweep(int argc, char** argv);
 int cmd_attribute(int argc, char** argv);
+int cmd_analyze(int argc, char** argv);
 int cmd_validate(int argc, char** argv);
 
 }  // namespace geardiag

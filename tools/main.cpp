@@ -25,6 +25,8 @@ const Command kCommands[] = {
     {"sweep", geardiag::cmd_sweep, "speed sweep up and down: peak and RMS vs speed, resonances"},
     {"attribute", geardiag::cmd_attribute,
      "attribute defects to gears/shafts from the output shaft's transmission error"},
+    {"analyze", geardiag::cmd_analyze,
+     "offline analysis of a recording: spectra, TSA, indicators, findings; JSON/HTML reports"},
     {"validate", geardiag::cmd_validate, "closed-loop validation of a detector on your gearbox"},
 };
 

@@ -1,0 +1,957 @@
+#include "detect/analysis/analyze.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+#include <numeric>
+#include <sstream>
+#include <thread>
+
+#include "detect/angular/order_spectrum.hpp"
+#include "detect/angular/resample.hpp"
+#include "detect/angular/tacho.hpp"
+#include "detect/spectral/envelope.hpp"
+#include "detect/spectral/kurtogram.hpp"
+#include "detect/spectral/spectrum.hpp"
+#include "detect/spectral/welch.hpp"
+#include "diag/error.hpp"
+
+namespace detect {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// TSA and order spectra keep orders up to 0.72 x the Nyquist order unattenuated (tsa.hpp): the
+// angular sampling is at least 2.8 x the highest order of interest.
+constexpr double kOrderOversampling = 2.8;
+constexpr int kMaxSamplesPerRev = 1 << 14;
+
+void require(bool ok, const std::string& field, const std::string& reason) {
+  if (!ok) throw diag::InputError("analyze: " + field + ": " + reason);
+}
+
+std::size_t pow2_at_least(double v) {
+  std::size_t p = 1;
+  while (static_cast<double>(p) < v) p <<= 1;
+  return p;
+}
+
+std::size_t pow2_at_most(std::size_t v) {
+  std::size_t p = 1;
+  while (p * 2 <= v) p <<= 1;
+  return p;
+}
+
+std::vector<SpectralPeak> largest_peaks(const Spectrum& s, int count, double max_hz) {
+  std::vector<SpectralPeak> c;
+  const auto& a = s.amplitude;
+  for (std::size_t k = 1; k + 1 < a.size(); ++k) {
+    if (s.frequency_hz[k] > max_hz) break;
+    if (a[k] > a[k - 1] && a[k] >= a[k + 1]) c.push_back({s.frequency_hz[k], a[k]});
+  }
+  const std::size_t n = std::min<std::size_t>(c.size(), static_cast<std::size_t>(count));
+  std::partial_sort(
+      c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n), c.end(),
+      [](const SpectralPeak& l, const SpectralPeak& r) { return l.amplitude > r.amplitude; });
+  c.resize(n);
+  return c;
+}
+
+PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,
+                         double hi, std::size_t max_points) {
+  auto b = std::lower_bound(x.begin(), x.end(), lo);
+  auto e = std::upper_bound(x.begin(), x.end(), hi);
+  const auto i0 = static_cast<std::size_t>(b - x.begin());
+  const auto n = static_cast<std::size_t>(e - b);
+  return decimate_for_plot(std::span<const double>(x).subspan(i0, n),
+                           std::span<const double>(y).subspan(i0, n), max_points, Decimation::kMax);
+}
+
+std::string fmt(double v, int prec = 3) {
+  std::ostringstream o;
+  o << std::setprecision(prec) << v;
+  return o.str();
+}
+
+// Once-per-revolution times of every shaft and the speeds, from the first usable tacho or from
+// the nominal input speed.
+struct Kinematics {
+  std::vector<AnalysisShaftSpeed> speeds;     // per shaft
+  std::vector<std::vector<double>> pulses_s;  // per shaft, once per revolution
+};
+
+Kinematics kinematics(const diag::Recording& rec, const diag::Gearbox& gb, double duration_s,
+                      const AnalyzeOptions& opt, std::vector<std::string>& notes) {
+  const std::size_t ns = gb.shafts().size();
+  Kinematics k;
+  k.speeds.resize(ns);
+  k.pulses_s.resize(ns);
+  for (std::size_t s = 0; s < ns; ++s) {
+    k.speeds[s].shaft = gb.shafts()[s].name;
+    k.speeds[s].speed_hz = gb.shaft_speed_hz(static_cast<int>(s));
+    k.speeds[s].source = "nominal";
+  }
+  for (const diag::Signal& t : rec.tachos) {
+    int s = gb.shaft_index(t.location);
+    if (s < 0) s = gb.shaft_index(t.name);
+    if (s < 0) {
+      notes.push_back("tacho '" + t.name + "' names no shaft of the gearbox: not used");
+      continue;
+    }
+    TachoOptions to;
+    to.pulses_per_rev = opt.tacho_pulses_per_rev;
+    const TachoResult tr = tacho_pulses(t.samples, t.fs_hz, to);
+    const auto& p = tr.pulse_times_s;
+    if (p.size() < static_cast<std::size_t>(opt.tacho_pulses_per_rev) + 2) {
+      notes.push_back("tacho '" + t.name + "': " + std::to_string(p.size()) +
+                      " pulses, too few for a speed: not used");
+      continue;
+    }
+    const double f_meas =
+        static_cast<double>(p.size() - 1) / opt.tacho_pulses_per_rev / (p.back() - p.front());
+    const double scale = f_meas / gb.shaft_speed_hz(s);
+    for (std::size_t b = 0; b < ns; ++b) {
+      k.speeds[b].speed_hz = gb.shaft_speed_hz(static_cast<int>(b)) * scale;
+      k.speeds[b].source = static_cast<int>(b) == s ? "tacho" : "tacho " + t.name + " x ratio";
+      const double ratio = k.speeds[b].speed_hz / f_meas;
+      k.pulses_s[b] = scale_pulses(p, ratio, opt.tacho_pulses_per_rev);
+    }
+    k.speeds[static_cast<std::size_t>(s)].tacho_repairs = static_cast<int>(tr.repairs.size());
+    if (!tr.repairs.empty()) {
+      notes.push_back("tacho '" + t.name + "': " + std::to_string(tr.repairs.size()) +
+                      " pulse repairs");
+    }
+    notes.push_back("shaft speeds from tacho '" + t.name + "': " + fmt(f_meas * 60, 6) +
+                    " rpm (nominal " + fmt(gb.shaft_speed_rpm(s), 6) + " rpm)");
+    return k;
+  }
+  notes.push_back("no usable tacho: shaft angles from the nominal input speed " +
+                  fmt(gb.input().speed_rpm, 6) + " rpm, assumed constant");
+  for (std::size_t s = 0; s < ns; ++s) {
+    const double f = k.speeds[s].speed_hz;
+    for (double t = 0; t <= duration_s; t = static_cast<double>(k.pulses_s[s].size()) / f) {
+      k.pulses_s[s].push_back(t);
+    }
+  }
+  return k;
+}
+
+}  // namespace
+
+void AnalyzeOptions::validate() const {
+  require(welch_nperseg >= 8 && welch_nperseg <= (1u << 24), "welch_nperseg",
+          std::to_string(welch_nperseg) + " is not in [8, 2^24]");
+  require(kurtogram_max_level >= 1 && kurtogram_max_level <= 12, "kurtogram_max_level",
+          std::to_string(kurtogram_max_level) + " is not in [1, 12]");
+  require(tacho_pulses_per_rev >= 1, "tacho_pulses_per_rev",
+          std::to_string(tacho_pulses_per_rev) + " is not >= 1");
+  require(tsa_min_revolutions >= 2, "tsa_min_revolutions",
+          std::to_string(tsa_min_revolutions) + " is not >= 2");
+  require(peaks_reported >= 0 && peaks_reported <= 100, "peaks_reported",
+          std::to_string(peaks_reported) + " is not in [0, 100]");
+  require(threads >= 0 && threads <= 256, "threads",
+          std::to_string(threads) + " is not in [0, 256]");
+  require(plot_points >= 16, "plot_points", std::to_string(plot_points) + " is not >= 16");
+  require(envelope_plot_max_hz >= 0 && std::isfinite(envelope_plot_max_hz), "envelope_plot_max_hz",
+          "must be finite and >= 0");
+  sidebands.validate();
+  require(gear_metrics.mesh_harmonics >= 1 && gear_metrics.mesh_harmonics <= 32,
+          "gear_metrics.mesh_harmonics", "is not in [1, 32]");
+  require(gear_metrics.ser_sidebands >= 1 && gear_metrics.ser_sidebands <= 64,
+          "gear_metrics.ser_sidebands", "is not in [1, 64]");
+  fault_bands.validate();
+  bearing.validate();
+  two_direction.validate();
+}
+
+PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y,
+                            std::size_t max_points, Decimation mode) {
+  if (x.size() != y.size()) {
+    throw diag::InputError("decimate_for_plot: x and y differ in length");
+  }
+  if (max_points < 4) throw diag::InputError("decimate_for_plot: max_points: is not >= 4");
+  PlotTrace t;
+  if (x.size() <= max_points) {
+    t.x.assign(x.begin(), x.end());
+    t.y.assign(y.begin(), y.end());
+    return t;
+  }
+  const bool max_only = mode == Decimation::kMax;
+  const std::size_t buckets = max_only ? max_points : max_points / 2;
+  t.x.reserve(2 * buckets);
+  t.y.reserve(2 * buckets);
+  for (std::size_t b = 0; b < buckets; ++b) {
+    const std::size_t i0 = b * x.size() / buckets, i1 = (b + 1) * x.size() / buckets;
+    std::size_t lo = i0, hi = i0;
+    for (std::size_t i = i0; i < i1; ++i) {
+      if (y[i] < y[lo]) lo = i;
+      if (y[i] > y[hi]) hi = i;
+    }
+    if (max_only) {
+      t.x.push_back(x[hi]);
+      t.y.push_back(y[hi]);
+      continue;
+    }
+    const std::size_t a = std::min(lo, hi), c = std::max(lo, hi);
+    t.x.push_back(x[a]);
+    t.y.push_back(y[a]);
+    if (c != a) {
+      t.x.push_back(x[c]);
+      t.y.push_back(y[c]);
+    }
+  }
+  return t;
+}
+
+AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox* gb,
+                                 const AnalyzeOptions& opt) {
+  opt.validate();
+  if (rec.signals.empty()) throw diag::InputError("analyze: the recording holds no signals");
+  AnalysisResult r;
+  for (const diag::Signal& s : rec.signals) {
+    diag::validate(s, "analyze");
+    r.duration_s = std::max(r.duration_s, s.duration_s());
+  }
+  const std::size_t plot_points = static_cast<std::size_t>(opt.plot_points);
+
+  Kinematics kin;
+  int input = -1;
+  double input_hz = 0;
+  if (gb) {
+    r.gearbox_name = gb->name();
+    kin = kinematics(rec, *gb, r.duration_s, opt, r.notes);
+    r.shafts = kin.speeds;
+    input = gb->input_shaft();
+    r.input_shaft = gb->shafts()[static_cast<std::size_t>(input)].name;
+    input_hz = kin.speeds[static_cast<std::size_t>(input)].speed_hz;
+    const double scale = input_hz / gb->shaft_speed_hz(input);
+    for (std::size_t j = 0; j < gb->meshes().size(); ++j) {
+      const diag::Mesh& m = gb->meshes()[j];
+      r.meshes.push_back({gb->gears()[m.driver].name + "_" + gb->gears()[m.driven].name,
+                          gb->gears()[m.driver].name, gb->gears()[m.driven].name,
+                          gb->mesh_frequency_hz(static_cast<int>(j)) * scale});
+    }
+  } else {
+    r.notes.push_back("no gearbox description: unit-free indicators and spectra only");
+  }
+
+  // Highest order of interest in input-shaft orders: H mesh harmonics plus K sidebands.
+  const int H = opt.sidebands.mesh_harmonics, K = opt.sidebands.sidebands;
+  double max_input_order = 0;
+  for (const auto& m : r.meshes) max_input_order = std::max(max_input_order, m.frequency_hz);
+  if (gb) {
+    double max_shaft = 0;
+    for (const auto& s : r.shafts) max_shaft = std::max(max_shaft, s.speed_hz);
+    max_input_order = (H * max_input_order + K * max_shaft) / input_hz;
+  }
+
+  std::vector<Spectrum> full(rec.signals.size()), full_env(rec.signals.size());
+  // One channel's analysis; channels are independent, so they run in parallel (FFT plans are
+  // shared and thread-safe, fft.hpp) and each writes only its own slots: same bytes whatever
+  // the thread count.
+  auto analyse = [&](std::size_t ci) -> ChannelAnalysis {
+    const diag::Signal& sig = rec.signals[ci];
+    ChannelAnalysis c;
+    c.name = sig.name;
+    c.unit = sig.unit;
+    c.location = sig.location;
+    c.direction = sig.direction;
+    c.fs_hz = sig.fs_hz;
+    c.samples = sig.samples.size();
+    c.vibration =
+        sig.direction != diag::Direction::kTacho && sig.direction != diag::Direction::kAngle;
+    const std::span<const double> x(sig.samples);
+    const Moments mo = moments(x);
+    c.time = {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
+    if (!c.vibration) {
+      return c;
+    }
+    if (x.size() < 64) {
+      c.notes.push_back("fewer than 64 samples: no spectra");
+      return c;
+    }
+    const double fs = sig.fs_hz, nyq = 0.5 * fs;
+
+    // ---- spectra ----
+    SpectrumOptions so;
+    so.fs_hz = fs;
+    so.window = opt.spectrum_window;
+    so.remove_mean = true;
+    Spectrum& sp = full[ci];
+    sp = amplitude_spectrum(x, so);
+    c.spectrum_resolution_hz = sp.resolution_hz;
+    c.spectrum_enbw_hz = sp.enbw_hz;
+    c.spectrum_peaks = largest_peaks(sp, opt.peaks_reported, nyq);
+    c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, plot_points, Decimation::kMax);
+    WelchOptions wo;
+    wo.fs_hz = fs;
+    wo.nperseg = std::min(opt.welch_nperseg, pow2_at_most(x.size()));
+    const Psd psd = welch(x, wo);
+    c.psd = decimate_for_plot(psd.frequency_hz, psd.value, plot_points, Decimation::kMax);
+    c.psd_resolution_hz = psd.resolution_hz;
+    c.psd_segments = psd.segments;
+
+    // ---- envelope in the kurtogram's band ----
+    EnvelopeSpectrumOptions eo;
+    eo.fs_hz = fs;
+    const int level =
+        std::min(opt.kurtogram_max_level,
+                 static_cast<int>(std::floor(std::log2(static_cast<double>(x.size())))) - 7);
+    if (level >= 1) {
+      KurtogramOptions ko;
+      ko.fs_hz = fs;
+      ko.max_level = level;
+      const Kurtogram kg = fast_kurtogram(x, ko);
+      c.kurtogram_level = kg.level;
+      c.kurtogram_kurtosis = kg.kurtosis;
+      eo.band_low_hz = std::max(0.0, kg.low_hz());
+      eo.band_high_hz = std::min(nyq, kg.high_hz());
+    } else {
+      c.notes.push_back("record too short for the kurtogram: envelope of the whole band");
+    }
+    c.envelope_low_hz = eo.band_low_hz;
+    c.envelope_high_hz = eo.band_high_hz == 0 ? nyq : eo.band_high_hz;
+    full_env[ci] = envelope_spectrum(x, eo);
+    const Spectrum& env = full_env[ci];
+    double env_max = opt.envelope_plot_max_hz;
+    if (env_max == 0) {
+      env_max = 1000.0;
+      if (gb && !gb->bearings().empty()) {
+        double top = 0;
+        for (const auto& b : gb->bearings()) {
+          const int s = gb->shaft_index(b.shaft);
+          if (s < 0) continue;
+          const auto f = bearing_frequencies(b, kin.speeds[static_cast<std::size_t>(s)].speed_hz);
+          top = std::max({top, f.bpfi_hz, f.bpfo_hz, f.ball_fault_hz});
+        }
+        if (top > 0) env_max = 5 * top;
+      }
+    }
+    env_max = std::min(env_max, nyq);
+    c.envelope_peaks = largest_peaks(env, opt.peaks_reported, env_max);
+    c.envelope = slice_for_plot(env.frequency_hz, env.amplitude, 0, env_max, plot_points);
+
+    if (gb) {
+      const SpectrumView view{sp.frequency_hz, sp.amplitude};
+      // ---- meshes and sidebands ----
+      for (std::size_t j = 0; j < gb->meshes().size(); ++j) {
+        const diag::Mesh& m = gb->meshes()[j];
+        const int sa = gb->shaft_of_gear(m.driver), sb = gb->shaft_of_gear(m.driven);
+        std::vector<ShaftCandidate> cand{{gb->shafts()[static_cast<std::size_t>(sa)].name,
+                                          kin.speeds[static_cast<std::size_t>(sa)].speed_hz},
+                                         {gb->shafts()[static_cast<std::size_t>(sb)].name,
+                                          kin.speeds[static_cast<std::size_t>(sb)].speed_hz}};
+        MeshAnalysis ma;
+        ma.mesh = static_cast<int>(j);
+        ma.name = r.meshes[j].name;
+        ma.mesh_hz = r.meshes[j].frequency_hz;
+        ma.sidebands = analyse_sidebands(view, ma.mesh_hz, cand, opt.sidebands);
+        const double span = (K + 2) * std::max(cand[0].frequency_hz, cand[1].frequency_hz);
+        ma.zoom = slice_for_plot(sp.frequency_hz, sp.amplitude, ma.mesh_hz - span,
+                                 ma.mesh_hz + span, plot_points);
+        c.meshes.push_back(std::move(ma));
+      }
+      // ---- order spectrum (input-shaft orders) ----
+      try {
+        ResampleOptions ro;
+        ro.samples_per_rev = static_cast<int>(std::clamp<std::size_t>(
+            pow2_at_least(kOrderOversampling * max_input_order), 64, kMaxSamplesPerRev));
+        const AngleResampled ar =
+            resample_by_angle(x, fs, kin.pulses_s[static_cast<std::size_t>(input)], ro);
+        const OrderSpectrum os = order_spectrum(ar);
+        c.order_spectrum =
+            slice_for_plot(os.order, os.amplitude, 0,
+                           std::min(1.2 * max_input_order, os.order.back()), plot_points);
+      } catch (const diag::InputError& e) {
+        c.notes.push_back(std::string("order spectrum skipped: ") + e.what());
+      }
+      // ---- TSA per shaft ----
+      for (std::size_t s = 0; s < gb->shafts().size(); ++s) {
+        const diag::Shaft& shaft = gb->shafts()[s];
+        if (shaft.gears.empty()) continue;
+        ShaftTsaAnalysis ta;
+        ta.shaft = shaft.name;
+        std::vector<int> orders;
+        for (int g : shaft.gears)
+          orders.push_back(gb->gears()[static_cast<std::size_t>(g)].spec.teeth);
+        const int zmax = *std::max_element(orders.begin(), orders.end());
+        const double top = opt.gear_metrics.mesh_harmonics * zmax + opt.gear_metrics.ser_sidebands;
+        const int spr = static_cast<int>(std::clamp<std::size_t>(
+            pow2_at_least(kOrderOversampling * top), 64, kMaxSamplesPerRev));
+        const auto& pulses = kin.pulses_s[s];
+        const int revs = pulses.size() > 1 ? static_cast<int>(pulses.size()) - 1 : 0;
+        if (revs < opt.tsa_min_revolutions) {
+          ta.note = std::to_string(revs) + " revolutions in the record, fewer than " +
+                    std::to_string(opt.tsa_min_revolutions) + ": no TSA";
+          c.tsa.push_back(std::move(ta));
+          continue;
+        }
+        try {
+          TsaOptions to;
+          to.samples_per_rev = spr;
+          to.min_revolutions = opt.tsa_min_revolutions;
+          const Tsa t = tsa(x, fs, pulses, to);
+          ta.revolutions = t.revolutions;
+          ta.samples_per_rev = t.samples_per_rev;
+          ta.tsa = t.samples;
+          ta.regular = tsa_regular(t, orders);
+          ta.residual = tsa_residual(t, orders);
+          ta.difference = tsa_difference(t, orders);
+          ta.computed = true;
+          for (int g : shaft.gears) {
+            const auto& ge = gb->gears()[static_cast<std::size_t>(g)];
+            GearMetricOptions gm = opt.gear_metrics;
+            gm.mesh_order = ge.spec.teeth;
+            gm.ser_sidebands = std::min(gm.ser_sidebands, ge.spec.teeth - 1);
+            gm.mesh_harmonics = std::min(
+                gm.mesh_harmonics, (spr / 2 - 1 - gm.ser_sidebands) / std::max(1, gm.mesh_order));
+            GearMetricsRow row;
+            row.gear = ge.name;
+            row.teeth = ge.spec.teeth;
+            if (gm.ser_sidebands < 1 || gm.mesh_harmonics < 1) {
+              ta.note = "gear " + ge.name + ": too few teeth or samples for the gear metrics";
+              continue;
+            }
+            row.indicators = gear_indicators({ta.tsa, ta.difference, ta.regular, ta.residual}, gm);
+            ta.gears.push_back(row);
+          }
+        } catch (const diag::InputError& e) {
+          ta.note = std::string("TSA skipped: ") + e.what();
+        }
+        c.tsa.push_back(std::move(ta));
+      }
+    }
+    return c;
+  };
+  const std::size_t nc = rec.signals.size();
+  r.channels.resize(nc);
+  std::vector<std::exception_ptr> errors(nc);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t ci = next++; ci < nc; ci = next++) {
+      try {
+        r.channels[ci] = analyse(ci);
+      } catch (...) {
+        errors[ci] = std::current_exception();
+      }
+    }
+  };
+  const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
+  const std::size_t threads =
+      std::min<std::size_t>(nc, opt.threads > 0 ? static_cast<std::size_t>(opt.threads) : hw);
+  {
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+  }
+  for (const auto& e : errors) {
+    if (e) std::rethrow_exception(e);  // the first failing channel, in channel order
+  }
+
+  if (gb) {
+    // ---- bearings: on the channels at the bearing, else on every vibration channel ----
+    for (const diag::BearingSpec& b : gb->bearings()) {
+      const int s = gb->shaft_index(b.shaft);
+      if (s < 0) continue;
+      bool located = false;
+      for (const auto& c : r.channels) located |= c.vibration && c.location == b.name;
+      for (std::size_t ci = 0; ci < r.channels.size(); ++ci) {
+        ChannelAnalysis& c = r.channels[ci];
+        if (!c.vibration || full_env[ci].amplitude.size() < 3) continue;
+        if (located && c.location != b.name) continue;
+        BearingAnalysis ba;
+        ba.bearing = b.name;
+        ba.shaft = b.shaft;
+        ba.frequencies = bearing_frequencies(b, kin.speeds[static_cast<std::size_t>(s)].speed_hz);
+        const Spectrum& env = full_env[ci];
+        const SpectrumView ev{env.frequency_hz, env.amplitude};
+        ba.bands = bearing_fault_bands(ba.frequencies, opt.fault_bands);
+        ba.metrics = fault_band_metrics(ev, ba.bands, SpectrumScale::kAmplitude);
+        ba.decision = diagnose_bearing(ev, ba.frequencies, opt.bearing);
+        c.bearings.push_back(std::move(ba));
+      }
+    }
+    // ---- two directions ----
+    for (std::size_t ai = 0; ai < r.channels.size(); ++ai) {
+      const ChannelAnalysis& a = r.channels[ai];
+      if (a.direction != diag::Direction::kAlongLoa || full[ai].amplitude.empty()) continue;
+      std::string partner = a.name;
+      if (const auto p = partner.find("along_loa"); p != std::string::npos) {
+        partner.replace(p, 9, "normal_loa");
+      }
+      int ni = -1, same_location = -1, count = 0;
+      for (std::size_t k = 0; k < r.channels.size(); ++k) {
+        const ChannelAnalysis& n = r.channels[k];
+        if (n.direction != diag::Direction::kNormalLoa || n.location != a.location ||
+            full[k].amplitude.empty() || n.fs_hz != a.fs_hz || n.samples != a.samples) {
+          continue;
+        }
+        if (n.name == partner) ni = static_cast<int>(k);
+        same_location = static_cast<int>(k);
+        ++count;
+      }
+      if (ni < 0 && count == 1) ni = same_location;
+      if (ni < 0) {
+        r.notes.push_back("two directions: no normal_loa partner for '" + a.name + "'");
+        continue;
+      }
+      std::vector<std::size_t> meshes;
+      for (std::size_t j = 0; j < r.meshes.size(); ++j) {
+        if (a.name.find("_" + r.meshes[j].name) != std::string::npos) meshes.push_back(j);
+      }
+      if (meshes.empty()) {
+        for (std::size_t j = 0; j < r.meshes.size(); ++j) {
+          const diag::Mesh& m = gb->meshes()[j];
+          for (int g : {m.driver, m.driven}) {
+            const std::string& sh =
+                gb->shafts()[static_cast<std::size_t>(gb->shaft_of_gear(g))].name;
+            if (a.location == sh || a.location.rfind(sh + "_", 0) == 0) {
+              meshes.push_back(j);
+              break;
+            }
+          }
+        }
+      }
+      if (meshes.empty()) {
+        for (std::size_t j = 0; j < r.meshes.size(); ++j) meshes.push_back(j);
+      }
+      const Spectrum& sa = full[ai];
+      const Spectrum& sn = full[static_cast<std::size_t>(ni)];
+      for (std::size_t j : meshes) {
+        TwoDirectionRow row;
+        row.location = a.location;
+        row.along_channel = a.name;
+        row.normal_channel = r.channels[static_cast<std::size_t>(ni)].name;
+        row.mesh = r.meshes[j].name;
+        row.comparison = compare_two_directions(
+            {sa.frequency_hz, sa.amplitude}, {sn.frequency_hz, sn.amplitude},
+            sa.enbw_hz / sa.resolution_hz, r.meshes[j].frequency_hz, opt.two_direction);
+        r.two_direction.push_back(std::move(row));
+      }
+    }
+
+    // ---- findings: sideband families (low confidence: a vote over channels) ----
+    for (std::size_t j = 0; j < r.meshes.size(); ++j) {
+      std::map<std::string, int> votes;
+      std::map<std::string, std::pair<double, std::string>> best;  // score, channel
+      int analysed = 0;
+      for (const auto& c : r.channels) {
+        if (j >= c.meshes.size()) continue;
+        const SidebandAnalysis& sb = c.meshes[j].sidebands;
+        if (sb.mesh.empty() || !sb.mesh.front().valid) continue;
+        ++analysed;
+        if (sb.status != SidebandStatus::kPointed) continue;
+        const ShaftSidebands& w = sb.shafts[static_cast<std::size_t>(sb.pointed)];
+        ++votes[w.name];
+        if (w.score_db > best[w.name].first) best[w.name] = {w.score_db, c.name};
+      }
+      std::string winner;
+      int top = 0, second = 0;
+      for (const auto& [name, v] : votes) {
+        if (v > top) {
+          second = top;
+          top = v;
+          winner = name;
+        } else {
+          second = std::max(second, v);
+        }
+      }
+      if (top == 0 || top == second) continue;
+      AnalysisFinding f;
+      f.kind = "gear_sidebands";
+      f.shaft = winner;
+      const diag::Mesh& m = gb->meshes()[j];
+      for (int g : {m.driver, m.driven}) {
+        if (gb->shafts()[static_cast<std::size_t>(gb->shaft_of_gear(g))].name == winner) {
+          f.gears.push_back(gb->gears()[static_cast<std::size_t>(g)].name);
+        }
+      }
+      f.frequency_hz = r.meshes[j].frequency_hz;
+      f.channel = best[winner].second;
+      f.confidence = 0.2 + 0.3 * top / analysed;
+      f.note = "sidebands of mesh " + r.meshes[j].name + " (" + fmt(f.frequency_hz, 5) +
+               " Hz) spaced at shaft " + winner + "'s rotation in " + std::to_string(top) + " of " +
+               std::to_string(analysed) + " channels (best " + f.channel + ", " +
+               fmt(best[winner].first, 3) + " dB): a local defect or eccentricity of " +
+               (f.gears.empty() ? winner : f.gears.front()) + " modulates the mesh";
+      r.findings.push_back(std::move(f));
+    }
+    // ---- findings: bearings ----
+    for (const diag::BearingSpec& b : gb->bearings()) {
+      std::map<BearingFault, int> votes;
+      std::map<BearingFault, std::pair<double, std::string>> best;
+      std::map<BearingFault, double> freq;
+      int analysed = 0;
+      for (const auto& c : r.channels) {
+        for (const auto& ba : c.bearings) {
+          if (ba.bearing != b.name) continue;
+          ++analysed;
+          if (ba.decision.status != BearingDecisionStatus::kFault) continue;
+          ++votes[ba.decision.fault];
+          for (const auto& fam : ba.decision.families) {
+            if (fam.fault != ba.decision.fault) continue;
+            freq[fam.fault] = fam.fundamental_hz;
+            if (fam.score_db > best[fam.fault].first) best[fam.fault] = {fam.score_db, c.name};
+          }
+        }
+      }
+      BearingFault winner = BearingFault::kNone;
+      int top = 0, second = 0;
+      for (const auto& [fault, v] : votes) {
+        if (v > top) {
+          second = top;
+          top = v;
+          winner = fault;
+        } else {
+          second = std::max(second, v);
+        }
+      }
+      if (top == 0 || top == second) continue;
+      AnalysisFinding f;
+      f.kind = "bearing";
+      f.bearing = b.name;
+      f.shaft = b.shaft;
+      f.fault = to_string(winner);
+      f.frequency_hz = freq[winner];
+      f.channel = best[winner].second;
+      f.confidence = 0.3 + 0.4 * top / analysed;
+      f.note = std::string(to_string(winner)) + " fault lines at " + fmt(f.frequency_hz, 5) +
+               " Hz and harmonics in the envelope spectrum of " + std::to_string(top) + " of " +
+               std::to_string(analysed) + " channels (best " + f.channel + ", score " +
+               fmt(best[winner].first, 3) + " dB)";
+      r.findings.push_back(std::move(f));
+    }
+    std::stable_sort(r.findings.begin(), r.findings.end(),
+                     [](const AnalysisFinding& a, const AnalysisFinding& b) {
+                       return a.confidence > b.confidence;
+                     });
+  }
+  return r;
+}
+
+std::map<std::string, double> features(const AnalysisResult& r) {
+  std::map<std::string, double> f;
+  auto put = [&f](const std::string& k, double v) {
+    if (std::isfinite(v)) f[k] = v;
+  };
+  for (const auto& c : r.channels) {
+    const std::string p = c.name + "/";
+    put(p + "rms", c.time.rms);
+    put(p + "peak", c.time.peak);
+    put(p + "crest_factor", c.time.crest_factor);
+    put(p + "kurtosis", c.time.kurtosis);
+    put(p + "skewness", c.time.skewness);
+    for (const auto& m : c.meshes) {
+      for (const auto& l : m.sidebands.mesh) {
+        if (l.valid) {
+          put(p + "mesh/" + m.name + "/h" + std::to_string(&l - m.sidebands.mesh.data() + 1) +
+                  "_amplitude",
+              l.amplitude);
+        }
+      }
+    }
+    for (const auto& t : c.tsa) {
+      for (const auto& g : t.gears) {
+        const std::string q = p + "tsa/" + t.shaft + "/" + g.gear + "/";
+        const GearIndicators& i = g.indicators;
+        put(q + "fm0", i.fm0);
+        put(q + "fm4", i.fm4);
+        put(q + "m6a", i.m6a);
+        put(q + "m8a", i.m8a);
+        put(q + "na4", i.na4);
+        put(q + "er", i.er);
+        put(q + "ser", i.ser);
+        put(q + "slf", i.slf);
+        put(q + "si", i.si);
+      }
+    }
+  }
+  for (const auto& t : r.two_direction) {
+    put("two_direction/" + t.location + "/" + t.mesh + "/normal_to_along_db",
+        t.comparison.normal_to_along_db);
+  }
+  return f;
+}
+
+namespace {
+
+nlohmann::json peaks_json(const std::vector<SpectralPeak>& p) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& k : p)
+    a.push_back({{"frequency_hz", k.frequency_hz}, {"amplitude", k.amplitude}});
+  return a;
+}
+
+const char* to_string(SidebandStatus s) {
+  switch (s) {
+    case SidebandStatus::kNoSidebands:
+      return "no_sidebands";
+    case SidebandStatus::kPointed:
+      return "pointed";
+    case SidebandStatus::kAmbiguous:
+      return "ambiguous";
+  }
+  return "unknown";
+}
+
+const char* to_string(BearingDecisionStatus s) {
+  switch (s) {
+    case BearingDecisionStatus::kNoFault:
+      return "no_fault";
+    case BearingDecisionStatus::kFault:
+      return "fault";
+    case BearingDecisionStatus::kAmbiguous:
+      return "ambiguous";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+nlohmann::json to_json(const AnalysisResult& r) {
+  using nlohmann::json;
+  json j;
+  j["format"] = "geardiag-analysis";
+  j["format_version"] = 1;
+  j["gearbox"] = r.gearbox_name.empty() ? json(nullptr) : json(r.gearbox_name);
+  j["input_shaft"] = r.input_shaft.empty() ? json(nullptr) : json(r.input_shaft);
+  j["duration_s"] = r.duration_s;
+  j["shafts"] = json::array();
+  for (const auto& s : r.shafts) {
+    j["shafts"].push_back({{"shaft", s.shaft},
+                           {"speed_hz", s.speed_hz},
+                           {"speed_rpm", s.speed_hz * 60},
+                           {"source", s.source},
+                           {"tacho_repairs", s.tacho_repairs}});
+  }
+  j["meshes"] = json::array();
+  for (const auto& m : r.meshes) {
+    j["meshes"].push_back({{"mesh", m.name},
+                           {"driver", m.driver},
+                           {"driven", m.driven},
+                           {"frequency_hz", m.frequency_hz}});
+  }
+  j["channels"] = json::array();
+  for (const auto& c : r.channels) {
+    json cj{{"name", c.name},
+            {"unit", c.unit},
+            {"direction", std::string(diag::to_string(c.direction))},
+            {"location", c.location},
+            {"fs_hz", c.fs_hz},
+            {"samples", c.samples},
+            {"vibration", c.vibration},
+            {"indicators",
+             {{"rms", c.time.rms},
+              {"peak", c.time.peak},
+              {"crest_factor", c.time.crest_factor},
+              {"kurtosis", c.time.kurtosis},
+              {"skewness", c.time.skewness}}}};
+    if (c.vibration && !c.spectrum.x.empty()) {
+      cj["spectrum"] = {{"resolution_hz", c.spectrum_resolution_hz},
+                        {"enbw_hz", c.spectrum_enbw_hz},
+                        {"peaks", peaks_json(c.spectrum_peaks)}};
+      cj["psd"] = {{"resolution_hz", c.psd_resolution_hz}, {"segments", c.psd_segments}};
+      cj["envelope"] = {{"band_low_hz", c.envelope_low_hz},
+                        {"band_high_hz", c.envelope_high_hz},
+                        {"kurtogram_level", c.kurtogram_level},
+                        {"kurtogram_kurtosis", c.kurtogram_kurtosis},
+                        {"peaks", peaks_json(c.envelope_peaks)}};
+    }
+    json meshes = json::array();
+    for (const auto& m : c.meshes) {
+      json h = json::array();
+      int k = 1;
+      for (const auto& l : m.sidebands.mesh) {
+        h.push_back({{"harmonic", k++},
+                     {"frequency_hz", l.frequency_hz},
+                     {"amplitude", l.amplitude},
+                     {"prominence_db", l.prominence_db},
+                     {"valid", l.valid}});
+      }
+      json shafts = json::array();
+      for (const auto& s : m.sidebands.shafts) {
+        shafts.push_back({{"shaft", s.name},
+                          {"frequency_hz", s.frequency_hz},
+                          {"detected", s.detected},
+                          {"score_db", s.score_db},
+                          {"passes", s.passes}});
+      }
+      const bool pointed = m.sidebands.status == SidebandStatus::kPointed;
+      meshes.push_back(
+          {{"mesh", m.name},
+           {"frequency_hz", m.mesh_hz},
+           {"harmonics", h},
+           {"sidebands",
+            {{"status", to_string(m.sidebands.status)},
+             {"pointed_shaft",
+              pointed ? json(m.sidebands.shafts[static_cast<std::size_t>(m.sidebands.pointed)].name)
+                      : json(nullptr)},
+             {"shafts", shafts}}}});
+    }
+    cj["meshes"] = meshes;
+    json tsa = json::array();
+    for (const auto& t : c.tsa) {
+      json gears = json::array();
+      for (const auto& g : t.gears) {
+        const GearIndicators& i = g.indicators;
+        gears.push_back({{"gear", g.gear},
+                         {"teeth", g.teeth},
+                         {"rms", i.rms},
+                         {"peak", i.peak},
+                         {"crest_factor", i.crest_factor},
+                         {"kurtosis", i.kurtosis},
+                         {"fm0", i.fm0},
+                         {"fm4", i.fm4},
+                         {"m6a", i.m6a},
+                         {"m8a", i.m8a},
+                         {"na4", i.na4},
+                         {"er", i.er},
+                         {"ser", i.ser},
+                         {"slf", i.slf},
+                         {"si", i.si}});
+      }
+      tsa.push_back({{"shaft", t.shaft},
+                     {"computed", t.computed},
+                     {"note", t.note},
+                     {"revolutions", t.revolutions},
+                     {"samples_per_rev", t.samples_per_rev},
+                     {"gears", gears}});
+    }
+    cj["tsa"] = tsa;
+    json bearings = json::array();
+    for (const auto& b : c.bearings) {
+      const BearingFrequencies& f = b.frequencies;
+      json bands = json::array();
+      for (std::size_t k = 0; k < b.bands.size(); ++k) {
+        const BandMetrics& m = b.metrics.bands[k];
+        bands.push_back({{"label", b.bands[k].label},
+                         {"centre_hz", b.bands[k].centre_hz},
+                         {"low_hz", b.bands[k].low_hz},
+                         {"high_hz", b.bands[k].high_hz},
+                         {"peak", m.peak_value},
+                         {"peak_frequency_hz", m.peak_frequency_hz},
+                         {"energy", m.energy},
+                         {"energy_fraction", m.energy_fraction}});
+      }
+      json fams = json::array();
+      for (const auto& fam : b.decision.families) {
+        fams.push_back({{"fault", to_string(fam.fault)},
+                        {"fundamental_hz", fam.fundamental_hz},
+                        {"detected", fam.detected},
+                        {"score_db", fam.score_db},
+                        {"passes", fam.passes}});
+      }
+      bearings.push_back({{"bearing", b.bearing},
+                          {"shaft", b.shaft},
+                          {"frequencies",
+                           {{"shaft_hz", f.shaft_hz},
+                            {"ftf_hz", f.ftf_hz},
+                            {"bpfo_hz", f.bpfo_hz},
+                            {"bpfi_hz", f.bpfi_hz},
+                            {"bsf_hz", f.bsf_hz},
+                            {"ball_fault_hz", f.ball_fault_hz}}},
+                          {"bands", bands},
+                          {"decision",
+                           {{"status", to_string(b.decision.status)},
+                            {"fault", to_string(b.decision.fault)},
+                            {"families", fams}}}});
+    }
+    cj["bearings"] = bearings;
+    cj["notes"] = c.notes;
+    j["channels"].push_back(std::move(cj));
+  }
+  j["two_direction"] = json::array();
+  for (const auto& t : r.two_direction) {
+    json h = json::array();
+    for (const auto& e : t.comparison.harmonics) {
+      h.push_back({{"harmonic", e.harmonic},
+                   {"frequency_hz", e.frequency_hz},
+                   {"along", e.along},
+                   {"normal", e.normal},
+                   {"valid", e.valid}});
+    }
+    j["two_direction"].push_back({{"location", t.location},
+                                  {"along_channel", t.along_channel},
+                                  {"normal_channel", t.normal_channel},
+                                  {"mesh", t.mesh},
+                                  {"mesh_hz", t.comparison.mesh_hz},
+                                  {"along_energy", t.comparison.along_energy},
+                                  {"normal_energy", t.comparison.normal_energy},
+                                  {"normal_to_along_db", t.comparison.normal_to_along_db},
+                                  {"harmonics", h}});
+  }
+  j["findings"] = json::array();
+  for (const auto& f : r.findings) {
+    json fj{{"kind", f.kind}, {"confidence", f.confidence}, {"note", f.note}};
+    if (!f.shaft.empty()) fj["shaft"] = f.shaft;
+    if (!f.gears.empty()) fj["gears"] = f.gears;
+    if (!f.bearing.empty()) fj["bearing"] = f.bearing;
+    if (!f.fault.empty()) fj["fault"] = f.fault;
+    if (std::isfinite(f.frequency_hz)) fj["frequency_hz"] = f.frequency_hz;
+    if (!f.channel.empty()) fj["channel"] = f.channel;
+    j["findings"].push_back(std::move(fj));
+  }
+  if (r.baseline) {
+    j["anomaly_score"] = r.baseline->anomaly_score;
+    j["alarm"] = r.baseline->alarm;
+    j["anomaly_threshold"] = r.baseline->threshold;
+    j["baseline_deviations"] = json::array();
+    for (const auto& d : r.baseline->deviations) {
+      j["baseline_deviations"].push_back({{"feature", d.feature},
+                                          {"value", d.value},
+                                          {"baseline_mean", d.baseline_mean},
+                                          {"baseline_std", d.baseline_std},
+                                          {"z", d.z}});
+    }
+  }
+  j["notes"] = r.notes;
+  return j;
+}
+
+std::string format_summary(const AnalysisResult& r) {
+  std::ostringstream o;
+  o << "recording: " << r.channels.size() << " channels, " << fmt(r.duration_s, 6) << " s";
+  if (!r.gearbox_name.empty()) o << ", gearbox " << r.gearbox_name;
+  o << "\n";
+  for (const auto& s : r.shafts) {
+    o << "  shaft " << s.shaft << ": " << fmt(s.speed_hz * 60, 6) << " rpm (" << s.source << ")\n";
+  }
+  for (const auto& m : r.meshes) {
+    o << "  mesh " << m.name << ": " << fmt(m.frequency_hz, 6) << " Hz\n";
+  }
+  o << "channels:\n";
+  for (const auto& c : r.channels) {
+    o << "  " << c.name << " [" << (c.unit.empty() ? "-" : c.unit) << "] rms " << fmt(c.time.rms)
+      << " peak " << fmt(c.time.peak) << " crest " << fmt(c.time.crest_factor) << " kurtosis "
+      << fmt(c.time.kurtosis);
+    if (c.vibration && !c.spectrum_peaks.empty()) {
+      o << "; top line " << fmt(c.spectrum_peaks.front().frequency_hz, 6) << " Hz";
+    }
+    o << "\n";
+  }
+  if (!r.two_direction.empty()) {
+    o << "two directions (normal / along at the mesh harmonics):\n";
+    for (const auto& t : r.two_direction) {
+      o << "  " << t.location << " mesh " << t.mesh << ": " << fmt(t.comparison.normal_to_along_db)
+        << " dB\n";
+    }
+  }
+  o << "findings:";
+  if (r.findings.empty()) o << " none";
+  o << "\n";
+  for (const auto& f : r.findings) {
+    o << "  [" << fmt(f.confidence, 2) << "] " << f.kind << ": "
+      << (f.bearing.empty() ? f.shaft : f.bearing + " " + f.fault) << " - " << f.note << "\n";
+  }
+  if (r.baseline) {
+    o << "anomaly score " << fmt(r.baseline->anomaly_score) << " (threshold "
+      << fmt(r.baseline->threshold) << "): " << (r.baseline->alarm ? "ALARM" : "normal") << "\n";
+  }
+  for (const auto& n : r.notes) o << "note: " << n << "\n";
+  return o.str();
+}
+
+}  // namespace detect

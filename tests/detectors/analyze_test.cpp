@@ -1,0 +1,305 @@
+// analyze_recording on synthetic recordings with known content: a mesh tone modulated at one
+// shaft's rotation, a known two-direction ratio, a bearing's outer-race impacts, and the JSON keys.
+#include "detect/analysis/analyze.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <set>
+
+#include "detect/analysis/html_report.hpp"
+#include "detect/analysis/svg_plot.hpp"
+#include "detect/indicators/indicators.hpp"
+#include "diag/error.hpp"
+
+namespace {
+
+constexpr double kFs = 10000.0;
+constexpr double kDuration = 10.0;
+constexpr double kInputHz = 10.0;            // 600 rpm
+constexpr int kZin = 18, kZout = 25;         // mesh 180 Hz; output 7.2 Hz (not a harmonic of 10)
+constexpr double kMeshHz = kZin * kInputHz;  // 180 Hz
+constexpr double kOutputHz = kInputHz * kZin / kZout;
+constexpr double kNoise = 0.05;      // [m/s^2] Gaussian, per sample
+constexpr double kModulation = 0.4;  // AM index of the damaged gear's shaft
+
+const char* kGearbox = R"({"name": "pair",
+  "shafts": [{"name": "in"}, {"name": "out"}],
+  "gears": [{"name": "a", "shaft": "in", "teeth": 18, "module_mm": 3.0},
+            {"name": "b", "shaft": "out", "teeth": 25, "module_mm": 3.0}],
+  "meshes": [{"driver": "a", "driven": "b"}],
+  "bearings": [{"name": "bearing1", "shaft": "in", "rolling_elements": 9,
+                "pitch_diameter_mm": 40, "element_diameter_mm": 8, "contact_angle_deg": 0}],
+  "input": {"shaft": "in", "speed_rpm": 600.0, "torque_nm": 50.0}})";
+
+diag::Signal channel(const std::string& name, diag::Direction d, std::vector<double> x) {
+  diag::Signal s;
+  s.name = name;
+  s.fs_hz = kFs;
+  s.unit = "m/s^2";
+  s.direction = d;
+  s.location = "bearing1";
+  s.samples = std::move(x);
+  return s;
+}
+
+// Mesh harmonics 1 and 2 (amplitudes 1 and 0.5), both amplitude-modulated at modulation_hz,
+// plus noise; normal channel: 0.1 at the mesh fundamental plus noise. A tacho on "in".
+diag::Recording pair_recording(double modulation_hz, unsigned seed = 1) {
+  const std::size_t n = static_cast<std::size_t>(kFs * kDuration);
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, kNoise);
+  std::vector<double> along(n), normal(n), tacho(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / kFs;
+    const double am = 1 + kModulation * std::cos(2 * M_PI * modulation_hz * t);
+    along[i] =
+        am * (std::sin(2 * M_PI * kMeshHz * t) + 0.5 * std::sin(4 * M_PI * kMeshHz * t)) + g(rng);
+    normal[i] = 0.1 * std::sin(2 * M_PI * kMeshHz * t + 0.7) + g(rng);
+    tacho[i] = std::fmod(t * kInputHz, 1.0) < 0.05 ? 1.0 : 0.0;
+  }
+  diag::Recording r;
+  r.signals.push_back(channel("bearing1_along_loa", diag::Direction::kAlongLoa, along));
+  r.signals.push_back(channel("bearing1_normal_loa", diag::Direction::kNormalLoa, normal));
+  diag::Signal tc = channel("in", diag::Direction::kTacho, tacho);
+  tc.location = "in";
+  tc.unit = "";
+  r.tachos.push_back(tc);
+  return r;
+}
+
+const diag::Gearbox& gearbox() {
+  static const diag::Gearbox gb = diag::parse_gearbox_text(kGearbox, "analyze_test");
+  return gb;
+}
+
+TEST(Analyze, SidebandsAtTheInputShaftRatePointAtTheInputShaft) {
+  const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
+  ASSERT_EQ(r.channels.size(), 2u);
+  const auto& m = r.channels[0].meshes.at(0);
+  EXPECT_EQ(m.sidebands.status, detect::SidebandStatus::kPointed);
+  ASSERT_GE(m.sidebands.pointed, 0);
+  EXPECT_EQ(m.sidebands.shafts[static_cast<std::size_t>(m.sidebands.pointed)].name, "in");
+  ASSERT_FALSE(r.findings.empty());
+  EXPECT_EQ(r.findings[0].kind, "gear_sidebands");
+  EXPECT_EQ(r.findings[0].shaft, "in");
+  EXPECT_EQ(r.findings[0].gears, std::vector<std::string>{"a"});
+  EXPECT_EQ(r.findings[0].channel, "bearing1_along_loa");
+}
+
+TEST(Analyze, SidebandsAtTheOutputShaftRatePointAtTheOutputShaft) {
+  const auto r = detect::analyze_recording(pair_recording(kOutputHz), &gearbox());
+  ASSERT_FALSE(r.findings.empty());
+  EXPECT_EQ(r.findings[0].shaft, "out");
+  EXPECT_EQ(r.findings[0].gears, std::vector<std::string>{"b"});
+}
+
+TEST(Analyze, ShaftSpeedsComeFromTheTachoAndTheRatio) {
+  // Pulse edges are placed to half a sample (50 us) at each end of a 10 s span: 1e-5 relative.
+  constexpr double kRelTol = 1e-5;
+  const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
+  ASSERT_EQ(r.shafts.size(), 2u);
+  EXPECT_EQ(r.shafts[0].source, "tacho");
+  EXPECT_NEAR(r.shafts[0].speed_hz / kInputHz, 1.0, kRelTol);
+  EXPECT_NEAR(r.shafts[1].speed_hz / kOutputHz, 1.0, kRelTol);
+  EXPECT_NEAR(r.meshes.at(0).frequency_hz / kMeshHz, 1.0, kRelTol);
+}
+
+TEST(Analyze, TsaOfTheInputShaftRecoversTheModulatedMeshTone) {
+  // The TSA keeps the orders locked to "in": mesh order 18 at amplitude 1 and its AM sidebands
+  // 17 and 19 at kModulation / 2. Tolerance 1 %: resampler passband ripple < 1e-3, noise after
+  // 100 revolutions ~ 5e-4 per order line, tacho edges quantised to half a sample (a constant
+  // phase, no amplitude loss).
+  constexpr double kAmpTol = 0.01;
+  const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
+  const auto& tsa = r.channels[0].tsa.at(0);
+  ASSERT_TRUE(tsa.computed) << tsa.note;
+  EXPECT_EQ(tsa.shaft, "in");
+  EXPECT_GE(tsa.revolutions, 98);
+  const auto a = detect::order_amplitudes(tsa.tsa);
+  EXPECT_NEAR(a[kZin], 1.0, kAmpTol);
+  EXPECT_NEAR(a[kZin - 1], kModulation / 2, kAmpTol);
+  EXPECT_NEAR(a[kZin + 1], kModulation / 2, kAmpTol);
+  EXPECT_NEAR(a[2 * kZin], 0.5, kAmpTol);
+  ASSERT_EQ(tsa.gears.size(), 1u);
+  // SI = (A(z-1) + A(z+1)) / 2 [D02]: kModulation / 2 here.
+  EXPECT_NEAR(tsa.gears[0].indicators.si, kModulation / 2, kAmpTol);
+  // regular + residual = TSA exactly (tsa.hpp).
+  for (std::size_t i = 0; i < tsa.tsa.size(); ++i) {
+    EXPECT_NEAR(tsa.regular[i] + tsa.residual[i], tsa.tsa[i], 1e-12);
+  }
+}
+
+TEST(Analyze, TwoDirectionRatioIsTheNormalToAlongEnergyAtTheMeshHarmonics) {
+  // along: harmonics 1 and 2 at amplitudes 1 and 0.5 (their AM sidebands lie 10 Hz away, outside
+  // the 1.8-3.6 Hz bands); normal: 0.1 at the fundamental. Expected 10 log10(0.01 / 1.25).
+  // Noise in the bands: 5e-7 /Hz x 21.6 Hz = 1.1e-5 against 5e-3: 0.01 dB; tolerance 0.1 dB.
+  constexpr double kDbTol = 0.1;
+  const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
+  ASSERT_EQ(r.two_direction.size(), 1u);
+  const auto& t = r.two_direction[0];
+  EXPECT_EQ(t.along_channel, "bearing1_along_loa");
+  EXPECT_EQ(t.normal_channel, "bearing1_normal_loa");
+  EXPECT_EQ(t.mesh, "a_b");
+  EXPECT_NEAR(t.comparison.normal_to_along_db, 10 * std::log10(0.01 / 1.25), kDbTol);
+}
+
+TEST(Analyze, TimeIndicatorsMatchANaiveComputation) {
+  constexpr double kRelTol = 1e-12;  // two-pass sums over 1e5 samples
+  const auto rec = pair_recording(kInputHz);
+  const auto r = detect::analyze_recording(rec, nullptr);
+  const auto& x = rec.signals[0].samples;
+  double ss = 0, pk = 0;
+  for (double v : x) ss += v * v, pk = std::max(pk, std::abs(v));
+  const double rms = std::sqrt(ss / static_cast<double>(x.size()));
+  EXPECT_NEAR(r.channels[0].time.rms, rms, kRelTol * rms);
+  EXPECT_NEAR(r.channels[0].time.crest_factor, pk / rms, kRelTol * pk / rms);
+  // Without a gearbox: no gear-related output, the largest line is the mesh fundamental.
+  EXPECT_TRUE(r.channels[0].meshes.empty());
+  EXPECT_TRUE(r.two_direction.empty());
+  EXPECT_TRUE(r.findings.empty());
+  ASSERT_FALSE(r.channels[0].spectrum_peaks.empty());
+  EXPECT_NEAR(r.channels[0].spectrum_peaks[0].frequency_hz, kMeshHz, 0.1);
+}
+
+TEST(Analyze, OuterRaceImpactsAtBpfoAreReportedAsABearingFinding) {
+  // BPFO = n f_r / 2 (1 - B_d/P_d) = 9 x 10 / 2 x 0.8 = 36 Hz. Impacts ring a 2.5 kHz resonance
+  // (1 ms decay) on a vertical channel at bearing1; the kurtogram finds the band.
+  const double bpfo = 9 * kInputHz / 2 * (1 - 8.0 / 40.0);
+  auto rec = pair_recording(kInputHz);
+  const std::size_t n = rec.signals[0].samples.size();
+  std::vector<double> v(n, 0.0);
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g(0.0, kNoise);
+  for (std::size_t i = 0; i < n; ++i) v[i] = g(rng);
+  for (double t0 = 0.01; t0 < kDuration; t0 += 1 / bpfo) {
+    for (std::size_t i = static_cast<std::size_t>(t0 * kFs); i < n; ++i) {
+      const double t = static_cast<double>(i) / kFs - t0;
+      if (t > 0.01) break;
+      v[i] += 1.0 * std::exp(-t / 1e-3) * std::sin(2 * M_PI * 2500 * t);
+    }
+  }
+  rec.signals.push_back(channel("bearing1_vertical", diag::Direction::kVertical, v));
+  const auto r = detect::analyze_recording(rec, &gearbox());
+  const auto& c = r.channels[2];
+  EXPECT_LE(c.envelope_low_hz, 2500.0);  // the demodulation band holds the resonance
+  EXPECT_GE(c.envelope_high_hz, 2500.0);
+  bool found = false;
+  for (const auto& f : r.findings) {
+    if (f.kind != "bearing") continue;
+    found = true;
+    EXPECT_EQ(f.bearing, "bearing1");
+    EXPECT_EQ(f.fault, "outer_race");
+    EXPECT_NEAR(f.frequency_hz, bpfo, 1e-3 * bpfo);  // tacho speed to 1e-5
+    EXPECT_EQ(f.channel, "bearing1_vertical");
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST(Analyze, JsonKeysAreStable) {
+  const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
+  const auto j = detect::to_json(r);
+  for (const char* k : {"format", "format_version", "gearbox", "input_shaft", "duration_s",
+                        "shafts", "meshes", "channels", "two_direction", "findings", "notes"}) {
+    EXPECT_TRUE(j.contains(k)) << k;
+  }
+  EXPECT_FALSE(j.contains("anomaly_score"));  // no baseline given
+  const auto& c = j["channels"][0];
+  for (const char* k :
+       {"name", "unit", "direction", "location", "fs_hz", "samples", "vibration", "indicators",
+        "spectrum", "psd", "envelope", "meshes", "tsa", "bearings", "notes"}) {
+    EXPECT_TRUE(c.contains(k)) << k;
+  }
+  for (const char* k : {"rms", "peak", "crest_factor", "kurtosis", "skewness"}) {
+    EXPECT_TRUE(c["indicators"].contains(k)) << k;
+  }
+  for (const char* k : {"fm0", "fm4", "m6a", "m8a", "na4", "er", "ser", "slf", "si"}) {
+    EXPECT_TRUE(c["tsa"][0]["gears"][0].contains(k)) << k;
+  }
+  EXPECT_EQ(c["meshes"][0]["sidebands"]["pointed_shaft"], "in");
+  const auto& f = j["findings"][0];
+  for (const char* k :
+       {"kind", "shaft", "gears", "frequency_hz", "channel", "confidence", "note"}) {
+    EXPECT_TRUE(f.contains(k)) << k;
+  }
+  for (const char* k : {"location", "along_channel", "normal_channel", "mesh", "mesh_hz",
+                        "along_energy", "normal_energy", "normal_to_along_db", "harmonics"}) {
+    EXPECT_TRUE(j["two_direction"][0].contains(k)) << k;
+  }
+  // Same input, same bytes.
+  EXPECT_EQ(
+      j.dump(),
+      detect::to_json(detect::analyze_recording(pair_recording(kInputHz), &gearbox())).dump());
+}
+
+TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
+  auto rec = pair_recording(kInputHz);
+  rec.signals.push_back(rec.signals[0]);
+  rec.signals.back().name = "copy";
+  rec.signals.back().location = "elsewhere";
+  detect::AnalyzeOptions one, four;
+  one.threads = 1;
+  four.threads = 4;
+  EXPECT_EQ(detect::to_json(detect::analyze_recording(rec, &gearbox(), one)).dump(),
+            detect::to_json(detect::analyze_recording(rec, &gearbox(), four)).dump());
+}
+
+TEST(Analyze, HtmlReportIsOneSelfContainedDocument) {
+  const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
+  const std::string h = detect::render_html_report(r);
+  EXPECT_EQ(h.rfind("<!DOCTYPE html>", 0), 0u);
+  EXPECT_NE(h.find("</html>"), std::string::npos);
+  EXPECT_EQ(h.find("<script"), std::string::npos);
+  EXPECT_EQ(h.find("http://"), h.find("http://www.w3.org/2000/svg"));  // only the SVG namespace
+  EXPECT_NE(h.find("<svg"), std::string::npos);
+  EXPECT_NE(h.find("Two directions"), std::string::npos);
+  EXPECT_NE(h.find("TSA of shaft in"), std::string::npos);
+}
+
+TEST(Analyze, ShortRecordsSkipStepsWithNotesInsteadOfFailing) {
+  auto rec = pair_recording(kInputHz);
+  for (auto& s : rec.signals) s.samples.resize(2000);  // 0.2 s: 2 input revolutions
+  for (auto& s : rec.tachos) s.samples.resize(2000);
+  const auto r = detect::analyze_recording(rec, &gearbox());
+  EXPECT_FALSE(r.channels[0].tsa.at(0).computed);
+  EXPECT_FALSE(r.channels[0].tsa.at(0).note.empty());
+}
+
+TEST(Analyze, BadInputIsRefused) {
+  diag::Recording empty;
+  EXPECT_THROW(detect::analyze_recording(empty, nullptr), diag::InputError);
+  detect::AnalyzeOptions o;
+  o.plot_points = 2;
+  EXPECT_THROW(detect::analyze_recording(pair_recording(kInputHz), nullptr, o), diag::InputError);
+}
+
+TEST(SvgPlot, DecimationKeepsANarrowLine) {
+  std::vector<double> x(100000), y(100000, 1e-3);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i);
+  y[54321] = 5.0;
+  const auto t = detect::decimate_for_plot(x, y, 1000);
+  EXPECT_LE(t.x.size(), 1000u);
+  EXPECT_EQ(*std::max_element(t.y.begin(), t.y.end()), 5.0);
+  const auto k = std::find(t.y.begin(), t.y.end(), 5.0) - t.y.begin();
+  EXPECT_EQ(t.x[static_cast<std::size_t>(k)], 54321.0);
+}
+
+TEST(SvgPlot, MaxOnlyDecimationKeepsEachBucketsLargestValue) {
+  std::vector<double> x(1000), y(1000);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i), y[i] = (i % 7) * 1.0;
+  const auto t = detect::decimate_for_plot(x, y, 100, detect::Decimation::kMax);
+  ASSERT_EQ(t.y.size(), 100u);
+  for (double v : t.y) EXPECT_EQ(v, 6.0);  // every 10-sample bucket holds a 6
+}
+
+TEST(SvgPlot, NiceTicksAreOneTwoFiveSteps) {
+  const auto t = detect::nice_ticks(0, 97, 5);
+  ASSERT_FALSE(t.empty());
+  EXPECT_EQ(t.front(), 0.0);
+  EXPECT_NEAR(t[1] - t[0], 20.0, 1e-12);
+  EXPECT_LE(t.back(), 97.0);
+}
+
+}  // namespace

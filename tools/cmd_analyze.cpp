@@ -1,0 +1,141 @@
+// geardiag analyze: offline analysis of a recording into a readable summary, a JSON report and a
+// self-contained HTML report (detect/analysis). Exit 0 on success (findings or not), 2 on bad
+// input.
+#include <unistd.h>
+
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "commands.hpp"
+#include "detect/analysis/analyze.hpp"
+#include "detect/analysis/html_report.hpp"
+#include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
+#include "diag/io/hdf5.hpp"
+#include "diag/io/import.hpp"
+
+namespace po = boost::program_options;
+
+namespace geardiag {
+
+namespace {
+
+// Writes to "<path>.tmp-<pid>" and renames into place: never a half-written report.
+void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw diag::InputError(path.string() + ": cannot write the file");
+    out << text;
+    out.flush();
+    if (!out) {
+      out.close();
+      std::filesystem::remove(tmp);
+      throw diag::InputError(path.string() + ": write failed");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp);
+    throw diag::InputError(path.string() +
+                           ": cannot rename the temporary file into place: " + ec.message());
+  }
+}
+
+}  // namespace
+
+int cmd_analyze(int argc, char** argv) {
+  detect::AnalyzeOptions opt;
+  std::string recording, gearbox, json_out, html_out;
+  std::vector<std::string> baselines;
+  double fs_hz = 0;
+  po::options_description desc(
+      "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--json OUT.json] "
+      "[--html OUT.html]\n\n"
+      "RECORDING: a geardiag HDF5 recording, or CSV (.csv, .csv.gz), WAV or MAT measurements\n"
+      "(imported as by `geardiag import`; --fs for CSV without a time column and for MAT).\n"
+      "The gearbox description comes from --gearbox, else from the recording's /gearbox; without\n"
+      "one only the unit-free indicators and spectra are computed. Reports: --json (stable keys,\n"
+      "amplitudes in each channel's unit) and --html (one self-contained file).\n\noptions");
+  desc.add_options()("help,h", "this help")("recording", po::value(&recording)->required(),
+                                            "recording (.h5, .csv, .csv.gz, .wav, .mat)")(
+      "gearbox", po::value(&gearbox), "gearbox description (JSON)")(
+      "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT, > 0")(
+      "baseline", po::value(&baselines)->multitoken(),
+      "healthy recordings to score against (not available in this build)")(
+      "json", po::value(&json_out), "write the analysis as JSON to this file")(
+      "html", po::value(&html_out), "write a self-contained HTML report to this file")(
+      "mesh-harmonics",
+      po::value(&opt.sidebands.mesh_harmonics)->default_value(opt.sidebands.mesh_harmonics),
+      "mesh harmonics examined for sidebands, 1..20")(
+      "sidebands", po::value(&opt.sidebands.sidebands)->default_value(opt.sidebands.sidebands),
+      "sideband orders on each side, 1..20")(
+      "tacho-ppr", po::value(&opt.tacho_pulses_per_rev)->default_value(opt.tacho_pulses_per_rev),
+      "tacho pulses per shaft revolution, >= 1")(
+      "tsa-min-revs", po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
+      "fewer whole revolutions skip a shaft's TSA, >= 2")(
+      "threads", po::value(&opt.threads)->default_value(opt.threads),
+      "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
+      "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
+      "Welch segment length [samples], [8, 2^24]");
+  po::positional_options_description pos;
+  pos.add("recording", 1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(desc).positional(pos).run(), vm);
+  if (vm.count("help")) {
+    std::cout << desc << "\n";
+    return 0;
+  }
+  po::notify(vm);
+  if (vm.count("fs") && !(fs_hz > 0 && std::isfinite(fs_hz))) {
+    throw diag::InputError("--fs: " + std::to_string(fs_hz) + " is not a sampling rate > 0 Hz");
+  }
+  if (!baselines.empty()) {
+    throw diag::InputError(
+        "--baseline: baseline scoring is not available in this build (detect/baseline is not "
+        "integrated yet); run without --baseline");
+  }
+
+  const std::filesystem::path path(recording);
+  if (!std::filesystem::exists(path)) {
+    throw diag::InputError(recording + ": no such file");
+  }
+  diag::Recording rec;
+  if (diag::is_hdf5_file(path)) {
+    rec = diag::read_recording(path);
+  } else {
+    diag::ImportOptions io;
+    if (vm.count("fs")) io.fs_hz = fs_hz;
+    rec = diag::import_recording(path, io);
+  }
+  std::optional<diag::Gearbox> gb;
+  if (!gearbox.empty()) {
+    gb = diag::load_gearbox(gearbox);
+  } else if (!rec.gearbox_json.empty()) {
+    gb = diag::parse_gearbox_text(rec.gearbox_json, recording + ": /gearbox");
+  }
+  detect::AnalysisResult r;
+  try {
+    r = detect::analyze_recording(rec, gb ? &*gb : nullptr, opt);
+  } catch (const diag::InputError& e) {
+    throw diag::InputError(recording + ": " + e.what());
+  }
+  std::cout << detect::format_summary(r);
+  if (!json_out.empty()) write_text_atomic(json_out, detect::to_json(r).dump(2) + "\n");
+  if (!html_out.empty()) {
+    detect::HtmlReportOptions ho;
+    ho.source = path.filename().string();
+    ho.title = "geardiag analysis: " + path.filename().string();
+    write_text_atomic(html_out, detect::render_html_report(r, ho));
+  }
+  return 0;
+}
+
+}  // namespace geardiag
