@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "output.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/html_report.hpp"
 #include "diag/error.hpp"
@@ -24,32 +25,6 @@ namespace po = boost::program_options;
 
 namespace geardiag {
 
-namespace {
-
-// Writes to "<path>.tmp-<pid>" and renames into place: never a half-written report.
-void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw diag::InputError(path.string() + ": cannot write the file");
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::filesystem::remove(tmp);
-      throw diag::InputError(path.string() + ": write failed");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp);
-    throw diag::InputError(path.string() +
-                           ": cannot rename the temporary file into place: " + ec.message());
-  }
-}
-
-}  // namespace
 
 int cmd_analyze(int argc, char** argv) {
   detect::AnalyzeOptions opt;

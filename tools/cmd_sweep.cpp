@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "output.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "sim/dynamics/scenario.hpp"
@@ -71,16 +72,7 @@ int cmd_sweep(int argc, char** argv) {
   };
   table("run up", r.up);
   if (sw.down) table("run down", r.down);
-  if (!json_out.empty()) {
-    const std::string tmp = json_out + ".tmp";
-    {
-      std::ofstream out(tmp);
-      if (!out) throw diag::InputError(json_out + ": cannot write the file");
-      out << r.to_json().dump(2) << "\n";
-      if (!out) throw diag::InputError(json_out + ": write failed");
-    }
-    std::rename(tmp.c_str(), json_out.c_str());
-  }
+  if (!json_out.empty()) write_text_atomic(json_out, r.to_json().dump(2) + "\n");
   return 0;
 }
 
