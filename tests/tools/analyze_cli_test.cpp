@@ -141,7 +141,8 @@ TEST(AnalyzeCli, HtmlReportRendersInHeadlessChromium) {
   }
   const fs::path html = scratch("render.html"), png = scratch("render.png");
   ASSERT_EQ(run("analyze " + simulated().string() + " --html " + html.string()).code, 0);
-  const std::string cmd = std::string(chromium) +
+  // timeout: a hung browser fails the test instead of stalling the suite.
+  const std::string cmd = "timeout 120 " + std::string(chromium) +
                           " --headless --disable-gpu --no-sandbox --dump-dom file://" +
                           html.string() + " 2>/dev/null";
   FILE* p = popen(cmd.c_str(), "r");
@@ -151,7 +152,7 @@ TEST(AnalyzeCli, HtmlReportRendersInHeadlessChromium) {
   ASSERT_EQ(pclose(p), 0);
   EXPECT_NE(dom.find("<svg"), std::string::npos);
   EXPECT_NE(dom.find("Findings"), std::string::npos);
-  const std::string shot = std::string(chromium) +
+  const std::string shot = "timeout 120 " + std::string(chromium) +
                            " --headless --disable-gpu --no-sandbox --screenshot=" + png.string() +
                            " --window-size=1200,2000 file://" + html.string() + " >/dev/null 2>&1";
   ASSERT_EQ(std::system(shot.c_str()), 0);
