@@ -2,6 +2,8 @@
 // input through the import path, exit codes for bad input, and an HTML render check in headless
 // Chromium (skipped when /usr/bin/chromium is absent; Debian package "chromium").
 #include <gtest/gtest.h>
+
+#include "cli_run.hpp"
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,28 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
-  int code;
-  std::string out;
-};
+using cli_test::run;
 
-Run run(const std::string& args) {
-  const std::string cmd = std::string(GEARDIAG_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-fs::path scratch(const std::string& name) {
-  const char* base = std::getenv("GEARDIAG_TMP");
-  fs::path dir = fs::path(base ? base : fs::temp_directory_path().string()) /
-                 ("analyze_cli_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+std::filesystem::path scratch(const std::string& name) { return cli_test::scratch("analyze_cli", name); }
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);

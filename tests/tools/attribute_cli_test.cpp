@@ -2,6 +2,8 @@
 // through the binary.
 #include <gtest/gtest.h>
 
+#include "cli_run.hpp"
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -17,28 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
-  int code;
-  std::string out;
-};
+using cli_test::run;
 
-Run run(const std::string& args) {
-  const std::string cmd = std::string(GEARDIAG_BINARY) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-fs::path scratch(const std::string& name) {
-  const char* base = std::getenv("GEARDIAG_TMP");
-  fs::path dir = fs::path(base ? base : fs::temp_directory_path().string()) /
-                 ("attribute_cli_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+std::filesystem::path scratch(const std::string& name) { return cli_test::scratch("attribute_cli", name); }
 
 fs::path seed_gearbox_with_defects() {
   const fs::path p = scratch("gb_defects.json");
