@@ -1,4 +1,5 @@
 #include "detect/analysis/analyze.hpp"
+#include "detect/gear/bearing_diagnosis.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -614,7 +615,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       f.kind = "bearing";
       f.bearing = b.name;
       f.shaft = b.shaft;
-      f.fault = to_string(winner);
+      f.fault = finding_name(winner);  // the findings' names: rolling_element, not ball
       f.frequency_hz = freq[winner];
       f.channel = best[winner].second;
       f.confidence = 0.3 + 0.4 * top / analysed;
@@ -692,18 +693,6 @@ const char* to_string(SidebandStatus s) {
     case SidebandStatus::kPointed:
       return "pointed";
     case SidebandStatus::kAmbiguous:
-      return "ambiguous";
-  }
-  return "unknown";
-}
-
-const char* to_string(BearingDecisionStatus s) {
-  switch (s) {
-    case BearingDecisionStatus::kNoFault:
-      return "no_fault";
-    case BearingDecisionStatus::kFault:
-      return "fault";
-    case BearingDecisionStatus::kAmbiguous:
       return "ambiguous";
   }
   return "unknown";

@@ -89,18 +89,6 @@ const FamilyScore* family(const BearingDecision& d, BearingFault f) {
   return nullptr;
 }
 
-const char* status_name(BearingDecisionStatus s) {
-  switch (s) {
-    case BearingDecisionStatus::kNoFault:
-      return "no_fault";
-    case BearingDecisionStatus::kFault:
-      return "fault";
-    case BearingDecisionStatus::kAmbiguous:
-      return "ambiguous";
-  }
-  return "";
-}
-
 nlohmann::json families_json(const BearingDecision& d) {
   nlohmann::json a = nlohmann::json::array();
   for (const FamilyScore& f : d.families)
@@ -246,7 +234,7 @@ nlohmann::json to_json(const BearingDiagnosis& d) {
   nlohmann::json bearings = nlohmann::json::array();
   for (const BearingStatus& s : d.bearings) {
     nlohmann::json b = {{"bearing", s.bearing},
-                        {"status", status_name(s.status)},
+                        {"status", to_string(s.status)},
                         {"fault", finding_name(s.fault)},
                         {"families", families_json(s.band_decision)}};
     if (!s.whole_decision.families.empty())

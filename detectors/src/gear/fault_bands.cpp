@@ -232,6 +232,18 @@ const char* to_string(BearingFault f) {
   return "?";
 }
 
+const char* to_string(BearingDecisionStatus s) {
+  switch (s) {
+    case BearingDecisionStatus::kNoFault:
+      return "no_fault";
+    case BearingDecisionStatus::kFault:
+      return "fault";
+    case BearingDecisionStatus::kAmbiguous:
+      return "ambiguous";
+  }
+  return "unknown";
+}
+
 void BearingDecisionOptions::validate() const {
   const std::string w = "BearingDecisionOptions";
   if (harmonics < 1 || harmonics > 20) fail(w, "harmonics", harmonics, "1..20");

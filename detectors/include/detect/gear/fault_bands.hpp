@@ -120,6 +120,8 @@ enum class BearingDecisionStatus {
   kFault,      // one family passes and beats every other passing family by margin_db
   kAmbiguous,  // two or more families pass within margin_db of each other: no fault is named
 };
+// "no_fault", "fault", "ambiguous".
+const char* to_string(BearingDecisionStatus s);
 
 // Scoring (per family, fundamental f0 = FTF, BPFO, BPFI or 2 BSF): for h = 1..harmonics the line at
 // h f0 is measured (measure_line) with a search half-width of max(search_bins bins,
