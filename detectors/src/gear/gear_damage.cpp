@@ -20,6 +20,7 @@ namespace detect {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 // Relative tolerance for "this speed ratio is the integer / rational p/q": the gearbox ratios are
 // exact products of tooth-count ratios, so only round-off separates them from p/q.
 constexpr double kRatioTol = 1e-9;
@@ -86,33 +87,36 @@ std::vector<const diag::Signal*> shaft_channels(const diag::Recording& rec, cons
   return casing;
 }
 
-// e = d with the orders k * step (k >= 1) removed for every step in `steps`.
-// Also removes, around every harmonic of the shaft's own mesh orders, the sidebands 2 .. 1 + extra
-// (the first went with the difference signal), and every order above max_order_fraction of the
-// Nyquist order.
-std::vector<double> remove_orders(const std::vector<double>& d, const std::vector<int>& steps,
-                                  const std::vector<int>& own_orders, int extra,
-                                  double max_order_fraction) {
-  RealFft fft(d.size());
-  std::vector<std::complex<double>> spec(fft.bins());
-  fft.forward(d, spec);
+// The exclusive order set of a shaft, as a mask over the lines 0 .. spr/2 of its TSA: every
+// order up to `top`, less order 0, the regular orders (shaft order 1, the mesh orders with all
+// their harmonics and first sidebands: the difference signal's complement), the sidebands
+// 2 .. 1 + extra around the harmonics of the shaft's own mesh orders, and every multiple of each
+// step in `steps` (orders shared with faster shafts).
+std::vector<bool> exclusive_orders(std::size_t spr, const std::vector<int>& mesh_orders,
+                                   const std::vector<int>& steps,
+                                   const std::vector<int>& own_orders, int extra, std::size_t top) {
+  const std::vector<bool> regular = tsa_regular_orders(spr, mesh_orders, 1);
+  std::vector<bool> keep(regular.size(), false);
+  for (std::size_t k = 1; k < keep.size() && k <= top; ++k) keep[k] = !regular[k];
+  const int last = static_cast<int>(keep.size()) - 1;
   for (int step : steps) {
-    for (std::size_t k = static_cast<std::size_t>(step); k < spec.size(); k += step) spec[k] = 0;
+    for (int k = step; k <= last; k += step) keep[k] = false;
   }
-  const int top = static_cast<int>(spec.size()) - 1;
   for (int z : own_orders) {
-    for (int h = z; h - 1 - extra <= top; h += z) {
+    for (int h = z; h - 1 - extra <= last; h += z) {
       for (int j = 2; j <= 1 + extra; ++j) {
-        if (h - j >= 0 && h - j <= top) spec[h - j] = 0;
-        if (h + j <= top) spec[h + j] = 0;
+        if (h - j >= 0 && h - j <= last) keep[h - j] = false;
+        if (h + j <= last) keep[h + j] = false;
       }
     }
   }
-  const std::size_t keep = static_cast<std::size_t>(max_order_fraction * (spec.size() - 1));
-  for (std::size_t k = keep + 1; k < spec.size(); ++k) spec[k] = 0;
-  std::vector<double> e(d.size());
-  fft.inverse(spec, e);
-  return e;
+  return keep;
+}
+
+int next_power_of_two(double x) {
+  int p = 1;
+  while (p < x && p < (1 << 30)) p <<= 1;
+  return p;
 }
 
 // Least-squares polynomial of degree `degree` through (k, t_k), k the pulse index scaled to
@@ -157,8 +161,10 @@ GearIndicators indicators_for(const Tsa& t, const std::vector<double>& diff,
 }  // namespace
 
 void GearDamageOptions::validate() const {
-  if (samples_per_rev < 64 || (samples_per_rev & (samples_per_rev - 1)) != 0) {
-    fail("samples_per_rev", std::to_string(samples_per_rev) + " is not a power of two >= 64");
+  if (samples_per_rev != 0 &&
+      (samples_per_rev < 64 || (samples_per_rev & (samples_per_rev - 1)) != 0)) {
+    fail("samples_per_rev",
+         std::to_string(samples_per_rev) + " is not 0 (automatic) or a power of two >= 64");
   }
   if (pulse_fit_degree < 0 || pulse_fit_degree > 8) {
     fail("pulse_fit_degree", std::to_string(pulse_fit_degree) + " is outside [0, 8]");
@@ -166,11 +172,17 @@ void GearDamageOptions::validate() const {
   if (extra_sideband_orders < 0) {
     fail("extra_sideband_orders", std::to_string(extra_sideband_orders) + " is negative");
   }
-  if (!(max_order_fraction > 0.0 && max_order_fraction <= 1.0)) {
-    fail("max_order_fraction", std::to_string(max_order_fraction) + " is outside (0, 1]");
+  if (!(band_fraction > 0.0 && band_fraction <= 1.0)) {
+    fail("band_fraction", std::to_string(band_fraction) + " is outside (0, 1]");
+  }
+  if (!(min_level >= 0.0) || !std::isfinite(min_level)) {
+    fail("min_level", std::to_string(min_level) + " must be finite and >= 0");
   }
   if (!(min_exclusive_share >= 0.0 && min_exclusive_share < 1.0)) {
     fail("min_exclusive_share", std::to_string(min_exclusive_share) + " is outside [0, 1)");
+  }
+  if (!(min_snr >= 1.0) || !std::isfinite(min_snr)) {
+    fail("min_snr", std::to_string(min_snr) + " must be finite and >= 1 (noise alone)");
   }
   if (min_revolutions < 2) {
     fail("min_revolutions", std::to_string(min_revolutions) + " is below 2");
@@ -242,19 +254,39 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   const double ref_hz =
       (tr.pulse_times_s.size() - 1) / (tr.pulse_times_s.back() - tr.pulse_times_s.front());
 
-  TsaOptions to;
-  to.samples_per_rev = options.samples_per_rev;
-  to.min_revolutions = options.min_revolutions;
-  const int half = options.samples_per_rev / 2;
+  ResampleOptions ro;
+  ro.pulses_per_rev = 1;
 
   for (std::size_t si = 0; si < shafts.size(); ++si) {
     const diag::Shaft& sh = shafts[si];
     if (sh.gears.empty()) continue;
     ShaftDamage sd;
     sd.shaft = sh.name;
-    sd.score = kNaN;
+    sd.score = sd.fm4 = sd.snr = kNaN;
     const double rel = std::abs(sh.speed_ratio) / ref_ratio;  // f_s / f_ref
     sd.frequency_hz = ref_hz * rel;
+
+    std::vector<const diag::Signal*> chans;
+    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
+      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
+    } else {
+      chans = shaft_channels(rec, gb, sh.name);
+    }
+    if (chans.empty()) {
+      note << "shaft '" << sh.name << "': no channel. ";
+      res.shafts.push_back(sd);
+      continue;
+    }
+    // Highest order analysed and the TSA resolution (options).
+    const double fs = chans.front()->fs_hz;
+    const double top_order = options.band_fraction * 0.5 * fs / sd.frequency_hz;
+    const int spr = options.samples_per_rev > 0
+                        ? options.samples_per_rev
+                        : std::clamp(next_power_of_two(2.8 * top_order), 64, 16384);
+    const int half = spr / 2;
+    const auto top = static_cast<std::size_t>(std::min(top_order, 0.72 * half));
+    sd.samples_per_rev = spr;
+    ro.samples_per_rev = spr;
 
     // Every mesh frequency that is an integer order of this shaft, below the Nyquist order.
     std::vector<int> mesh_orders;
@@ -279,50 +311,78 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       const int p = shared_order_step(r);
       if (p > 0 && p <= half) shared_steps.push_back(p);
     }
+    const std::vector<bool> keep = exclusive_orders(static_cast<std::size_t>(spr), mesh_orders,
+                                                    shared_steps, own_orders,
+                                                    options.extra_sideband_orders, top);
 
-    std::vector<const diag::Signal*> chans;
-    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
-      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
-    } else {
-      chans = shaft_channels(rec, gb, sh.name);
-    }
-    if (chans.empty()) {
-      note << "shaft '" << sh.name << "': no channel. ";
-      res.shafts.push_back(sd);
-      continue;
-    }
+    // The same band without the removal of the shared orders (the exclusive share's reference).
+    const std::vector<bool> in_band = exclusive_orders(static_cast<std::size_t>(spr), mesh_orders,
+                                                       {}, own_orders,
+                                                       options.extra_sideband_orders, top);
+    const std::vector<bool> regular = tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
     const std::vector<double> pulses = scale_pulses(ref_pulses, rel);
+    RealFft fft(static_cast<std::size_t>(spr));
+    std::vector<std::complex<double>> mean_spec(fft.bins()), rev_spec(fft.bins());
+    std::vector<double> var(fft.bins());
     for (const diag::Signal* ch : chans) {
+      AngleResampled ar;
       Tsa t;
       try {
-        t = tsa(ch->samples, ch->fs_hz, pulses, to);
+        ar = resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
+        t = tsa(ar, options.min_revolutions);
       } catch (const diag::InputError& e) {
         note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
         break;
       }
-      const std::vector<double> diff = tsa_difference(t, mesh_orders);
-      const std::vector<double> excl =
-          remove_orders(diff, shared_steps, own_orders, options.extra_sideband_orders,
-                        options.max_order_fraction);
-      const double score = fm4(excl);
-      // Share of the exclusive signal in the difference signal over the same band.
-      const std::vector<double> band =
-          shared_steps.empty() ? excl
-                               : remove_orders(diff, {}, own_orders, options.extra_sideband_orders,
-                                               options.max_order_fraction);
-      const double share = std::inner_product(excl.begin(), excl.end(), excl.begin(), 0.0) /
-                           std::inner_product(band.begin(), band.end(), band.begin(), 0.0);
-      if (std::isnan(sd.score) || score > sd.score) {
-        sd.exclusive_share = share;
+      // Spectrum of the TSA and the revolution-to-revolution variance of every order.
+      fft.forward(t.samples, mean_spec);
+      std::fill(var.begin(), var.end(), 0.0);
+      for (int r = 0; r < ar.revolutions; ++r) {
+        fft.forward(std::span<const double>(ar.samples).subspan(static_cast<std::size_t>(r) * spr,
+                                                                static_cast<std::size_t>(spr)),
+                    rev_spec);
+        for (std::size_t k = 0; k < var.size(); ++k) var[k] += std::norm(rev_spec[k] - mean_spec[k]);
+      }
+      double energy = 0.0, noise = 0.0, band = 0.0, regular_energy = 0.0;
+      for (std::size_t k = 0; k < keep.size(); ++k) {
+        if (in_band[k]) band += std::norm(mean_spec[k]);
+        if (k > 0 && k <= top && regular[k]) regular_energy += std::norm(mean_spec[k]);
+        if (keep[k]) {
+          energy += std::norm(mean_spec[k]);
+          noise += var[k] / (static_cast<double>(ar.revolutions) * (ar.revolutions - 1));
+        } else {
+          mean_spec[k] = 0.0;
+        }
+      }
+      std::vector<double> excl(static_cast<std::size_t>(spr));
+      fft.inverse(mean_spec, excl);
+      const double raw = energy > 0.0 ? fm4(excl) : kNaN;
+      const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
+      // Kurtosis of the synchronous part (options): only where it stands out of the noise.
+      double score = 3.0;
+      if (snr >= options.min_snr && std::isfinite(raw)) {
+        const double gain = std::isfinite(snr) ? snr / (snr - 1.0) : 1.0;
+        score = 3.0 + (raw - 3.0) * gain * gain;
+      }
+      if (std::isnan(sd.score) || score > sd.score ||
+          (score == sd.score && snr > sd.snr)) {
         sd.score = score;
+        sd.fm4 = raw;
+        sd.snr = snr;
+        sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
+        sd.level = regular_energy > 0.0 ? std::sqrt(std::max(0.0, energy - noise) / regular_energy)
+                                        : kInf;
         sd.channel = ch->name;
         sd.revolutions = t.revolutions;
+        const std::vector<double> diff = tsa_difference(t, mesh_orders);
         sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
       }
     }
-    const bool own = !(sd.exclusive_share < options.min_exclusive_share);
-    sd.damaged = own && sd.score > options.damaged_fm4;
-    sd.uncertain = own && !sd.damaged && sd.score > options.healthy_fm4;
+    const bool significant = sd.snr >= options.min_snr && !(sd.level < options.min_level) &&
+                             !(shared_steps.size() > 0 &&
+                               sd.exclusive_share < options.min_exclusive_share);
+    sd.damaged = significant && sd.score > options.damaged_fm4;
+    sd.uncertain = significant && !sd.damaged && sd.score > options.healthy_fm4;
     res.shafts.push_back(sd);
   }
 
@@ -383,7 +443,11 @@ nlohmann::json to_json(const GearDamageResult& r) {
                            {"revolutions", s.revolutions},
                            {"channel", s.channel},
                            {"score", num(s.score)},
+                           {"samples_per_rev", s.samples_per_rev},
+                           {"fm4_exclusive", num(s.fm4)},
+                           {"snr", num(s.snr)},
                            {"exclusive_share", num(s.exclusive_share)},
+                           {"level", num(s.level)},
                            {"damaged", s.damaged},
                            {"uncertain", s.uncertain},
                            {"fm4", num(s.indicators.fm4)},

@@ -444,6 +444,30 @@ std::pair<double, double> GearboxModel::normal_direction(int mesh) const {
   return {-d.tx, -d.ty};  // (cos a_w, -sin a_w) in the mesh frame (SPEC section 1)
 }
 
+std::uint64_t GearboxModel::contact_signature(double t, const double* y) const {
+  const Impl& m = *impl_;
+  const double th_in = m.nominal_angle(t);
+  std::uint64_t sig = 0;
+  for (const MeshData& d : m.meshes) {
+    const double theta_a = d.ra * th_in + y[d.a];
+    const double cycles = std::floor(theta_a * d.inv_pitch_a);
+    const double phase = theta_a - cycles * d.pitch_a;
+    int pairs = 0, approach = 0;
+    for (; pairs < 3; ++pairs) {
+      const double s = d.s_start + d.rba * phase + pairs * d.pb;
+      if (s > d.s_end) break;
+      if (d.friction && s < d.s_pitch) ++approach;  // friction reverses at the pitch point
+    }
+    // Mix (cycle, pairs, pairs before the pitch point) of every mesh into one number (FNV-1a
+    // style); a change of any changes it (collisions between consecutive steps are practically
+    // impossible).
+    sig = (sig ^ static_cast<std::uint64_t>(static_cast<long long>(cycles) * 16 + pairs * 4 +
+                                            approach)) *
+          0x100000001b3ULL;
+  }
+  return sig;
+}
+
 double GearboxModel::gear_angle_rad(int gear, double t, const double* y) const {
   return impl_->ratio.at(gear) * impl_->nominal_angle(t) + y[gear];
 }

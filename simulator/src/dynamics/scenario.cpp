@@ -151,7 +151,7 @@ Scenario parse_scenario(const json& j, const std::string& where) {
   }
   if (f.has("integrator")) {
     diag::Fields in(f.raw("integrator"), where, "integrator",
-                    {"method", "step_s", "steps_per_period", "steps_per_mesh", "rel_tol", "abs_tol"});
+                    {"method", "step_s", "steps_per_period", "steps_per_mesh", "contact_substeps", "rel_tol", "abs_tol"});
     const std::string method = in.str("method", "rk4");
     if (method == "rk4") {
       r.method = RunOptions::Method::kRk4;
@@ -163,6 +163,7 @@ Scenario parse_scenario(const json& j, const std::string& where) {
     r.step_s = in.non_negative("step_s", 0.0);
     if (in.has("steps_per_period")) r.steps_per_period = in.integer("steps_per_period");
     if (in.has("steps_per_mesh")) r.steps_per_mesh = in.integer("steps_per_mesh");
+    if (in.has("contact_substeps")) r.contact_substeps = in.integer("contact_substeps");
     r.gsl_rel_tol = in.positive("rel_tol", r.gsl_rel_tol);
     r.gsl_abs_tol = in.positive("abs_tol", r.gsl_abs_tol);
   }

@@ -148,6 +148,14 @@ class GearboxModel {
   double total_energy_j(double t, const double* y) const;
   double parametric_work_j(double t0, const double* y0, double t1, const double* y1) const;
 
+  // The set of tooth pairs in contact at (t, y), as a number that changes whenever a pair enters
+  // or leaves any mesh's path of contact or crosses its pitch point (the mesh cycle index, the
+  // pair count and the pairs before the pitch point). The pair stiffness jumps at the path's ends
+  // (potential-energy method: 0 to a finite value) and friction reverses at the pitch point, so a
+  // fixed-step integrator that steps across such an instant makes an error that depends on where
+  // in the step it falls; simulate() refines those steps (RunOptions).
+  std::uint64_t contact_signature(double t, const double* y) const;
+
   // Total angle of gear g (forward sense) [rad] and the nominal input angle.
   double gear_angle_rad(int gear, double t, const double* y) const;
   double gear_speed_ratio(int gear) const;  // r_g = |omega_g / omega_in|
