@@ -13,38 +13,65 @@
 #include <optional>
 
 #include "commands.hpp"
-#include "output.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/html_report.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
+#include "output.hpp"
 
 namespace po = boost::program_options;
 
 namespace geardiag {
 
+namespace {
+
+// A recording as `analyze` reads it: a geardiag HDF5 file, else an import (CSV, WAV, MAT) with the
+// --fs given. Throws diag::InputError naming the file.
+diag::Recording load_recording(const std::string& file, std::optional<double> fs_hz) {
+  const std::filesystem::path path(file);
+  if (!std::filesystem::exists(path)) throw diag::InputError(file + ": no such file");
+  try {
+    if (diag::is_hdf5_file(path)) return diag::read_recording(path);
+    diag::ImportOptions io;
+    io.fs_hz = fs_hz;
+    return diag::import_recording(path, io);
+  } catch (const diag::InputError& e) {
+    const std::string what = e.what();
+    if (what.find(file) != std::string::npos) throw;
+    throw diag::InputError(file + ": " + what);
+  }
+}
+
+}  // namespace
 
 int cmd_analyze(int argc, char** argv) {
   detect::AnalyzeOptions opt;
+  const detect::BaselineComparisonOptions bo;
   std::string recording, gearbox, json_out, html_out;
   std::vector<std::string> baselines;
   double fs_hz = 0;
   po::options_description desc(
-      "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--json OUT.json] "
-      "[--html OUT.html]\n\n"
+      "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
+      "[--json OUT.json] [--html OUT.html]\n\n"
       "RECORDING: a geardiag HDF5 recording, or CSV (.csv, .csv.gz), WAV or MAT measurements\n"
       "(imported as by `geardiag import`; --fs for CSV without a time column and for MAT).\n"
       "The gearbox description comes from --gearbox, else from the recording's /gearbox; without\n"
       "one only the unit-free indicators and spectra are computed. Reports: --json (stable keys,\n"
-      "amplitudes in each channel's unit) and --html (one self-contained file).\n\noptions");
+      "amplitudes in each channel's unit) and --html (one self-contained file).\n"
+      "--baseline: healthy recordings of the same machine and channels, read like RECORDING\n"
+      "(same --fs); each is cut into " +
+      std::to_string(bo.segments_per_recording) +
+      " parts, the unit-free features of every common channel are compared\n"
+      "(robust z), anomaly_score = mean z^2, alarm above " +
+      std::to_string(static_cast<int>(bo.baseline.alarm_threshold)) + ".\n\noptions");
   desc.add_options()("help,h", "this help")("recording", po::value(&recording)->required(),
                                             "recording (.h5, .csv, .csv.gz, .wav, .mat)")(
       "gearbox", po::value(&gearbox), "gearbox description (JSON)")(
       "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT, > 0")(
       "baseline", po::value(&baselines)->multitoken(),
-      "healthy recordings to score against (not available in this build)")(
+      "healthy recordings to compare with (same channels and sampling rate)")(
       "json", po::value(&json_out), "write the analysis as JSON to this file")(
       "html", po::value(&html_out), "write a self-contained HTML report to this file")(
       "mesh-harmonics",
@@ -72,23 +99,19 @@ int cmd_analyze(int argc, char** argv) {
   if (vm.count("fs") && !(fs_hz > 0 && std::isfinite(fs_hz))) {
     throw diag::InputError("--fs: " + std::to_string(fs_hz) + " is not a sampling rate > 0 Hz");
   }
-  if (!baselines.empty()) {
-    throw diag::InputError(
-        "--baseline: baseline scoring is not available in this build (detect/baseline is not "
-        "integrated yet); run without --baseline");
-  }
-
+  const std::optional<double> fs =
+      vm.count("fs") ? std::optional<double>(fs_hz) : std::optional<double>();
   const std::filesystem::path path(recording);
-  if (!std::filesystem::exists(path)) {
-    throw diag::InputError(recording + ": no such file");
-  }
-  diag::Recording rec;
-  if (diag::is_hdf5_file(path)) {
-    rec = diag::read_recording(path);
-  } else {
-    diag::ImportOptions io;
-    if (vm.count("fs")) io.fs_hz = fs_hz;
-    rec = diag::import_recording(path, io);
+  diag::Recording rec = load_recording(recording, fs);
+  // Every input is read before anything is analysed or written: a bad baseline file stops the
+  // run with its name and no output.
+  std::vector<diag::Recording> healthy;
+  for (const std::string& b : baselines) {
+    try {
+      healthy.push_back(load_recording(b, fs));
+    } catch (const diag::InputError& e) {
+      throw diag::InputError(std::string("--baseline ") + e.what());
+    }
   }
   std::optional<diag::Gearbox> gb;
   if (!gearbox.empty()) {
@@ -101,6 +124,13 @@ int cmd_analyze(int argc, char** argv) {
     r = detect::analyze_recording(rec, gb ? &*gb : nullptr, opt);
   } catch (const diag::InputError& e) {
     throw diag::InputError(recording + ": " + e.what());
+  }
+  if (!healthy.empty()) {
+    try {
+      r.baseline = detect::score_against_baseline(rec, healthy, bo, baselines);
+    } catch (const diag::InputError& e) {
+      throw diag::InputError(std::string("--baseline: ") + e.what());
+    }
   }
   std::cout << detect::format_summary(r);
   if (!json_out.empty()) write_text_atomic(json_out, detect::to_json(r).dump(2) + "\n");

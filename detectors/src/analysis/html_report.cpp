@@ -125,13 +125,27 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       << f3(c.time.kurtosis) << "</td><td>" << f3(c.time.skewness) << "</td></tr>";
   }
   o << "</table>\n";
-  if (r.baseline && !r.baseline->deviations.empty()) {
-    o << "<h3>Against the baseline</h3><table><tr><th class=l>feature</th><th>value</th>"
-         "<th>baseline mean</th><th>baseline std</th><th>z</th></tr>";
-    for (const auto& d : r.baseline->deviations) {
+  if (r.baseline) {
+    const AnalysisBaseline& b = *r.baseline;
+    o << "<h3 id=baseline>Against the baseline</h3>\n<p>Anomaly score <b>" << f3(b.anomaly_score)
+      << "</b> (mean z&sup2; over " << b.deviations.size() << " features; threshold "
+      << f3(b.threshold)
+      << "): " << (b.alarm ? "<span class=alarm>ALARM</span>" : "<span class=ok>normal</span>")
+      << ". Baseline: " << b.recordings.size() << " recordings, " << b.samples
+      << " samples; channels compared: ";
+    for (std::size_t k = 0; k < b.channels.size(); ++k)
+      o << (k ? ", " : "") << html_escape(b.channels[k]);
+    o << ".</p>\n";
+    for (const auto& n : b.notes) o << "<p class=note>" << html_escape(n) << "</p>\n";
+    o << "<p class=note>z = (value &minus; baseline median) / robust spread (1.4826 MAD, at "
+         "least the spread floor); features are unit-free (baseline.hpp), largest |z| first.</p>"
+         "<table><tr><th class=l>feature</th><th>value</th><th>baseline median</th>"
+         "<th>robust spread</th><th>z</th></tr>";
+    for (const auto& d : b.deviations) {
+      const bool big = d.z * d.z > b.threshold;  // alone above the threshold: highlighted
       o << "<tr><td class=l>" << html_escape(d.feature) << "</td><td>" << f3(d.value) << "</td><td>"
-        << f3(d.baseline_mean) << "</td><td>" << f3(d.baseline_std) << "</td><td>" << f3(d.z)
-        << "</td></tr>";
+        << f3(d.baseline_centre) << "</td><td>" << f3(d.baseline_spread) << "</td><td>"
+        << (big ? "<span class=alarm>" : "") << f3(d.z) << (big ? "</span>" : "") << "</td></tr>";
     }
     o << "</table>\n";
   }

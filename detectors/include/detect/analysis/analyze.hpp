@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "detect/angular/tsa.hpp"
+#include "detect/baseline/baseline.hpp"
 #include "detect/gear/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
 #include "detect/gear/sidebands.hpp"
@@ -127,6 +128,7 @@ struct ChannelAnalysis {
   double fs_hz = 0;
   std::size_t samples = 0;
   bool vibration = true;  // false for tacho and angle channels: only `time` is filled
+  bool sensor = true;     // in sensor_channels(): votes in the findings (false: shown only)
   TimeIndicators time;
   double spectrum_resolution_hz = 0;
   double spectrum_enbw_hz = 0;
@@ -178,17 +180,25 @@ struct AnalysisFinding {
   std::string note;
 };
 
-// Integration point for baselines (detect/baseline, not in this build): a filled value renders
-// in the report and the JSON ("anomaly_score", "alarm", "baseline_deviations").
+// Comparison with healthy baseline recordings (score_against_baseline below). Rendered in the
+// report and the JSON ("anomaly_score", "alarm", "anomaly_threshold", "baseline_deviations",
+// "baseline").
 struct AnalysisBaselineDeviation {
-  std::string feature;  // a key of features()
-  double value = 0, baseline_mean = 0, baseline_std = 0, z = 0;
+  std::string feature;  // "<channel>.<feature>" (baseline.hpp's names, e.g. "a1.kurtosis_log")
+  double value = 0;     // the recording's feature value
+  double baseline_centre = 0;  // median over the baseline samples
+  double baseline_spread = 0;  // max(1.4826 MAD, spread_floor): a robust standard deviation
+  double z = 0;                // (value - centre) / spread [robust sigmas]
 };
 struct AnalysisBaseline {
-  double anomaly_score = 0;
-  double threshold = 0;
+  double anomaly_score = 0;  // mean of z^2 over every feature (baseline.hpp)
+  double threshold = 0;      // alarm when anomaly_score > threshold
   bool alarm = false;
-  std::vector<AnalysisBaselineDeviation> deviations;  // largest |z| first
+  std::vector<AnalysisBaselineDeviation> deviations;  // every feature, largest |z| first
+  std::vector<std::string> channels;    // channels compared (in the recording and every baseline)
+  std::vector<std::string> recordings;  // the baseline recordings' names, in the order given
+  std::size_t samples = 0;              // baseline feature sets fitted (recordings x segments)
+  std::vector<std::string> notes;       // channels left out and why, segment counts lowered
 };
 
 struct AnalysisResult {
@@ -209,9 +219,52 @@ struct AnalysisResult {
 AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox* gb,
                                  const AnalyzeOptions& opt = {});
 
+// The channels that stand for the machine's vibration, as indices into rec.signals: every signal
+// but tacho and angle channels and, when the recording holds channels with a sensing direction
+// (along_loa, normal_loa, horizontal, vertical), only those. The simulator also records internal
+// quantities without a direction (mesh force and friction, dynamic transmission error, contact):
+// they are analysed and shown, but do not vote in findings nor enter a baseline (noise-free, their
+// sideband prominences reach the detector's cap and their baseline features do not scatter).
+// Imported measurements carry no direction: then every vibration channel counts.
+std::vector<std::size_t> sensor_channels(const diag::Recording& rec);
+
+// ---- Baseline comparison (detect/baseline/baseline.hpp) ----
+// Each baseline recording is cut into `segments_per_recording` equal parts and each part gives one
+// baseline sample: the features of baseline_features() of every compared channel, prefixed with
+// the channel's name ("a1.kurtosis_log"). Baseline::fit takes the median and robust spread of each
+// feature over these samples; the recording is scored on its whole record: anomaly_score = mean
+// z^2, alarm above BaselineOptions::alarm_threshold (25). This is the setting validated on the
+// SpectraQuest set (healthy files of four loads as baseline, eight parts each; the fifth load's
+// healthy file scores <= 9.95 and its broken-tooth file >= 50.6; spectraquest_test.cpp).
+// Channels are matched by name. The compared channels are the recording's sensor channels
+// (sensor_channels) present in every baseline recording; one missing from a baseline recording
+// is left out with a note, as is one whose features cannot be computed (too short, constant).
+// CAUTION: the crest factor of a record grows with its length (the largest of N Gaussian samples
+// sits near sqrt(2 ln N) sigma): keep the recording about as long as the baseline recordings, as
+// in the validation (a recording 8x longer than a baseline part reads ~0.1 higher in crest_log).
+struct BaselineComparisonOptions {
+  BaselineFeatureOptions features;  // the validated feature set (7 octave bands from fs/256, ...)
+  BaselineOptions baseline;         // alarm_threshold 25, spread_floor 0.05, min_samples 3
+  int segments_per_recording = 8;   // parts per baseline recording, [1, 64]; fewer when a part
+                                    // would hold fewer than 4 features.nperseg samples (noted)
+
+  void validate() const;  // throws diag::InputError "score_against_baseline: <field>: ..."
+};
+
+// Throws diag::InputError, naming the baseline recording (names[i], else "baseline recording
+// <i+1>") when it is at fault: no baseline recording; a baseline recording with no sensor channel
+// of the recording; a compared channel whose sampling rate differs from the recording's (the
+// features compare bands at fractions of fs, so the rates must match); no channel left to compare;
+// fewer than min_samples baseline samples. `names` is empty or one per baseline recording.
+AnalysisBaseline score_against_baseline(const diag::Recording& rec,
+                                        std::span<const diag::Recording> baseline,
+                                        const BaselineComparisonOptions& opt = {},
+                                        std::span<const std::string> names = {});
+
 // Scalar features by name, "<channel>/<indicator>" (e.g. "bearing1_along_loa/rms",
 // "bearing1_along_loa/tsa/input/z1/fm4", "two_direction/<location>/<mesh>/normal_to_along_db"):
-// the vector a baseline is fitted on. NaN features are left out.
+// every scalar indicator of the analysis, for trending (the baseline comparison uses the unit-free
+// baseline_features instead, see above). NaN features are left out.
 std::map<std::string, double> features(const AnalysisResult& r);
 
 // JSON with stable keys (README "geardiag analyze"). Amplitudes are in each channel's "unit"
