@@ -25,6 +25,7 @@ namespace detect {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
 // TSA and order spectra keep orders up to 0.72 x the Nyquist order unattenuated (tsa.hpp): the
 // angular sampling is at least 2.8 x the highest order of interest.
 constexpr double kOrderOversampling = 2.8;
@@ -250,6 +251,13 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   }
 
   std::vector<Spectrum> full(rec.signals.size()), full_env(rec.signals.size());
+  std::vector<bool> sensor(rec.signals.size(), false);
+  for (std::size_t i : sensor_channels(rec)) sensor[i] = true;
+  // A bearing is examined on the sensor channels at it, or on every sensor channel when none is.
+  std::vector<bool> located(gb ? gb->bearings().size() : 0, false);
+  for (std::size_t b = 0; b < located.size(); ++b)
+    for (std::size_t i = 0; i < rec.signals.size(); ++i)
+      located[b] = located[b] || (sensor[i] && rec.signals[i].location == gb->bearings()[b].name);
   // One channel's analysis; channels are independent, so they run in parallel (FFT plans are
   // shared and thread-safe, fft.hpp) and each writes only its own slots: same bytes whatever
   // the thread count.
@@ -264,6 +272,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     c.samples = sig.samples.size();
     c.vibration =
         sig.direction != diag::Direction::kTacho && sig.direction != diag::Direction::kAngle;
+    c.sensor = sensor[ci];
     const std::span<const double> x(sig.samples);
     const Moments mo = moments(x);
     c.time = {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
@@ -335,6 +344,70 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     c.envelope_peaks = largest_peaks(env, opt.peaks_reported, env_max);
     c.envelope = slice_for_plot(env.frequency_hz, env.amplitude, 0, env_max, plot_points);
 
+    if (gb && c.sensor && !gb->bearings().empty()) {
+      // ---- bearings: diagnose_bearings once per shaft, on the bearings this channel sees ----
+      std::map<int, std::vector<diag::BearingSpec>> by_shaft;
+      for (std::size_t b = 0; b < located.size(); ++b) {
+        const diag::BearingSpec& spec = gb->bearings()[b];
+        const int s = gb->shaft_index(spec.shaft);
+        if (s >= 0 && (!located[b] || c.location == spec.name)) by_shaft[s].push_back(spec);
+      }
+      std::map<std::string, std::pair<const BearingStatus*, const BearingDiagnosis*>> status;
+      std::vector<BearingDiagnosis> diagnoses;
+      diagnoses.reserve(by_shaft.size());
+      BearingDiagnosisOptions bo = opt.bearing;
+      bo.kurtogram_max_level =
+          std::min(bo.kurtogram_max_level,
+                   static_cast<int>(std::floor(std::log2(static_cast<double>(x.size())))) - 7);
+      for (const auto& [s, specs] : by_shaft) {
+        std::string names;
+        for (const auto& b : specs) names += (names.empty() ? "" : ", ") + b.name;
+        if (bo.kurtogram_max_level < 1) {
+          c.notes.push_back("bearing diagnosis (" + names +
+                            ") skipped: " + std::to_string(x.size()) + " samples, fewer than 2^8");
+          continue;
+        }
+        try {
+          diagnoses.push_back(
+              diagnose_bearings(sig, kin.speeds[static_cast<std::size_t>(s)].speed_hz, specs, bo));
+        } catch (const diag::InputError& e) {
+          c.notes.push_back("bearing diagnosis (" + names + ") skipped: " + e.what());
+          continue;
+        }
+        for (const BearingStatus& st : diagnoses.back().bearings)
+          status[st.bearing] = {&st, &diagnoses.back()};
+      }
+      const SpectrumView ev{env.frequency_hz, env.amplitude};
+      for (const auto& [s, specs] : by_shaft) {
+        for (const auto& spec : specs) {
+          BearingAnalysis ba;
+          ba.bearing = spec.name;
+          ba.shaft = spec.shaft;
+          ba.frequencies =
+              bearing_frequencies(spec, kin.speeds[static_cast<std::size_t>(s)].speed_hz);
+          ba.bands = bearing_fault_bands(ba.frequencies, opt.fault_bands);
+          ba.metrics = fault_band_metrics(ev, ba.bands, SpectrumScale::kAmplitude);
+          if (const auto it = status.find(spec.name); it != status.end()) {
+            ba.diagnosed = true;
+            ba.diagnosis = *it->second.first;
+            ba.band_centre_hz = it->second.second->band_centre_hz;
+            ba.band_width_hz = it->second.second->band_width_hz;
+          }
+          c.bearings.push_back(std::move(ba));
+        }
+      }
+      // The description's order, whatever the shaft grouping.
+      auto order = [&](const std::string& name) {
+        const auto& all = gb->bearings();
+        return std::find_if(all.begin(), all.end(),
+                            [&](const diag::BearingSpec& b) { return b.name == name; }) -
+               all.begin();
+      };
+      std::stable_sort(c.bearings.begin(), c.bearings.end(),
+                       [&](const BearingAnalysis& a, const BearingAnalysis& b) {
+                         return order(a.bearing) < order(b.bearing);
+                       });
+    }
     if (gb) {
       const SpectrumView view{sp.frequency_hz, sp.amplitude};
       // ---- meshes and sidebands ----
@@ -453,28 +526,6 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   }
 
   if (gb) {
-    // ---- bearings: on the channels at the bearing, else on every vibration channel ----
-    for (const diag::BearingSpec& b : gb->bearings()) {
-      const int s = gb->shaft_index(b.shaft);
-      if (s < 0) continue;
-      bool located = false;
-      for (const auto& c : r.channels) located |= c.vibration && c.location == b.name;
-      for (std::size_t ci = 0; ci < r.channels.size(); ++ci) {
-        ChannelAnalysis& c = r.channels[ci];
-        if (!c.vibration || full_env[ci].amplitude.size() < 3) continue;
-        if (located && c.location != b.name) continue;
-        BearingAnalysis ba;
-        ba.bearing = b.name;
-        ba.shaft = b.shaft;
-        ba.frequencies = bearing_frequencies(b, kin.speeds[static_cast<std::size_t>(s)].speed_hz);
-        const Spectrum& env = full_env[ci];
-        const SpectrumView ev{env.frequency_hz, env.amplitude};
-        ba.bands = bearing_fault_bands(ba.frequencies, opt.fault_bands);
-        ba.metrics = fault_band_metrics(ev, ba.bands, SpectrumScale::kAmplitude);
-        ba.decision = diagnose_bearing(ev, ba.frequencies, opt.bearing);
-        c.bearings.push_back(std::move(ba));
-      }
-    }
     // ---- two directions ----
     for (std::size_t ai = 0; ai < r.channels.size(); ++ai) {
       const ChannelAnalysis& a = r.channels[ai];
@@ -538,16 +589,20 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     for (std::size_t j = 0; j < r.meshes.size(); ++j) {
       std::map<std::string, int> votes;
       std::map<std::string, std::pair<double, std::string>> best;  // score, channel
+      std::map<std::string, double> best_mean_db;  // the best channel's mean line prominence
       int analysed = 0;
       for (const auto& c : r.channels) {
-        if (j >= c.meshes.size()) continue;
+        if (!c.sensor || j >= c.meshes.size()) continue;
         const SidebandAnalysis& sb = c.meshes[j].sidebands;
         if (sb.mesh.empty() || !sb.mesh.front().valid) continue;
         ++analysed;
         if (sb.status != SidebandStatus::kPointed) continue;
         const ShaftSidebands& w = sb.shafts[static_cast<std::size_t>(sb.pointed)];
         ++votes[w.name];
-        if (w.score_db > best[w.name].first) best[w.name] = {w.score_db, c.name};
+        if (w.score_db > best[w.name].first) {
+          best[w.name] = {w.score_db, c.name};
+          best_mean_db[w.name] = w.score_db / std::max(1, w.detected);
+        }
       }
       std::string winner;
       int top = 0, second = 0;
@@ -573,10 +628,17 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       f.frequency_hz = r.meshes[j].frequency_hz;
       f.channel = best[winner].second;
       f.confidence = 0.2 + 0.3 * top / analysed;
+      // The mean prominence of the best channel's detected lines; at the detector's cap the
+      // spectrum has no noise floor (a noise-free simulation): said so, not a number.
+      const double mean_db = best_mean_db[winner];
+      const std::string prominence =
+          mean_db >= kMaxProminenceDb
+              ? "at the " + fmt(kMaxProminenceDb) + " dB cap: no noise floor"
+              : fmt(mean_db, 3) + " dB over the local floor on average";
       f.note = "sidebands of mesh " + r.meshes[j].name + " (" + fmt(f.frequency_hz, 5) +
                " Hz) spaced at shaft " + winner + "'s rotation in " + std::to_string(top) + " of " +
-               std::to_string(analysed) + " channels (best " + f.channel + ", " +
-               fmt(best[winner].first, 3) + " dB): a local defect or eccentricity of " +
+               std::to_string(analysed) + " channels (best " + f.channel + ", " + prominence +
+               "): a local defect or eccentricity of " +
                (f.gears.empty() ? winner : f.gears.front()) + " modulates the mesh";
       r.findings.push_back(std::move(f));
     }
@@ -588,14 +650,16 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       int analysed = 0;
       for (const auto& c : r.channels) {
         for (const auto& ba : c.bearings) {
-          if (ba.bearing != b.name) continue;
+          if (ba.bearing != b.name || !ba.diagnosed) continue;
           ++analysed;
-          if (ba.decision.status != BearingDecisionStatus::kFault) continue;
-          ++votes[ba.decision.fault];
-          for (const auto& fam : ba.decision.families) {
-            if (fam.fault != ba.decision.fault) continue;
+          const BearingStatus& st = ba.diagnosis;
+          if (st.status != BearingDecisionStatus::kFault) continue;
+          ++votes[st.fault];
+          for (const auto& fam : st.band_decision.families) {
+            if (fam.fault != st.fault) continue;
             freq[fam.fault] = fam.fundamental_hz;
-            if (fam.score_db > best[fam.fault].first) best[fam.fault] = {fam.score_db, c.name};
+            auto& [score, channel] = best.try_emplace(fam.fault, -kInf, "").first->second;
+            if (fam.score_db > score) score = fam.score_db, channel = c.name;
           }
         }
       }
@@ -620,9 +684,10 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       f.channel = best[winner].second;
       f.confidence = 0.3 + 0.4 * top / analysed;
       f.note = std::string(to_string(winner)) + " fault lines at " + fmt(f.frequency_hz, 5) +
-               " Hz and harmonics in the envelope spectrum of " + std::to_string(top) + " of " +
-               std::to_string(analysed) + " channels (best " + f.channel + ", score " +
-               fmt(best[winner].first, 3) + " dB)";
+               " Hz and harmonics in the prewhitened squared envelope spectrum (kurtogram band "
+               "and whole band agree) of " +
+               std::to_string(top) + " of " + std::to_string(analysed) + " channels (best " +
+               f.channel + ", score " + fmt(best[winner].first, 3) + " dB)";
       r.findings.push_back(std::move(f));
     }
     std::stable_sort(r.findings.begin(), r.findings.end(),
@@ -902,6 +967,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
             {"fs_hz", c.fs_hz},
             {"samples", c.samples},
             {"vibration", c.vibration},
+            {"sensor", c.sensor},
             {"indicators",
              {{"rms", c.time.rms},
               {"peak", c.time.peak},
@@ -995,14 +1061,17 @@ nlohmann::json to_json(const AnalysisResult& r) {
                          {"energy", m.energy},
                          {"energy_fraction", m.energy_fraction}});
       }
-      json fams = json::array();
-      for (const auto& fam : b.decision.families) {
-        fams.push_back({{"fault", to_string(fam.fault)},
-                        {"fundamental_hz", fam.fundamental_hz},
-                        {"detected", fam.detected},
-                        {"score_db", fam.score_db},
-                        {"passes", fam.passes}});
-      }
+      auto families = [](const BearingDecision& d) {
+        json fams = json::array();
+        for (const auto& fam : d.families) {
+          fams.push_back({{"fault", to_string(fam.fault)},
+                          {"fundamental_hz", fam.fundamental_hz},
+                          {"detected", fam.detected},
+                          {"score_db", fam.score_db},
+                          {"passes", fam.passes}});
+        }
+        return fams;
+      };
       bearings.push_back({{"bearing", b.bearing},
                           {"shaft", b.shaft},
                           {"frequencies",
@@ -1014,9 +1083,13 @@ nlohmann::json to_json(const AnalysisResult& r) {
                             {"ball_fault_hz", f.ball_fault_hz}}},
                           {"bands", bands},
                           {"decision",
-                           {{"status", to_string(b.decision.status)},
-                            {"fault", to_string(b.decision.fault)},
-                            {"families", fams}}}});
+                           {{"diagnosed", b.diagnosed},
+                            {"status", to_string(b.diagnosis.status)},
+                            {"fault", to_string(b.diagnosis.fault)},
+                            {"band_centre_hz", b.band_centre_hz},
+                            {"band_width_hz", b.band_width_hz},
+                            {"families", families(b.diagnosis.band_decision)},
+                            {"whole_band_families", families(b.diagnosis.whole_decision)}}}});
     }
     cj["bearings"] = bearings;
     cj["notes"] = c.notes;

@@ -234,11 +234,15 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         o << "<p class=note>Bearing " << html_escape(b.bearing) << ": FTF "
           << f3(b.frequencies.ftf_hz) << ", BPFO " << f3(b.frequencies.bpfo_hz) << ", BPFI "
           << f3(b.frequencies.bpfi_hz) << ", ball " << f3(b.frequencies.ball_fault_hz)
-          << " Hz; decision: "
-          << (b.decision.status == BearingDecisionStatus::kFault
-                  ? std::string(to_string(b.decision.fault))
-              : b.decision.status == BearingDecisionStatus::kAmbiguous ? "ambiguous"
-                                                                       : "no fault")
+          << " Hz; decision (prewhitened squared envelope, kurtogram band "
+          << f3(b.band_centre_hz - b.band_width_hz / 2) << "-"
+          << f3(b.band_centre_hz + b.band_width_hz / 2) << " Hz and whole band): "
+          << (!b.diagnosed ? "not run"
+              : b.diagnosis.status == BearingDecisionStatus::kFault
+                  ? std::string(finding_name(b.diagnosis.fault))
+              : b.diagnosis.status == BearingDecisionStatus::kAmbiguous
+                  ? "ambiguous (nothing reported)"
+                  : "no fault")
           << "</p>\n";
       }
     }

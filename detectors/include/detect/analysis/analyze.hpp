@@ -19,14 +19,17 @@
 //    SER, SLF, SI of each gear on the shaft (tsa.hpp, indicators.hpp). Without a tacho the angle
 //    is that of a constant nominal speed (pulse times k / f_shaft): fine for a steady rig, smeared
 //    when the speed drifts; the result says which was used;
-//  - every bearing of the description: fault frequencies, fault bands and band metrics on the
-//    envelope spectrum, and the bearing decision (bearing_faults.hpp, fault_bands.hpp) on the
-//    channels at that bearing (location == bearing name; every vibration channel when none is);
+//  - every bearing of the description, on the sensor channels at that bearing (location ==
+//    bearing name; every sensor channel when none is): fault frequencies, fault bands and band
+//    metrics on the channel's envelope spectrum (bearing_faults.hpp, fault_bands.hpp), and the
+//    decision of diagnose_bearings (bearing_diagnosis.hpp: cepstral prewhitening, a guarded
+//    kurtogram band and the whole band must name the same fault; validated on CWRU);
 //  - the two-direction comparison (two_direction.hpp): for each location with an along_loa and a
 //    normal_loa channel, the mesh-harmonic energies in both and their normal-to-along ratio [dB].
 // Findings (AnalysisFinding) summarise what points at a shaft, gear or bearing, each with a
-// confidence and a note. Steps that cannot run on this record (too few revolutions for a TSA, a
-// record too short for the kurtogram) are skipped with a note, not an error: they are outcomes.
+// confidence and a note; only sensor channels (sensor_channels below) vote. Steps that cannot run
+// on this record (too few revolutions for a TSA, a record too short for the kurtogram) are skipped
+// with a note, not an error: they are outcomes.
 #pragma once
 
 #include <cstddef>
@@ -40,6 +43,7 @@
 
 #include "detect/angular/tsa.hpp"
 #include "detect/baseline/baseline.hpp"
+#include "detect/gear/bearing_diagnosis.hpp"
 #include "detect/gear/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
 #include "detect/gear/sidebands.hpp"
@@ -70,7 +74,8 @@ struct AnalyzeOptions {
                                      // (mesh_order is set per gear; the others are lowered when
                                      // they do not fit the TSA's Nyquist order)
   FaultBandOptions fault_bands{3, 0, 0.0};  // bearing bands: harmonics 1..3, no sidebands
-  BearingDecisionOptions bearing;           // bearing decision thresholds
+  BearingDiagnosisOptions bearing;          // bearing diagnosis per channel (its kurtogram
+                                            // level is lowered to log2(N) - 7 for short records)
   TwoDirectionOptions two_direction;        // mesh harmonics summed in the two-direction ratio
 
   void validate() const;  // throws diag::InputError "analyze: <field>: ..."
@@ -118,8 +123,12 @@ struct BearingAnalysis {
   std::string bearing, shaft;
   BearingFrequencies frequencies;
   std::vector<FaultBand> bands;
-  FaultBandMetrics metrics;  // on the envelope spectrum (amplitude scale)
-  BearingDecision decision;
+  FaultBandMetrics metrics;  // on the channel's envelope spectrum (amplitude scale; the plotted
+                             // one: kurtogram band of the raw signal)
+  bool diagnosed = false;    // false: diagnose_bearings could not run, the channel's notes say why
+  BearingStatus diagnosis;   // diagnose_bearings on this channel: the combined status and fault,
+                             // the decisions on the band-selected and the whole-band SES
+  double band_centre_hz = 0, band_width_hz = 0;  // its demodulation band (prewhitened signal)
 };
 
 struct ChannelAnalysis {
@@ -173,7 +182,7 @@ struct AnalysisFinding {
   std::string shaft;
   std::vector<std::string> gears;
   std::string bearing;
-  std::string fault;  // bearing: "cage", "outer_race", "inner_race", "ball"
+  std::string fault;  // bearing: "outer_race", "inner_race", "rolling_element", "cage"
   double frequency_hz = std::numeric_limits<double>::quiet_NaN();
   std::string channel;    // the channel that shows it best
   double confidence = 0;  // [0, 1]
