@@ -76,6 +76,19 @@ struct GearDamageOptions {
   // constant speed and for a linear run-up over a short record, and averages the jitter over
   // all pulses. Use 0 when the speed wanders within the record.
   int pulse_fit_degree = 3;
+  // Speed refinement from the vibration itself: per shaft and channel, the phase of the
+  // strongest regular line of the TSA (a mesh harmonic, up to the resampler's passband; followed
+  // only when its energy is 100x its revolution-to-revolution scatter / N) is followed from
+  // revolution to revolution; a drift of d cycles per revolution on order k means the pulses'
+  // speed is off by eps = d / k, and the record is resampled again with the pulses scaled by
+  // 1 + eps. Why: the fitted pulses still carry a rate error of about the edge jitter over the
+  // record length (6e-6 in a simulated one-second record at 10 kHz), which moves a mesh harmonic
+  // at order 108 by 6e-4 order; the TSA's one-revolution window then leaks about that fraction
+  // of the line, falling as 1 / |k - 108|, into the orders beside it, coherently in every
+  // revolution: a significant exclusive signal on a healthy shaft when the line is loud (a mesh
+  // harmonic near a resonance, 30x the vibration RMS). Test: gear_damage_test.cpp,
+  // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines. Costs two more resamplings per channel.
+  bool refine_speed = true;
   // Sidebands beyond the first also removed around every harmonic of the shaft's OWN gears' mesh
   // orders, >= 0 (other meshes synchronous with the shaft lose their first sidebands only).
   int extra_sideband_orders = 0;
