@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <string>
+#include <system_error>
 
 namespace cli_test {
 
@@ -26,14 +28,26 @@ inline Run run(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 
-// A file in a per-process folder under $GEARDIAG_TMP (set by CTest) or the system temp folder.
+// A file in a per-process folder under $GEARDIAG_TMP (set by CTest) or the system temp folder;
+// the folders are removed when the test process exits.
 inline std::filesystem::path scratch(const std::string& prefix, const std::string& name) {
-  const char* base = std::getenv("GEARDIAG_TMP");
-  std::filesystem::path dir =
-      std::filesystem::path(base ? base : std::filesystem::temp_directory_path().string()) /
-      (prefix + "_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir / name;
+  struct Folders {
+    std::map<std::string, std::filesystem::path> dirs;
+    ~Folders() {
+      std::error_code ec;
+      for (const auto& [prefix, dir] : dirs) std::filesystem::remove_all(dir, ec);
+    }
+  };
+  static Folders folders;
+  auto [it, added] = folders.dirs.try_emplace(prefix);
+  if (added) {
+    const char* base = std::getenv("GEARDIAG_TMP");
+    it->second =
+        std::filesystem::path(base ? base : std::filesystem::temp_directory_path().string()) /
+        (prefix + "_" + std::to_string(::getpid()));
+  }
+  std::filesystem::create_directories(it->second);
+  return it->second / name;
 }
 
 }  // namespace cli_test

@@ -83,6 +83,7 @@ std::string fmt(double v, int prec = 3) {
 struct Kinematics {
   std::vector<AnalysisShaftSpeed> speeds;     // per shaft
   std::vector<std::vector<double>> pulses_s;  // per shaft, once per revolution
+  int tacho_shaft = -1;                       // the shaft whose tacho gave them; -1: nominal
 };
 
 Kinematics kinematics(const diag::Recording& rec, const diag::Gearbox& gb, double duration_s,
@@ -121,6 +122,7 @@ Kinematics kinematics(const diag::Recording& rec, const diag::Gearbox& gb, doubl
       const double ratio = k.speeds[b].speed_hz / f_meas;
       k.pulses_s[b] = scale_pulses(p, ratio, opt.tacho_pulses_per_rev);
     }
+    k.tacho_shaft = s;
     k.speeds[static_cast<std::size_t>(s)].tacho_repairs = static_cast<int>(tr.repairs.size());
     if (!tr.repairs.empty()) {
       notes.push_back("tacho '" + t.name + "': " + std::to_string(tr.repairs.size()) +
@@ -167,6 +169,7 @@ void AnalyzeOptions::validate() const {
   fault_bands.validate();
   bearing.validate();
   two_direction.validate();
+  gear_damage.validate();
 }
 
 PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y,
@@ -585,6 +588,37 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       }
     }
 
+    // ---- which shaft carries a damaged gear ----
+    bool has_gear_shaft = false;
+    for (const diag::Shaft& sh : gb->shafts()) has_gear_shaft |= !sh.gears.empty();
+    if (has_gear_shaft) {
+      const int ref = kin.tacho_shaft >= 0 ? kin.tacho_shaft : input;
+      try {
+        r.gear_damage =
+            locate_gear_damage(rec, *gb, gb->shafts()[static_cast<std::size_t>(ref)].name,
+                               kin.pulses_s[static_cast<std::size_t>(ref)], opt.gear_damage);
+        r.gear_damage_angles = kin.tacho_shaft >= 0 ? "tacho" : "nominal";
+      } catch (const diag::InputError& e) {
+        r.notes.push_back(std::string("damaged-shaft location skipped: ") + e.what());
+      }
+    }
+    if (r.gear_damage) {
+      for (const GearDamageFinding& g : r.gear_damage->findings) {
+        AnalysisFinding f;
+        f.kind = "gear_damage";
+        f.shaft = g.shaft;
+        f.gears = g.gears;
+        f.channel = g.channel;
+        f.confidence = g.confidence;
+        f.note = "a localised fault once per revolution of " + g.shaft + " (TSA per shaft, " +
+                 r.gear_damage->status + "): " + g.note +
+                 (r.gear_damage_angles == "nominal"
+                      ? " (shaft angles from the nominal speed: no tacho)"
+                      : "");
+        r.findings.push_back(std::move(f));
+      }
+    }
+
     // ---- findings: sideband families (low confidence: a vote over channels) ----
     for (std::size_t j = 0; j < r.meshes.size(); ++j) {
       std::map<std::string, int> votes;
@@ -909,6 +943,14 @@ std::map<std::string, double> features(const AnalysisResult& r) {
     put("two_direction/" + t.location + "/" + t.mesh + "/normal_to_along_db",
         t.comparison.normal_to_along_db);
   }
+  if (r.gear_damage) {
+    for (const auto& s : r.gear_damage->shafts) {
+      const std::string q = "gear_damage/" + s.shaft + "/";
+      put(q + "score", s.score);
+      put(q + "snr", s.snr);
+      put(q + "level", s.level);
+    }
+  }
   return f;
 }
 
@@ -1115,6 +1157,10 @@ nlohmann::json to_json(const AnalysisResult& r) {
                                   {"normal_to_along_db", t.comparison.normal_to_along_db},
                                   {"harmonics", h}});
   }
+  if (r.gear_damage) {
+    j["gear_damage"] = to_json(*r.gear_damage);
+    j["gear_damage"]["angles"] = r.gear_damage_angles;
+  }
   j["findings"] = json::array();
   for (const auto& f : r.findings) {
     json fj{{"kind", f.kind}, {"confidence", f.confidence}, {"note", f.note}};
@@ -1173,6 +1219,20 @@ std::string format_summary(const AnalysisResult& r) {
     for (const auto& t : r.two_direction) {
       o << "  " << t.location << " mesh " << t.mesh << ": " << fmt(t.comparison.normal_to_along_db)
         << " dB\n";
+    }
+  }
+  if (r.gear_damage) {
+    o << "damaged-shaft location (TSA per shaft, angles from the " << r.gear_damage_angles
+      << "): " << r.gear_damage->status << "\n";
+    for (const auto& s : r.gear_damage->shafts) {
+      o << "  " << s.shaft << ": ";
+      if (s.revolutions == 0) {
+        o << "skipped\n";
+        continue;
+      }
+      o << "score " << fmt(s.score) << ", SNR " << fmt(s.snr) << ", level " << fmt(s.level)
+        << " on " << s.channel << " (" << s.revolutions << " revolutions)"
+        << (s.damaged ? ": DAMAGED" : s.uncertain ? ": uncertain" : "") << "\n";
     }
   }
   o << "findings:";

@@ -93,6 +93,38 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     o << "</table>\n";
   }
 
+  // ---- damaged-shaft location ----
+  if (r.gear_damage) {
+    const GearDamageResult& g = *r.gear_damage;
+    o << "<h2 id=gear-damage>Damaged-shaft location (TSA per shaft)</h2>\n"
+         "<p class=note>Per shaft: the time-synchronous average over its revolutions (angles "
+         "from the "
+      << html_escape(r.gear_damage_angles)
+      << "), less the shaft order, the mesh harmonics and their first sidebands, and less the "
+         "orders a faster shaft shares. Score: the kurtosis of what is left, corrected for the "
+         "noise (3: nothing localised; damaged above "
+      << f3(GearDamageOptions{}.damaged_fm4)
+      << " with the default options); SNR: its energy over the noise's (1: noise alone); level: "
+         "its RMS over the regular signal's.</p>\n<p>Status: <b>"
+      << html_escape(g.status) << "</b></p>\n"
+      << "<table><tr><th class=l>shaft</th><th>speed [Hz]</th><th>revolutions</th>"
+         "<th class=l>channel</th><th>score</th><th>SNR</th><th>level</th><th>exclusive share"
+         "</th><th class=l>verdict</th></tr>";
+    for (const auto& s : g.shafts) {
+      o << "<tr><td class=l>" << html_escape(s.shaft) << "</td><td>" << f3(s.frequency_hz)
+        << "</td><td>" << s.revolutions << "</td><td class=l>" << html_escape(s.channel)
+        << "</td><td><b>" << f3(s.score) << "</b></td><td>" << f3(s.snr) << "</td><td>"
+        << f3(s.level) << "</td><td>" << f3(s.exclusive_share) << "</td><td class=l>"
+        << (s.revolutions == 0 ? "skipped"
+            : s.damaged        ? "<span class=alarm>damaged</span>"
+            : s.uncertain      ? "uncertain"
+                               : "<span class=ok>no localised fault</span>")
+        << "</td></tr>";
+    }
+    o << "</table>\n";
+    if (!g.note.empty()) o << "<p class=note>" << html_escape(g.note) << "</p>\n";
+  }
+
   // ---- two directions ----
   o << "<h2 id=two-direction>Two directions: along and normal to the line of action</h2>\n";
   if (r.two_direction.empty()) {

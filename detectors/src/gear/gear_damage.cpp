@@ -81,11 +81,14 @@ std::vector<const diag::Signal*> shaft_channels(const diag::Recording& rec, cons
   }
   if (!along.empty()) return along;
   if (!any.empty()) return any;
-  std::vector<const diag::Signal*> casing;
+  std::vector<const diag::Signal*> casing, undirected;
   for (const auto& s : rec.signals) {
     if (is_motion_direction(s.direction)) casing.push_back(&s);
+    if (s.direction == diag::Direction::kUnspecified) undirected.push_back(&s);
   }
-  return casing;
+  // An imported measurement carries no directions: then every channel without one (tacho and
+  // angle channels have theirs) is a sensor on the casing.
+  return casing.empty() ? undirected : casing;
 }
 
 // The exclusive order set of a shaft, as a mask over the lines 0 .. spr/2 of its TSA: every
@@ -270,6 +273,44 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     throw diag::InputError(
         diag::format_error(where, "tachos", "no tacho for shaft '" + ref + "' in the recording"));
   }
+  // TachoOptions defaults: once-per-revolution pulses (the simulator's and most rigs' keyphasor).
+  const TachoResult tr = tacho_pulses(tacho->samples, tacho->fs_hz);
+  if (tr.pulse_times_s.size() < 3) {
+    throw diag::InputError(diag::format_error(
+        where, "tacho '" + tacho->name + "'",
+        std::to_string(tr.pulse_times_s.size()) + " pulses; at least 3 are needed"));
+  }
+  GearDamageResult res = locate_gear_damage(rec, gb, ref, tr.pulse_times_s, options);
+  if (!tr.repairs.empty()) {
+    res.note = std::to_string(tr.repairs.size()) + " tacho repair(s) on '" + ref + "'. " + res.note;
+  }
+  return res;
+}
+
+GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
+                                    const std::string& reference_shaft,
+                                    std::span<const double> pulse_times_s,
+                                    const GearDamageOptions& options) {
+  options.validate();
+  const std::string where = "locate_gear_damage";
+  const auto& shafts = gb.shafts();
+  const std::string& ref = reference_shaft;
+  if (gb.shaft_index(ref) < 0) {
+    throw diag::InputError(
+        diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
+  }
+  if (pulse_times_s.size() < 3) {
+    throw diag::InputError(diag::format_error(
+        where, "pulse_times_s",
+        std::to_string(pulse_times_s.size()) + " pulses; at least 3 are needed"));
+  }
+  for (std::size_t i = 0; i < pulse_times_s.size(); ++i) {
+    if (!std::isfinite(pulse_times_s[i]) || (i > 0 && !(pulse_times_s[i] > pulse_times_s[i - 1]))) {
+      throw diag::InputError(diag::format_error(
+          where, "pulse_times_s",
+          "not finite and strictly increasing at pulse " + std::to_string(i)));
+    }
+  }
   for (const auto& [shaft, names] : options.channels) {
     if (gb.shaft_index(shaft) < 0) {
       throw diag::InputError(
@@ -277,21 +318,13 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     }
     for (const auto& n : names) rec.require(n, where);
   }
-  // TachoOptions defaults: once-per-revolution pulses (the simulator's and most rigs' keyphasor).
-  const TachoResult tr = tacho_pulses(tacho->samples, tacho->fs_hz);
   GearDamageResult res;
   res.reference_shaft = ref;
   std::ostringstream note;
-  if (!tr.repairs.empty()) note << tr.repairs.size() << " tacho repair(s) on '" << ref << "'. ";
-  if (tr.pulse_times_s.size() < 3) {
-    throw diag::InputError(diag::format_error(
-        where, "tacho '" + tacho->name + "'",
-        std::to_string(tr.pulse_times_s.size()) + " pulses; at least 3 are needed"));
-  }
-  const std::vector<double> ref_pulses = smooth_pulses(tr.pulse_times_s, options.pulse_fit_degree);
+  const std::vector<double> ref_pulses = smooth_pulses(
+      std::vector<double>(pulse_times_s.begin(), pulse_times_s.end()), options.pulse_fit_degree);
   const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
-  const double ref_hz =
-      (tr.pulse_times_s.size() - 1) / (tr.pulse_times_s.back() - tr.pulse_times_s.front());
+  const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
 
   ResampleOptions ro;
   ro.pulses_per_rev = 1;

@@ -25,7 +25,11 @@
 //    decision of diagnose_bearings (bearing_diagnosis.hpp: cepstral prewhitening, a guarded
 //    kurtogram band and the whole band must name the same fault; validated on CWRU);
 //  - the two-direction comparison (two_direction.hpp): for each location with an along_loa and a
-//    normal_loa channel, the mesh-harmonic energies in both and their normal-to-along ratio [dB].
+//    normal_loa channel, the mesh-harmonic energies in both and their normal-to-along ratio [dB];
+//  - which shaft carries a damaged gear (gear_damage.hpp: TSA per shaft, the noise-corrected
+//    kurtosis of the orders no faster shaft shares; validated in the closed loop with the
+//    simulator), from the shaft angles above: the tacho's, else the nominal speed (refined from
+//    the strongest mesh line: a constant speed a little off the nominal is corrected).
 // Findings (AnalysisFinding) summarise what points at a shaft, gear or bearing, each with a
 // confidence and a note; only sensor channels (sensor_channels below) vote. Steps that cannot run
 // on this record (too few revolutions for a TSA, a record too short for the kurtogram) are skipped
@@ -46,6 +50,7 @@
 #include "detect/gear/bearing_diagnosis.hpp"
 #include "detect/gear/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
+#include "detect/gear/gear_damage.hpp"
 #include "detect/gear/sidebands.hpp"
 #include "detect/gear/two_direction.hpp"
 #include "detect/indicators/indicators.hpp"
@@ -77,6 +82,8 @@ struct AnalyzeOptions {
   BearingDiagnosisOptions bearing;          // bearing diagnosis per channel (its kurtogram
                                             // level is lowered to log2(N) - 7 for short records)
   TwoDirectionOptions two_direction;        // mesh harmonics summed in the two-direction ratio
+  GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
+                                            // not used: the shaft angles are analyze's own)
 
   void validate() const;  // throws diag::InputError "analyze: <field>: ..."
 };
@@ -178,7 +185,7 @@ struct AnalysisMesh {
 // One conclusion, in the shape of `geardiag attribute --json` findings. Fields that do not apply
 // stay empty (strings), empty (gears) or NaN (frequency_hz) and are left out of the JSON.
 struct AnalysisFinding {
-  std::string kind;  // "gear_sidebands", "bearing" (future: "gear_damage", "anomaly")
+  std::string kind;  // "gear_damage", "gear_sidebands", "bearing"
   std::string shaft;
   std::vector<std::string> gears;
   std::string bearing;
@@ -220,6 +227,9 @@ struct AnalysisResult {
   std::vector<TwoDirectionRow> two_direction;
   std::vector<AnalysisFinding> findings;  // every finding, most confident first
   std::optional<AnalysisBaseline> baseline;
+  std::optional<GearDamageResult> gear_damage;  // the locator's result (absent: not run, notes
+                                                // say why)
+  std::string gear_damage_angles;               // "tacho" or "nominal": the shaft angles it used
   std::vector<std::string> notes;  // recording-level notes (speed source, skipped steps)
 };
 

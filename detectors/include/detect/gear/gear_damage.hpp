@@ -38,7 +38,8 @@
 // the gearbox description on that shaft) and direction along a line of action (one channel per
 // mesh of the shaft); else every such bearing signal of the shaft; else every signal whose
 // direction is along/normal to a line of action, horizontal or vertical (a single sensor on the
-// casing serves all shafts).
+// casing serves all shafts); else, when no signal has such a direction (an imported
+// measurement), every signal without a direction.
 //
 // CAUTION: kurtosis answers "is there a localised event once per revolution", not "how large";
 // a fault spread over all teeth (uniform wear) does not raise it. Shafts with fewer than
@@ -51,6 +52,7 @@
 
 #include <map>
 #include <nlohmann/json_fwd.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -176,6 +178,18 @@ struct GearDamageResult {
 // Throws diag::InputError for bad options, a recording without a usable tacho, a shaft named in
 // options.channels that does not exist, or a missing channel.
 GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
+                                    const GearDamageOptions& options = {});
+
+// The same with the reference shaft's once-per-revolution times given instead of read from a
+// tacho channel (as detected: they are smoothed with options.pulse_fit_degree), e.g. from a
+// tacho with several pulses per revolution reduced to one, or from a constant nominal speed
+// (then refine_speed corrects a small constant speed error, up to about 0.5 / k of the speed, k
+// the order of the strongest mesh line). options.reference_shaft is not used. Throws
+// diag::InputError as above, and for an unknown reference shaft or fewer than 3 pulses, or
+// pulse times that are not finite and strictly increasing.
+GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
+                                    const std::string& reference_shaft,
+                                    std::span<const double> pulse_times_s,
                                     const GearDamageOptions& options = {});
 
 // {"status", "reference_shaft", "note", "shafts": [...], "findings": [{"shaft", "gears",
