@@ -88,7 +88,7 @@ struct GearDamageOptions {
   // at order 108 by 6e-4 order; the TSA's one-revolution window then leaks about that fraction
   // of the line, falling as 1 / |k - 108|, into the orders beside it, coherently in every
   // revolution: a significant exclusive signal on a healthy shaft when the line is loud (a mesh
-  // harmonic near a resonance, 30x the vibration RMS). Test: gear_damage_test.cpp,
+  // harmonic near a resonance that carries most of the vibration). Test: gear_damage_test.cpp,
   // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines. Costs two more resamplings per channel.
   bool refine_speed = true;
   // Sidebands beyond the first also removed around every harmonic of the shaft's OWN gears' mesh
