@@ -400,11 +400,15 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     for (const diag::Signal* ch : chans) {
       AngleResampled ar;
       Tsa t;
-      // Resampling, the TSA, its spectrum and the revolution-to-revolution variance of every
-      // order; the phasor of order `line` in every revolution when line > 0.
-      auto average = [&](const std::vector<double>& p, std::size_t line) {
+      // Resampling and the TSA (the refinement below adds one resampling and one pass of
+      // per-revolution spectra).
+      auto average = [&](const std::vector<double>& p) {
         ar = resample_by_angle(ch->samples, ch->fs_hz, p, ro);
         t = tsa(ar, options.min_revolutions);
+      };
+      // The TSA's spectrum and the revolution-to-revolution variance of every order; the phasor
+      // of order `line` in every revolution when line > 0.
+      auto spectra = [&](std::size_t line) {
         fft.forward(t.samples, mean_spec);
         std::fill(var.begin(), var.end(), 0.0);
         line_phasors.clear();
@@ -419,15 +423,19 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         }
       };
       try {
-        average(pulses, 0);
+        average(pulses);
+        spectra(0);
         if (options.refine_speed) {
           const auto passband = static_cast<std::size_t>(0.72 * half);  // resampler's
           const std::size_t line =
               strongest_line(mean_spec, var, regular, passband, ar.revolutions);
           if (line > 0) {
-            average(pulses, line);
+            spectra(line);
             const double eps = rate_error(line_phasors) / static_cast<double>(line);
-            if (eps != 0.0) average(scale_pulses(pulses, 1.0 + eps), 0);
+            if (eps != 0.0) {
+              average(scale_pulses(pulses, 1.0 + eps));
+              spectra(0);
+            }
           }
         }
       } catch (const diag::InputError& e) {

@@ -89,7 +89,7 @@ struct GearDamageOptions {
   // of the line, falling as 1 / |k - 108|, into the orders beside it, coherently in every
   // revolution: a significant exclusive signal on a healthy shaft when the line is loud (a mesh
   // harmonic near a resonance that carries most of the vibration). Test: gear_damage_test.cpp,
-  // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines. Costs two more resamplings per channel.
+  // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines. Costs one more resampling per channel.
   bool refine_speed = true;
   // Sidebands beyond the first also removed around every harmonic of the shaft's OWN gears' mesh
   // orders, >= 0 (other meshes synchronous with the shaft lose their first sidebands only).
