@@ -37,15 +37,15 @@ diag::Gearbox gearbox() {
 // estimate off by tacho_rate - 1).
 diag::Recording synthetic(const std::string& fault_shaft, std::uint64_t seed,
                           double noise_rms = kNoiseRms, double mesh_amp = kMeshAmp,
-                          double tacho_rate = 1.0) {
+                          double tacho_rate = 1.0, double input_hz = kInputHz) {
   const std::size_t n = static_cast<std::size_t>(kDurationS * kFs);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, noise_rms);
-  const double f_mesh1 = 18 * kInputHz, f_mesh2 = 18 * kInputHz / 2;
+  const double f_mesh1 = 18 * input_hz, f_mesh2 = 18 * input_hz / 2;
   double f_fault = 0;
-  if (fault_shaft == "input") f_fault = kInputHz;
-  if (fault_shaft == "counter") f_fault = kInputHz / 2;
-  if (fault_shaft == "output") f_fault = kInputHz / 4;
+  if (fault_shaft == "input") f_fault = input_hz;
+  if (fault_shaft == "counter") f_fault = input_hz / 2;
+  if (fault_shaft == "output") f_fault = input_hz / 4;
   diag::Recording rec;
   for (const std::string shaft : {"input", "counter", "output"}) {
     diag::Signal s;
@@ -83,7 +83,7 @@ diag::Recording synthetic(const std::string& fault_shaft, std::uint64_t seed,
   tacho.fs_hz = kFs;
   tacho.samples.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double revs = tacho_rate * kInputHz * i / kFs;
+    const double revs = tacho_rate * input_hz * i / kFs;
     tacho.samples[i] = revs - std::floor(revs) < 0.1 ? 1.0 : 0.0;
   }
   rec.tachos.push_back(std::move(tacho));
@@ -172,10 +172,9 @@ TEST(GearDamage, TheScoreIsCorrectedForTheNoise) {
 // no longer closes on itself, and the one-revolution window leaks about A x 5e-4 / |k - 18| into
 // the orders beside it, coherently in every revolution. With mesh lines 300x the noise (a
 // gearbox near resonance) that is a significant "exclusive" signal on a healthy input shaft:
-// SNR 7.9 without the refinement. Following the phase drift of the strongest mesh line and
-// resampling with the pulses rescaled leaves SNR 1.5 (not significant: < min_snr = 2; the rest
-// is what the drift estimate and the jittered pulse fit leave): the excess over noise alone,
-// SNR - 1, falls by 13 (asserted: by more than 5).
+// SNR 7.9 without the refinement. Following the phase of the strongest mesh line from
+// revolution to revolution and correcting the pulses leaves noise alone (1.15; 1 +- 0.4 as in
+// MeshTonesAndNoiseAloneAreHealthy).
 TEST(GearDamage, ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines) {
   const diag::Gearbox gb = gearbox();
   constexpr double kLoudMesh = 300.0;  // [m/s^2]
@@ -186,12 +185,41 @@ TEST(GearDamage, ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines) {
   const auto unrefined = detect::locate_gear_damage(rec, gb, raw);
   const auto refined = detect::locate_gear_damage(rec, gb);
   const double min_snr = detect::GearDamageOptions{}.min_snr;
-  const auto& before = shaft(unrefined, "input");
-  const auto& after = shaft(refined, "input");
-  EXPECT_GT(before.snr, 3.0 * min_snr) << "the leakage this test is about is absent";
+  EXPECT_GT(shaft(unrefined, "input").snr, 3.0 * min_snr)
+      << "the leakage this test is about is absent";
   EXPECT_EQ(refined.status, "healthy") << nlohmann::json(detect::to_json(refined)).dump(1);
-  for (const auto& s : refined.shafts) EXPECT_LT(s.snr, min_snr) << s.shaft;
-  EXPECT_LT(after.snr - 1.0, (before.snr - 1.0) / 5.0) << "excess over noise alone";
+  for (const auto& s : refined.shafts) EXPECT_NEAR(s.snr, 1.0, 0.4) << s.shaft;
+}
+
+// The pulses of a 0/1 tacho sampled at fs are late by up to one sampling period, by an amount
+// that follows the fractional part of (revolution x samples per revolution): at 267.48 samples
+// per revolution it alternates and beats slowly (period 50 revolutions), which the polynomial
+// fit of the pulse times cannot remove. A loud mesh line then wanders in phase from revolution
+// to revolution and the average keeps part of its leakage in the exclusive orders, coherently:
+// without the refinement every shaft here has a significant exclusive signal (SNR 3.5-5.5)
+// with a damage-like kurtosis (scores 8-14); only the level gate (its RMS is below 0.005 of the
+// mesh lines here) keeps them from being flagged. In the simulated closed loop the same error
+// on a resonant 6th mesh harmonic passed the level gate too: the loop's one false alarm before
+// this correction. Correcting each revolution from the mesh line's own phase leaves noise alone.
+TEST(GearDamage, TachoQuantisationIsCorrectedFromTheMeshLinePhase) {
+  const diag::Gearbox gb = gearbox();
+  constexpr double kLoudMesh = 1000.0;              // [m/s^2], 60 dB over the noise
+  constexpr double kBeatingInputHz = kFs / 267.48;  // 37.386 Hz, 2243 rpm
+  const diag::Recording rec = synthetic("", 5, kNoiseRms, kLoudMesh, 1.0, kBeatingInputHz);
+  detect::GearDamageOptions raw;
+  raw.refine_speed = false;
+  const auto unrefined = detect::locate_gear_damage(rec, gb, raw);
+  const auto refined = detect::locate_gear_damage(rec, gb);
+  const detect::GearDamageOptions defaults;
+  for (const auto& s : unrefined.shafts) {
+    EXPECT_GT(s.snr, 1.5 * defaults.min_snr) << s.shaft << ": the error this test is about is absent";
+    EXPECT_GT(s.score, defaults.damaged_fm4) << s.shaft;
+  }
+  EXPECT_EQ(refined.status, "healthy") << nlohmann::json(detect::to_json(refined)).dump(1);
+  for (const auto& s : refined.shafts) {
+    EXPECT_NEAR(s.snr, 1.0, 0.4) << s.shaft << " (noise alone, MeshTonesAndNoiseAloneAreHealthy)";
+    EXPECT_EQ(s.score, 3.0) << s.shaft;
+  }
 }
 
 TEST(GearDamage, ShaftFrequenciesFollowTheTachoAndTheRatios) {

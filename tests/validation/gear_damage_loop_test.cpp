@@ -63,14 +63,14 @@ TEST(GearDamageLoop, BadOptionsAreRefused) {
   EXPECT_THROW(o.validate(), diag::InputError);
 }
 
-// The acceptance criterion of the closed loop: 100 random cases (cracked, chipped or missing
-// tooth on a random gear, random tooth, size, speed, load and noise; a quarter healthy), the
-// right shaft in >= 95 % of the faulty cases and no finding on healthy ones, with at most one
-// false alarm in the 25 (a rate below 4 %; the numbers are printed). Measured at this commit:
-// 75/75 faulty cases on the right shaft, 1 false alarm in 25 healthy ones (an input-shaft score
-// of 6.6 at 2243 rpm; at that nominal speed the input revolution is 5349.98 RK4 steps of 5 us,
-// so the simulator's residual step-phase error, about 5e-4 of the mesh vibration, is nearly
-// periodic with the input shaft: our explanation, not yet proven).
+// The acceptance criterion of the closed loop (issue 5): 100 random cases (cracked, chipped or
+// missing tooth on a random gear, random tooth, size, speed, load and noise; a quarter healthy),
+// the right shaft in >= 95 % of the faulty cases and no finding on any healthy one (the numbers
+// are printed). Measured at this commit: seed 2024 (this test) 75/75 faulty cases on the right
+// shaft and no false alarm in 25; seeds 1 and 7 (not in CI) 74/75 (a 4.2 mm root crack on the
+// input gear scored 4.8 < 5) and 75/75, no false alarm in either. Before the revolution-by-revolution pulse correction
+// (GearDamageOptions::refine_speed) healthy cases near 2243 rpm raised false alarms from the
+// tacho's quantisation (gear_damage_test.cpp, TachoQuantisationIsCorrectedFromTheMeshLinePhase).
 TEST(GearDamageLoop, FindsTheDamagedShaftInNinetyFivePercentOfRandomCases) {
   validate::GearDamageLoopOptions o;
   o.cases = 100;
@@ -79,9 +79,8 @@ TEST(GearDamageLoop, FindsTheDamagedShaftInNinetyFivePercentOfRandomCases) {
   const auto r = validate::run_gear_damage_loop(two_stage(), o);
   std::printf("%s", validate::format_report(r).c_str());
   constexpr double kRequiredAccuracy = 0.95;
-  constexpr int kMaxFalseAlarms = 1;
   EXPECT_GE(r.faulty_accuracy(), kRequiredAccuracy);
-  EXPECT_LE(r.healthy_false_alarms, kMaxFalseAlarms);
+  EXPECT_EQ(r.healthy_false_alarms, 0);
 }
 
 }  // namespace

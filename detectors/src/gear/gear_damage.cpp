@@ -22,6 +22,9 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Pulse correction (GearDamageOptions::refine_speed): the line followed must have an amplitude
+// steady to 0.1 of its mean over the revolutions, i.e. a phase known to about 0.1 rad in each.
+constexpr double kMaxPhaseNoise = 0.1;
 // Relative tolerance for "this speed ratio is the integer / rational p/q": the gearbox ratios are
 // exact products of tooth-count ratios, so only round-off separates them from p/q.
 constexpr double kRatioTol = 1e-9;
@@ -144,41 +147,163 @@ std::vector<double> smooth_pulses(const std::vector<double>& t, int degree) {
 }
 
 // The regular order (shaft order 1, mesh harmonics, their first sidebands) in 1..top with the
-// largest TSA amplitude, when it stands far out of its revolution-to-revolution scatter (its
-// energy over var / N above 100: a phase known to about 0.1 rad in each revolution, so that the
-// slope over N revolutions is known to about 0.1 sqrt(12 / N^3) rad); else 0.
+// largest TSA amplitude; 0 when there is none.
 std::size_t strongest_line(const std::vector<std::complex<double>>& mean_spec,
-                           const std::vector<double>& var, const std::vector<bool>& regular,
-                           std::size_t top, int revolutions) {
+                           const std::vector<bool>& regular, std::size_t top) {
   std::size_t best = 0;
   for (std::size_t k = 1; k <= top && k < mean_spec.size(); ++k) {
     if (regular[k] && (best == 0 || std::norm(mean_spec[k]) > std::norm(mean_spec[best]))) best = k;
   }
-  if (best == 0) return 0;
-  const double n = static_cast<double>(revolutions);
-  const double noise = var[best] / (n * (n - 1.0));
-  return std::norm(mean_spec[best]) > 100.0 * noise ? best : 0;
+  return best;
 }
 
-// The drift of a line's phase from revolution to revolution [cycles per revolution]: the
-// least-squares slope of its unwrapped phase over the revolution index (the step between two
-// revolutions taken in (-1/2, 1/2] cycle).
-double rate_error(const std::vector<std::complex<double>>& phasors) {
+// The pulses corrected revolution by revolution from the phase of a line of order k, as
+// measured in each revolution of the resampled record (`phasors`, revolution j between pulses
+// first_rev + j and first_rev + j + 1); the pulses unchanged when the line's amplitude scatters
+// by more than max_phase_noise of its mean over the revolutions (additive noise moves the phase
+// about as much as the amplitude, so the phase would carry more noise than the pulses' error).
+// In revolution j the line's phase is c + k e_j, e_j the mean error of the pulses' angle
+// there (true minus assumed, rad); e is interpolated to the pulses between revolution middles
+// (held beyond the first and last) and each pulse moved by -e / (2 pi) of the local period.
+std::vector<double> phase_corrected_pulses(const std::vector<double>& pulses,
+                                           const std::vector<std::complex<double>>& phasors,
+                                           std::size_t k, double first_rev,
+                                           double max_phase_noise) {
   const std::size_t n = phasors.size();
-  if (n < 3) return 0.0;
-  std::vector<double> phase(n);
-  phase[0] = std::arg(phasors[0]);
-  for (std::size_t r = 1; r < n; ++r) {
-    phase[r] = phase[r - 1] + std::arg(phasors[r] * std::conj(phasors[r - 1]));
+  if (n < 3 || k == 0 || pulses.size() < 2) return pulses;
+  double mean_amp = 0.0, mean_sq = 0.0;
+  for (const auto& z : phasors) {
+    mean_amp += std::abs(z);
+    mean_sq += std::norm(z);
   }
-  const double r_mean = 0.5 * static_cast<double>(n - 1);
-  const double p_mean = std::accumulate(phase.begin(), phase.end(), 0.0) / static_cast<double>(n);
-  double sxy = 0.0, sxx = 0.0;
-  for (std::size_t r = 0; r < n; ++r) {
-    sxy += (static_cast<double>(r) - r_mean) * (phase[r] - p_mean);
-    sxx += (static_cast<double>(r) - r_mean) * (static_cast<double>(r) - r_mean);
+  mean_amp /= static_cast<double>(n);
+  mean_sq /= static_cast<double>(n);
+  const double amp_sd = std::sqrt(std::max(0.0, mean_sq - mean_amp * mean_amp));
+  if (!(mean_amp > 0.0) || amp_sd > max_phase_noise * mean_amp) return pulses;
+  std::vector<double> e(n);
+  e[0] = std::arg(phasors[0]);
+  for (std::size_t j = 1; j < n; ++j) e[j] = e[j - 1] + std::arg(phasors[j] * std::conj(phasors[j - 1]));
+  const double e_mean = std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(n);
+  for (double& v : e) v = (v - e_mean) / static_cast<double>(k);
+  std::vector<double> out(pulses.size());
+  for (std::size_t b = 0; b < pulses.size(); ++b) {
+    const double x = std::clamp(static_cast<double>(b) - first_rev - 0.5, 0.0,
+                                static_cast<double>(n - 1));
+    const auto j = std::min(static_cast<std::size_t>(x), n - 2);
+    const double err = e[j] + (x - static_cast<double>(j)) * (e[j + 1] - e[j]);
+    const double period = b + 1 < pulses.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
+    out[b] = pulses[b] - err / (2.0 * std::numbers::pi) * period;
   }
-  return sxy / sxx / (2.0 * std::numbers::pi);
+  for (std::size_t b = 1; b < out.size(); ++b) {
+    if (!(out[b] > out[b - 1])) return pulses;
+  }
+  return out;
+}
+
+// Every mesh frequency of the gearbox that is an integer order of shaft `sh`, up to `half`.
+std::vector<int> synchronous_mesh_orders(const diag::Gearbox& gb, const diag::Shaft& sh, int half) {
+  const auto& shafts = gb.shafts();
+  std::vector<int> orders;
+  for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
+    const double f_mesh_over_in =
+        gb.gears()[gb.meshes()[m].driver].spec.teeth *
+        std::abs(shafts[gb.shaft_of_gear(gb.meshes()[m].driver)].speed_ratio);
+    int order = 0;
+    if (is_integer(f_mesh_over_in / std::abs(sh.speed_ratio), &order) && order <= half &&
+        std::find(orders.begin(), orders.end(), order) == orders.end()) {
+      orders.push_back(order);
+    }
+  }
+  return orders;
+}
+
+// TSA resolution for a shaft turning at shaft_hz (GearDamageOptions::samples_per_rev) and the
+// highest order analysed.
+struct Resolution {
+  int spr = 0;
+  std::size_t top = 0;
+};
+Resolution resolution(const GearDamageOptions& o, double fs, double shaft_hz) {
+  const double top_order = o.band_fraction * 0.5 * fs / shaft_hz;
+  Resolution r;
+  r.spr = o.samples_per_rev > 0 ? o.samples_per_rev
+                                : std::clamp(next_power_of_two(2.8 * top_order), 64, 16384);
+  r.top = static_cast<std::size_t>(std::min(top_order, 0.72 * (r.spr / 2)));
+  return r;
+}
+
+// The pulses of one shaft corrected from the phase of its regular lines in channel `ch`
+// (GearDamageOptions::refine_speed). Two stages: the lowest mesh order of the shaft (`first`;
+// its phase step per revolution, k eps, stays unambiguous up to a speed error of 0.5 / k), then
+// the strongest regular line (its phase is the most precise). Each stage corrects twice (the
+// first pass measures each revolution's phase through the error it corrects: a revolution's
+// spectrum is blurred by the error's change within it) and is kept only if no pulse moves by
+// half a period of the line or more and it raises the energy of the TSA's regular lines, i.e.
+// makes them more coherent. So the correction is for small errors (the tacho's quantisation and
+// the rate error of its fit, ~1e-5); a larger speed error is left as it is and smears the
+// averages: no finding rather than a wrong one. *line: the last order followed that was kept, 0
+// when the pulses stay as they are. Throws diag::InputError when the record cannot be
+// resampled.
+std::vector<double> refined_pulses(const diag::Signal& ch, const std::vector<double>& pulses,
+                                   int spr, const std::vector<bool>& regular, std::size_t first,
+                                   int min_revolutions, std::size_t* line) {
+  ResampleOptions ro;
+  ro.pulses_per_rev = 1;
+  ro.samples_per_rev = spr;
+  RealFft fft(static_cast<std::size_t>(spr));
+  std::vector<std::complex<double>> spec(fft.bins());
+  const auto passband = static_cast<std::size_t>(0.72 * (spr / 2));
+  // The TSA's spectrum and the energy of its regular lines, for pulses p.
+  auto coherent = [&](const AngleResampled& ar) {
+    fft.forward(tsa(ar, min_revolutions).samples, spec);
+    double e = 0.0;
+    for (std::size_t k = 1; k <= passband && k < spec.size(); ++k) {
+      if (regular[k]) e += std::norm(spec[k]);
+    }
+    return e;
+  };
+  AngleResampled ar = resample_by_angle(ch.samples, ch.fs_hz, pulses, ro);
+  double energy = coherent(ar);
+  const std::size_t strongest = strongest_line(spec, regular, passband);
+  std::vector<double> best = pulses;
+  *line = 0;
+  std::vector<std::complex<double>> phasors;
+  for (const std::size_t k : {first, strongest}) {
+    if (k == 0 || k > passband || k == *line) continue;
+    std::vector<double> p = best;
+    AngleResampled a = ar;
+    for (int pass = 0; pass < 2; ++pass) {
+      phasors.clear();
+      for (int r = 0; r < a.revolutions; ++r) {
+        fft.forward(std::span<const double>(a.samples)
+                        .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
+                    spec);
+        phasors.push_back(spec[k]);
+      }
+      std::vector<double> q = phase_corrected_pulses(p, phasors, k, a.first_rev, kMaxPhaseNoise);
+      if (q == p) break;
+      p = std::move(q);
+      a = resample_by_angle(ch.samples, ch.fs_hz, p, ro);
+    }
+    if (p == best) continue;
+    // No pulse may move by half a period of the line or more from where the tacho put it: the
+    // phase steps would then be ambiguous (a rate error of eps over N revolutions moves the end
+    // pulses by k eps N / 2 periods of order k), and following them can lock the angle onto a
+    // neighbouring order.
+    bool near = true;
+    for (std::size_t b = 0; b < p.size() && near; ++b) {
+      const double period = b + 1 < p.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
+      near = std::abs(p[b] - pulses[b]) < 0.5 * period / static_cast<double>(k);
+    }
+    if (!near) continue;
+    const double e = coherent(a);
+    if (!(e > energy)) continue;
+    energy = e;
+    best = std::move(p);
+    ar = std::move(a);
+    *line = k;
+  }
+  return best;
 }
 
 GearIndicators indicators_for(const Tsa& t, const std::vector<double>& diff,
@@ -329,6 +454,62 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   ResampleOptions ro;
   ro.pulses_per_rev = 1;
 
+  auto channels_of = [&](const diag::Shaft& sh) {
+    std::vector<const diag::Signal*> chans;
+    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
+      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
+    } else {
+      chans = shaft_channels(rec, gb, sh.name);
+    }
+    return chans;
+  };
+
+  // ---- pulse correction (refine_speed) on the fastest shaft with gears and channels ----
+  // Once for all shafts: the error is the reference pulses' (every shaft's revolutions are
+  // scaled from them), and the fastest shaft sees it at the lowest orders, where a phase step
+  // per revolution stays unambiguous longest. Correcting each shaft on its own could leave the
+  // slow shafts smeared while a fast one is corrected: a slow shaft's fault, which folds into
+  // the faster shafts' averages, would then be put on the fast shaft.
+  std::vector<double> base = ref_pulses;  // once-per-revolution times of a shaft turning at
+  double base_ratio = ref_ratio;          // |speed_ratio| = base_ratio
+  if (options.refine_speed) {
+    const diag::Shaft* fast = nullptr;
+    std::vector<const diag::Signal*> fast_chans;
+    for (const diag::Shaft& sh : shafts) {
+      if (sh.gears.empty() || (fast && std::abs(sh.speed_ratio) <= std::abs(fast->speed_ratio))) {
+        continue;
+      }
+      std::vector<const diag::Signal*> c = channels_of(sh);
+      if (!c.empty()) fast = &sh, fast_chans = std::move(c);
+    }
+    if (fast) {
+      const double rel = std::abs(fast->speed_ratio) / ref_ratio;
+      const std::vector<double> fast_pulses = scale_pulses(ref_pulses, rel);
+      const Resolution res_f = resolution(options, fast_chans.front()->fs_hz, ref_hz * rel);
+      const std::vector<int> orders = synchronous_mesh_orders(gb, *fast, res_f.spr / 2);
+      const std::vector<bool> regular =
+          tsa_regular_orders(static_cast<std::size_t>(res_f.spr), orders, 1);
+      const std::size_t first =
+          orders.empty() ? 0 : static_cast<std::size_t>(*std::min_element(orders.begin(), orders.end()));
+      for (const diag::Signal* ch : fast_chans) {
+        std::size_t line = 0;
+        std::vector<double> p;
+        try {
+          p = refined_pulses(*ch, fast_pulses, res_f.spr, regular, first, options.min_revolutions,
+                             &line);
+        } catch (const diag::InputError&) {
+          continue;  // the shaft loop below says why
+        }
+        if (line == 0) continue;
+        base = std::move(p);
+        base_ratio = std::abs(fast->speed_ratio);
+        note << "pulses corrected from the phase of order " << line << " of shaft '" << fast->name
+             << "' on " << ch->name << ". ";
+        break;
+      }
+    }
+  }
+
   for (std::size_t si = 0; si < shafts.size(); ++si) {
     const diag::Shaft& sh = shafts[si];
     if (sh.gears.empty()) continue;
@@ -338,40 +519,20 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     const double rel = std::abs(sh.speed_ratio) / ref_ratio;  // f_s / f_ref
     sd.frequency_hz = ref_hz * rel;
 
-    std::vector<const diag::Signal*> chans;
-    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
-      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
-    } else {
-      chans = shaft_channels(rec, gb, sh.name);
-    }
+    const std::vector<const diag::Signal*> chans = channels_of(sh);
     if (chans.empty()) {
       note << "shaft '" << sh.name << "': no channel. ";
       res.shafts.push_back(sd);
       continue;
     }
     // Highest order analysed and the TSA resolution (options).
-    const double fs = chans.front()->fs_hz;
-    const double top_order = options.band_fraction * 0.5 * fs / sd.frequency_hz;
-    const int spr = options.samples_per_rev > 0
-                        ? options.samples_per_rev
-                        : std::clamp(next_power_of_two(2.8 * top_order), 64, 16384);
+    const Resolution reso = resolution(options, chans.front()->fs_hz, sd.frequency_hz);
+    const int spr = reso.spr;
     const int half = spr / 2;
-    const auto top = static_cast<std::size_t>(std::min(top_order, 0.72 * half));
+    const std::size_t top = reso.top;
     sd.samples_per_rev = spr;
     ro.samples_per_rev = spr;
-
-    // Every mesh frequency that is an integer order of this shaft, below the Nyquist order.
-    std::vector<int> mesh_orders;
-    for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
-      const double f_mesh_over_in =
-          gb.gears()[gb.meshes()[m].driver].spec.teeth *
-          std::abs(shafts[gb.shaft_of_gear(gb.meshes()[m].driver)].speed_ratio);
-      int order = 0;
-      if (is_integer(f_mesh_over_in / std::abs(sh.speed_ratio), &order) && order <= half &&
-          std::find(mesh_orders.begin(), mesh_orders.end(), order) == mesh_orders.end()) {
-        mesh_orders.push_back(order);
-      }
-    }
+    const std::vector<int> mesh_orders = synchronous_mesh_orders(gb, sh, half);
     std::vector<int> own_orders;
     for (int g : sh.gears) own_orders.push_back(gb.gears()[g].spec.teeth);
     // Orders shared with faster shafts.
@@ -392,55 +553,28 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
                                                        {}, own_orders,
                                                        options.extra_sideband_orders, top);
     const std::vector<bool> regular = tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
-    const std::vector<double> pulses = scale_pulses(ref_pulses, rel);
+    const std::vector<double> pulses = scale_pulses(base, std::abs(sh.speed_ratio) / base_ratio);
     RealFft fft(static_cast<std::size_t>(spr));
     std::vector<std::complex<double>> mean_spec(fft.bins()), rev_spec(fft.bins());
     std::vector<double> var(fft.bins());
-    std::vector<std::complex<double>> line_phasors;  // the refinement's line, per revolution
     for (const diag::Signal* ch : chans) {
       AngleResampled ar;
       Tsa t;
-      // Resampling and the TSA (the refinement below adds one resampling and one pass of
-      // per-revolution spectra).
-      auto average = [&](const std::vector<double>& p) {
-        ar = resample_by_angle(ch->samples, ch->fs_hz, p, ro);
-        t = tsa(ar, options.min_revolutions);
-      };
-      // The TSA's spectrum and the revolution-to-revolution variance of every order; the phasor
-      // of order `line` in every revolution when line > 0.
-      auto spectra = [&](std::size_t line) {
-        fft.forward(t.samples, mean_spec);
-        std::fill(var.begin(), var.end(), 0.0);
-        line_phasors.clear();
-        for (int r = 0; r < ar.revolutions; ++r) {
-          fft.forward(std::span<const double>(ar.samples)
-                          .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
-                      rev_spec);
-          for (std::size_t k = 0; k < var.size(); ++k) {
-            var[k] += std::norm(rev_spec[k] - mean_spec[k]);
-          }
-          if (line > 0) line_phasors.push_back(rev_spec[line]);
-        }
-      };
       try {
-        average(pulses);
-        spectra(0);
-        if (options.refine_speed) {
-          const auto passband = static_cast<std::size_t>(0.72 * half);  // resampler's
-          const std::size_t line =
-              strongest_line(mean_spec, var, regular, passband, ar.revolutions);
-          if (line > 0) {
-            spectra(line);
-            const double eps = rate_error(line_phasors) / static_cast<double>(line);
-            if (eps != 0.0) {
-              average(scale_pulses(pulses, 1.0 + eps));
-              spectra(0);
-            }
-          }
-        }
+        ar = resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
+        t = tsa(ar, options.min_revolutions);
       } catch (const diag::InputError& e) {
         note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
         break;
+      }
+      // Spectrum of the TSA and the revolution-to-revolution variance of every order.
+      fft.forward(t.samples, mean_spec);
+      std::fill(var.begin(), var.end(), 0.0);
+      for (int r = 0; r < ar.revolutions; ++r) {
+        fft.forward(std::span<const double>(ar.samples).subspan(static_cast<std::size_t>(r) * spr,
+                                                                static_cast<std::size_t>(spr)),
+                    rev_spec);
+        for (std::size_t k = 0; k < var.size(); ++k) var[k] += std::norm(rev_spec[k] - mean_spec[k]);
       }
       double energy = 0.0, noise = 0.0, band = 0.0, regular_energy = 0.0;
       for (std::size_t k = 0; k < keep.size(); ++k) {

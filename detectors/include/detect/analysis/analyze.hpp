@@ -28,8 +28,8 @@
 //    normal_loa channel, the mesh-harmonic energies in both and their normal-to-along ratio [dB];
 //  - which shaft carries a damaged gear (gear_damage.hpp: TSA per shaft, the noise-corrected
 //    kurtosis of the orders no faster shaft shares; validated in the closed loop with the
-//    simulator), from the shaft angles above: the tacho's, else the nominal speed (refined from
-//    the strongest mesh line: a constant speed a little off the nominal is corrected).
+//    simulator), from the shaft angles above: the tacho's, else the nominal speed (a speed off
+//    the nominal smears the averages: no finding rather than a wrong one).
 // Findings (AnalysisFinding) summarise what points at a shaft, gear or bearing, each with a
 // confidence and a note; only sensor channels (sensor_channels below) vote. Steps that cannot run
 // on this record (too few revolutions for a TSA, a record too short for the kurtogram) are skipped

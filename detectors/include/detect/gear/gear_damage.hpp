@@ -78,18 +78,29 @@ struct GearDamageOptions {
   // constant speed and for a linear run-up over a short record, and averages the jitter over
   // all pulses. Use 0 when the speed wanders within the record.
   int pulse_fit_degree = 3;
-  // Speed refinement from the vibration itself: per shaft and channel, the phase of the
-  // strongest regular line of the TSA (a mesh harmonic, up to the resampler's passband; followed
-  // only when its energy is 100x its revolution-to-revolution scatter / N) is followed from
-  // revolution to revolution; a drift of d cycles per revolution on order k means the pulses'
-  // speed is off by eps = d / k, and the record is resampled again with the pulses scaled by
-  // 1 + eps. Why: the fitted pulses still carry a rate error of about the edge jitter over the
-  // record length (6e-6 in a simulated one-second record at 10 kHz), which moves a mesh harmonic
-  // at order 108 by 6e-4 order; the TSA's one-revolution window then leaks about that fraction
-  // of the line, falling as 1 / |k - 108|, into the orders beside it, coherently in every
-  // revolution: a significant exclusive signal on a healthy shaft when the line is loud (a mesh
-  // harmonic near a resonance that carries most of the vibration). Test: gear_damage_test.cpp,
-  // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines. Costs one more resampling per channel.
+  // Pulse correction from the vibration itself (phase demodulation of a mesh line, as in
+  // Bonnardot et al. 2005, Mech. Syst. Signal Process. 19, for resampling without a tacho), once,
+  // on the fastest shaft with gears (its first channel that allows it), before any shaft is
+  // averaged; every shaft's revolutions are then scaled from the corrected pulses. A regular
+  // line of order k is measured in every revolution; its phase there is c + k e_r, e_r the
+  // error of the assumed shaft angle in revolution r; the pulses move by -e / (2 pi) of a
+  // period (e interpolated between revolution middles) and the record is resampled again
+  // (twice). First with the shaft's lowest mesh order, then with its strongest regular line.
+  // A stage is kept only when (a) the line's amplitude is steady to 0.1 of its mean over the
+  // revolutions (its phase known to ~0.1 rad), (b) no pulse moves by half a period of the line
+  // or more (beyond, the phase steps are ambiguous and the angle can lock onto a neighbouring
+  // order) and (c) the TSA's regular lines gain energy (they became more coherent). So it
+  // corrects small errors only; a speed error of 0.5 % over 44 revolutions is left as it is,
+  // and smears the averages: no finding rather than a wrong one.
+  // Why: a 0/1 tacho sampled at fs places each pulse late by up to one sampling period, by an
+  // amount that follows the fractional part of (revolution x samples per revolution); when that
+  // beats slowly (267.48 samples per revolution: period 50 revolutions) the polynomial fit keeps
+  // it, and the fit's rate error (~1e-5) adds a phase ramp. At order 108 (4 kHz) 50 us is
+  // 1.3 rad: a loud mesh line wanders in phase from revolution to revolution, its one-revolution
+  // leakage (falling as 1 / |k - 108|) stays in the average coherently, and a healthy shaft
+  // looks damaged (the closed loop's false alarms near 2243 rpm before this correction). Tests:
+  // gear_damage_test.cpp, TachoQuantisationIsCorrectedFromTheMeshLinePhase and
+  // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines. Costs a few resamplings of one channel.
   bool refine_speed = true;
   // Sidebands beyond the first also removed around every harmonic of the shaft's OWN gears' mesh
   // orders, >= 0 (other meshes synchronous with the shaft lose their first sidebands only).
@@ -183,8 +194,8 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
 // The same with the reference shaft's once-per-revolution times given instead of read from a
 // tacho channel (as detected: they are smoothed with options.pulse_fit_degree), e.g. from a
 // tacho with several pulses per revolution reduced to one, or from a constant nominal speed
-// (then refine_speed corrects a small constant speed error, up to about 0.5 / k of the speed, k
-// the order of the strongest mesh line). options.reference_shaft is not used. Throws
+// (right only when the shaft turns at it: refine_speed corrects errors below half a period of a
+// mesh line at the record's ends, not more). options.reference_shaft is not used. Throws
 // diag::InputError as above, and for an unknown reference shaft or fewer than 3 pulses, or
 // pulse times that are not finite and strictly increasing.
 GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
