@@ -212,7 +212,8 @@ TEST(GearDamage, TachoQuantisationIsCorrectedFromTheMeshLinePhase) {
   const auto refined = detect::locate_gear_damage(rec, gb);
   const detect::GearDamageOptions defaults;
   for (const auto& s : unrefined.shafts) {
-    EXPECT_GT(s.snr, 1.5 * defaults.min_snr) << s.shaft << ": the error this test is about is absent";
+    EXPECT_GT(s.snr, 1.5 * defaults.min_snr)
+        << s.shaft << ": the error this test is about is absent";
     EXPECT_GT(s.score, defaults.damaged_fm4) << s.shaft;
   }
   EXPECT_EQ(refined.status, "healthy") << nlohmann::json(detect::to_json(refined)).dump(1);

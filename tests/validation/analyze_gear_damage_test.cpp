@@ -87,7 +87,8 @@ TEST(AnalyzeGearDamage, AChippedCounterGearIsAFindingOnTheCounterShaft) {
   EXPECT_EQ(j["gear_damage"]["angles"], "tacho");
   EXPECT_EQ(j["gear_damage"]["shafts"].size(), 3u);
   bool in_json = false;
-  for (const auto& f : j["findings"]) in_json |= f["kind"] == "gear_damage" && f["shaft"] == "counter";
+  for (const auto& f : j["findings"])
+    in_json |= f["kind"] == "gear_damage" && f["shaft"] == "counter";
   EXPECT_TRUE(in_json);
   EXPECT_TRUE(detect::features(r).count("gear_damage/counter/score"));
 }

@@ -610,11 +610,11 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         f.gears = g.gears;
         f.channel = g.channel;
         f.confidence = g.confidence;
-        f.note = "a localised fault once per revolution of " + g.shaft + " (TSA per shaft, " +
-                 r.gear_damage->status + "): " + g.note +
-                 (r.gear_damage_angles == "nominal"
-                      ? " (shaft angles from the nominal speed: no tacho)"
-                      : "");
+        f.note =
+            "a localised fault once per revolution of " + g.shaft + " (TSA per shaft, " +
+            r.gear_damage->status + "): " + g.note +
+            (r.gear_damage_angles == "nominal" ? " (shaft angles from the nominal speed: no tacho)"
+                                               : "");
         r.findings.push_back(std::move(f));
       }
     }
@@ -1232,7 +1232,10 @@ std::string format_summary(const AnalysisResult& r) {
       }
       o << "score " << fmt(s.score) << ", SNR " << fmt(s.snr) << ", level " << fmt(s.level)
         << " on " << s.channel << " (" << s.revolutions << " revolutions)"
-        << (s.damaged ? ": DAMAGED" : s.uncertain ? ": uncertain" : "") << "\n";
+        << (s.damaged     ? ": DAMAGED"
+            : s.uncertain ? ": uncertain"
+                          : "")
+        << "\n";
     }
   }
   o << "findings:";

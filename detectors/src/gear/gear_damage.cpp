@@ -182,16 +182,18 @@ std::vector<double> phase_corrected_pulses(const std::vector<double>& pulses,
   if (!(mean_amp > 0.0) || amp_sd > max_phase_noise * mean_amp) return pulses;
   std::vector<double> e(n);
   e[0] = std::arg(phasors[0]);
-  for (std::size_t j = 1; j < n; ++j) e[j] = e[j - 1] + std::arg(phasors[j] * std::conj(phasors[j - 1]));
+  for (std::size_t j = 1; j < n; ++j)
+    e[j] = e[j - 1] + std::arg(phasors[j] * std::conj(phasors[j - 1]));
   const double e_mean = std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(n);
   for (double& v : e) v = (v - e_mean) / static_cast<double>(k);
   std::vector<double> out(pulses.size());
   for (std::size_t b = 0; b < pulses.size(); ++b) {
-    const double x = std::clamp(static_cast<double>(b) - first_rev - 0.5, 0.0,
-                                static_cast<double>(n - 1));
+    const double x =
+        std::clamp(static_cast<double>(b) - first_rev - 0.5, 0.0, static_cast<double>(n - 1));
     const auto j = std::min(static_cast<std::size_t>(x), n - 2);
     const double err = e[j] + (x - static_cast<double>(j)) * (e[j + 1] - e[j]);
-    const double period = b + 1 < pulses.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
+    const double period =
+        b + 1 < pulses.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
     out[b] = pulses[b] - err / (2.0 * std::numbers::pi) * period;
   }
   for (std::size_t b = 1; b < out.size(); ++b) {
@@ -275,8 +277,8 @@ std::vector<double> refined_pulses(const diag::Signal& ch, const std::vector<dou
     for (int pass = 0; pass < 2; ++pass) {
       phasors.clear();
       for (int r = 0; r < a.revolutions; ++r) {
-        fft.forward(std::span<const double>(a.samples)
-                        .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
+        fft.forward(std::span<const double>(a.samples).subspan(static_cast<std::size_t>(r) * spr,
+                                                               static_cast<std::size_t>(spr)),
                     spec);
         phasors.push_back(spec[k]);
       }
@@ -292,7 +294,8 @@ std::vector<double> refined_pulses(const diag::Signal& ch, const std::vector<dou
     // neighbouring order.
     bool near = true;
     for (std::size_t b = 0; b < p.size() && near; ++b) {
-      const double period = b + 1 < p.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
+      const double period =
+          b + 1 < p.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
       near = std::abs(p[b] - pulses[b]) < 0.5 * period / static_cast<double>(k);
     }
     if (!near) continue;
@@ -431,9 +434,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   }
   for (std::size_t i = 0; i < pulse_times_s.size(); ++i) {
     if (!std::isfinite(pulse_times_s[i]) || (i > 0 && !(pulse_times_s[i] > pulse_times_s[i - 1]))) {
-      throw diag::InputError(diag::format_error(
-          where, "pulse_times_s",
-          "not finite and strictly increasing at pulse " + std::to_string(i)));
+      throw diag::InputError(
+          diag::format_error(where, "pulse_times_s",
+                             "not finite and strictly increasing at pulse " + std::to_string(i)));
     }
   }
   for (const auto& [shaft, names] : options.channels) {
@@ -490,7 +493,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       const std::vector<bool> regular =
           tsa_regular_orders(static_cast<std::size_t>(res_f.spr), orders, 1);
       const std::size_t first =
-          orders.empty() ? 0 : static_cast<std::size_t>(*std::min_element(orders.begin(), orders.end()));
+          orders.empty()
+              ? 0
+              : static_cast<std::size_t>(*std::min_element(orders.begin(), orders.end()));
       for (const diag::Signal* ch : fast_chans) {
         std::size_t line = 0;
         std::vector<double> p;
@@ -544,15 +549,16 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       const int p = shared_order_step(r);
       if (p > 0 && p <= half) shared_steps.push_back(p);
     }
-    const std::vector<bool> keep = exclusive_orders(static_cast<std::size_t>(spr), mesh_orders,
-                                                    shared_steps, own_orders,
-                                                    options.extra_sideband_orders, top);
+    const std::vector<bool> keep =
+        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, shared_steps, own_orders,
+                         options.extra_sideband_orders, top);
 
     // The same band without the removal of the shared orders (the exclusive share's reference).
-    const std::vector<bool> in_band = exclusive_orders(static_cast<std::size_t>(spr), mesh_orders,
-                                                       {}, own_orders,
-                                                       options.extra_sideband_orders, top);
-    const std::vector<bool> regular = tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
+    const std::vector<bool> in_band =
+        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, {}, own_orders,
+                         options.extra_sideband_orders, top);
+    const std::vector<bool> regular =
+        tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
     const std::vector<double> pulses = scale_pulses(base, std::abs(sh.speed_ratio) / base_ratio);
     RealFft fft(static_cast<std::size_t>(spr));
     std::vector<std::complex<double>> mean_spec(fft.bins()), rev_spec(fft.bins());
@@ -571,10 +577,11 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       fft.forward(t.samples, mean_spec);
       std::fill(var.begin(), var.end(), 0.0);
       for (int r = 0; r < ar.revolutions; ++r) {
-        fft.forward(std::span<const double>(ar.samples).subspan(static_cast<std::size_t>(r) * spr,
-                                                                static_cast<std::size_t>(spr)),
+        fft.forward(std::span<const double>(ar.samples)
+                        .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
                     rev_spec);
-        for (std::size_t k = 0; k < var.size(); ++k) var[k] += std::norm(rev_spec[k] - mean_spec[k]);
+        for (std::size_t k = 0; k < var.size(); ++k)
+          var[k] += std::norm(rev_spec[k] - mean_spec[k]);
       }
       double energy = 0.0, noise = 0.0, band = 0.0, regular_energy = 0.0;
       for (std::size_t k = 0; k < keep.size(); ++k) {
@@ -597,23 +604,22 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         const double gain = std::isfinite(snr) ? snr / (snr - 1.0) : 1.0;
         score = 3.0 + (raw - 3.0) * gain * gain;
       }
-      if (std::isnan(sd.score) || score > sd.score ||
-          (score == sd.score && snr > sd.snr)) {
+      if (std::isnan(sd.score) || score > sd.score || (score == sd.score && snr > sd.snr)) {
         sd.score = score;
         sd.fm4 = raw;
         sd.snr = snr;
         sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
-        sd.level = regular_energy > 0.0 ? std::sqrt(std::max(0.0, energy - noise) / regular_energy)
-                                        : kInf;
+        sd.level =
+            regular_energy > 0.0 ? std::sqrt(std::max(0.0, energy - noise) / regular_energy) : kInf;
         sd.channel = ch->name;
         sd.revolutions = t.revolutions;
         const std::vector<double> diff = tsa_difference(t, mesh_orders);
         sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
       }
     }
-    const bool significant = sd.snr >= options.min_snr && !(sd.level < options.min_level) &&
-                             !(shared_steps.size() > 0 &&
-                               sd.exclusive_share < options.min_exclusive_share);
+    const bool significant =
+        sd.snr >= options.min_snr && !(sd.level < options.min_level) &&
+        !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
     sd.damaged = significant && sd.score > options.damaged_fm4;
     sd.uncertain = significant && !sd.damaged && sd.score > options.healthy_fm4;
     res.shafts.push_back(sd);
