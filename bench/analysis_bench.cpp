@@ -6,33 +6,17 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <map>
-#include <random>
 #include <span>
 #include <vector>
 
 #include "detect/indicators/indicators.hpp"
+#include "bench_data.hpp"
 #include "detect/spectral/welch.hpp"
 
 namespace {
 
-const std::vector<double>& noise(std::int64_t samples) {
-  static std::map<std::int64_t, std::vector<double>> cache;
-  auto it = cache.find(samples);
-  if (it != cache.end()) return it->second;
-  std::mt19937_64 rng(20240601);
-  std::normal_distribution<double> g;
-  std::vector<double> x(static_cast<std::size_t>(samples));
-  for (double& v : x) v = g(rng);
-  return cache.emplace(samples, std::move(x)).first->second;
-}
-
-detect::WelchOptions welch_options() {
-  detect::WelchOptions o;
-  o.fs_hz = 1.0;
-  o.nperseg = 4096;  // noverlap -1: 2048
-  return o;
-}
+using bench_data::noise;
+using bench_data::welch_options;
 
 constexpr std::size_t kChunk = 131072;  // 1 MiB of doubles
 

@@ -4,36 +4,20 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <map>
-#include <random>
 #include <vector>
 
+#include "bench_data.hpp"
 #include "detect/spectral/welch.hpp"
 
 namespace {
 
-const std::vector<double>& noise(std::int64_t samples) {
-  static std::map<std::int64_t, std::vector<double>> cache;
-  auto it = cache.find(samples);
-  if (it != cache.end()) return it->second;
-  std::mt19937_64 rng(20240601);
-  std::normal_distribution<double> g;
-  std::vector<double> x(static_cast<std::size_t>(samples));
-  for (double& v : x) v = g(rng);
-  return cache.emplace(samples, std::move(x)).first->second;
-}
-
-detect::WelchOptions options() {
-  detect::WelchOptions o;
-  o.fs_hz = 1.0;
-  o.nperseg = 4096;  // noverlap -1: 2048
-  return o;
-}
+using bench_data::noise;
+using bench_data::welch_options;
 
 void BM_Welch(benchmark::State& state) {
   const auto& x = noise(state.range(0));
   for (auto _ : state) {
-    auto psd = detect::welch(x, options());
+    auto psd = detect::welch(x, welch_options());
     benchmark::DoNotOptimize(psd.value.data());
   }
   state.SetItemsProcessed(state.iterations() * state.range(0));
@@ -44,7 +28,7 @@ BENCHMARK(BM_Welch)->Arg(10'000'000)->Unit(benchmark::kMillisecond);
 void BM_WelchStreaming(benchmark::State& state) {
   const auto& x = noise(state.range(0));
   const std::size_t chunk = 131072;
-  detect::WelchAccumulator acc(options());
+  detect::WelchAccumulator acc(welch_options());
   for (auto _ : state) {
     acc.reset();
     for (std::size_t pos = 0; pos < x.size(); pos += chunk)

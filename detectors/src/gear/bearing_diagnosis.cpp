@@ -113,19 +113,10 @@ void BearingDiagnosisOptions::validate() const {
 }
 
 const char* finding_name(BearingFault f) {
-  switch (f) {
-    case BearingFault::kNone:
-      return "";
-    case BearingFault::kCage:
-      return "cage";
-    case BearingFault::kOuterRace:
-      return "outer_race";
-    case BearingFault::kInnerRace:
-      return "inner_race";
-    case BearingFault::kBall:
-      return "rolling_element";
-  }
-  return "";
+  // to_string's names (fault_bands.hpp) but the findings' "rolling_element" and no "none".
+  if (f == BearingFault::kNone) return "";
+  if (f == BearingFault::kBall) return "rolling_element";
+  return to_string(f);
 }
 
 BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
