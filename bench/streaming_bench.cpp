@@ -160,7 +160,13 @@ void BM_AnalyzeStreaming(benchmark::State& state) {
                                      ("geardiag_bench_streaming_" + std::to_string(::getpid()) + ".h5");
   {
     diag::Recording rec;
-    diag::Signal s{"accel", kFs, "m/s^2", diag::Direction::kVertical, "b1", std::vector<double>(n)};
+    diag::Signal s;
+    s.name = "accel";
+    s.fs_hz = kFs;
+    s.unit = "m/s^2";
+    s.direction = diag::Direction::kVertical;
+    s.location = "b1";
+    s.samples.resize(n);
     Generator gen;
     gen.fill(s.samples);
     rec.signals.push_back(std::move(s));

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "channel_options.hpp"
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/html_report.hpp"
@@ -52,6 +53,7 @@ int cmd_analyze(int argc, char** argv) {
   std::string recording, gearbox, json_out, html_out;
   std::vector<std::string> baselines;
   double fs_hz = 0;
+  ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
       "[--json OUT.json] [--html OUT.html]\n\n"
@@ -80,13 +82,14 @@ int cmd_analyze(int argc, char** argv) {
       "sidebands", po::value(&opt.sidebands.sidebands)->default_value(opt.sidebands.sidebands),
       "sideband orders on each side, 1..20")(
       "tacho-ppr", po::value(&opt.tacho_pulses_per_rev)->default_value(opt.tacho_pulses_per_rev),
-      "tacho pulses per shaft revolution, >= 1")(
+      "tacho pulses per shaft revolution for every tacho, [0, 1e5]; 0: each tacho's own")(
       "tsa-min-revs", po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
       "fewer whole revolutions skip a shaft's TSA, >= 2")(
       "threads", po::value(&opt.threads)->default_value(opt.threads),
       "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
+  channels.add_to(desc, true);
   po::positional_options_description pos;
   pos.add("recording", 1);
   po::variables_map vm;
@@ -119,12 +122,31 @@ int cmd_analyze(int argc, char** argv) {
   } else if (!rec.gearbox_json.empty()) {
     gb = diag::parse_gearbox_text(rec.gearbox_json, recording + ": /gearbox");
   }
+  // What the channels are (channel map, --tacho, inference) and the speed the data says, before
+  // any analysis; the baselines are the same machine's channels.
+  std::vector<std::string> notes;
+  if (gb) {
+    gb = gearbox_at_speed(*gb, rec, channels, notes);
+  } else if (channels.rpm != 0) {
+    throw diag::InputError("--rpm: needs a gearbox description (--gearbox or the file's /gearbox)");
+  }
+  for (std::string& n : prepare_channels(rec, gb ? &*gb : nullptr, channels)) {
+    notes.push_back(std::move(n));
+  }
+  for (std::size_t i = 0; i < healthy.size(); ++i) {
+    try {
+      prepare_channels(healthy[i], gb ? &*gb : nullptr, channels);
+    } catch (const diag::InputError& e) {
+      throw diag::InputError("--baseline " + baselines[i] + ": " + e.what());
+    }
+  }
   detect::AnalysisResult r;
   try {
     r = detect::analyze_recording(rec, gb ? &*gb : nullptr, opt);
   } catch (const diag::InputError& e) {
     throw diag::InputError(recording + ": " + e.what());
   }
+  r.notes.insert(r.notes.begin(), notes.begin(), notes.end());
   if (!healthy.empty()) {
     try {
       r.baseline = detect::score_against_baseline(rec, healthy, bo, baselines);

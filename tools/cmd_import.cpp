@@ -4,10 +4,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <string>
 
+#include "channel_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
+#include "diag/io/channels.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
 
@@ -18,8 +22,9 @@ namespace po = boost::program_options;
 namespace {
 
 void print_channel(const diag::Signal& s, const char* group) {
-  std::printf("  %-24s %-8s %10zu samples  %12.6g Hz  %10.3f s\n", s.name.c_str(), group,
-              s.samples.size(), s.fs_hz, s.duration_s());
+  std::printf("  %-24s %-8s %10zu samples  %12.6g Hz  %10.3f s  %s%s\n", s.name.c_str(), group,
+              s.samples.size(), s.fs_hz, s.duration_s(), std::string(diag::to_string(s.role)).c_str(),
+              s.shaft.empty() ? "" : (" (" + s.shaft + ")").c_str());
 }
 
 }  // namespace
@@ -27,10 +32,12 @@ void print_channel(const diag::Signal& s, const char* group) {
 int cmd_import(int argc, char** argv) {
   const diag::Hdf5WriteOptions write_defaults;
   diag::Hdf5WriteOptions write_options;
-  std::string input, output;
+  std::string input, output, gearbox;
+  ChannelOptions channels;
 
   po::options_description visible(
-      "usage: geardiag import INPUT -o OUTPUT.h5 [--fs HZ]\n\n"
+      "usage: geardiag import INPUT -o OUTPUT.h5 [--fs HZ] [--gearbox GB.json] [--channels MAP.json]\n"
+      "       [--tacho CHANNEL=SHAFT[:PPR]]...\n\n"
       "Converts every numeric channel of INPUT to a geardiag HDF5 recording.\n"
       "INPUT: .csv / .csv.gz (header row; a column time, t, time_s or time_sec [s] gives the\n"
       "sampling rate), .wav / .flac / ... (libsndfile), .mat (MATLAB v5: vectors become channels,\n"
@@ -51,7 +58,11 @@ int cmd_import(int argc, char** argv) {
        po::value<int>(&write_options.deflate_level)
            ->default_value(write_defaults.deflate_level)
            ->value_name("LEVEL"),
-       "gzip compression level, 0 (off) ... 9");
+       "gzip compression level, 0 (off) ... 9")  //
+      ("gearbox", po::value<std::string>(&gearbox)->value_name("GB.json"),
+       "gearbox description: stored with the recording; lets tacho columns be recognised by "
+       "their rate");
+  channels.add_to(visible, false);
   po::options_description hidden;
   hidden.add_options()("input", po::value<std::string>(&input));
   po::options_description all;
@@ -77,11 +88,21 @@ int cmd_import(int argc, char** argv) {
     throw diag::InputError(
         diag::format_error(output, "", "the output would overwrite the input file"));
   }
-  const diag::Recording rec = diag::import_recording(input, options);
+  std::optional<diag::Gearbox> gb;
+  if (!gearbox.empty()) gb = diag::load_gearbox(gearbox);
+  diag::Recording rec = diag::import_recording(input, options);
+  const std::vector<std::string> notes = prepare_channels(rec, gb ? &*gb : nullptr, channels);
+  if (gb) {
+    rec.gearbox_json = gb->description_json();
+    // Every channel was looked at with the description: what inference did not take as a tacho
+    // is vibration, and stays so when the file is analysed.
+    rec.roles_stated = true;
+  }
   diag::write_recording(output, rec, write_options);
 
   for (const auto& s : rec.signals) print_channel(s, "signals");
   for (const auto& s : rec.tachos) print_channel(s, "tacho");
+  for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
   std::printf("wrote %s (%zu channels)\n", output.c_str(), rec.signals.size() + rec.tachos.size());
   return 0;
 }

@@ -36,7 +36,7 @@ struct Description {
 Description describe(const std::string& file, const diag::ImportOptions& options) {
   Description d;
   d.file = file;
-  if (diag::is_hdf5_file(file) && !options.fs_hz) {
+  if (diag::is_hdf5_file(file) && !options.fs_hz && diag::RecordingReader(file).format_version() >= 2) {
     const diag::RecordingReader reader(file);
     d.format = reader.format_attributes();
     d.channels = reader.channels();
@@ -56,10 +56,15 @@ Description describe(const std::string& file, const diag::ImportOptions& options
       c.direction = s.direction;
       c.location = s.location;
       c.length = s.samples.size();
+      c.role = s.role;
+      c.shaft = s.shaft;
+      c.mesh = s.mesh;
+      c.ppr = s.ppr;
       d.channels.push_back(std::move(c));
     }
   }
   d.metadata = rec.metadata;
+  for (const std::string& n : rec.notes) d.metadata["note"] += (d.metadata["note"].empty() ? "" : "; ") + n;
   d.gearbox_json = rec.gearbox_json;
   d.truth_json = rec.truth_json;
   return d;
@@ -86,15 +91,19 @@ void print_text(const Description& d) {
 
   // Column widths from the content so that the table lines up.
   std::vector<std::vector<std::string>> rows = {
-      {"name", "group", "samples", "fs_hz", "duration_s", "unit", "direction", "location"}};
+      {"name", "group", "samples", "fs_hz", "duration_s", "unit", "role", "direction", "location",
+       "shaft", "mesh"}};
   for (const auto& c : d.channels) {
     char fs[32], duration[32];
     std::snprintf(fs, sizeof fs, "%.6g", c.fs_hz);
     std::snprintf(duration, sizeof duration, "%.3f", duration_s(c));
     const std::string direction(diag::to_string(c.direction));
     rows.push_back({c.name, c.group, std::to_string(c.length), fs, duration,
-                    c.unit.empty() ? "-" : c.unit, direction.empty() ? "-" : direction,
-                    c.location.empty() ? "-" : c.location});
+                    c.unit.empty() ? "-" : c.unit,
+                    std::string(diag::to_string(c.role)) +
+                        (c.role == diag::Role::kTacho ? "/" + std::to_string(c.ppr) : ""),
+                    direction.empty() ? "-" : direction, c.location.empty() ? "-" : c.location,
+                    c.shaft.empty() ? "-" : c.shaft, c.mesh.empty() ? "-" : c.mesh});
   }
   std::vector<std::size_t> width(rows[0].size(), 0);
   for (const auto& row : rows) {
@@ -132,7 +141,11 @@ nlohmann::json to_json(const Description& d) {
                              {"duration_s", duration_s(c)},
                              {"unit", c.unit},
                              {"direction", std::string(diag::to_string(c.direction))},
-                             {"location", c.location}});
+                             {"location", c.location},
+                             {"role", std::string(diag::to_string(c.role))},
+                             {"shaft", c.shaft},
+                             {"mesh", c.mesh},
+                             {"ppr", c.ppr}});
   }
   j["metadata"] = d.metadata;
   if (auto gb = gearbox_of(d)) j["gearbox"] = diag::summary_json(*gb);

@@ -23,7 +23,7 @@ def main(path):
     with h5py.File(path, "r") as f:
         # Root attributes: strings must come back as str (variable-length UTF-8), not bytes.
         check(f.attrs["format"] == "geardiag-recording", f"format = {f.attrs['format']!r}")
-        check(int(f.attrs["format_version"]) == 1, "format_version == 1")
+        check(int(f.attrs["format_version"]) == 2, "format_version == 2")
         check(isinstance(f.attrs["creator"], str), "creator is a str")
         check(f.attrs["creator"].startswith("geardiag "), f"creator = {f.attrs['creator']!r}")
         check(isinstance(f.attrs["git_revision"], str), "git_revision is a str")
@@ -41,10 +41,15 @@ def main(path):
         check(d.attrs["unit"] == "m/s^2", f"unit = {d.attrs['unit']!r}")
         check(d.attrs["direction"] == "along_loa", f"direction = {d.attrs['direction']!r}")
         check(d.attrs["location"] == "bearing_1", f"location = {d.attrs['location']!r}")
+        check(d.attrs["role"] == "vibration", f"role = {d.attrs['role']!r}")
+        check(isinstance(d.attrs["shaft"], str), "shaft is a str")
+        check(int(d.attrs["ppr"]) == 0, f"ppr = {d.attrs['ppr']!r}")
 
         t = f["tacho/input"]
         check(t[()].tolist() == [0.0, 1.0, 0.0, 1.0], "tacho samples")
         check(t.attrs["direction"] == "tacho", f"tacho direction = {t.attrs['direction']!r}")
+        check(t.attrs["role"] == "tacho", f"tacho role = {t.attrs['role']!r}")
+        check(int(t.attrs["ppr"]) >= 1, f"tacho ppr = {t.attrs['ppr']!r}")
 
         gearbox = f["gearbox"].asstr()[()]
         check(json.loads(gearbox) == {"name": "h5py-check"}, f"/gearbox = {gearbox!r}")

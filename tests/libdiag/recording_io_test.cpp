@@ -205,7 +205,7 @@ TEST_F(RecordingIo, RoundTripKeepsSamplesAttributesAndStringsExactly) {
   const diag::RecordingReader reader(path);
   const auto format = reader.format_attributes();
   EXPECT_EQ(format.at("format"), "geardiag-recording");
-  EXPECT_EQ(format.at("format_version"), "1");
+  EXPECT_EQ(format.at("format_version"), "2");
   EXPECT_EQ(format.at("creator").rfind("geardiag ", 0), 0u) << format.at("creator");
   EXPECT_FALSE(format.at("git_revision").empty());
 }

@@ -19,6 +19,7 @@
 #include "detect/spectral/spectrum.hpp"
 #include "detect/spectral/welch.hpp"
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 
 namespace detect {
 
@@ -98,29 +99,32 @@ Kinematics kinematics(const diag::Recording& rec, const diag::Gearbox& gb, doubl
     k.speeds[s].source = "nominal";
   }
   for (const diag::Signal& t : rec.tachos) {
-    int s = gb.shaft_index(t.location);
-    if (s < 0) s = gb.shaft_index(t.name);
+    const std::string& named = t.shaft.empty() ? t.location : t.shaft;
+    const int s = gb.shaft_index(named);
     if (s < 0) {
-      notes.push_back("tacho '" + t.name + "' names no shaft of the gearbox: not used");
+      notes.push_back("tacho '" + t.name + "' names no shaft of the gearbox ('" + named +
+                      "'): not used");
       continue;
     }
+    const int ppr = opt.tacho_pulses_per_rev > 0 ? opt.tacho_pulses_per_rev
+                                                 : diag::pulses_per_rev(t);
     TachoOptions to;
-    to.pulses_per_rev = opt.tacho_pulses_per_rev;
+    to.pulses_per_rev = ppr;
     const TachoResult tr = tacho_pulses(t.samples, t.fs_hz, to);
     const auto& p = tr.pulse_times_s;
-    if (p.size() < static_cast<std::size_t>(opt.tacho_pulses_per_rev) + 2) {
+    if (p.size() < static_cast<std::size_t>(ppr) + 2) {
       notes.push_back("tacho '" + t.name + "': " + std::to_string(p.size()) +
                       " pulses, too few for a speed: not used");
       continue;
     }
     const double f_meas =
-        static_cast<double>(p.size() - 1) / opt.tacho_pulses_per_rev / (p.back() - p.front());
+        static_cast<double>(p.size() - 1) / ppr / (p.back() - p.front());
     const double scale = f_meas / gb.shaft_speed_hz(s);
     for (std::size_t b = 0; b < ns; ++b) {
       k.speeds[b].speed_hz = gb.shaft_speed_hz(static_cast<int>(b)) * scale;
       k.speeds[b].source = static_cast<int>(b) == s ? "tacho" : "tacho " + t.name + " x ratio";
       const double ratio = k.speeds[b].speed_hz / f_meas;
-      k.pulses_s[b] = scale_pulses(p, ratio, opt.tacho_pulses_per_rev);
+      k.pulses_s[b] = scale_pulses(p, ratio, ppr);
     }
     k.tacho_shaft = s;
     k.speeds[static_cast<std::size_t>(s)].tacho_repairs = static_cast<int>(tr.repairs.size());
@@ -150,8 +154,8 @@ void AnalyzeOptions::validate() const {
           std::to_string(welch_nperseg) + " is not in [8, 2^24]");
   require(kurtogram_max_level >= 1 && kurtogram_max_level <= 12, "kurtogram_max_level",
           std::to_string(kurtogram_max_level) + " is not in [1, 12]");
-  require(tacho_pulses_per_rev >= 1, "tacho_pulses_per_rev",
-          std::to_string(tacho_pulses_per_rev) + " is not >= 1");
+  require(tacho_pulses_per_rev >= 0 && tacho_pulses_per_rev <= 100000, "tacho_pulses_per_rev",
+          std::to_string(tacho_pulses_per_rev) + " is not in [0, 100000]");
   require(tsa_min_revolutions >= 2, "tsa_min_revolutions",
           std::to_string(tsa_min_revolutions) + " is not >= 2");
   require(peaks_reported >= 0 && peaks_reported <= 100, "peaks_reported",
@@ -235,7 +239,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     const double scale = input_hz / gb->shaft_speed_hz(input);
     for (std::size_t j = 0; j < gb->meshes().size(); ++j) {
       const diag::Mesh& m = gb->meshes()[j];
-      r.meshes.push_back({gb->gears()[m.driver].name + "_" + gb->gears()[m.driven].name,
+      r.meshes.push_back({diag::mesh_name(*gb, static_cast<int>(j)),
                           gb->gears()[m.driver].name, gb->gears()[m.driven].name,
                           gb->mesh_frequency_hz(static_cast<int>(j)) * scale});
     }
@@ -273,8 +277,13 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     c.direction = sig.direction;
     c.fs_hz = sig.fs_hz;
     c.samples = sig.samples.size();
-    c.vibration =
-        sig.direction != diag::Direction::kTacho && sig.direction != diag::Direction::kAngle;
+    c.role = sig.role;
+    c.shaft = sig.shaft;
+    c.mesh = sig.mesh;
+    // Spectra for what vibrates (sensors, and the simulator's mesh force and deflection); the
+    // time indicators only for angles, speeds and other quantities.
+    c.vibration = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
+                  sig.role == diag::Role::kDisplacement;
     c.sensor = sensor[ci];
     const std::span<const double> x(sig.samples);
     const Moments mo = moments(x);
@@ -533,10 +542,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     for (std::size_t ai = 0; ai < r.channels.size(); ++ai) {
       const ChannelAnalysis& a = r.channels[ai];
       if (a.direction != diag::Direction::kAlongLoa || full[ai].amplitude.empty()) continue;
-      std::string partner = a.name;
-      if (const auto p = partner.find("along_loa"); p != std::string::npos) {
-        partner.replace(p, 9, "normal_loa");
-      }
+      // The partner: the normal-LOA sensor at the same location following the same mesh (the
+      // channel contract's location and mesh; no name is parsed); without a mesh on either, the
+      // only normal-LOA sensor at that location.
       int ni = -1, same_location = -1, count = 0;
       for (std::size_t k = 0; k < r.channels.size(); ++k) {
         const ChannelAnalysis& n = r.channels[k];
@@ -544,31 +552,20 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
             full[k].amplitude.empty() || n.fs_hz != a.fs_hz || n.samples != a.samples) {
           continue;
         }
-        if (n.name == partner) ni = static_cast<int>(k);
+        if (!a.mesh.empty() && n.mesh == a.mesh) ni = static_cast<int>(k);
         same_location = static_cast<int>(k);
         ++count;
       }
-      if (ni < 0 && count == 1) ni = same_location;
+      if (ni < 0 && count == 1 && (a.mesh.empty() || r.channels[same_location].mesh.empty())) {
+        ni = same_location;
+      }
       if (ni < 0) {
         r.notes.push_back("two directions: no normal_loa partner for '" + a.name + "'");
         continue;
       }
       std::vector<std::size_t> meshes;
-      for (std::size_t j = 0; j < r.meshes.size(); ++j) {
-        if (a.name.find("_" + r.meshes[j].name) != std::string::npos) meshes.push_back(j);
-      }
-      if (meshes.empty()) {
-        for (std::size_t j = 0; j < r.meshes.size(); ++j) {
-          const diag::Mesh& m = gb->meshes()[j];
-          for (int g : {m.driver, m.driven}) {
-            const std::string& sh =
-                gb->shafts()[static_cast<std::size_t>(gb->shaft_of_gear(g))].name;
-            if (a.location == sh || a.location.rfind(sh + "_", 0) == 0) {
-              meshes.push_back(j);
-              break;
-            }
-          }
-        }
+      for (int j : diag::sensor_meshes(rec.signals[ai], *gb)) {
+        meshes.push_back(static_cast<std::size_t>(j));
       }
       if (meshes.empty()) {
         for (std::size_t j = 0; j < r.meshes.size(); ++j) meshes.push_back(j);
@@ -730,20 +727,6 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
                      });
   }
   return r;
-}
-
-std::vector<std::size_t> sensor_channels(const diag::Recording& rec) {
-  using diag::Direction;
-  auto vibration = [](Direction d) { return d != Direction::kTacho && d != Direction::kAngle; };
-  bool directed = false;
-  for (const diag::Signal& s : rec.signals)
-    directed |= vibration(s.direction) && s.direction != Direction::kUnspecified;
-  std::vector<std::size_t> out;
-  for (std::size_t i = 0; i < rec.signals.size(); ++i) {
-    const Direction d = rec.signals[i].direction;
-    if (vibration(d) && !(directed && d == Direction::kUnspecified)) out.push_back(i);
-  }
-  return out;
 }
 
 void BaselineComparisonOptions::validate() const {
@@ -1006,6 +989,9 @@ nlohmann::json to_json(const AnalysisResult& r) {
             {"unit", c.unit},
             {"direction", std::string(diag::to_string(c.direction))},
             {"location", c.location},
+            {"role", std::string(diag::to_string(c.role))},
+            {"shaft", c.shaft},
+            {"mesh", c.mesh},
             {"fs_hz", c.fs_hz},
             {"samples", c.samples},
             {"vibration", c.vibration},

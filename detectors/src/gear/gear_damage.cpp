@@ -15,6 +15,7 @@
 #include "detect/angular/tsa.hpp"
 #include "detect/spectral/fft.hpp"
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 
 namespace detect {
 
@@ -50,48 +51,27 @@ int shared_order_step(double ratio) {
   return 0;
 }
 
-bool starts_with(const std::string& s, const std::string& prefix) {
-  return s.size() >= prefix.size() && s.compare(0, prefix.size(), prefix) == 0;
-}
-
-bool is_motion_direction(diag::Direction d) {
-  return d == diag::Direction::kAlongLoa || d == diag::Direction::kNormalLoa ||
-         d == diag::Direction::kHorizontal || d == diag::Direction::kVertical;
-}
-
-// Signals of the bearings of `shaft` (simulator names "<shaft>_bearing<k>" or the gearbox's own
-// bearings on that shaft).
+// The sensors of `shaft` by the channel contract (diag::shaft_sensors: the channel's shaft, or
+// a location naming a bearing of the shaft): the first location only (the simulator's bearing1 /
+// bearing2 see the same rigid shaft motion), along each line of action when there are such;
+// without sensors on the shaft, every sensor channel (a casing sensor serves all shafts).
 std::vector<const diag::Signal*> shaft_channels(const diag::Recording& rec, const diag::Gearbox& gb,
                                                 const std::string& shaft) {
-  auto on_shaft = [&](const diag::Signal& s) {
-    if (s.location.empty()) return false;
-    if (starts_with(s.location, shaft + "_bearing")) return true;
-    for (const auto& b : gb.bearings()) {
-      if (b.shaft == shaft && b.name == s.location) return true;
-    }
-    return false;
-  };
-  // First bearing only (the simulator's bearing1 / bearing2 see the same shaft motion), along
-  // each line of action of the shaft.
   std::vector<const diag::Signal*> along, any;
-  std::string first_bearing;
-  for (const auto& s : rec.signals) {
-    if (!on_shaft(s)) continue;
-    if (first_bearing.empty()) first_bearing = s.location;
-    if (s.location != first_bearing) continue;
+  std::string first_location;
+  bool first = true;
+  for (std::size_t i : diag::shaft_sensors(rec, gb, shaft)) {
+    const diag::Signal& s = rec.signals[i];
+    if (first) first_location = s.location, first = false;
+    if (s.location != first_location) continue;
     any.push_back(&s);
     if (s.direction == diag::Direction::kAlongLoa) along.push_back(&s);
   }
   if (!along.empty()) return along;
   if (!any.empty()) return any;
-  std::vector<const diag::Signal*> casing, undirected;
-  for (const auto& s : rec.signals) {
-    if (is_motion_direction(s.direction)) casing.push_back(&s);
-    if (s.direction == diag::Direction::kUnspecified) undirected.push_back(&s);
-  }
-  // An imported measurement carries no directions: then every channel without one (tacho and
-  // angle channels have theirs) is a sensor on the casing.
-  return casing.empty() ? undirected : casing;
+  std::vector<const diag::Signal*> casing;
+  for (std::size_t i : diag::sensor_channels(rec)) casing.push_back(&rec.signals[i]);
+  return casing;
 }
 
 // The exclusive order set of a shaft, as a mask over the lines 0 .. spr/2 of its TSA: every
@@ -379,36 +359,36 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
   }
   const diag::Signal* tacho = nullptr;
-  auto tacho_of = [&](const std::string& shaft) -> const diag::Signal* {
-    for (const auto& t : rec.tachos) {
-      if (t.location == shaft || t.name == shaft) return &t;
-    }
-    return nullptr;
-  };
+  auto tacho_of = [&](const std::string& shaft) { return diag::shaft_tacho(rec, shaft); };
   if (!ref.empty()) {
     tacho = tacho_of(ref);
   } else {
     ref = shafts[gb.input_shaft()].name;
     tacho = tacho_of(ref);
-    for (std::size_t i = 0; !tacho && i < rec.tachos.size(); ++i) {
-      if (gb.shaft_index(rec.tachos[i].location) >= 0) {
-        tacho = &rec.tachos[i];
-        ref = tacho->location;
-      }
+    for (std::size_t s = 0; !tacho && s < shafts.size(); ++s) {
+      tacho = tacho_of(shafts[s].name);
+      if (tacho) ref = shafts[s].name;
     }
   }
   if (!tacho) {
     throw diag::InputError(
         diag::format_error(where, "tachos", "no tacho for shaft '" + ref + "' in the recording"));
   }
-  // TachoOptions defaults: once-per-revolution pulses (the simulator's and most rigs' keyphasor).
-  const TachoResult tr = tacho_pulses(tacho->samples, tacho->fs_hz);
-  if (tr.pulse_times_s.size() < 3) {
+  // The tacho's own pulses per revolution (a keyphasor: 1); every ppr-th pulse starts a
+  // revolution.
+  TachoOptions to;
+  to.pulses_per_rev = diag::pulses_per_rev(*tacho);
+  const TachoResult tr = tacho_pulses(tacho->samples, tacho->fs_hz, to);
+  std::vector<double> once;
+  for (std::size_t i = 0; i < tr.pulse_times_s.size(); i += to.pulses_per_rev) {
+    once.push_back(tr.pulse_times_s[i]);
+  }
+  if (once.size() < 3) {
     throw diag::InputError(diag::format_error(
         where, "tacho '" + tacho->name + "'",
-        std::to_string(tr.pulse_times_s.size()) + " pulses; at least 3 are needed"));
+        std::to_string(once.size()) + " revolutions; at least 3 are needed"));
   }
-  GearDamageResult res = locate_gear_damage(rec, gb, ref, tr.pulse_times_s, options);
+  GearDamageResult res = locate_gear_damage(rec, gb, ref, once, options);
   if (!tr.repairs.empty()) {
     res.note = std::to_string(tr.repairs.size()) + " tacho repair(s) on '" + ref + "'. " + res.note;
   }

@@ -76,6 +76,16 @@ double Gearbox::ratio_to_output(int gear) const {
                   shafts_.at(output_shaft_).speed_ratio);
 }
 
+Gearbox Gearbox::with_input_speed_rpm(double speed_rpm) const {
+  if (!(speed_rpm > 0) || !std::isfinite(speed_rpm) || speed_rpm > 1e6) {
+    throw InputError(format_error(name_, "input speed",
+                                  std::to_string(speed_rpm) + " rpm is not in (0, 1e6]"));
+  }
+  Gearbox g = *this;
+  g.input_.speed_rpm = speed_rpm;
+  return g;
+}
+
 double Gearbox::shaft_speed_hz(int shaft) const {
   return units::rpm_to_hz(input_.speed_rpm) * std::abs(shafts_.at(shaft).speed_ratio);
 }

@@ -19,16 +19,19 @@
 #include <vector>
 
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 
 namespace diag {
 
 namespace {
 
 constexpr char kFormatName[] = "geardiag-recording";
-constexpr int kFormatVersion = 1;
+// 2: every channel carries role, shaft, mesh, ppr, and the root the recorded speed_rpm. Format-1
+// files are still read, their roles inferred (infer_format1_roles).
+constexpr int kFormatVersion = 2;
 // Root attributes owned by the format; Recording::metadata may not use these keys.
-constexpr std::array<const char*, 4> kReservedAttributes = {"format", "format_version", "creator",
-                                                            "git_revision"};
+constexpr std::array<const char*, 6> kReservedAttributes = {
+    "format", "format_version", "creator", "git_revision", "input_speed_rpm", "roles_stated"};
 // HDF5 limits a chunk to 4 GiB; 2^26 float64 samples (512 MiB) stays far below it.
 constexpr std::size_t kMaxChunkSamples = std::size_t{1} << 26;
 
@@ -180,6 +183,13 @@ struct Writer {
     string_attribute(ds.get(), "unit", s.unit, what);
     string_attribute(ds.get(), "direction", std::string(to_string(s.direction)), what);
     string_attribute(ds.get(), "location", s.location, what);
+    // The tacho group holds tachos whatever the in-memory role says; a tacho counts at least
+    // one pulse per revolution.
+    const bool tacho = group_name == "tacho";
+    string_attribute(ds.get(), "role", std::string(to_string(tacho ? Role::kTacho : s.role)), what);
+    string_attribute(ds.get(), "shaft", s.shaft, what);
+    string_attribute(ds.get(), "mesh", s.mesh, what);
+    int_attribute(ds.get(), "ppr", tacho ? std::max(1, s.ppr) : s.ppr, what);
   }
 
   void signal_group(hid_t file, const std::string& group_name,
@@ -217,6 +227,8 @@ struct Writer {
       int_attribute(root.get(), "format_version", kFormatVersion, "/");
       string_attribute(root.get(), "creator", std::string("geardiag ") + GEARDIAG_VERSION, "/");
       string_attribute(root.get(), "git_revision", GEARDIAG_GIT_REVISION, "/");
+      if (rec.speed_rpm > 0) double_attribute(root.get(), "input_speed_rpm", rec.speed_rpm, "/");
+      int_attribute(root.get(), "roles_stated", rec.roles_stated ? 1 : 0, "/");
       for (const auto& [key, value] : rec.metadata) {
         string_attribute(root.get(), key, value, "/");
       }
@@ -247,6 +259,17 @@ void validate_for_write(const std::string& where, const Recording& rec,
         throw InputError(format_error(
             where, "channel '" + s.name + "'",
             std::string("appears twice in ") + (group == &rec.signals ? "signals" : "tachos")));
+      }
+    }
+  }
+  if (!(rec.speed_rpm >= 0) || !std::isfinite(rec.speed_rpm)) {
+    throw InputError(format_error(where, "input_speed_rpm",
+                                  std::to_string(rec.speed_rpm) + " is not a finite speed >= 0"));
+  }
+  for (const auto* group : {&rec.signals, &rec.tachos}) {
+    for (const Signal& s : *group) {
+      if (s.ppr < 0) {
+        throw InputError(format_error(where, "channel '" + s.name + "': ppr", "must be >= 0"));
       }
     }
   }
@@ -472,13 +495,18 @@ RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path
     }
     {
       Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
-      if (auto version = attribute_double(root.get(), "format_version");
-          version && *version > kFormatVersion) {
+      const auto version = attribute_double(root.get(), "format_version");
+      if (version && *version > kFormatVersion) {
         throw InputError(format_error(where, "format_version",
                                       std::to_string(static_cast<long long>(*version)) +
                                           " is newer than this geardiag reads (" +
                                           std::to_string(kFormatVersion) + ")"));
       }
+      if (version && !(*version >= 1)) {
+        throw InputError(format_error(where, "format_version",
+                                      std::to_string(*version) + " is not a format version"));
+      }
+      format_version_ = version ? static_cast<int>(*version) : 1;
     }
     for (const char* group_name : {"signals", "tacho"}) {
       const std::string group_path = std::string("/") + group_name;
@@ -527,6 +555,33 @@ RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path
                                         "unknown value '" + direction +
                                             "'; expected \"\", along_loa, normal_loa, "
                                             "horizontal, vertical, angle or tacho"));
+        }
+        if (format_version_ >= 2) {
+          const std::string role = attribute_text(obj.get(), "role").value_or("");
+          try {
+            info.role = role_from_string(role);
+          } catch (const InputError&) {
+            throw InputError(format_error(where, what + ": role",
+                                          "unknown value '" + role +
+                                              "'; expected vibration, tacho, angle, speed, force, "
+                                              "displacement or other"));
+          }
+          info.shaft = attribute_text(obj.get(), "shaft").value_or("");
+          info.mesh = attribute_text(obj.get(), "mesh").value_or("");
+          const double ppr = attribute_double(obj.get(), "ppr").value_or(0.0);
+          if (!(ppr >= 0 && ppr <= 1e6) || ppr != std::floor(ppr)) {
+            throw InputError(format_error(where, what + ": ppr",
+                                          std::to_string(ppr) + " is not an integer in [0, 1e6]"));
+          }
+          info.ppr = static_cast<int>(ppr);
+          if (info.group == "tacho" && (info.role != Role::kTacho || info.ppr < 1)) {
+            throw InputError(format_error(where, what,
+                                          "a /tacho channel must have role tacho and ppr >= 1"));
+          }
+        } else if (info.group == "tacho") {
+          info.role = Role::kTacho;
+          info.shaft = info.location;
+          info.ppr = 1;
         }
         channels_.push_back(std::move(info));
       }
@@ -594,6 +649,21 @@ std::map<std::string, std::string> RecordingReader::metadata() const {
   return out;
 }
 
+bool RecordingReader::roles_stated() const {
+  Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, path_.string(), "/");
+  return attribute_double(root.get(), "roles_stated").value_or(1.0) != 0.0;
+}
+
+double RecordingReader::speed_rpm() const {
+  Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, path_.string(), "/");
+  const double rpm = attribute_double(root.get(), "input_speed_rpm").value_or(0.0);
+  if (!(rpm >= 0) || !std::isfinite(rpm)) {
+    throw InputError(format_error(path_.string(), "input_speed_rpm",
+                                  std::to_string(rpm) + " is not a finite speed >= 0"));
+  }
+  return rpm;
+}
+
 std::map<std::string, std::string> RecordingReader::format_attributes() const {
   Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, path_.string(), "/");
   std::map<std::string, std::string> out;
@@ -636,14 +706,28 @@ Recording read_recording(const std::filesystem::path& path) {
   RecordingReader reader(path);
   Recording rec;
   for (const ChannelInfo& c : reader.channels()) {
-    Signal s{c.name,      c.fs_hz,    c.unit,
-             c.direction, c.location, std::vector<double>(static_cast<std::size_t>(c.length))};
+    Signal& s = (c.group == "signals" ? rec.signals : rec.tachos).emplace_back();
+    s.name = c.name;
+    s.fs_hz = c.fs_hz;
+    s.unit = c.unit;
+    s.direction = c.direction;
+    s.location = c.location;
+    s.samples.resize(static_cast<std::size_t>(c.length));
+    s.role = c.role;
+    s.shaft = c.shaft;
+    s.mesh = c.mesh;
+    s.ppr = c.ppr;
     reader.read_block(c.group + "/" + c.name, 0, s.samples);
-    (c.group == "signals" ? rec.signals : rec.tachos).push_back(std::move(s));
   }
   rec.gearbox_json = reader.gearbox_json();
   rec.truth_json = reader.truth_json();
   rec.metadata = reader.metadata();
+  rec.speed_rpm = reader.speed_rpm();
+  if (reader.format_version() < 2) {
+    infer_format1_roles(rec);
+  } else {
+    rec.roles_stated = reader.roles_stated();
+  }
   return rec;
 }
 

@@ -424,6 +424,7 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
     throw InputError(format_error(where, "", "not a MATLAB .mat file matio can read"));
   }
   Recording rec;
+  std::vector<std::pair<std::string, double>> rpm_values;
   try {
     while (matvar_t* var = Mat_VarReadNext(mat)) {
       struct Free {
@@ -437,6 +438,11 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
       if (!numeric_values(var, values) || values.empty()) continue;
       if (values.size() == 1) {
         rec.metadata[var->name] = scalar_text(var, values[0]);
+        const std::string lname = lower(var->name);
+        // A speed stored with the data (CWRU: X097RPM, X105RPM, ...): the input shaft's speed.
+        if (ends_with(lname, "rpm") && values[0] > 0 && values[0] < 1e6) {
+          rpm_values.emplace_back(var->name, values[0]);
+        }
         continue;
       }
       for (std::size_t i = 0; i < values.size(); ++i) {
@@ -465,6 +471,19 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
         format_error(where, "fs_hz", ".mat files do not store the sampling rate: give it (--fs)"));
   }
   for (Signal& s : rec.signals) s.fs_hz = *options.fs_hz;
+  if (!rpm_values.empty()) {
+    const auto [lo, hi] = std::minmax_element(
+        rpm_values.begin(), rpm_values.end(),
+        [](const auto& a, const auto& b) { return a.second < b.second; });
+    if (hi->second <= lo->second * 1.001) {
+      rec.speed_rpm = rpm_values.front().second;
+      rec.notes.push_back("speed " + number_text(rec.speed_rpm) + " rpm from variable " +
+                          rpm_values.front().first);
+    } else {
+      rec.notes.push_back("speed variables " + lo->first + " and " + hi->first +
+                          " disagree: no recorded speed");
+    }
+  }
   return rec;
 }
 
@@ -517,6 +536,11 @@ Recording import_recording(const std::filesystem::path& path, const ImportOption
     rec = import_sound(path, where, options);
   }
   rec.metadata.try_emplace("source", path.filename().string());
+  if (!is_hdf5_file(path)) {
+    // Measured files say nothing of what their columns are: vibration until a channel map,
+    // --tacho or tacho inference (channels.hpp) says otherwise.
+    rec.roles_stated = false;
+  }
   return rec;
 }
 

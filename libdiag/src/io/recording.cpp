@@ -21,6 +21,18 @@ constexpr DirectionName kDirectionNames[] = {
     {Direction::kTacho, "tacho"},
 };
 
+struct RoleName {
+  Role role;
+  std::string_view name;
+};
+
+constexpr RoleName kRoleNames[] = {
+    {Role::kVibration, "vibration"}, {Role::kTacho, "tacho"},
+    {Role::kAngle, "angle"},         {Role::kSpeed, "speed"},
+    {Role::kForce, "force"},         {Role::kDisplacement, "displacement"},
+    {Role::kOther, "other"},
+};
+
 std::string channel_list(const Recording& rec) {
   std::string out;
   for (const auto* group : {&rec.signals, &rec.tachos}) {
@@ -48,6 +60,22 @@ Direction direction_from_string(std::string_view name) {
   throw InputError(format_error("direction", std::string(name),
                                 "unknown direction; expected one of \"\", along_loa, normal_loa, "
                                 "horizontal, vertical, angle, tacho"));
+}
+
+std::string_view to_string(Role r) {
+  for (const auto& entry : kRoleNames) {
+    if (entry.role == r) return entry.name;
+  }
+  return "";
+}
+
+Role role_from_string(std::string_view name) {
+  for (const auto& entry : kRoleNames) {
+    if (entry.name == name) return entry.role;
+  }
+  throw InputError(format_error("role", std::string(name),
+                                "unknown role; expected one of vibration, tacho, angle, speed, "
+                                "force, displacement, other"));
 }
 
 const Signal* Recording::find(std::string_view name) const {

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "diag/io/channels.hpp"
 #include "diag/error.hpp"
 
 namespace sim {
@@ -315,7 +316,7 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
       errors_a = pitch_errors_iso1328(pair.driver(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.a);
       errors_b = pitch_errors_iso1328(pair.driven(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.b);
     }
-    const std::string name = gb.gears()[d.a].name + "_" + gb.gears()[d.b].name;
+    const std::string name = diag::mesh_name(gb, static_cast<int>(j));
     const StiffnessTable* table = nullptr;
     for (const StiffnessTable& t : m.opt.stiffness_tables) {
       if (t.mesh == name) table = &t;
@@ -354,7 +355,7 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
 
   for (const StiffnessTable& t : m.opt.stiffness_tables) {
     bool found = false;
-    for (const MeshData& d : m.meshes) found |= gb.gears()[d.a].name + "_" + gb.gears()[d.b].name == t.mesh;
+    for (std::size_t j = 0; j < m.meshes.size(); ++j) found |= diag::mesh_name(gb, static_cast<int>(j)) == t.mesh;
     if (!found) {
       throw diag::InputError(diag::format_error(where, "stiffness.tables",
                                                 "'" + t.mesh + "' is not a mesh <driver>_<driven> of the gearbox"));

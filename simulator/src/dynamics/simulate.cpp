@@ -1,5 +1,7 @@
 #include "sim/dynamics/simulate.hpp"
 
+#include "diag/io/channels.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -56,10 +58,7 @@ struct ChannelPlan {
   bool casing = false;
 };
 
-std::string mesh_name(const diag::Gearbox& gb, int j) {
-  const diag::Mesh& m = gb.meshes()[j];
-  return gb.gears()[m.driver].name + "_" + gb.gears()[m.driven].name;
-}
+using diag::mesh_name;
 
 }  // namespace
 
@@ -182,12 +181,16 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
       }
       for (int b = 1; b <= 2; ++b) {
         const std::string bearing = gb.shafts()[s].name + "_bearing" + std::to_string(b);
-        auto add = [&](const std::string& suffix, diag::Direction dir, double cx, double cy) {
+        auto add = [&](const std::string& suffix, diag::Direction dir, double cx, double cy,
+                       const std::string& mesh) {
           ChannelPlan p;
           p.channel.name = bearing + "_" + suffix;
           p.channel.unit = "m/s^2";
           p.channel.direction = dir;
           p.channel.location = bearing;
+          p.channel.role = diag::Role::kVibration;
+          p.channel.shaft = gb.shafts()[s].name;
+          p.channel.mesh = mesh;
           p.source = Source::kAccel;
           p.index = x;
           p.cx = cx;
@@ -199,24 +202,35 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
           const std::string suffix = shaft_meshes.size() > 1 ? "_" + mesh_name(gb, j) : "";
           const auto [nx, ny] = model.loa_direction(j);
           const auto [mx, my] = model.normal_direction(j);
-          add("along_loa" + suffix, diag::Direction::kAlongLoa, nx, ny);
-          add("normal_loa" + suffix, diag::Direction::kNormalLoa, mx, my);
+          add("along_loa" + suffix, diag::Direction::kAlongLoa, nx, ny, mesh_name(gb, j));
+          add("normal_loa" + suffix, diag::Direction::kNormalLoa, mx, my, mesh_name(gb, j));
         }
-        add("horizontal", diag::Direction::kHorizontal, 1.0, 0.0);
-        add("vertical", diag::Direction::kVertical, 0.0, 1.0);
+        add("horizontal", diag::Direction::kHorizontal, 1.0, 0.0, "");
+        add("vertical", diag::Direction::kVertical, 0.0, 1.0, "");
       }
     }
   }
   {
     ChannelPlan p;
-    p.channel = {"transmission_error", "rad", diag::Direction::kAngle, gb.shafts()[gb.shaft_of_gear(model.output_gear())].name, {}};
+    auto angle = [&](const char* name, int gear) {
+      const std::string shaft = gb.shafts()[gb.shaft_of_gear(gear)].name;
+      Channel c;
+      c.name = name;
+      c.unit = "rad";
+      c.direction = diag::Direction::kAngle;
+      c.location = shaft;
+      c.role = diag::Role::kAngle;
+      c.shaft = shaft;
+      return c;
+    };
+    p.channel = angle("transmission_error", model.output_gear());
     p.source = Source::kTransmissionError;
     plans.push_back(p);
-    p.channel = {"input_angle", "rad", diag::Direction::kAngle, gb.shafts()[gb.shaft_of_gear(model.input_gear())].name, {}};
+    p.channel = angle("input_angle", model.input_gear());
     p.source = Source::kAngle;
     p.index = model.input_gear();
     plans.push_back(p);
-    p.channel = {"output_angle", "rad", diag::Direction::kAngle, gb.shafts()[gb.shaft_of_gear(model.output_gear())].name, {}};
+    p.channel = angle("output_angle", model.output_gear());
     p.index = model.output_gear();
     plans.push_back(p);
   }
@@ -225,16 +239,25 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
       const std::string mn = mesh_name(gb, static_cast<int>(j));
       ChannelPlan p;
       p.index = static_cast<int>(j);
-      p.channel = {mn + "_force", "N", diag::Direction::kUnspecified, mn, {}};
+      auto quantity = [&](const std::string& suffix, const char* unit, diag::Role role) {
+        Channel c;
+        c.name = mn + suffix;
+        c.unit = unit;
+        c.location = mn;
+        c.role = role;
+        c.mesh = mn;
+        return c;
+      };
+      p.channel = quantity("_force", "N", diag::Role::kForce);
       p.source = Source::kMeshForce;
       plans.push_back(p);
-      p.channel = {mn + "_friction", "N", diag::Direction::kUnspecified, mn, {}};
+      p.channel = quantity("_friction", "N", diag::Role::kForce);
       p.source = Source::kMeshFriction;
       plans.push_back(p);
-      p.channel = {mn + "_dte", "m", diag::Direction::kUnspecified, mn, {}};
+      p.channel = quantity("_dte", "m", diag::Role::kDisplacement);
       p.source = Source::kMeshDte;
       plans.push_back(p);
-      p.channel = {mn + "_contact", "", diag::Direction::kUnspecified, mn, {}};
+      p.channel = quantity("_contact", "", diag::Role::kOther);
       p.source = Source::kMeshContact;
       p.filtered = false;
       plans.push_back(p);
@@ -264,6 +287,8 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     c.unit = "";
     c.direction = diag::Direction::kTacho;
     c.location = gb.shafts()[s].name;
+    c.role = diag::Role::kTacho;
+    c.shaft = gb.shafts()[s].name;
     c.samples.reserve(static_cast<std::size_t>(n_out));
     result.tachos.push_back(c);
   }
@@ -509,6 +534,9 @@ diag::Recording to_recording(const diag::Gearbox& gb, const DynamicResult& r) {
     s.direction = c.direction;
     s.location = c.location;
     s.samples = c.samples;
+    s.role = c.role;
+    s.shaft = c.shaft;
+    s.mesh = c.mesh;
     rec.signals.push_back(std::move(s));
   }
   for (const Channel& c : r.tachos) {
@@ -518,6 +546,9 @@ diag::Recording to_recording(const diag::Gearbox& gb, const DynamicResult& r) {
     s.direction = diag::Direction::kTacho;
     s.location = c.location;
     s.samples = c.samples;
+    s.role = diag::Role::kTacho;
+    s.shaft = c.shaft;
+    s.ppr = 1;
     rec.tachos.push_back(std::move(s));
   }
   rec.gearbox_json = gb.description_json();

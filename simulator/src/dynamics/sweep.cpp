@@ -1,5 +1,7 @@
 #include "sim/dynamics/sweep.hpp"
 
+#include "diag/io/channels.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -86,8 +88,7 @@ SweepResult run_sweep(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
   result.channels = sweep.channels;
   if (result.channels.empty()) {
     for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
-      result.channels.push_back(gb.gears()[gb.meshes()[j].driver].name + "_" +
-                                gb.gears()[gb.meshes()[j].driven].name + "_force");
+      result.channels.push_back(diag::mesh_name(gb, static_cast<int>(j)) + "_force");
     }
     const std::string b = gb.shafts()[gb.shaft_of_gear(m0.driver)].name + "_bearing1_";
     result.channels.push_back(b + "along_loa");

@@ -242,6 +242,8 @@ diag::Recording to_recording(const diag::Gearbox& gb, const KinematicResult& r) 
     s.direction = diag::Direction::kAngle;
     s.location = shaft >= 0 ? gb.shafts()[shaft].name : "";
     s.samples = v;
+    s.role = diag::Role::kAngle;
+    s.shaft = s.location;
     rec.signals.push_back(std::move(s));
   };
   add("input_angle_rad", r.input_angle_rad, gb.input_shaft());

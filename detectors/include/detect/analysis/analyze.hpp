@@ -56,6 +56,7 @@
 #include "detect/indicators/indicators.hpp"
 #include "detect/spectral/window.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "diag/io/channels.hpp"
 #include "diag/io/recording.hpp"
 
 namespace detect {
@@ -66,7 +67,8 @@ struct AnalyzeOptions {
   std::size_t welch_nperseg = 4096;  // Welch segment [samples], [8, 2^24]; shortened to the
                                      // largest power of two that fits a short record
   int kurtogram_max_level = 6;       // [1, 12]; lowered to log2(N) - 7 for short records
-  int tacho_pulses_per_rev = 1;      // pulses per revolution of every tacho channel, >= 1
+  int tacho_pulses_per_rev = 0;      // pulses per revolution of every tacho channel, [0, 1e5];
+                                     // 0: each tacho's own (Signal::ppr)
   int tsa_min_revolutions = 10;      // fewer whole revolutions: the shaft's TSA is skipped, >= 2
   int peaks_reported = 8;            // largest spectral / envelope peaks listed per channel, 0..100
   int threads = 0;                   // channels analysed in parallel, [0, 256]; 0: one per
@@ -141,9 +143,12 @@ struct BearingAnalysis {
 struct ChannelAnalysis {
   std::string name, unit, location;
   diag::Direction direction = diag::Direction::kUnspecified;
+  diag::Role role = diag::Role::kVibration;
+  std::string shaft, mesh;  // the channel contract's (empty: unknown)
   double fs_hz = 0;
   std::size_t samples = 0;
-  bool vibration = true;  // false for tacho and angle channels: only `time` is filled
+  bool vibration = true;  // spectra computed: vibration, force and displacement roles; false
+                          // for angles, speeds and other quantities (only `time` is filled)
   bool sensor = true;     // in sensor_channels(): votes in the findings (false: shown only)
   TimeIndicators time;
   double spectrum_resolution_hz = 0;
@@ -238,14 +243,9 @@ struct AnalysisResult {
 AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox* gb,
                                  const AnalyzeOptions& opt = {});
 
-// The channels that stand for the machine's vibration, as indices into rec.signals: every signal
-// but tacho and angle channels and, when the recording holds channels with a sensing direction
-// (along_loa, normal_loa, horizontal, vertical), only those. The simulator also records internal
-// quantities without a direction (mesh force and friction, dynamic transmission error, contact):
-// they are analysed and shown, but do not vote in findings nor enter a baseline (noise-free, their
-// sideband prominences reach the detector's cap and their baseline features do not scatter).
-// Imported measurements carry no direction: then every vibration channel counts.
-std::vector<std::size_t> sensor_channels(const diag::Recording& rec);
+// The channels that stand for the machine's vibration (role vibration): the channel contract's
+// (diag/io/channels.hpp). Only they vote in findings and enter a baseline.
+using diag::sensor_channels;
 
 // ---- Baseline comparison (detect/baseline/baseline.hpp) ----
 // Each baseline recording is cut into `segments_per_recording` equal parts and each part gives one

@@ -115,6 +115,10 @@ class Gearbox {
   // Gears that share a shaft with `gear`, itself included.
   std::vector<int> gears_sharing_shaft(int gear) const;
 
+  // The same gearbox turning at another input speed [rpm] (a measured or recorded speed in
+  // place of the description's nominal one). Throws InputError unless finite and > 0.
+  Gearbox with_input_speed_rpm(double speed_rpm) const;
+
   // The description as given (JSON text), stored with recordings.
   const std::string& description_json() const { return json_text_; }
 

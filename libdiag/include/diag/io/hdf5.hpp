@@ -1,10 +1,19 @@
 // Recordings on disk: HDF5, readable by h5py and MATLAB without this project.
 //
-//   /                      attributes: format ("geardiag-recording"), format_version (1),
-//                          creator ("geardiag <version>"), git_revision, plus Recording::metadata
+//   /                      attributes: format ("geardiag-recording"), format_version (2),
+//                          creator ("geardiag <version>"), git_revision, input_speed_rpm (double,
+//                          when known), roles_stated (int: 0 when an import left channel roles
+//                          to inference, Recording::roles_stated), plus Recording::metadata
 //   /signals/<name>        float64 1-D, chunked, deflate-compressed; attributes fs_hz (double),
-//                          unit, direction, location (strings)
-//   /tacho/<shaft>         same layout, direction "tacho"
+//                          unit, direction, location, role, shaft, mesh (strings), ppr (int)
+//   /tacho/<name>          same layout, role "tacho", ppr >= 1 (format 1: named after the shaft)
+//
+// Format 1 (no role, shaft, mesh, ppr) is still read: /tacho channels are once-per-revolution
+// tachos of the shaft in `location`; direction "angle" is an angle; a direction along/normal to
+// a line of action, horizontal or vertical is vibration; a channel without direction is vibration
+// in an imported file and, in a simulator file, a force (unit N), displacement (m) or other (the
+// contact state); the simulator's location "<shaft>_bearing<k>" gives the shaft and its name
+// suffix "_<mesh>" the mesh. Recording::notes says so.
 //   /gearbox               string dataset: the gearbox description JSON (absent when unknown)
 //   /truth                 string dataset: ground truth JSON (simulated recordings only)
 //
@@ -43,6 +52,9 @@ struct ChannelInfo {
   Direction direction = Direction::kUnspecified;
   std::string location;
   std::uint64_t length = 0;  // samples
+  Role role = Role::kVibration;  // format 1: inferred (infer_format1_roles)
+  std::string shaft, mesh;
+  int ppr = 0;
 };
 
 // Streaming access: channel metadata without loading samples, and reading by blocks so that
@@ -64,6 +76,9 @@ class RecordingReader {
   // The format's own root attributes as stored (format, format_version, creator, git_revision),
   // as text; absent ones are left out.
   std::map<std::string, std::string> format_attributes() const;
+  int format_version() const { return format_version_; }
+  double speed_rpm() const;  // 0 when the file stores none
+  bool roles_stated() const;  // the root's roles_stated (format 2; true when absent)
   // Reads samples [offset, offset + out.size()) of a channel into `out`. Throws InputError when
   // the range is past the end or a sample is NaN/Inf.
   void read_block(const std::string& name, std::uint64_t offset, std::span<double> out) const;
@@ -72,6 +87,7 @@ class RecordingReader {
   std::filesystem::path path_;
   std::int64_t file_ = -1;  // hid_t
   std::vector<ChannelInfo> channels_;
+  int format_version_ = 1;
 };
 
 // True when the file starts with the HDF5 signature.

@@ -61,6 +61,8 @@ struct Channel {
   diag::Direction direction = diag::Direction::kUnspecified;
   std::string location;
   std::vector<double> samples;
+  diag::Role role = diag::Role::kVibration;  // the channel contract (diag/io/channels.hpp)
+  std::string shaft, mesh;
 };
 
 struct DynamicResult {
