@@ -54,7 +54,7 @@ int cmd_analyze(int argc, char** argv) {
   double fs_hz = 0;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
-      "[--json OUT.json] [--html OUT.html]\n\n"
+      "[--json OUT.json] [--html OUT.html] [--fail-on alarm|finding]\n\n"
       "RECORDING: a geardiag HDF5 recording, or CSV (.csv, .csv.gz), WAV or MAT measurements\n"
       "(imported as by `geardiag import`; --fs for CSV without a time column and for MAT).\n"
       "The gearbox description comes from --gearbox, else from the recording's /gearbox; without\n"
