@@ -1,6 +1,6 @@
 // geardiag analyze: offline analysis of a recording into a readable summary, a JSON report and a
-// self-contained HTML report (detect/analysis). Exit 0 on success (findings or not), 2 on bad
-// input.
+// self-contained HTML report (detect/analysis). Exit 0 on success (findings or not, unless
+// --fail-on), 1 with --fail-on when its condition holds, 2 on bad input.
 #include <unistd.h>
 
 #include <boost/program_options.hpp>
@@ -50,13 +50,13 @@ diag::Recording load_recording(const std::string& file, std::optional<double> fs
 int cmd_analyze(int argc, char** argv) {
   detect::AnalyzeOptions opt;
   const detect::BaselineComparisonOptions bo;
-  std::string recording, gearbox, json_out, html_out;
+  std::string recording, gearbox, json_out, html_out, fail_on;
   std::vector<std::string> baselines;
   double fs_hz = 0;
   ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
-      "[--json OUT.json] [--html OUT.html]\n\n"
+      "[--json OUT.json] [--html OUT.html] [--fail-on alarm|finding]\n\n"
       "RECORDING: a geardiag HDF5 recording, or CSV (.csv, .csv.gz), WAV or MAT measurements\n"
       "(imported as by `geardiag import`; --fs for CSV without a time column and for MAT).\n"
       "The gearbox description comes from --gearbox, else from the recording's /gearbox; without\n"
@@ -67,15 +67,22 @@ int cmd_analyze(int argc, char** argv) {
       std::to_string(bo.segments_per_recording) +
       " parts, the unit-free features of every common channel are compared\n"
       "(robust z), anomaly_score = mean z^2, alarm above " +
-      std::to_string(static_cast<int>(bo.baseline.alarm_threshold)) + ".\n\noptions");
+      std::to_string(static_cast<int>(bo.baseline.alarm_threshold)) +
+      ".\nOutputs are checked before the analysis starts. '-' writes a report to stdout; the\n"
+      "summary then goes to stderr. Exit 1 with --fail-on: alarm = the baseline alarm was raised;\n"
+      "finding = any finding or the baseline alarm.\n\noptions");
   desc.add_options()("help,h", "this help")("recording", po::value(&recording)->required(),
                                             "recording (.h5, .csv, .csv.gz, .wav, .mat)")(
       "gearbox", po::value(&gearbox), "gearbox description (JSON)")(
       "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT, > 0")(
       "baseline", po::value(&baselines)->multitoken(),
       "healthy recordings to compare with (same channels and sampling rate)")(
-      "json", po::value(&json_out), "write the analysis as JSON to this file")(
-      "html", po::value(&html_out), "write a self-contained HTML report to this file")(
+      "json", po::value(&json_out), "write the analysis as JSON to this file ('-': stdout)")(
+      "html", po::value(&html_out),
+      "write a self-contained HTML report to this file ('-': stdout)")(
+      "fail-on", po::value(&fail_on),
+      "exit 1 when: alarm (the baseline alarm; needs --baseline) | finding (any finding or the "
+      "baseline alarm)")(
       "mesh-harmonics",
       po::value(&opt.sidebands.mesh_harmonics)->default_value(opt.sidebands.mesh_harmonics),
       "mesh harmonics examined for sidebands, 1..20")(
@@ -101,6 +108,18 @@ int cmd_analyze(int argc, char** argv) {
   po::notify(vm);
   if (vm.count("fs") && !(fs_hz > 0 && std::isfinite(fs_hz))) {
     throw diag::InputError("--fs: " + std::to_string(fs_hz) + " is not a sampling rate > 0 Hz");
+  }
+  if (vm.count("fail-on") && fail_on != "alarm" && fail_on != "finding") {
+    throw diag::InputError("--fail-on: '" + fail_on + "' is not alarm or finding");
+  }
+  if (fail_on == "alarm" && baselines.empty()) {
+    throw diag::InputError("--fail-on alarm: an alarm needs --baseline recordings to compare with");
+  }
+  // Outputs are checked before the (possibly long) analysis.
+  const bool json_stdout = !json_out.empty() && check_output(json_out, "--json");
+  const bool html_stdout = !html_out.empty() && check_output(html_out, "--html");
+  if (json_stdout && html_stdout) {
+    throw diag::InputError("--json - and --html -: only one report can go to stdout");
   }
   const std::optional<double> fs =
       vm.count("fs") ? std::optional<double>(fs_hz) : std::optional<double>();
@@ -154,14 +173,18 @@ int cmd_analyze(int argc, char** argv) {
       throw diag::InputError(std::string("--baseline: ") + e.what());
     }
   }
-  std::cout << detect::format_summary(r);
-  if (!json_out.empty()) write_text_atomic(json_out, detect::to_json(r).dump(2) + "\n");
+  // stdout carries nothing but a report sent there, so that it stays valid JSON or HTML.
+  (json_stdout || html_stdout ? std::cerr : std::cout) << detect::format_summary(r);
+  if (!json_out.empty()) write_output(json_out, detect::to_json(r).dump(2) + "\n", "--json");
   if (!html_out.empty()) {
     detect::HtmlReportOptions ho;
     ho.source = path.filename().string();
     ho.title = "geardiag analysis: " + path.filename().string();
-    write_text_atomic(html_out, detect::render_html_report(r, ho));
+    write_output(html_out, detect::render_html_report(r, ho), "--html");
   }
+  const bool alarm = r.baseline && r.baseline->alarm;
+  if (fail_on == "alarm") return alarm ? 1 : 0;
+  if (fail_on == "finding") return alarm || !r.findings.empty() ? 1 : 0;
   return 0;
 }
 

@@ -1,14 +1,12 @@
 // geardiag attribute: which gear (or shaft) carries each sporadic defect, from the input and
 // output shaft angles (seed 003). Exit 0 when every event is explained (or none is found), 1 when
 // some events match no recurrence period (multiplicity: several defects, not separable).
+#include <boost/program_options.hpp>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
-#include <unistd.h>
-
-#include <boost/program_options.hpp>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "commands.hpp"
 #include "detect/attribution/period_matcher.hpp"
@@ -16,6 +14,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
+#include "output.hpp"
 
 namespace po = boost::program_options;
 
@@ -38,16 +37,6 @@ bool csv_has_time_column(const std::filesystem::path& p) {
   return false;
 }
 
-void write_json_atomic(const std::filesystem::path& path, const nlohmann::json& j) {
-  const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp);
-    if (!out) throw diag::InputError(path.string() + ": cannot write the file");
-    out << j.dump(2) << "\n";
-  }
-  std::filesystem::rename(tmp, path);
-}
-
 }  // namespace
 
 int cmd_attribute(int argc, char** argv) {
@@ -62,7 +51,7 @@ int cmd_attribute(int argc, char** argv) {
   desc.add_options()("help,h", "this help")("recording", po::value(&recording)->required(),
                                             "recording (.h5) or angle CSV")(
       "gearbox", po::value(&gearbox), "gearbox description (JSON)")(
-      "json", po::value(&json_out), "write the findings as JSON to this file")(
+      "json", po::value(&json_out), "write the findings as JSON to this file ('-': stdout)")(
       "tolerance", po::value(&opt.period_tolerance)->default_value(opt.period_tolerance),
       "relative tolerance of a period match, (0, 0.2]")(
       "threshold-sigma", po::value(&opt.threshold_sigma)->default_value(opt.threshold_sigma),
@@ -81,6 +70,8 @@ int cmd_attribute(int argc, char** argv) {
     return 0;
   }
   po::notify(vm);
+  // Checked before the work; with "-" the JSON goes to stdout and the table to stderr.
+  const CoutToStderr table_to_stderr(!json_out.empty() && check_output(json_out, "--json"));
 
   const std::filesystem::path path(recording);
   diag::Recording rec;
@@ -119,7 +110,7 @@ int cmd_attribute(int argc, char** argv) {
       }
     }
   }
-  if (!json_out.empty()) write_json_atomic(json_out, detect::to_json(r));
+  if (!json_out.empty()) write_output(json_out, detect::to_json(r).dump(2) + "\n", "--json");
   return r.multiplicity ? 1 : 0;
 }
 

@@ -46,15 +46,19 @@ int cmd_demo(int argc, char** argv) {
     if (a == "--report" && i + 1 < argc) {
       report = argv[++i];
     } else if (a == "--help" || a == "-h") {
-      std::cout << "geardiag demo [--report OUT.html]\n\nRuns the built-in example end to end: "
-                   "kinematic defect attribution (seed 003), then a dynamic simulation of the same "
-                   "gearbox with a cracked tooth on z2, analysed, with the HTML report written to "
-                   "OUT.html (default geardiag-demo-report.html).\n";
+      std::cout
+          << "geardiag demo [--report OUT.html]\n\nRuns the built-in example end to end: "
+             "kinematic defect attribution (seed 003), then a dynamic simulation of the same "
+             "gearbox with a cracked tooth on z2, analysed, with the HTML report written to "
+             "OUT.html (default geardiag-demo-report.html; '-': stdout, the text then goes to "
+             "stderr).\n";
       return 0;
     } else {
       throw diag::InputError("demo: unknown option '" + a + "' (allowed: --report OUT.html)");
     }
   }
+  // Checked before the run; with "-" the report goes to stdout and everything else to stderr.
+  const CoutToStderr text_to_stderr(check_output(report, "--report"));
   using diag::units::deg_to_rad;
   using diag::units::rad_to_deg;
   const diag::Gearbox gb = diag::parse_gearbox_text(kDemoGearbox, "built-in demo gearbox");
@@ -115,7 +119,7 @@ int cmd_demo(int argc, char** argv) {
     for (const auto& f : a2.gear_damage->findings) std::cout << " '" << f.shaft << "'";
   }
   std::cout << "\n";
-  write_text_atomic(report, detect::render_html_report(a2));
+  write_output(report, detect::render_html_report(a2), "--report");
   std::cout << "\nreport: " << report << "\n";
   return 0;
 }

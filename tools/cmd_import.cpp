@@ -14,6 +14,7 @@
 #include "diag/io/channels.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
+#include "output.hpp"
 
 namespace geardiag {
 
@@ -21,10 +22,11 @@ namespace po = boost::program_options;
 
 namespace {
 
-void print_channel(const diag::Signal& s, const char* group) {
-  std::printf("  %-24s %-8s %10zu samples  %12.6g Hz  %10.3f s  %s%s\n", s.name.c_str(), group,
-              s.samples.size(), s.fs_hz, s.duration_s(), std::string(diag::to_string(s.role)).c_str(),
-              s.shaft.empty() ? "" : (" (" + s.shaft + ")").c_str());
+void print_channel(std::FILE* to, const diag::Signal& s, const char* group) {
+  std::fprintf(to, "  %-24s %-8s %10zu samples  %12.6g Hz  %10.3f s  %s%s\n", s.name.c_str(),
+               group, s.samples.size(), s.fs_hz, s.duration_s(),
+               std::string(diag::to_string(s.role)).c_str(),
+               s.shaft.empty() ? "" : (" (" + s.shaft + ")").c_str());
 }
 
 }  // namespace
@@ -45,7 +47,7 @@ int cmd_import(int argc, char** argv) {
   visible.add_options()             //
       ("help,h", "show this help")  //
       ("output,o", po::value<std::string>(&output)->value_name("FILE"),
-       "HDF5 recording to write (required)")  //
+       "HDF5 recording to write (required; '-': stdout, the listing then goes to stderr)")  //
       ("fs", po::value<double>()->value_name("HZ"),
        "sampling rate [Hz], > 0: required for .mat and for CSV without a time column; checked "
        "against a CSV time column (0.1 %); replaces a sound file's rate")  //
@@ -83,8 +85,10 @@ int cmd_import(int argc, char** argv) {
   diag::ImportOptions options;
   if (vm.count("fs")) options.fs_hz = vm["fs"].as<double>();
 
+  // Checked before the import, which can take long for a large file.
+  const bool to_stdout = check_output(output, "--output");
   std::error_code ec;
-  if (std::filesystem::equivalent(input, output, ec)) {
+  if (!to_stdout && std::filesystem::equivalent(input, output, ec)) {
     throw diag::InputError(
         diag::format_error(output, "", "the output would overwrite the input file"));
   }
@@ -100,10 +104,12 @@ int cmd_import(int argc, char** argv) {
   }
   diag::write_recording(output, rec, write_options);
 
-  for (const auto& s : rec.signals) print_channel(s, "signals");
-  for (const auto& s : rec.tachos) print_channel(s, "tacho");
-  for (const auto& n : notes) std::printf("note: %s\n", n.c_str());
-  std::printf("wrote %s (%zu channels)\n", output.c_str(), rec.signals.size() + rec.tachos.size());
+  std::FILE* listing = to_stdout ? stderr : stdout;
+  for (const auto& s : rec.signals) print_channel(listing, s, "signals");
+  for (const auto& s : rec.tachos) print_channel(listing, s, "tacho");
+  for (const auto& n : notes) std::fprintf(listing, "note: %s\n", n.c_str());
+  std::fprintf(listing, "wrote %s (%zu channels)\n", output.c_str(),
+               rec.signals.size() + rec.tachos.size());
   return 0;
 }
 

@@ -1,18 +1,17 @@
 // geardiag simulate: a gearbox description with defects in, a recording with ground truth out.
 // Modes: dynamic (SPEC section 1: meshes, shafts, bearings, sensors) and kinematic (seed 003:
 // slow rotation, shaft angles).
-#include <filesystem>
-#include <fstream>
-#include <iostream>
-#include <unistd.h>
-
 #include <boost/program_options.hpp>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
 
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/units.hpp"
+#include "output.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
 
@@ -22,24 +21,15 @@ namespace geardiag {
 
 namespace {
 
-// CSV "input_angle_rad,output_angle_rad", written to a temporary name and renamed into place.
-void write_angles_csv(const std::filesystem::path& path, const sim::KinematicResult& r) {
-  const std::filesystem::path tmp = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw diag::InputError(path.string() + ": cannot write the file");
-    out.precision(17);
-    out << "input_angle_rad,output_angle_rad\n";
-    for (std::size_t i = 0; i < r.input_angle_rad.size(); ++i) {
-      out << r.input_angle_rad[i] << ',' << r.output_angle_rad[i] << '\n';
-    }
-    if (!out) {
-      out.close();
-      std::filesystem::remove(tmp);
-      throw diag::InputError(path.string() + ": write failed");
-    }
+// CSV "input_angle_rad,output_angle_rad", written as every output is (output.hpp).
+void write_angles_csv(const std::string& path, const sim::KinematicResult& r) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "input_angle_rad,output_angle_rad\n";
+  for (std::size_t i = 0; i < r.input_angle_rad.size(); ++i) {
+    out << r.input_angle_rad[i] << ',' << r.output_angle_rad[i] << '\n';
   }
-  std::filesystem::rename(tmp, path);
+  write_output(path, out.str(), "--output");
 }
 
 }  // namespace
@@ -55,11 +45,10 @@ int simulate_kinematic_mode(const std::string& gearbox, const std::string& outpu
   k.noise_output_rad = diag::units::deg_to_rad(noise_deg);
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
   const sim::KinematicResult r = sim::simulate_kinematic(gb, k);
-  const std::filesystem::path out(output);
-  if (out.extension() == ".csv") {
-    write_angles_csv(out, r);
+  if (std::filesystem::path(output).extension() == ".csv") {
+    write_angles_csv(output, r);
   } else {
-    diag::write_recording(out, sim::to_recording(gb, r));
+    diag::write_recording(output, sim::to_recording(gb, r));
   }
   std::cout << "simulated " << r.input_angle_rad.size() << " samples over "
             << r.truth["revolutions"].get<double>() << " input revolutions, "
@@ -85,9 +74,10 @@ int cmd_simulate(int argc, char** argv) {
       "operating point, friction, oil, faults, sensors; the options below override it.\n"
       "Kinematic mode (seed 003): output angle vs input angle at slow speed with the gearbox's\n"
       "sporadic defects, over six recurrences of the longest defect period.\n\noptions");
-  desc.add_options()("help,h", "this help")(
-      "gearbox", po::value(&gearbox)->required(), "gearbox description (JSON)")(
-      "output,o", po::value(&output)->required(), "output file (.h5; kinematic mode also .csv)")(
+  desc.add_options()("help,h", "this help")("gearbox", po::value(&gearbox)->required(),
+                                            "gearbox description (JSON)")(
+      "output,o", po::value(&output)->required(),
+      "output file (.h5; kinematic mode also .csv; '-': HDF5 to stdout)")(
       "mode", po::value(&mode)->default_value(mode), "dynamic | kinematic")(
       "scenario", po::value(&scenario), "dynamic: scenario description (JSON)")(
       "duration", po::value(&duration_s), "dynamic: recorded duration [s] (default 1)")(
@@ -96,7 +86,8 @@ int cmd_simulate(int argc, char** argv) {
       "torque", po::value(&torque), "dynamic: input torque [N m] (default: the gearbox's)")(
       "friction", po::value(&friction), "dynamic: none | constant | drozdov | benedict_kelley")(
       "oil-temp", po::value(&oil_c), "dynamic: oil temperature [degC]")(
-      "step-deg", po::value(&step_deg)->default_value(step_deg), "kinematic: input-angle step [deg]")(
+      "step-deg", po::value(&step_deg)->default_value(step_deg),
+      "kinematic: input-angle step [deg]")(
       "revolutions", po::value(&k.revolutions)->default_value(0.0),
       "kinematic: input revolutions; 0 = six recurrences of the longest period")(
       "runout-deg", po::value(&runout_deg)->default_value(0.0),
@@ -115,13 +106,19 @@ int cmd_simulate(int argc, char** argv) {
     return 0;
   }
   po::notify(vm);
+  // Checked before the simulation; with "-" the recording goes to stdout and the summary to
+  // stderr.
+  const diag::OutputTarget target = diag::check_output_path(output, "--output");
+  const CoutToStderr summary_to_stderr(target.kind == diag::OutputKind::kStdout);
   if (mode == "kinematic") {
     return simulate_kinematic_mode(gearbox, output, k, step_deg, runout_deg, te_deg, noise_deg);
   }
   if (mode != "dynamic") {
     throw diag::InputError("--mode: '" + mode + "' is not dynamic or kinematic");
   }
-  if (std::filesystem::path(output).extension() != ".h5") {
+  // A FIFO, device or stdout has no meaningful extension.
+  if (target.kind == diag::OutputKind::kRegular &&
+      std::filesystem::path(output).extension() != ".h5") {
     throw diag::InputError("--output: '" + output + "': the dynamic mode writes an HDF5 recording (.h5)");
   }
   const diag::Gearbox gb = diag::load_gearbox(gearbox);

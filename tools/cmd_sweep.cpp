@@ -31,8 +31,8 @@ int cmd_sweep(int argc, char** argv) {
       "and the natural frequencies. A nonlinear resonance shows as a jump at different speeds up\n"
       "and down.\n\noptions");
   bool down = false;
-  desc.add_options()("help,h", "this help")(
-      "gearbox", po::value(&gearbox)->required(), "gearbox description (JSON)")(
+  desc.add_options()("help,h", "this help")("gearbox", po::value(&gearbox)->required(),
+                                            "gearbox description (JSON)")(
       "scenario", po::value(&scenario), "scenario description (JSON); its speed is ignored")(
       "from-rpm", po::value(&sw.from_rpm)->required(), "start speed [rpm]")(
       "to-rpm", po::value(&sw.to_rpm)->required(), "end speed [rpm]")(
@@ -41,7 +41,7 @@ int cmd_sweep(int argc, char** argv) {
       "dwell", po::value(&sw.dwell_s)->default_value(0.0),
       "time per window [s]; 0 = 200 mesh periods at the start speed")(
       "channel", po::value(&sw.channels)->multitoken(), "channel(s) to report")(
-      "json", po::value(&json_out), "write the sweep as JSON");
+      "json", po::value(&json_out), "write the sweep as JSON ('-': stdout, the tables to stderr)");
   po::variables_map vm;
   po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
   if (vm.count("help")) {
@@ -50,6 +50,8 @@ int cmd_sweep(int argc, char** argv) {
   }
   po::notify(vm);
   sw.down = down;
+  // Checked before the sweep; with "-" the JSON goes to stdout and the tables to stderr.
+  const CoutToStderr tables_to_stderr(!json_out.empty() && check_output(json_out, "--json"));
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
   sim::Scenario sc;
   if (!scenario.empty()) sc = sim::load_scenario(scenario);
@@ -72,7 +74,7 @@ int cmd_sweep(int argc, char** argv) {
   };
   table("run up", r.up);
   if (sw.down) table("run down", r.down);
-  if (!json_out.empty()) write_text_atomic(json_out, r.to_json().dump(2) + "\n");
+  if (!json_out.empty()) write_output(json_out, r.to_json().dump(2) + "\n", "--json");
   return 0;
 }
 

@@ -365,7 +365,7 @@ TEST_F(RecordingIo, FailedWriteLeavesNeitherTargetNorTemporaryFile) {
   EXPECT_NE(message.find(path.string()), std::string::npos) << message;
   EXPECT_TRUE(fs::is_empty(dir_));
 
-  // The target is a directory: the file is written, renaming fails, the temporary is removed.
+  // The target is a directory: refused before anything is written, no temporary file.
   const fs::path occupied = dir_ / "occupied.h5";
   fs::create_directories(occupied / "inside");
   EXPECT_THROW(diag::write_recording(occupied, example_recording()), diag::InputError);

@@ -20,6 +20,7 @@
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/io/output_file.hpp"
 
 namespace diag {
 
@@ -441,21 +442,10 @@ void write_recording(const std::filesystem::path& path, const Recording& rec,
   const std::string where = path.string();
   validate_for_write(where, rec, options);
 
-  std::filesystem::path tmp = path;
-  tmp += ".tmp-" + std::to_string(::getpid());
-  try {
-    Writer{where, options}.file(tmp.string(), rec);
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-      throw InputError(
-          format_error(where, "", "cannot move " + tmp.string() + " into place: " + ec.message()));
-    }
-  } catch (...) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw;
-  }
+  // Checked before the file is built; a FIFO, device or "-" gets the bytes of a finished file.
+  write_output_file_via(path, [&](const std::filesystem::path& file) {
+    Writer{where, options}.file(file.string(), rec);
+  });
 }
 
 bool is_hdf5_file(const std::filesystem::path& path) {

@@ -17,8 +17,10 @@
 //   /gearbox               string dataset: the gearbox description JSON (absent when unknown)
 //   /truth                 string dataset: ground truth JSON (simulated recordings only)
 //
-// Writing goes to "<path>.tmp-<pid>" first and is renamed into place on success, so a failed
-// write never leaves a half-written file under the requested name.
+// Writing goes through diag/io/output_file.hpp: a regular file is written to "<path>.tmp-<pid>"
+// and renamed into place on success, so a failed write never leaves a half-written file under the
+// requested name; a symbolic link is written through, a FIFO, device or "-" (stdout) receives the
+// bytes of a finished file.
 #pragma once
 
 #include <cstdint>
