@@ -158,4 +158,117 @@ TEST(Sidebands, LinesBeyondTheSpectrumAreInvalidAndBadInputIsRejected) {
   EXPECT_THROW(opt.validate(), diag::InputError);
 }
 
+// An exactly noise-free spectrum: lines on bins and zeros elsewhere, so every local median floor is
+// 0. The prominences are measured against the precision floor (the largest line over the dynamic
+// range) and read exactly the dynamic range, never the 300 dB clip or infinity; a chosen dynamic
+// range is honoured.
+TEST(Sidebands, ANoiseFreeSpectrumReadsTheDynamicRangeNotInfinity) {
+  constexpr double kRoundOff = 1e-9;  // log10 of exact ratios
+  std::vector<double> f(8001), a(8001, 0.0);
+  for (std::size_t k = 0; k < f.size(); ++k) f[k] = 0.5 * static_cast<double>(k);
+  auto put = [&](double hz, double amp) { a[static_cast<std::size_t>(hz / 0.5)] = amp; };
+  for (int h = 1; h <= 3; ++h) {
+    put(h * kMeshHz, 1.0);
+    put(h * kMeshHz - 20.0, 0.1);  // first-order sidebands of a 20 Hz shaft, -20 dB
+    put(h * kMeshHz + 20.0, 0.1);
+  }
+  const std::vector<detect::ShaftCandidate> shafts = {{"A", 20.0}};
+  const auto r = detect::analyse_sidebands({f, a}, kMeshHz, shafts);
+  ASSERT_EQ(r.status, detect::SidebandStatus::kPointed);
+  for (const auto& l : r.shafts[0].lines) {
+    ASSERT_TRUE(l.line.valid);
+    EXPECT_EQ(l.line.local_floor, 0.0);
+    if (std::abs(l.order) == 1) {
+      EXPECT_TRUE(l.detected);
+      // 0.1 over 1 x 10^(-120/20): 100 dB.
+      EXPECT_NEAR(l.line.prominence_db, detect::kDefaultDynamicRangeDb - 20, kRoundOff);
+    }
+  }
+  for (const auto& m : r.mesh)
+    EXPECT_NEAR(m.prominence_db, detect::kDefaultDynamicRangeDb, kRoundOff);
+  detect::SidebandOptions opt;
+  opt.dynamic_range_db = 60;
+  const auto r60 = detect::analyse_sidebands({f, a}, kMeshHz, shafts, opt);
+  for (const auto& m : r60.mesh) EXPECT_NEAR(m.prominence_db, 60.0, kRoundOff);
+  opt.dynamic_range_db = opt.line_threshold_db;  // nothing could be detected: refused
+  EXPECT_THROW(opt.validate(), diag::InputError);
+  opt.dynamic_range_db = 301;  // beyond what doubles carry
+  EXPECT_THROW(opt.validate(), diag::InputError);
+}
+
+// Lines far below the mesh (here -70 dB of its strongest harmonic) stand 50 dB over a noise-free
+// floor but are not a defect's sidebands (criterion (b)); lines only at the even orders k = +-2 are
+// the orders of a shaft turning twice as fast: no family passes without its first order.
+TEST(Sidebands, WeakOrEvenOrderOnlyLinesPointAtNothing) {
+  std::vector<double> f(8001), a(8001, 0.0);
+  for (std::size_t k = 0; k < f.size(); ++k) f[k] = 0.5 * static_cast<double>(k);
+  auto put = [&](double hz, double amp) { a[static_cast<std::size_t>(hz / 0.5)] = amp; };
+  for (int h = 1; h <= 3; ++h) {
+    put(h * kMeshHz, 1.0);
+    for (int k : {-1, 1}) put(h * kMeshHz + k * 20.0, 3e-4);  // -70 dB
+  }
+  const std::vector<detect::ShaftCandidate> shafts = {{"A", 20.0}};
+  const auto weak = detect::analyse_sidebands({f, a}, kMeshHz, shafts);
+  EXPECT_EQ(weak.status, detect::SidebandStatus::kNoSidebands);
+  EXPECT_EQ(weak.shafts[0].detected, 0);
+  EXPECT_GE(weak.shafts[0].lines[2].line.prominence_db, 40.0);  // h 1, k -1: prominent, too weak
+
+  std::fill(a.begin(), a.end(), 0.0);
+  for (int h = 1; h <= 3; ++h) {
+    put(h * kMeshHz, 1.0);
+    for (int k : {-2, 2}) put(h * kMeshHz + k * 20.0, 0.05);  // a 40 Hz shaft's orders
+  }
+  const auto even = detect::analyse_sidebands({f, a}, kMeshHz, shafts);
+  EXPECT_EQ(even.shafts[0].detected, 6);
+  EXPECT_FALSE(even.shafts[0].passes);
+  detect::SidebandOptions opt;
+  opt.require_first_order = false;
+  EXPECT_TRUE(detect::analyse_sidebands({f, a}, kMeshHz, shafts, opt).shafts[0].passes);
+}
+
+// A second mesh at 1040 Hz: its lines at f_other (= f_mesh + 2 x 20 Hz) and the combination tone
+// 2 f_mesh - f_other (960 Hz = f_mesh - 2 x 20 Hz), and their harmonics, sit where a 20 Hz
+// shaft's second-order sidebands would. With the other mesh given they are `shared`, not
+// detected; without it they count as two more of the shaft's sidebands.
+TEST(Sidebands, AnotherMeshAndCombinationTonesAreNotSidebands) {
+  constexpr double kOtherHz = 1040.0;
+  std::vector<double> f(8001), a(8001, 0.0);
+  for (std::size_t k = 0; k < f.size(); ++k) f[k] = 0.5 * static_cast<double>(k);
+  auto put = [&](double hz, double amp) { a[static_cast<std::size_t>(hz / 0.5)] = amp; };
+  for (int h = 1; h <= 3; ++h) {
+    put(h * kMeshHz, 1.0);
+    put(h * kOtherHz, 0.3);                             // the other mesh's harmonics
+    put(h * kMeshHz - h * (kOtherHz - kMeshHz), 0.05);  // h (2 f_mesh - f_other)
+    put(h * kMeshHz + 20.0, 0.05);                      // one genuine first-order line
+  }
+  const std::vector<detect::ShaftCandidate> shafts = {{"A", 20.0}};
+  detect::SidebandOptions opt;
+  opt.sidebands = 2;
+  const auto alone = detect::analyse_sidebands({f, a}, kMeshHz, shafts, opt);
+  EXPECT_EQ(alone.shafts[0].detected, 5);  // three +1 lines, 960 Hz and 1040 Hz
+  detect::SidebandContext ctx;
+  ctx.other_mesh_hz = {kOtherHz};
+  const auto r = detect::analyse_sidebands({f, a}, kMeshHz, shafts, opt, ctx);
+  int shared = 0;
+  for (const auto& l : r.shafts[0].lines) {
+    if (l.harmonic == 1 && std::abs(l.order) == 2) {
+      EXPECT_TRUE(l.shared) << "k " << l.order;
+    }
+    if (l.shared) {
+      ++shared;
+      EXPECT_FALSE(l.detected);
+    }
+    if (l.order == 1) {
+      EXPECT_FALSE(l.shared);
+      EXPECT_TRUE(l.detected);
+    }
+  }
+  EXPECT_GE(shared, 2);
+  // Left: the three +1 lines, first-order and genuine: the family still passes on them alone.
+  EXPECT_EQ(r.shafts[0].detected, 3);
+  const std::vector<double> bad = {-5.0};
+  ctx.other_mesh_hz = bad;
+  EXPECT_THROW(detect::analyse_sidebands({f, a}, kMeshHz, shafts, opt, ctx), diag::InputError);
+}
+
 }  // namespace

@@ -156,13 +156,23 @@ FaultBandMetrics fault_band_metrics(const SpectrumView& s, std::span<const Fault
 
 // ---- Lines --------------------------------------------------------------------------------------
 
+double precision_floor(const SpectrumView& s, double dynamic_range_db) {
+  if (!(dynamic_range_db > 0 && dynamic_range_db <= kMaxProminenceDb))
+    fail("precision_floor", "dynamic_range_db", dynamic_range_db, "(0, 300]");
+  double top = 0;
+  for (double v : s.value) top = std::max(top, v);
+  return top * std::pow(10.0, -dynamic_range_db / 20.0);
+}
+
 LineMeasurement measure_line(const SpectrumView& s, double expected_hz, double search_hw,
-                             double floor_hw) {
+                             double floor_hw, double min_floor) {
   if (!(search_hw >= 0) || !(floor_hw > search_hw))
     throw InputError(diag::format_error("measure_line", "floor_halfwidth_hz",
                                         "must exceed search_halfwidth_hz >= 0 (got " +
                                             std::to_string(floor_hw) + " and " +
                                             std::to_string(search_hw) + ")"));
+  if (!(min_floor >= 0) || !std::isfinite(min_floor))
+    fail("measure_line", "min_floor", min_floor, "finite, >= 0");
   LineMeasurement m;
   m.expected_hz = expected_hz;
   const auto& f = s.frequency_hz;
@@ -201,7 +211,8 @@ LineMeasurement measure_line(const SpectrumView& s, double expected_hz, double s
         *std::max_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(mid));
     median = 0.5 * (median + below);
   }
-  m.floor = median;
+  m.local_floor = median;
+  m.floor = std::max(median, min_floor);
   m.valid = true;
   if (m.amplitude <= 0) {
     m.prominence_db = m.floor > 0 ? -kMaxProminenceDb : 0.0;
@@ -256,6 +267,8 @@ void BearingDecisionOptions::validate() const {
   if (!(line_threshold_db > 0)) fail(w, "line_threshold_db", line_threshold_db, "> 0");
   if (!(score_threshold_db > 0)) fail(w, "score_threshold_db", score_threshold_db, "> 0");
   if (!(margin_db >= 0)) fail(w, "margin_db", margin_db, ">= 0");
+  if (!(dynamic_range_db > line_threshold_db && dynamic_range_db <= kMaxProminenceDb))
+    fail(w, "dynamic_range_db", dynamic_range_db, "(line_threshold_db, 300]");
 }
 
 BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequencies& f,
@@ -264,6 +277,7 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
   env.validate("diagnose_bearing");
   const auto& fr = env.frequency_hz;
   const double df = (fr.back() - fr.front()) / static_cast<double>(fr.size() - 1);
+  const double min_floor = precision_floor(env, opt.dynamic_range_db);
 
   BearingDecision d;
   const std::pair<BearingFault, double> fams[] = {{BearingFault::kCage, f.ftf_hz},
@@ -279,7 +293,8 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
     for (int h = 1; h <= opt.harmonics; ++h) {
       const double centre = h * f0;
       const double search = std::max(opt.search_bins * df, opt.slip_fraction * centre);
-      const LineMeasurement m = measure_line(env, centre, search, search + opt.floor_bins * df);
+      const LineMeasurement m =
+          measure_line(env, centre, search, search + opt.floor_bins * df, min_floor);
       if (m.valid && m.prominence_db >= opt.line_threshold_db) {
         ++fs.detected;
         sum_db += m.prominence_db;

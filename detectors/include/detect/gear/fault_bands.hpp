@@ -92,23 +92,45 @@ FaultBandMetrics fault_band_metrics(const SpectrumView& spectrum, std::span<cons
 
 // ---- One spectral line against its local floor --------------------------------------------------
 
-// Prominences are capped here: a noise-free synthetic spectrum has a zero floor.
+// The last-resort clip of a prominence: a floor of zero (an exactly noise-free spectrum with no
+// precision floor given) reads as this, never as infinity.
 inline constexpr double kMaxProminenceDb = 300.0;
+
+// The dynamic range a measured spectrum is taken to carry by default [dB]. Why 120 dB: a line
+// cannot be known to stand further above its floor than the measurement chain resolves, and an
+// accelerometer chain resolves 100-120 dB (a 24-bit converter: 144 dB in theory, about 20
+// effective bits = 120 dB in practice). A simulation carries less than its doubles suggest: the
+// integrator's error is 1e-4..1e-3 of the RMS (60-80 dB) and FFT round-off ~1e-16 relative, so
+// without this cap a noise-free record reads 230-300 dB "over the floor". Used through
+// precision_floor() by the sideband and bearing decisions.
+inline constexpr double kDefaultDynamicRangeDb = 120.0;
+
+// The floor no measurement goes below: the spectrum's largest value divided by the dynamic range,
+// max_k value_k 10^(-dynamic_range_db / 20). Every prominence measured against
+// max(local floor, precision_floor) is then at most dynamic_range_db. `spectrum` is not
+// re-validated. dynamic_range_db in (0, kMaxProminenceDb]; throws diag::InputError otherwise.
+// O(bins).
+double precision_floor(const SpectrumView& spectrum, double dynamic_range_db);
 
 struct LineMeasurement {
   double expected_hz = 0;    // where the line was looked for
   double frequency_hz = 0;   // the largest bin within expected +- search half-width
   double amplitude = 0;      // its value
-  double floor = 0;          // median of the floor window's bins (search window left out)
-  double prominence_db = 0;  // 20 log10(amplitude / floor), in [-300, 300]; 0 when !valid
+  double local_floor = 0;    // median of the floor window's bins (search window left out)
+  double floor = 0;          // the floor measured against: max(local_floor, min_floor)
+  double prominence_db = 0;  // 20 log10(amplitude / floor), in [-300, 300] (at most the dynamic
+                             // range when min_floor = precision_floor(...)); 0 when !valid
   bool valid = false;        // false when the search window leaves the spectrum or the floor
                              // window holds fewer than 3 bins
 };
 
-// Measures the line near expected_hz in an amplitude spectrum. floor_halfwidth_hz must exceed
-// search_halfwidth_hz. `spectrum` is not re-validated (validate() it once). O(bins in windows).
+// Measures the line near expected_hz in an amplitude spectrum against max(local median floor,
+// min_floor). floor_halfwidth_hz must exceed search_halfwidth_hz >= 0; min_floor >= 0 (0: the
+// local floor alone; a zero floor then reads kMaxProminenceDb). `spectrum` is not re-validated
+// (validate() it once). O(bins in windows).
 LineMeasurement measure_line(const SpectrumView& spectrum, double expected_hz,
-                             double search_halfwidth_hz, double floor_halfwidth_hz);
+                             double search_halfwidth_hz, double floor_halfwidth_hz,
+                             double min_floor = 0);
 
 // ---- Bearing fault decision from an envelope spectrum -------------------------------------------
 
@@ -125,7 +147,9 @@ const char* to_string(BearingDecisionStatus s);
 
 // Scoring (per family, fundamental f0 = FTF, BPFO, BPFI or 2 BSF): for h = 1..harmonics the line at
 // h f0 is measured (measure_line) with a search half-width of max(search_bins bins,
-// slip_fraction h f0) and a floor over floor_bins bins on each side beyond it. A harmonic is
+// slip_fraction h f0) and a floor over floor_bins bins on each side beyond it, never below
+// precision_floor(envelope, dynamic_range_db) (so every prominence and score is at most
+// dynamic_range_db). A harmonic is
 // detected when its prominence reaches line_threshold_db. The family's score is the sum of the
 // detected harmonics' prominences divided by `harmonics` (undetected ones count 0) [dB].
 // A family passes when at least min_harmonics harmonics are detected and score >=
@@ -147,7 +171,10 @@ struct BearingDecisionOptions {
   double score_threshold_db = 8;  // family score needed to pass [dB], > 0
   double margin_db = 6;           // winner's score over any other passing family's [dB], >= 0
   bool include_cage = true;       // score the FTF family too
-  void validate() const;          // throws diag::InputError naming the field
+  double dynamic_range_db = kDefaultDynamicRangeDb;  // floors no lower than the spectrum's
+                                                     // largest value over this [dB],
+                                                     // (line_threshold_db, 300]
+  void validate() const;                             // throws diag::InputError naming the field
 };
 
 struct FamilyScore {
