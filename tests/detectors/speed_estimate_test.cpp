@@ -67,9 +67,11 @@ double revolution_error_rev(const std::vector<double>& t,
 class SpeedEstimateSteady : public ::testing::TestWithParam<double> {};
 
 // A steady 1500 rpm machine, 6 s, nominal speed off by the parameter. The mean speed comes from
-// the line's phase: 1e-5 relative is what TSA over 150 revolutions needs for order 69 to lose
-// less than 0.1 cycle (measured: ~1e-7); the revolution times to 5e-3 rev (measured ~5e-4: the
-// phase noise 0.07 rad in the 14 Hz demodulation band / (2 pi 23)).
+// the line's phase: 1e-5 relative keeps the accumulated angle error over the 150 revolutions
+// under 1.5e-3 rev, i.e. 0.1 cycle of order 69 (measured: 1.0e-6, the same for every nominal
+// speed); the revolution times to 5e-3 rev (measured 1.7e-3, the largest of 150: the phase noise
+// ~0.07 rad in the 14 Hz demodulation band / (2 pi 23) = 5e-4 rev RMS); each frame's speed to
+// 1e-3, far under the 1 % that makes a machine unsteady.
 TEST_P(SpeedEstimateSteady, FindsTheSpeedFromAWrongNominalOne) {
   constexpr double kSpeedHz = 25.0;
   constexpr double kRelTol = 1e-5;
@@ -100,7 +102,8 @@ INSTANTIATE_TEST_SUITE_P(NominalOff, SpeedEstimateSteady, ::testing::Values(0.97
 
 // 500 -> 3000 rpm in 6 s (constant acceleration), nominal 515 rpm at the start: every frame's
 // speed within 0.5 % of the truth (the mean speed over the frame, exact at its centre for a
-// linear ramp), not stationary, revolution times within 0.02 rev.
+// linear ramp; measured 4.8e-4, the ridge alone is off by up to 2e-3), not stationary,
+// revolution times within 5e-3 rev (measured 1.1e-3).
 TEST(SpeedEstimate, FollowsALinearRunUp) {
   constexpr double kF0 = 500.0 / 60.0, kF1 = 3000.0 / 60.0, kDur = 6.0;
   constexpr double kAcc = (kF1 - kF0) / kDur;
@@ -119,10 +122,24 @@ TEST(SpeedEstimate, FollowsALinearRunUp) {
   }
   const auto rev = detect::revolution_times_s(e);
   const double err = revolution_error_rev(rev, theta);
-  EXPECT_LT(err, 0.02);
+  EXPECT_LT(err, 5e-3);
   EXPECT_NEAR(e.mean_speed_hz, kF0 + kAcc * kDur / 2.0, 1e-3 * kF1);
   std::printf("run-up: worst frame speed error %.2e, revolution error %.2e rev, %zu revs\n", worst,
               err, rev.size());
+}
+
+// A line that stops halfway (its gear unloaded, say) leaves the second half's phase to the noise:
+// followed, but low confidence, with the faded share of the record said.
+TEST(SpeedEstimate, ALineThatFadesGivesLowConfidence) {
+  constexpr double kSpeedHz = 25.0;
+  auto x = mesh_signal([](double t) { return kSpeedHz * t; }, 4.0, 0.0, 1);
+  std::mt19937_64 rng(9);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = (i < x.size() / 2 ? x[i] : 0.0) + gauss(rng);
+  const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
+  EXPECT_EQ(e.status, detect::SpeedStatus::kLowConfidence);
+  EXPECT_TRUE(e.has_speed());
+  EXPECT_NEAR(e.faded_fraction, 0.5, 0.05);  // the filter's transition smears the step
 }
 
 // White noise has no line: no speed claimed, and no pulses can be taken from the result.

@@ -29,6 +29,8 @@ constexpr double kMaxNyquistFraction = 0.8;
 constexpr std::ptrdiff_t kSelectionHalfFrames = 1;
 // Peaks closer than this many mainlobe half-widths (2 bins of the frame for Hann) are one peak.
 constexpr double kDistinctPeakBins = 2.0;
+// Frames whose least-squares line extrapolates the ridge beyond the first and last frame centres.
+constexpr std::size_t kEndFitFrames = 5;
 
 std::string fmt(double v) {
   std::ostringstream s;
@@ -451,19 +453,38 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   }
 
   // Step 3: phase refinement. Reference phase from the ridge: line frequency linear between
-  // frame centres, held beyond, integrated by the trapezoid rule.
+  // frame centres and extrapolated along the least-squares line of the end frames beyond them
+  // (held, a run-up's first half frame would be off by more than the demodulation band),
+  // integrated by the trapezoid rule.
   const std::span<const double> x = channels[best.channel];
   std::vector<double> phi(n);
   {
     const auto& t = spec.time_s;
+    const std::size_t fit = std::min<std::size_t>(frames, kEndFitFrames);
+    auto end_slope = [&](std::size_t first) {
+      if (fit < 2) return 0.0;
+      double tm = 0.0, fm = 0.0;
+      for (std::size_t m = first; m < first + fit; ++m) tm += t[m] / fit, fm += ridge_hz[m] / fit;
+      double sxy = 0.0, sxx = 0.0;
+      for (std::size_t m = first; m < first + fit; ++m) {
+        sxy += (t[m] - tm) * (ridge_hz[m] - fm);
+        sxx += (t[m] - tm) * (t[m] - tm);
+      }
+      return sxy / sxx;
+    };
+    const double slope_start = end_slope(0), slope_end = end_slope(frames - fit);
     std::size_t m = 0;
     double f_prev = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
       const double ti = static_cast<double>(i) / fs_hz;
       while (m + 1 < frames && t[m + 1] <= ti) ++m;
-      double f = ridge_hz[m];
-      if (ti > t[m] && m + 1 < frames) {
-        f += (ridge_hz[m + 1] - ridge_hz[m]) * (ti - t[m]) / (t[m + 1] - t[m]);
+      double f = 0.0;
+      if (ti < t.front()) {
+        f = ridge_hz.front() + slope_start * (ti - t.front());
+      } else if (m + 1 >= frames) {
+        f = ridge_hz.back() + slope_end * (ti - t.back());
+      } else {
+        f = ridge_hz[m] + (ridge_hz[m + 1] - ridge_hz[m]) * (ti - t[m]) / (t[m + 1] - t[m]);
       }
       phi[i] = i == 0 ? 0.0 : phi[i - 1] + kTwoPi * 0.5 * (f + f_prev) / fs_hz;
       f_prev = f;
