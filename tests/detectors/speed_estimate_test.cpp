@@ -83,6 +83,8 @@ TEST_P(SpeedEstimateSteady, FindsTheSpeedFromAWrongNominalOne) {
   EXPECT_EQ(e.line.label, "mesh h1");
   EXPECT_NEAR(e.mean_speed_hz / kSpeedHz, 1.0, kRelTol);
   EXPECT_TRUE(e.stationary);
+  EXPECT_EQ(e.confirmations, 2);  // the mesh's 2nd and 3rd harmonics agree
+  EXPECT_EQ(e.contradictions, 0);
   for (std::size_t m = 0; m < e.time_s.size(); ++m)
     EXPECT_NEAR(e.speed_hz[m] / kSpeedHz, 1.0, 1e-3) << "frame " << m;
   const auto rev = detect::revolution_times_s(e);
@@ -140,6 +142,26 @@ TEST(SpeedEstimate, ALineThatFadesGivesLowConfidence) {
   EXPECT_EQ(e.status, detect::SpeedStatus::kLowConfidence);
   EXPECT_TRUE(e.has_speed());
   EXPECT_NEAR(e.faded_fraction, 0.5, 0.05);  // the filter's transition smears the step
+}
+
+// Limit: a foreign line (or a sideband) stronger than the candidate in its band is taken for it.
+// The other harmonics then imply another speed, and the result says so.
+TEST(SpeedEstimate, AForeignLineTakenForTheMeshIsContradictedByItsHarmonics) {
+  constexpr double kSpeedHz = 25.0;
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<double> x(30000);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = static_cast<double>(i) / kFs;
+    x[i] = 2.0 * std::cos(kTwoPi * 22 * kSpeedHz * t) + 0.5 * std::cos(kTwoPi * 46 * kSpeedHz * t) +
+           0.3 * std::cos(kTwoPi * 69 * kSpeedHz * t) + gauss(rng);
+  }
+  const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
+  ASSERT_TRUE(e.has_speed());
+  EXPECT_EQ(e.line.label, "mesh h1");
+  EXPECT_NEAR(e.mean_speed_hz, kSpeedHz * 22.0 / 23.0, 1e-3);  // the wrong line, followed well
+  EXPECT_EQ(e.contradictions, 2);
+  EXPECT_EQ(e.confirmations, 0);
 }
 
 // White noise has no line: no speed claimed, and no pulses can be taken from the result.

@@ -383,6 +383,7 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
 
   // Step 1: the most prominent line over channels and candidate groups.
   Choice best;
+  std::vector<Choice> found;
   bool ambiguous = false;
   std::vector<double> avg(nbins);
   for (std::size_t c = 0; c < channels.size(); ++c) {
@@ -402,10 +403,10 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
         est.notes.push_back("channel " + std::to_string(c) + ": overlapping candidates " + labels +
                             " hold a line that fits more than one of them: left out");
       }
-      if (ch.found && ch.prominence_db > best.prominence_db) {
-        best = ch;
-        best.channel = c;
-      }
+      if (!ch.found) continue;
+      ch.channel = c;
+      found.push_back(ch);
+      if (ch.prominence_db > best.prominence_db) best = ch;
     }
   }
   if (!best.found) {
@@ -423,6 +424,22 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
                       fmt(best.frequency_hz) + " Hz, " + fmt(best.prominence_db) +
                       " dB over its band, channel " + std::to_string(best.channel));
   const double order = est.line.order;
+  // Cross-check: the other prominent lines of the same channel should imply the same speed, to
+  // a frame bin (the averaged peaks are far better placed; a sideband followed instead of its
+  // carrier is off by a whole shaft order).
+  for (const Choice& o : found) {
+    if (o.channel != best.channel || o.cand.line.order == order) continue;
+    const double implied = o.frequency_hz / o.cand.line.order * order;
+    if (std::abs(implied - best.frequency_hz) <= frame_bin_hz * order / o.cand.line.order) {
+      ++est.confirmations;
+    } else {
+      ++est.contradictions;
+      est.notes.push_back("line '" + o.cand.line.label + "' at " + fmt(o.frequency_hz) +
+                          " Hz implies " + fmt(o.frequency_hz / o.cand.line.order) +
+                          " Hz, the line followed " + fmt(best.frequency_hz / order) +
+                          " Hz: one of them may be a sideband or a foreign line");
+    }
+  }
 
   // Step 2: the ridge, forward and backward from `start`.
   const Spectrogram& spec = sg[best.channel];

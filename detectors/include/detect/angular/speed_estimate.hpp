@@ -42,7 +42,8 @@
 //    revolution times are those of a tacho turned by an unknown constant angle (averages are
 //    rotated, as with scale_pulses()).
 // Limits: a sideband stronger than its carrier, or a foreign line stronger than the candidate in
-// its band, is followed instead (the speed is then off by the sideband spacing); the demodulation
+// its band, is followed instead (the speed is then off by the sideband spacing; the other
+// prominent candidates then contradict it, see SpeedEstimate::contradictions); the demodulation
 // band is set from the lowest tracked speed, so a run-up of more than ~2:1 around a ridge error
 // bigger than that band is not refined correctly (status kLowConfidence via the fade check).
 #pragma once
@@ -115,6 +116,11 @@ struct SpeedEstimate {
                                  // nominal_time_s (run-up) [Hz]
   double prominence_db = 0;      // its peak over the floor [dB]
   std::size_t channel = 0;       // index of the channel it was followed on
+  // Other prominent candidates on that channel whose peaks imply the same speed to a frame bin
+  // (confirmations) or not (contradictions: a sideband or a foreign line may have been taken for
+  // a candidate; the notes name them). Orders equal to the chosen one are not counted.
+  int confirmations = 0;
+  int contradictions = 0;
   // Per STFT frame: centre time [s], speed of the reference shaft from the angle [Hz] and from the
   // frame's spectral peak alone (the ridge) [Hz].
   std::vector<double> time_s;
