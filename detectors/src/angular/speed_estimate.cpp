@@ -7,7 +7,8 @@
 #include <sstream>
 
 #include "detect/spectral/fft.hpp"
-#include "detect/spectral/spectrogram.hpp"
+#include "detect/spectral/welch.hpp"
+#include "detect/spectral/window.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 
@@ -350,32 +351,32 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
     }
   }
 
-  // Spectrograms (PSD) of every channel.
-  SpectrogramOptions so;
-  so.fs_hz = fs_hz;
-  so.nperseg = nperseg;
-  so.noverlap = static_cast<long long>(nperseg - hop);
-  so.nfft = next_pow2(nperseg * static_cast<std::size_t>(options.zero_padding));
-  so.mode = SpectrogramMode::kPsd;
-  std::vector<Spectrogram> sg;
-  sg.reserve(channels.size());
-  for (const auto& ch : channels) sg.push_back(spectrogram(ch, so));
-  const std::size_t frames = sg.front().time_s.size();
-  const std::size_t nbins = sg.front().frequency_hz.size();
-  const double df = fs_hz / static_cast<double>(so.nfft);
+  // STFT frames as the spectrogram's (spectrogram.hpp): frame m starts at m hop, centre
+  // t_m = (m hop + nperseg / 2) / fs. Only a Welch PSD per channel (the average of the selection
+  // frames) and one frame at a time of the followed channel are held: memory O(nfft), not
+  // O(frames x nfft), for long records.
+  WelchOptions wo;
+  wo.fs_hz = fs_hz;
+  wo.nperseg = nperseg;
+  wo.noverlap = static_cast<long long>(nperseg - hop);
+  wo.nfft = next_pow2(nperseg * static_cast<std::size_t>(options.zero_padding));
+  wo.window = WindowType::kHann;
+  wo.detrend = Detrend::kConstant;
+  const std::size_t frames = (n - nperseg) / hop + 1;
+  std::vector<double> frame_t(frames);
+  for (std::size_t m = 0; m < frames; ++m)
+    frame_t[m] = (static_cast<double>(m * hop) + 0.5 * static_cast<double>(nperseg)) / fs_hz;
+  const std::size_t nbins = wo.nfft / 2 + 1;
+  const double df = fs_hz / static_cast<double>(wo.nfft);
   const double frame_bin_hz = fs_hz / static_cast<double>(nperseg);
 
   // Frames the line is chosen on, and the one the ridge starts from.
   std::size_t sel_lo = 0, sel_hi = frames - 1, start = frames / 2;
   if (options.nominal_time_s >= 0.0) {
-    const auto& t = sg.front().time_s;
+    const double u = (options.nominal_time_s * fs_hz - 0.5 * static_cast<double>(nperseg)) /
+                     static_cast<double>(hop);
     start =
-        static_cast<std::size_t>(std::min_element(t.begin(), t.end(),
-                                                  [&](double a, double b) {
-                                                    return std::abs(a - options.nominal_time_s) <
-                                                           std::abs(b - options.nominal_time_s);
-                                                  }) -
-                                 t.begin());
+        static_cast<std::size_t>(std::clamp(std::round(u), 0.0, static_cast<double>(frames - 1)));
     sel_lo = static_cast<std::size_t>(
         std::max<std::ptrdiff_t>(0, static_cast<std::ptrdiff_t>(start) - kSelectionHalfFrames));
     sel_hi = std::min(frames - 1, start + static_cast<std::size_t>(kSelectionHalfFrames));
@@ -385,13 +386,10 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   Choice best;
   std::vector<Choice> found;
   bool ambiguous = false;
-  std::vector<double> avg(nbins);
   for (std::size_t c = 0; c < channels.size(); ++c) {
-    std::fill(avg.begin(), avg.end(), 0.0);
-    const double w = 1.0 / static_cast<double>(sel_hi - sel_lo + 1);
-    for (std::size_t m = sel_lo; m <= sel_hi; ++m) {
-      for (std::size_t k = 0; k < nbins; ++k) avg[k] += w * sg[c].at(m, k);
-    }
+    // Welch over exactly the selection frames: the mean of their PSDs.
+    const std::vector<double> avg =
+        welch(channels[c].subspan(sel_lo * hop, nperseg + (sel_hi - sel_lo) * hop), wo).value;
     for (const auto& g : groups) {
       bool amb = false;
       Choice ch = search_group(g, avg, df, kDistinctPeakBins * frame_bin_hz,
@@ -442,12 +440,21 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   }
 
   // Step 2: the ridge, forward and backward from `start`.
-  const Spectrogram& spec = sg[best.channel];
+  const std::span<const double> x = channels[best.channel];
   std::vector<double> ridge_hz(frames, 0.0);
+  const std::vector<double> window = make_window(WindowType::kHann, nperseg);
+  RealFft frame_fft(wo.nfft);
+  std::vector<double> seg(wo.nfft, 0.0), row(nbins);
+  std::vector<std::complex<double>> bins(nbins);
   auto peak_near = [&](std::size_t m, double f_pred) {
+    const auto first = x.begin() + static_cast<std::ptrdiff_t>(m * hop);
+    std::copy(first, first + static_cast<std::ptrdiff_t>(nperseg), seg.begin());
+    detrend(std::span<double>(seg.data(), nperseg), Detrend::kConstant);
+    for (std::size_t j = 0; j < nperseg; ++j) seg[j] *= window[j];
+    frame_fft.forward(seg, bins);
+    for (std::size_t k = 0; k < nbins; ++k) row[k] = std::norm(bins[k]);  // unscaled |X|^2
     const double w = options.max_step_fraction * f_pred;
     const BinRange r = bins_of(f_pred - w, f_pred + w, df, nbins);
-    const std::span<const double> row(&spec.value[m * nbins], nbins);
     std::size_t k = r.lo;
     for (std::size_t j = r.lo; j <= r.hi; ++j) {
       if (row[j] > row[k]) k = j;
@@ -473,10 +480,9 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   // frame centres and extrapolated along the least-squares line of the end frames beyond them
   // (held, a run-up's first half frame would be off by more than the demodulation band),
   // integrated by the trapezoid rule.
-  const std::span<const double> x = channels[best.channel];
   std::vector<double> phi(n);
   {
-    const auto& t = spec.time_s;
+    const auto& t = frame_t;
     const std::size_t fit = std::min<std::size_t>(frames, kEndFitFrames);
     auto end_slope = [&](std::size_t first) {
       if (fit < 2) return 0.0;
@@ -554,11 +560,11 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   }
   // Per frame: the angle's increase over the frame (clipped symmetrically at the record's ends).
   const double t_end = static_cast<double>(n - 1) / fs_hz;
-  est.time_s = spec.time_s;
+  est.time_s = frame_t;
   est.speed_hz.resize(frames);
   est.ridge_speed_hz.resize(frames);
   for (std::size_t m = 0; m < frames; ++m) {
-    const double t = spec.time_s[m];
+    const double t = frame_t[m];
     const double h = std::min({0.5 * options.frame_s, t, t_end - t});
     const double a0 = (std::clamp(t - h, 0.0, t_end));
     const double a1 = (std::clamp(t + h, 0.0, t_end));
