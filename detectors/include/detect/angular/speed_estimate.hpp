@@ -43,9 +43,11 @@
 //    rotated, as with scale_pulses()).
 // Limits: a sideband stronger than its carrier, or a foreign line stronger than the candidate in
 // its band, is followed instead (the speed is then off by the sideband spacing; the other
-// prominent candidates then contradict it, see SpeedEstimate::contradictions); the demodulation
-// band is set from the lowest tracked speed, so a run-up of more than ~2:1 around a ridge error
-// bigger than that band is not refined correctly (status kLowConfidence via the fade check).
+// prominent candidates then contradict it, see SpeedEstimate::contradictions). The
+// demodulation band is set by the lowest speed of the record, so over a wide run-up the ridge
+// must stay within that band of the line at the top speed too (500 -> 3000 rpm in 6 s: ridge
+// error <= 0.2 % of 1150 Hz against a 3.6 Hz band); a ridge further off loses the line there,
+// which the fade check reports (kLowConfidence). A stop or a speed reversal is not followed.
 #pragma once
 
 #include <cstddef>
