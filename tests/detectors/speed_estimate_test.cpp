@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
 
 namespace {
 
@@ -226,6 +227,28 @@ TEST(SpeedEstimate, DropsCandidatesNearNyquist) {
   bool said = false;
   for (const auto& n : e.notes) said |= n.find("too high") != std::string::npos;
   EXPECT_TRUE(said);
+}
+
+// The two-stage box (18/36, 18/36): input-shaft orders 18 h for the first mesh (modulated at
+// the counter shaft, 0.5) and 9 h for the second (at the output shaft, 0.25); orders of the
+// counter shaft are twice those.
+TEST(SpeedEstimate, GearboxCandidatesAreMeshHarmonicsInReferenceOrders) {
+  const diag::Gearbox gb =
+      diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
+  const auto l = detect::gearbox_speed_lines(gb, gb.input_shaft(), 2);
+  ASSERT_EQ(l.size(), 4u);
+  EXPECT_DOUBLE_EQ(l[0].order, 18.0);
+  EXPECT_DOUBLE_EQ(l[1].order, 36.0);
+  EXPECT_DOUBLE_EQ(l[0].modulation_order, 0.5);
+  EXPECT_DOUBLE_EQ(l[2].order, 9.0);
+  EXPECT_DOUBLE_EQ(l[3].order, 18.0);
+  EXPECT_DOUBLE_EQ(l[3].modulation_order, 0.25);
+  EXPECT_EQ(l[0].label, "mesh z1/z2 h1");
+  const auto c = detect::gearbox_speed_lines(gb, gb.shaft_index("counter"), 1);
+  EXPECT_DOUBLE_EQ(c[0].order, 36.0);
+  EXPECT_DOUBLE_EQ(c[1].order, 18.0);
+  EXPECT_THROW(detect::gearbox_speed_lines(gb, 3), diag::InputError);
+  EXPECT_THROW(detect::gearbox_speed_lines(gb, 0, 0), diag::InputError);
 }
 
 TEST(SpeedEstimate, BadOptionsAndInputsAreRefused) {
