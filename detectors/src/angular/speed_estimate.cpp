@@ -30,6 +30,8 @@ constexpr double kMaxNyquistFraction = 0.8;
 constexpr std::ptrdiff_t kSelectionHalfFrames = 1;
 // Peaks closer than this many mainlobe half-widths (2 bins of the frame for Hann) are one peak.
 constexpr double kDistinctPeakBins = 2.0;
+// Lowest ridge frequency followed, in frame bins (fs / frame length).
+constexpr double kMinRidgeBins = 4.0;
 // Frames whose least-squares line extrapolates the ridge beyond the first and last frame centres.
 constexpr std::size_t kEndFitFrames = 5;
 
@@ -77,6 +79,7 @@ BinRange bins_of(double f_lo, double f_hi, double df, std::size_t nbins) {
   BinRange r;
   r.lo = static_cast<std::size_t>(std::max(0.0, std::ceil(f_lo / df)));
   r.hi = std::min(nbins - 1, static_cast<std::size_t>(std::max(0.0, std::floor(f_hi / df))));
+  r.lo = std::min(r.lo, r.hi);  // a band outside the spectrum: its nearest bin
   return r;
 }
 
@@ -453,6 +456,9 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
     for (std::size_t j = 0; j < nperseg; ++j) seg[j] *= window[j];
     frame_fft.forward(seg, bins);
     for (std::size_t k = 0; k < nbins; ++k) row[k] = std::norm(bins[k]);  // unscaled |X|^2
+    // A ridge extrapolated towards 0 Hz or Nyquist (a machine stopping, a wrong line) is held
+    // a few frame bins inside, so that the demodulation band stays > 0.
+    f_pred = std::clamp(f_pred, kMinRidgeBins * frame_bin_hz, kMaxNyquistFraction * nyquist);
     const double w = options.max_step_fraction * f_pred;
     const BinRange r = bins_of(f_pred - w, f_pred + w, df, nbins);
     std::size_t k = r.lo;
