@@ -28,7 +28,8 @@ constexpr double kSameOrderTol = 1e-9;
 constexpr double kMaxNyquistFraction = 0.8;
 // Frames averaged around nominal_time_s to choose the line of a run-up.
 constexpr std::ptrdiff_t kSelectionHalfFrames = 1;
-// Peaks closer than this many mainlobe half-widths (2 bins of the frame for Hann) are one peak.
+// Peaks closer than this many frame bins (fs / frame length; 2: the Hann mainlobe half-width)
+// are one peak.
 constexpr double kDistinctPeakBins = 2.0;
 // Lowest ridge frequency followed, in frame bins (fs / frame length).
 constexpr double kMinRidgeBins = 4.0;
@@ -572,10 +573,8 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   for (std::size_t m = 0; m < frames; ++m) {
     const double t = frame_t[m];
     const double h = std::min({0.5 * options.frame_s, t, t_end - t});
-    const double a0 = (std::clamp(t - h, 0.0, t_end));
-    const double a1 = (std::clamp(t + h, 0.0, t_end));
-    const auto i0 = static_cast<std::size_t>(std::llround(a0 * fs_hz));
-    const auto i1 = static_cast<std::size_t>(std::llround(a1 * fs_hz));
+    const auto i0 = static_cast<std::size_t>(std::llround(std::clamp(t - h, 0.0, t_end) * fs_hz));
+    const auto i1 = static_cast<std::size_t>(std::llround(std::clamp(t + h, 0.0, t_end) * fs_hz));
     est.speed_hz[m] = i1 > i0 ? (phi[i1] - phi[i0]) / per_rev * fs_hz / static_cast<double>(i1 - i0)
                               : ridge_hz[m] / order;
     est.ridge_speed_hz[m] = ridge_hz[m] / order;
