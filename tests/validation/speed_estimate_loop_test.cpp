@@ -11,6 +11,7 @@
 
 #include "detect/angular/speed_estimate.hpp"
 #include "detect/angular/tacho.hpp"
+#include "detect/angular/tsa.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "sim/dynamics/simulate.hpp"
 
@@ -82,6 +83,25 @@ TEST(SpeedEstimateLoop, ABearingAccelerometerGivesTheInputSpeedAndItsRevolutions
     const double lag = rev[1] - pulses[0];  // the first estimate pulse is the record start
     for (std::size_t k = 1; k + 1 < pulses.size() && k < rev.size(); ++k)
       EXPECT_NEAR(rev[k] - pulses[k - 1], lag, kRevTol / truth_hz) << "revolution " << k;
+    // What the pulses are for: the input shaft's TSA from them holds the synchronous vibration
+    // as the tacho's does (RMS within 1 %; measured: the same to 4 digits), while uniform pulses
+    // at the nominal speed smear it away (measured: 40 to 70 times less).
+    detect::TsaOptions to;
+    to.samples_per_rev = 256;  // >= 2.8 x 54, the highest mesh order (tsa.hpp)
+    auto rms = [](const std::vector<double>& v) {
+      double q = 0.0;
+      for (double a : v) q += a * a;
+      return std::sqrt(q / static_cast<double>(v.size()));
+    };
+    const double by_tacho = rms(detect::tsa(acc->samples, acc->fs_hz, pulses, to).samples);
+    const double by_estimate = rms(detect::tsa(acc->samples, acc->fs_hz, rev, to).samples);
+    std::vector<double> nominal;
+    for (double t = 0.0; t < 2.0; t += 1.0 / (off * truth_hz)) nominal.push_back(t);
+    const double by_nominal = rms(detect::tsa(acc->samples, acc->fs_hz, nominal, to).samples);
+    EXPECT_NEAR(by_estimate / by_tacho, 1.0, 0.01);
+    EXPECT_LT(by_nominal, 0.5 * by_tacho);
+    std::printf("TSA RMS: tacho %.4g, estimate %.4g, nominal %.4g\n", by_tacho, by_estimate,
+                by_nominal);
     std::printf(
         "loop, nominal x %.2f: line '%s' %.1f dB (%d lines agree), speed rel. error %.2e, "
         "revolution error %.2e rev\n",
