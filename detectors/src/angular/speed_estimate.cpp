@@ -443,6 +443,12 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
     }
   }
 
+  if (est.confirmations == 0 && groups.size() > 1) {
+    est.notes.push_back(
+        "no other candidate confirms the speed: with a nominal speed off by more than "
+        "search_fraction, a neighbouring line of the same family can be taken for the candidate");
+  }
+
   // Step 2: the ridge, forward and backward from `start`.
   const std::span<const double> x = channels[best.channel];
   std::vector<double> ridge_hz(frames, 0.0);

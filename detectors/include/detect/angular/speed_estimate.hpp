@@ -48,6 +48,13 @@
 // must stay within that band of the line at the top speed too (500 -> 3000 rpm in 6 s: ridge
 // error <= 0.2 % of 1150 Hz against a 3.6 Hz band); a ridge further off loses the line there,
 // which the fade check reports (kLowConfidence). A stop or a speed reversal is not followed.
+// The angle read from a line carries the phase of the path from the source to the sensor at the
+// line's frequency: constant on a steady machine (absorbed in the unknown zero), but in a run-up
+// it drifts with speed (a delay tau: f_shaft tau rev; a resonance crossed: up to 1 / (2 order)
+// rev; the simulated two-stage box 1000 -> 2000 rpm: 7.6e-3 rev). A nominal speed off by more
+// than search_fraction can lock onto a neighbouring line of the same family (the two-stage box
+// 10 % low: order 45 taken for 54): the other candidates then do not confirm it
+// (confirmations == 0, said in the notes).
 #pragma once
 
 #include <cstddef>
