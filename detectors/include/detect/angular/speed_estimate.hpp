@@ -15,7 +15,7 @@
 //    the ratio of two of its orders (the stronger peak then names its order), else it is ambiguous
 //    and left out. The most prominent line over every candidate and channel wins; below
 //    min_prominence_db: no line.
-// 2. Follow it (rpmtrack's ridge, Wang et al.'s idea as MATLAB uses it): from the frame where the
+// 2. Follow it (the ridge extraction of MATLAB's rpmtrack): from the frame where the
 //    nominal speed holds, frame by frame forward and backward, the peak inside
 //    +- max_step_fraction of the frequency predicted from the two previous frames (a bounded step
 //    instead of rpmtrack's penalty), placed between bins by Gaussian (log-parabolic)
