@@ -1,0 +1,651 @@
+#include "detect/angular/speed_estimate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <sstream>
+
+#include "detect/spectral/fft.hpp"
+#include "detect/spectral/welch.hpp"
+#include "detect/spectral/window.hpp"
+#include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
+
+namespace detect {
+
+namespace {
+
+using diag::fail;
+using diag::require;
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+// Orders equal to this relative tolerance are one line (products of tooth-count ratios differ
+// only by round-off).
+constexpr double kSameOrderTol = 1e-9;
+// Candidates whose band reaches above this fraction of Nyquist are dropped (anti-aliasing filters
+// of acquisition systems roll off there).
+constexpr double kMaxNyquistFraction = 0.8;
+// Frames averaged around nominal_time_s to choose the line of a run-up.
+constexpr std::ptrdiff_t kSelectionHalfFrames = 1;
+// Peaks closer than this many frame bins (fs / frame length; 2: the Hann mainlobe half-width)
+// are one peak.
+constexpr double kDistinctPeakBins = 2.0;
+// Lowest ridge frequency followed, in frame bins (fs / frame length).
+constexpr double kMinRidgeBins = 4.0;
+// Frames whose least-squares line extrapolates the ridge beyond the first and last frame centres.
+constexpr std::size_t kEndFitFrames = 5;
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+void fail_opt(const std::string& field, const std::string& reason) {
+  fail("SpeedEstimateOptions", field, reason);
+}
+
+std::size_t next_pow2(std::size_t n) {
+  std::size_t p = 1;
+  while (p < n) p <<= 1;
+  return p;
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+// Peak position between bins: Gaussian interpolation (a parabola through the logarithms of the
+// three values around the maximum bin k), in bins, |offset| <= 0.5.
+double interpolated_bin(std::span<const double> p, std::size_t k) {
+  if (k == 0 || k + 1 >= p.size()) return static_cast<double>(k);
+  constexpr double kTiny = 1e-300;
+  const double a = std::log(p[k - 1] + kTiny), b = std::log(p[k] + kTiny),
+               c = std::log(p[k + 1] + kTiny);
+  const double den = a - 2.0 * b + c;
+  if (!(den < 0.0)) return static_cast<double>(k);
+  return static_cast<double>(k) + std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+}
+
+// Bins [lo, hi] covering [f_lo, f_hi], clipped to the spectrum.
+struct BinRange {
+  std::size_t lo = 0, hi = 0;
+};
+BinRange bins_of(double f_lo, double f_hi, double df, std::size_t nbins) {
+  BinRange r;
+  r.lo = static_cast<std::size_t>(std::max(0.0, std::ceil(f_lo / df)));
+  r.hi = std::min(nbins - 1, static_cast<std::size_t>(std::max(0.0, std::floor(f_hi / df))));
+  r.lo = std::min(r.lo, r.hi);  // a band outside the spectrum: its nearest bin
+  return r;
+}
+
+// Local maxima of p inside [r.lo, r.hi] (ends excluded unless the band is at the spectrum's
+// edge), strongest first.
+std::vector<std::size_t> local_maxima(std::span<const double> p, BinRange r) {
+  std::vector<std::size_t> m;
+  for (std::size_t k = r.lo; k <= r.hi; ++k) {
+    const bool left = k == 0 || p[k] > p[k - 1];
+    const bool right = k + 1 >= p.size() || p[k] >= p[k + 1];
+    if (left && right) m.push_back(k);
+  }
+  std::sort(m.begin(), m.end(), [&](std::size_t a, std::size_t b) { return p[a] > p[b]; });
+  return m;
+}
+
+struct Candidate {
+  SpeedLine line;
+  double lo_hz = 0, hi_hz = 0;  // search band
+};
+
+struct Choice {
+  bool found = false;
+  Candidate cand;
+  std::size_t channel = 0;
+  double frequency_hz = 0;
+  double prominence_db = -1e300;
+  double floor_psd = 0;  // median PSD of the band [x^2/Hz]
+};
+
+// Searches one group of mutually overlapping candidates (size 1: a plain band) on spectrum p.
+// Returns a choice, or sets *ambiguous when a prominent peak cannot be attributed.
+Choice search_group(const std::vector<Candidate>& group, std::span<const double> p, double df,
+                    double peak_sep_hz, double min_db, bool* ambiguous) {
+  Choice c;
+  double lo = group.front().lo_hz, hi = group.front().hi_hz;
+  for (const auto& g : group) lo = std::min(lo, g.lo_hz), hi = std::max(hi, g.hi_hz);
+  const BinRange r = bins_of(lo, hi, df, p.size());
+  if (r.hi <= r.lo + 2) return c;
+  // The floor: median over the band widened by its width on each side, so that a line smeared
+  // over much of a narrow band (a run-up's low speeds) does not raise it.
+  const BinRange wide = bins_of(2.0 * lo - hi, 2.0 * hi - lo, df, p.size());
+  const double floor =
+      median_of(std::vector<double>(p.begin() + static_cast<std::ptrdiff_t>(wide.lo),
+                                    p.begin() + static_cast<std::ptrdiff_t>(wide.hi) + 1));
+  if (!(floor > 0.0)) return c;
+  const auto maxima = local_maxima(p, r);
+  if (maxima.empty()) return c;
+  auto db = [&](std::size_t k) { return 10.0 * std::log10(p[k] / floor); };
+  auto freq = [&](std::size_t k) { return interpolated_bin(p, k) * df; };
+  const std::size_t k1 = maxima.front();
+  if (db(k1) < min_db) return c;
+  const double f1 = freq(k1);
+  c.frequency_hz = f1;
+  c.prominence_db = db(k1);
+  c.floor_psd = floor;
+  if (group.size() == 1) {
+    c.found = true;
+    c.cand = group.front();
+    return c;
+  }
+  // Two prominent peaks in the ratio of two orders of the group name the stronger one.
+  constexpr std::size_t kPeaksTried = 6;
+  for (std::size_t j = 1; j < std::min(maxima.size(), kPeaksTried); ++j) {
+    const std::size_t k2 = maxima[j];
+    if (db(k2) < min_db) break;
+    const double f2 = freq(k2);
+    if (std::abs(f2 - f1) < peak_sep_hz) continue;
+    const double tol = 0.5 * df * (1.0 / f2 + f1 / (f2 * f2));  // ratio error of +-df/2 each
+    for (const auto& a : group) {
+      for (const auto& b : group) {
+        if (&a == &b || f1 < a.lo_hz || f1 > a.hi_hz || f2 < b.lo_hz || f2 > b.hi_hz) continue;
+        if (std::abs(f1 / f2 - a.line.order / b.line.order) <= tol) {
+          c.found = true;
+          c.cand = a;
+          return c;
+        }
+      }
+    }
+  }
+  *ambiguous = true;
+  return c;
+}
+
+// Zero-phase raised-cosine low-pass of a complex baseband signal (real and imaginary parts by
+// real FFTs of the zero-padded record): 1 up to pass_hz, 0 from stop_hz.
+void lowpass(std::vector<double>& re, std::vector<double>& im, double fs_hz, double pass_hz,
+             double stop_hz) {
+  const std::size_t n = re.size();
+  // The response's tails decay as 1/t^3 on the scale 1 / (stop - pass): 4 of those keep the
+  // circular wrap-around under 1e-4 of the line.
+  const auto pad = static_cast<std::size_t>(std::ceil(4.0 * fs_hz / (stop_hz - pass_hz)));
+  const std::size_t nfft = next_pow2(n + pad);
+  RealFft fft(nfft);
+  std::vector<double> buf(nfft);
+  std::vector<std::complex<double>> spec(fft.bins());
+  const double df = fs_hz / static_cast<double>(nfft);
+  for (std::vector<double>* part : {&re, &im}) {
+    std::fill(buf.begin(), buf.end(), 0.0);
+    std::copy(part->begin(), part->end(), buf.begin());
+    fft.forward(buf, spec);
+    for (std::size_t k = 0; k < spec.size(); ++k) {
+      const double f = static_cast<double>(k) * df;
+      double h = 0.0;
+      if (f <= pass_hz) {
+        h = 1.0;
+      } else if (f < stop_hz) {
+        h = 0.5 * (1.0 + std::cos(std::numbers::pi * (f - pass_hz) / (stop_hz - pass_hz)));
+      }
+      spec[k] *= h;
+    }
+    fft.inverse(spec, buf);
+    std::copy(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n), part->begin());
+  }
+}
+
+// One demodulation pass: theta = phi + unwrapped phase of LP{x exp(-i phi)}; amp = |LP{...}|.
+void demodulate(std::span<const double> x, double fs_hz, std::vector<double>& phi, double pass_hz,
+                double stop_hz, std::vector<double>* amp) {
+  const std::size_t n = x.size();
+  std::vector<double> re(n), im(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    re[i] = x[i] * std::cos(phi[i]);
+    im[i] = -x[i] * std::sin(phi[i]);
+  }
+  lowpass(re, im, fs_hz, pass_hz, stop_hz);
+  amp->resize(n);
+  double prev = 0.0, unwrapped = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double a = std::atan2(im[i], re[i]);
+    if (i == 0) {
+      unwrapped = a;
+    } else {
+      unwrapped += std::remainder(a - prev, kTwoPi);
+    }
+    prev = a;
+    (*amp)[i] = std::hypot(re[i], im[i]);
+    phi[i] += unwrapped;
+  }
+}
+
+}  // namespace
+
+void SpeedEstimateOptions::validate() const {
+  if (!(search_fraction > 0.0 && search_fraction < 0.5))
+    fail_opt("search_fraction", fmt(search_fraction) + " is not in (0, 0.5)");
+  if (!(frame_s > 0.0 && std::isfinite(frame_s)))
+    fail_opt("frame_s", fmt(frame_s) + " is not a finite time > 0");
+  if (!(hop_s > 0.0 && hop_s <= frame_s))
+    fail_opt("hop_s", fmt(hop_s) + " is not in (0, frame_s = " + fmt(frame_s) + "]");
+  if (zero_padding < 1 || zero_padding > 16)
+    fail_opt("zero_padding", std::to_string(zero_padding) + " is not in [1, 16]");
+  if (!(min_prominence_db >= 3.0 && min_prominence_db <= 60.0))
+    fail_opt("min_prominence_db", fmt(min_prominence_db) + " is not in [3, 60]");
+  if (!(max_step_fraction > 0.0 && max_step_fraction < 0.5))
+    fail_opt("max_step_fraction", fmt(max_step_fraction) + " is not in (0, 0.5)");
+  if (!std::isfinite(nominal_time_s))
+    fail_opt("nominal_time_s", "is NaN or Inf (< 0 means: the whole record)");
+  if (!(demod_passband > 0.0 && demod_passband < 0.5))
+    fail_opt("demod_passband", fmt(demod_passband) + " is not in (0, 0.5)");
+  if (!(min_line_snr > 0.0 && std::isfinite(min_line_snr)))
+    fail_opt("min_line_snr", fmt(min_line_snr) + " is not a finite ratio > 0");
+  if (!(max_fade_fraction >= 0.0 && max_fade_fraction <= 1.0))
+    fail_opt("max_fade_fraction", fmt(max_fade_fraction) + " is not in [0, 1]");
+  if (!(stationary_tolerance > 0.0 && std::isfinite(stationary_tolerance)))
+    fail_opt("stationary_tolerance", fmt(stationary_tolerance) + " is not a finite ratio > 0");
+  if (points_per_rev < 8) fail_opt("points_per_rev", std::to_string(points_per_rev) + " is < 8");
+}
+
+std::string_view to_string(SpeedStatus s) {
+  switch (s) {
+    case SpeedStatus::kTracked:
+      return "tracked";
+    case SpeedStatus::kLowConfidence:
+      return "low_confidence";
+    case SpeedStatus::kNoLine:
+      return "no_line";
+    case SpeedStatus::kAmbiguous:
+      return "ambiguous";
+  }
+  return "?";
+}
+
+double SpeedEstimate::angle_rev_at(double t_s) const {
+  require(has_speed() && !angle_rev.empty(), "SpeedEstimate::angle_rev_at", "status",
+          std::string(to_string(status)) + ": the estimate holds no angle");
+  const double u = std::clamp(t_s / angle_step_s, 0.0, static_cast<double>(angle_rev.size() - 1));
+  const auto j = std::min(static_cast<std::size_t>(u), angle_rev.size() - 1);
+  if (j + 1 >= angle_rev.size()) return angle_rev.back();
+  const double w = u - static_cast<double>(j);
+  return angle_rev[j] + w * (angle_rev[j + 1] - angle_rev[j]);
+}
+
+SpeedEstimate estimate_speed(std::span<const double> x, double fs_hz, double nominal_speed_hz,
+                             const std::vector<SpeedLine>& lines,
+                             const SpeedEstimateOptions& options) {
+  return estimate_speed(std::vector<std::span<const double>>{x}, fs_hz, nominal_speed_hz, lines,
+                        options);
+}
+
+SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channels, double fs_hz,
+                             double nominal_speed_hz, const std::vector<SpeedLine>& lines,
+                             const SpeedEstimateOptions& options) {
+  const std::string where = "estimate_speed";
+  options.validate();
+  require(fs_hz > 0.0 && std::isfinite(fs_hz), where, "fs_hz", fmt(fs_hz) + " is not > 0");
+  require(nominal_speed_hz > 0.0 && std::isfinite(nominal_speed_hz), where, "nominal_speed_hz",
+          fmt(nominal_speed_hz) + " is not a finite speed > 0");
+  require(!channels.empty(), where, "channels", "none given");
+  const std::size_t n = channels.front().size();
+  const auto nperseg = static_cast<std::size_t>(std::llround(options.frame_s * fs_hz));
+  const auto hop = std::max<std::size_t>(
+      1, std::min(nperseg, static_cast<std::size_t>(std::llround(options.hop_s * fs_hz))));
+  require(nperseg >= 16, where, "frame_s",
+          fmt(options.frame_s) + " s is " + std::to_string(nperseg) + " samples, < 16");
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    require(channels[c].size() == n, where, "channels",
+            "channel " + std::to_string(c) + " has " + std::to_string(channels[c].size()) +
+                " samples, channel 0 has " + std::to_string(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(channels[c][i]))
+        fail(where, "channels",
+             "channel " + std::to_string(c) + " sample " + std::to_string(i) + " is NaN or Inf");
+    }
+  }
+  require(n >= nperseg, where, "channels",
+          std::to_string(n) + " samples, fewer than one frame (frame_s = " + fmt(options.frame_s) +
+              " s: " + std::to_string(nperseg) + ")");
+  require(!lines.empty(), where, "lines", "no candidate line");
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    require(lines[i].order > 0.0 && std::isfinite(lines[i].order), where,
+            "lines[" + std::to_string(i) + "].order", fmt(lines[i].order) + " is not > 0");
+    require(lines[i].modulation_order > 0.0 && std::isfinite(lines[i].modulation_order), where,
+            "lines[" + std::to_string(i) + "].modulation_order",
+            fmt(lines[i].modulation_order) + " is not > 0");
+  }
+
+  SpeedEstimate est;
+  const double s = options.search_fraction;
+  const double nyquist = 0.5 * fs_hz;
+
+  // Candidates: drop those too high, merge equal orders.
+  std::vector<Candidate> cands;
+  for (const auto& l : lines) {
+    const double lo = l.order * nominal_speed_hz * (1.0 - s);
+    const double hi = l.order * nominal_speed_hz * (1.0 + s);
+    if (hi > kMaxNyquistFraction * nyquist) {
+      est.notes.push_back("candidate '" + l.label + "' (order " + fmt(l.order) + ", up to " +
+                          fmt(hi) + " Hz) dropped: above 0.8 x Nyquist");
+      continue;
+    }
+    bool merged = false;
+    for (auto& c : cands) {
+      if (std::abs(c.line.order - l.order) <= kSameOrderTol * l.order) {
+        c.line.label += " = " + l.label;
+        c.line.modulation_order = std::min(c.line.modulation_order, l.modulation_order);
+        merged = true;
+        break;
+      }
+    }
+    if (!merged) cands.push_back({l, lo, hi});
+  }
+  // Groups of overlapping bands (connected by overlap, in order of frequency).
+  std::sort(cands.begin(), cands.end(),
+            [](const Candidate& a, const Candidate& b) { return a.line.order < b.line.order; });
+  std::vector<std::vector<Candidate>> groups;
+  for (const auto& c : cands) {
+    if (!groups.empty() && c.lo_hz <= groups.back().back().hi_hz) {
+      groups.back().push_back(c);
+    } else {
+      groups.push_back({c});
+    }
+  }
+
+  // STFT frames as the spectrogram's (spectrogram.hpp): frame m starts at m hop, centre
+  // t_m = (m hop + nperseg / 2) / fs. Only a Welch PSD per channel (the average of the selection
+  // frames) and one frame at a time of the followed channel are held: memory O(nfft), not
+  // O(frames x nfft), for long records.
+  WelchOptions wo;
+  wo.fs_hz = fs_hz;
+  wo.nperseg = nperseg;
+  wo.noverlap = static_cast<long long>(nperseg - hop);
+  wo.nfft = next_pow2(nperseg * static_cast<std::size_t>(options.zero_padding));
+  wo.window = WindowType::kHann;
+  wo.detrend = Detrend::kConstant;
+  const std::size_t frames = (n - nperseg) / hop + 1;
+  std::vector<double> frame_t(frames);
+  for (std::size_t m = 0; m < frames; ++m)
+    frame_t[m] = (static_cast<double>(m * hop) + 0.5 * static_cast<double>(nperseg)) / fs_hz;
+  const std::size_t nbins = wo.nfft / 2 + 1;
+  const double df = fs_hz / static_cast<double>(wo.nfft);
+  const double frame_bin_hz = fs_hz / static_cast<double>(nperseg);
+
+  // Frames the line is chosen on, and the one the ridge starts from.
+  std::size_t sel_lo = 0, sel_hi = frames - 1, start = frames / 2;
+  if (options.nominal_time_s >= 0.0) {
+    const double u = (options.nominal_time_s * fs_hz - 0.5 * static_cast<double>(nperseg)) /
+                     static_cast<double>(hop);
+    start =
+        static_cast<std::size_t>(std::clamp(std::round(u), 0.0, static_cast<double>(frames - 1)));
+    sel_lo = static_cast<std::size_t>(
+        std::max<std::ptrdiff_t>(0, static_cast<std::ptrdiff_t>(start) - kSelectionHalfFrames));
+    sel_hi = std::min(frames - 1, start + static_cast<std::size_t>(kSelectionHalfFrames));
+  }
+
+  // Step 1: the most prominent line over channels and candidate groups.
+  Choice best;
+  std::vector<Choice> found;
+  bool ambiguous = false;
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    // Welch over exactly the selection frames: the mean of their PSDs.
+    const std::vector<double> avg =
+        welch(channels[c].subspan(sel_lo * hop, nperseg + (sel_hi - sel_lo) * hop), wo).value;
+    for (const auto& g : groups) {
+      bool amb = false;
+      Choice ch = search_group(g, avg, df, kDistinctPeakBins * frame_bin_hz,
+                               options.min_prominence_db, &amb);
+      if (amb) {
+        ambiguous = true;
+        std::string labels;
+        for (const auto& x : g) labels += (labels.empty() ? "'" : ", '") + x.line.label + "'";
+        est.notes.push_back("channel " + std::to_string(c) + ": overlapping candidates " + labels +
+                            " hold a line that fits more than one of them: left out");
+      }
+      if (!ch.found) continue;
+      ch.channel = c;
+      found.push_back(ch);
+      if (ch.prominence_db > best.prominence_db) best = ch;
+    }
+  }
+  if (!best.found) {
+    est.status = ambiguous ? SpeedStatus::kAmbiguous : SpeedStatus::kNoLine;
+    est.notes.push_back(ambiguous ? "only ambiguous lines: no speed claimed"
+                                  : "no candidate line stands " + fmt(options.min_prominence_db) +
+                                        " dB over its band: no speed claimed");
+    return est;
+  }
+  est.line = best.cand.line;
+  est.line_frequency_hz = best.frequency_hz;
+  est.prominence_db = best.prominence_db;
+  est.channel = best.channel;
+  est.notes.push_back("line '" + est.line.label + "' (order " + fmt(est.line.order) + ") at " +
+                      fmt(best.frequency_hz) + " Hz, " + fmt(best.prominence_db) +
+                      " dB over its band, channel " + std::to_string(best.channel));
+  const double order = est.line.order;
+  // Cross-check: the other prominent lines of the same channel should imply the same speed, to
+  // a frame bin (the averaged peaks are far better placed; a sideband followed instead of its
+  // carrier is off by a whole shaft order).
+  for (const Choice& o : found) {
+    if (o.channel != best.channel || o.cand.line.order == order) continue;
+    const double implied = o.frequency_hz / o.cand.line.order * order;
+    if (std::abs(implied - best.frequency_hz) <= frame_bin_hz * order / o.cand.line.order) {
+      ++est.confirmations;
+    } else {
+      ++est.contradictions;
+      est.notes.push_back("line '" + o.cand.line.label + "' at " + fmt(o.frequency_hz) +
+                          " Hz implies " + fmt(o.frequency_hz / o.cand.line.order) +
+                          " Hz, the line followed " + fmt(best.frequency_hz / order) +
+                          " Hz: one of them may be a sideband or a foreign line");
+    }
+  }
+
+  if (est.confirmations == 0 && groups.size() > 1) {
+    est.notes.push_back(
+        "no other candidate confirms the speed: with a nominal speed off by more than "
+        "search_fraction, a neighbouring line of the same family can be taken for the candidate");
+  }
+
+  // Step 2: the ridge, forward and backward from `start`.
+  const std::span<const double> x = channels[best.channel];
+  std::vector<double> ridge_hz(frames, 0.0);
+  const std::vector<double> window = make_window(WindowType::kHann, nperseg);
+  RealFft frame_fft(wo.nfft);
+  std::vector<double> seg(wo.nfft, 0.0), row(nbins);
+  std::vector<std::complex<double>> bins(nbins);
+  auto peak_near = [&](std::size_t m, double f_pred) {
+    const auto first = x.begin() + static_cast<std::ptrdiff_t>(m * hop);
+    std::copy(first, first + static_cast<std::ptrdiff_t>(nperseg), seg.begin());
+    detrend(std::span<double>(seg.data(), nperseg), Detrend::kConstant);
+    for (std::size_t j = 0; j < nperseg; ++j) seg[j] *= window[j];
+    frame_fft.forward(seg, bins);
+    for (std::size_t k = 0; k < nbins; ++k) row[k] = std::norm(bins[k]);  // unscaled |X|^2
+    // A ridge extrapolated towards 0 Hz or Nyquist (a machine stopping, a wrong line) is held
+    // a few frame bins inside, so that the demodulation band stays > 0.
+    f_pred = std::clamp(f_pred, kMinRidgeBins * frame_bin_hz, kMaxNyquistFraction * nyquist);
+    const double w = options.max_step_fraction * f_pred;
+    const BinRange r = bins_of(f_pred - w, f_pred + w, df, nbins);
+    std::size_t k = r.lo;
+    for (std::size_t j = r.lo; j <= r.hi; ++j) {
+      if (row[j] > row[k]) k = j;
+    }
+    return interpolated_bin(row, k) * df;
+  };
+  ridge_hz[start] = peak_near(start, best.frequency_hz);
+  for (int dir : {+1, -1}) {
+    std::ptrdiff_t m = static_cast<std::ptrdiff_t>(start) + dir;
+    for (; m >= 0 && m < static_cast<std::ptrdiff_t>(frames); m += dir) {
+      const auto prev = static_cast<std::size_t>(m - dir);
+      double pred = ridge_hz[prev];
+      const std::ptrdiff_t prev2 = m - 3 * dir;  // the trend over two frames
+      if (prev2 >= 0 && prev2 < static_cast<std::ptrdiff_t>(frames) &&
+          std::abs(static_cast<std::ptrdiff_t>(start) - m) >= 3) {
+        pred += 0.5 * (ridge_hz[prev] - ridge_hz[static_cast<std::size_t>(prev2)]);
+      }
+      ridge_hz[static_cast<std::size_t>(m)] = peak_near(static_cast<std::size_t>(m), pred);
+    }
+  }
+
+  // Step 3: phase refinement. Reference phase from the ridge: line frequency linear between
+  // frame centres and extrapolated along the least-squares line of the end frames beyond them
+  // (held, a run-up's first half frame would be off by more than the demodulation band),
+  // integrated by the trapezoid rule.
+  std::vector<double> phi(n);
+  {
+    const auto& t = frame_t;
+    const std::size_t fit = std::min<std::size_t>(frames, kEndFitFrames);
+    auto end_slope = [&](std::size_t first) {
+      if (fit < 2) return 0.0;
+      double tm = 0.0, fm = 0.0;
+      for (std::size_t m = first; m < first + fit; ++m) tm += t[m] / fit, fm += ridge_hz[m] / fit;
+      double sxy = 0.0, sxx = 0.0;
+      for (std::size_t m = first; m < first + fit; ++m) {
+        sxy += (t[m] - tm) * (ridge_hz[m] - fm);
+        sxx += (t[m] - tm) * (t[m] - tm);
+      }
+      return sxy / sxx;
+    };
+    const double slope_start = end_slope(0), slope_end = end_slope(frames - fit);
+    std::size_t m = 0;
+    double f_prev = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double ti = static_cast<double>(i) / fs_hz;
+      while (m + 1 < frames && t[m + 1] <= ti) ++m;
+      double f = 0.0;
+      if (ti < t.front()) {
+        f = ridge_hz.front() + slope_start * (ti - t.front());
+      } else if (m + 1 >= frames) {
+        f = ridge_hz.back() + slope_end * (ti - t.back());
+      } else {
+        f = ridge_hz[m] + (ridge_hz[m + 1] - ridge_hz[m]) * (ti - t[m]) / (t[m + 1] - t[m]);
+      }
+      phi[i] = i == 0 ? 0.0 : phi[i - 1] + kTwoPi * 0.5 * (f + f_prev) / fs_hz;
+      f_prev = f;
+    }
+  }
+  double min_ridge = *std::min_element(ridge_hz.begin(), ridge_hz.end());
+  double max_ridge = *std::max_element(ridge_hz.begin(), ridge_hz.end());
+  const double mod_hz = est.line.modulation_order * min_ridge / order;
+  const double pass_hz = options.demod_passband * mod_hz;
+  const double stop_hz = 2.0 * pass_hz;
+  std::vector<double> amp;
+  for (int pass = 0; pass < 2; ++pass) demodulate(x, fs_hz, phi, pass_hz, stop_hz, &amp);
+
+  // Fades: amplitude vs the noise the band lets through. The PSD floor P [x^2/Hz] (one-sided) of
+  // real noise becomes P/2 two-sided at baseband; the raised-cosine band passes
+  // 2 (pass + 3/8 (stop - pass)) Hz of it. A line of amplitude A reads A/2.
+  const double b_eff = pass_hz + 0.375 * (stop_hz - pass_hz);
+  const double noise_rms = std::sqrt(best.floor_psd * b_eff);
+  std::size_t faded = 0;
+  for (double a : amp) faded += a < options.min_line_snr * noise_rms ? 1 : 0;
+  est.faded_fraction = static_cast<double>(faded) / static_cast<double>(n);
+  est.status = est.faded_fraction > options.max_fade_fraction ? SpeedStatus::kLowConfidence
+                                                              : SpeedStatus::kTracked;
+  if (faded > 0) {
+    est.notes.push_back("the line is under " + fmt(options.min_line_snr) +
+                        " x the noise in its band for " + fmt(100.0 * est.faded_fraction) +
+                        " % of the record: phase slips of 1/order rev possible there");
+  }
+
+  // The angle, kept every `dec` samples (points_per_rev per revolution at the top speed).
+  const double top_speed_hz = max_ridge / order;
+  const auto dec = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::floor(fs_hz / (options.points_per_rev * top_speed_hz))));
+  est.angle_step_s = static_cast<double>(dec) / fs_hz;
+  const double theta0 = phi[0];
+  const double per_rev = kTwoPi * order;
+  for (std::size_t i = 0; i < n; i += dec) est.angle_rev.push_back((phi[i] - theta0) / per_rev);
+
+  // Mean speed: least-squares slope of the angle (every sample).
+  {
+    const double nn = static_cast<double>(n);
+    const double tm = 0.5 * (nn - 1.0) / fs_hz;
+    double sxy = 0.0, sxx = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double dt = static_cast<double>(i) / fs_hz - tm;
+      sxy += dt * (phi[i] - theta0);
+      sxx += dt * dt;
+    }
+    est.mean_speed_hz = sxy / sxx / per_rev;
+  }
+  // Per frame: the angle's increase over the frame (clipped symmetrically at the record's ends).
+  const double t_end = static_cast<double>(n - 1) / fs_hz;
+  est.time_s = frame_t;
+  est.speed_hz.resize(frames);
+  est.ridge_speed_hz.resize(frames);
+  for (std::size_t m = 0; m < frames; ++m) {
+    const double t = frame_t[m];
+    const double h = std::min({0.5 * options.frame_s, t, t_end - t});
+    const auto i0 = static_cast<std::size_t>(std::llround(std::clamp(t - h, 0.0, t_end) * fs_hz));
+    const auto i1 = static_cast<std::size_t>(std::llround(std::clamp(t + h, 0.0, t_end) * fs_hz));
+    est.speed_hz[m] = i1 > i0 ? (phi[i1] - phi[i0]) / per_rev * fs_hz / static_cast<double>(i1 - i0)
+                              : ridge_hz[m] / order;
+    est.ridge_speed_hz[m] = ridge_hz[m] / order;
+  }
+  est.min_speed_hz = *std::min_element(est.speed_hz.begin(), est.speed_hz.end());
+  est.max_speed_hz = *std::max_element(est.speed_hz.begin(), est.speed_hz.end());
+  est.stationary =
+      (est.max_speed_hz - est.min_speed_hz) <= options.stationary_tolerance * est.mean_speed_hz;
+  return est;
+}
+
+std::vector<SpeedLine> gearbox_speed_lines(const diag::Gearbox& gb, int reference_shaft,
+                                           int harmonics) {
+  const std::string where = "gearbox_speed_lines";
+  const int shafts = static_cast<int>(gb.shafts().size());
+  require(reference_shaft >= 0 && reference_shaft < shafts, where, "reference_shaft",
+          std::to_string(reference_shaft) + " is not in [0, " + std::to_string(shafts) + ")");
+  require(harmonics >= 1, where, "harmonics", std::to_string(harmonics) + " is < 1");
+  const double ref = std::abs(gb.shafts()[static_cast<std::size_t>(reference_shaft)].speed_ratio);
+  require(ref > 0.0, where, "reference_shaft", "the shaft does not turn");
+  auto rel = [&](int shaft) {
+    return std::abs(gb.shafts()[static_cast<std::size_t>(shaft)].speed_ratio) / ref;
+  };
+  std::vector<SpeedLine> lines;
+  for (const auto& m : gb.meshes()) {
+    const int sd = gb.shaft_of_gear(m.driver), sn = gb.shaft_of_gear(m.driven);
+    const double mesh_order = gb.gears()[static_cast<std::size_t>(m.driver)].spec.teeth * rel(sd);
+    const std::string name = gb.gears()[static_cast<std::size_t>(m.driver)].name + "/" +
+                             gb.gears()[static_cast<std::size_t>(m.driven)].name;
+    for (int h = 1; h <= harmonics; ++h) {
+      lines.push_back(
+          {h * mesh_order, "mesh " + name + " h" + std::to_string(h), std::min(rel(sd), rel(sn))});
+    }
+  }
+  if (lines.empty()) {
+    for (int s = 0; s < shafts; ++s) {
+      for (int h = 1; h <= harmonics; ++h) {
+        lines.push_back(
+            {h * rel(s),
+             "shaft " + gb.shafts()[static_cast<std::size_t>(s)].name + " x" + std::to_string(h),
+             rel(s) / harmonics});
+      }
+    }
+  }
+  return lines;
+}
+
+std::vector<double> revolution_times_s(const SpeedEstimate& estimate, double first_angle_rev) {
+  require(estimate.has_speed() && estimate.angle_rev.size() >= 2, "revolution_times_s", "estimate",
+          std::string(to_string(estimate.status)) + ": no speed to take pulses from");
+  require(std::isfinite(first_angle_rev), "revolution_times_s", "first_angle_rev", "is NaN or Inf");
+  const auto& a = estimate.angle_rev;
+  std::vector<double> t;
+  double target = first_angle_rev;
+  // Skip whole revolutions before the record.
+  if (target < a.front()) target += std::ceil(a.front() - target);
+  for (std::size_t j = 0; j + 1 < a.size(); ++j) {
+    // A backward step (noise) that passed the target places it at the step's start.
+    while (a[j + 1] > a[j] && target < a[j + 1]) {
+      const double w = std::max(0.0, target - a[j]) / (a[j + 1] - a[j]);
+      t.push_back((static_cast<double>(j) + w) * estimate.angle_step_s);
+      target += 1.0;
+    }
+  }
+  return t;
+}
+
+}  // namespace detect
