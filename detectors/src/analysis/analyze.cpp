@@ -1,5 +1,7 @@
 #include "detect/analysis/analyze.hpp"
 
+#include "kinematics.hpp"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -73,78 +75,20 @@ PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>
                            std::span<const double>(y).subspan(i0, n), max_points, Decimation::kMax);
 }
 
+// P(X >= k) for X ~ Binomial(n, p).
+double binomial_tail(int n, int k, double p) {
+  double tail = 0;
+  for (int i = k; i <= n; ++i) {
+    tail += std::exp(std::lgamma(n + 1.0) - std::lgamma(i + 1.0) - std::lgamma(n - i + 1.0) +
+                     i * std::log(p) + (n - i) * std::log1p(-p));
+  }
+  return std::min(1.0, tail);
+}
+
 std::string fmt(double v, int prec = 3) {
   std::ostringstream o;
   o << std::setprecision(prec) << v;
   return o.str();
-}
-
-// Once-per-revolution times of every shaft and the speeds, from the first usable tacho or from
-// the nominal input speed.
-struct Kinematics {
-  std::vector<AnalysisShaftSpeed> speeds;     // per shaft
-  std::vector<std::vector<double>> pulses_s;  // per shaft, once per revolution
-  int tacho_shaft = -1;                       // the shaft whose tacho gave them; -1: nominal
-};
-
-Kinematics kinematics(const diag::Recording& rec, const diag::Gearbox& gb, double duration_s,
-                      const AnalyzeOptions& opt, std::vector<std::string>& notes) {
-  const std::size_t ns = gb.shafts().size();
-  Kinematics k;
-  k.speeds.resize(ns);
-  k.pulses_s.resize(ns);
-  for (std::size_t s = 0; s < ns; ++s) {
-    k.speeds[s].shaft = gb.shafts()[s].name;
-    k.speeds[s].speed_hz = gb.shaft_speed_hz(static_cast<int>(s));
-    k.speeds[s].source = "nominal";
-  }
-  for (const diag::Signal& t : rec.tachos) {
-    const std::string& named = t.shaft.empty() ? t.location : t.shaft;
-    const int s = gb.shaft_index(named);
-    if (s < 0) {
-      notes.push_back("tacho '" + t.name + "' names no shaft of the gearbox ('" + named +
-                      "'): not used");
-      continue;
-    }
-    const int ppr = opt.tacho_pulses_per_rev > 0 ? opt.tacho_pulses_per_rev
-                                                 : diag::pulses_per_rev(t);
-    TachoOptions to;
-    to.pulses_per_rev = ppr;
-    const TachoResult tr = tacho_pulses(t.samples, t.fs_hz, to);
-    const auto& p = tr.pulse_times_s;
-    if (p.size() < static_cast<std::size_t>(ppr) + 2) {
-      notes.push_back("tacho '" + t.name + "': " + std::to_string(p.size()) +
-                      " pulses, too few for a speed: not used");
-      continue;
-    }
-    const double f_meas =
-        static_cast<double>(p.size() - 1) / ppr / (p.back() - p.front());
-    const double scale = f_meas / gb.shaft_speed_hz(s);
-    for (std::size_t b = 0; b < ns; ++b) {
-      k.speeds[b].speed_hz = gb.shaft_speed_hz(static_cast<int>(b)) * scale;
-      k.speeds[b].source = static_cast<int>(b) == s ? "tacho" : "tacho " + t.name + " x ratio";
-      const double ratio = k.speeds[b].speed_hz / f_meas;
-      k.pulses_s[b] = scale_pulses(p, ratio, ppr);
-    }
-    k.tacho_shaft = s;
-    k.speeds[static_cast<std::size_t>(s)].tacho_repairs = static_cast<int>(tr.repairs.size());
-    if (!tr.repairs.empty()) {
-      notes.push_back("tacho '" + t.name + "': " + std::to_string(tr.repairs.size()) +
-                      " pulse repairs");
-    }
-    notes.push_back("shaft speeds from tacho '" + t.name + "': " + fmt(f_meas * 60, 6) +
-                    " rpm (nominal " + fmt(gb.shaft_speed_rpm(s), 6) + " rpm)");
-    return k;
-  }
-  notes.push_back("no usable tacho: shaft angles from the nominal input speed " +
-                  fmt(gb.input().speed_rpm, 6) + " rpm, assumed constant");
-  for (std::size_t s = 0; s < ns; ++s) {
-    const double f = k.speeds[s].speed_hz;
-    for (double t = 0; t <= duration_s; t = static_cast<double>(k.pulses_s[s].size()) / f) {
-      k.pulses_s[s].push_back(t);
-    }
-  }
-  return k;
 }
 
 }  // namespace
@@ -226,13 +170,20 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   }
   const std::size_t plot_points = static_cast<std::size_t>(opt.plot_points);
 
-  Kinematics kin;
+  ShaftKinematics kin;
   int input = -1;
   double input_hz = 0;
   if (gb) {
     r.gearbox_name = gb->name();
-    kin = kinematics(rec, *gb, r.duration_s, opt, r.notes);
+    kin = shaft_kinematics(rec, *gb, r.duration_s, opt, r.notes);
     r.shafts = kin.speeds;
+    r.speed = kin.speed;
+    if (!kin.speed.stationary) {
+      r.notes.push_back("the speed varies over the record (" + fmt(kin.speed.min_rpm, 5) + " to " +
+                        fmt(kin.speed.max_rpm, 5) +
+                        " rpm): spectra and sidebands are drawn at the mean speed and smear; "
+                        "the TSA and the damaged-shaft locator follow the shaft angles");
+    }
     input = gb->input_shaft();
     r.input_shaft = gb->shafts()[static_cast<std::size_t>(input)].name;
     input_hz = kin.speeds[static_cast<std::size_t>(input)].speed_hz;
@@ -434,7 +385,13 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         ma.mesh = static_cast<int>(j);
         ma.name = r.meshes[j].name;
         ma.mesh_hz = r.meshes[j].frequency_hz;
-        ma.sidebands = analyse_sidebands(view, ma.mesh_hz, cand, opt.sidebands);
+        // The rest of the gearbox: another mesh's harmonics and the combination tones of two
+        // meshes are not sidebands of a shaft (sidebands.hpp).
+        SidebandContext context;
+        for (std::size_t i = 0; i < r.meshes.size(); ++i) {
+          if (i != j) context.other_mesh_hz.push_back(r.meshes[i].frequency_hz);
+        }
+        ma.sidebands = analyse_sidebands(view, ma.mesh_hz, cand, opt.sidebands, context);
         const double span = (K + 2) * std::max(cand[0].frequency_hz, cand[1].frequency_hz);
         ma.zoom = slice_for_plot(sp.frequency_hz, sp.amplitude, ma.mesh_hz - span,
                                  ma.mesh_hz + span, plot_points);
@@ -589,12 +546,12 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     bool has_gear_shaft = false;
     for (const diag::Shaft& sh : gb->shafts()) has_gear_shaft |= !sh.gears.empty();
     if (has_gear_shaft) {
-      const int ref = kin.tacho_shaft >= 0 ? kin.tacho_shaft : input;
+      const int ref = kin.reference_shaft >= 0 ? kin.reference_shaft : input;
       try {
         r.gear_damage =
             locate_gear_damage(rec, *gb, gb->shafts()[static_cast<std::size_t>(ref)].name,
                                kin.pulses_s[static_cast<std::size_t>(ref)], opt.gear_damage);
-        r.gear_damage_angles = kin.tacho_shaft >= 0 ? "tacho" : "nominal";
+        r.gear_damage_angles = kin.speed.source;
       } catch (const diag::InputError& e) {
         r.notes.push_back(std::string("damaged-shaft location skipped: ") + e.what());
       }
@@ -610,8 +567,11 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         f.note =
             "a localised fault once per revolution of " + g.shaft + " (TSA per shaft, " +
             r.gear_damage->status + "): " + g.note +
-            (r.gear_damage_angles == "nominal" ? " (shaft angles from the nominal speed: no tacho)"
-                                               : "");
+            (r.gear_damage_angles == "nominal"
+                 ? " (shaft angles from the nominal speed: no tacho)"
+                 : r.gear_damage_angles == "vibration"
+                       ? " (shaft angles from the vibration's mesh line: no tacho)"
+                       : "");
         r.findings.push_back(std::move(f));
       }
     }
@@ -647,6 +607,16 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         }
       }
       if (top == 0 || top == second) continue;
+      // A quorum: `top` channels of `analysed` pointing at one shaft must be unlikely for
+      // channels that point at random with probability kFalsePointing each (binomial tail <=
+      // 5 %): 1 of 2 passes, 1 of 28 does not (one noisy channel is no finding), 2 of 28 does.
+      constexpr double kFalsePointing = 0.01, kQuorumP = 0.05;
+      if (binomial_tail(analysed, top, kFalsePointing) > kQuorumP) {
+        r.notes.push_back("sidebands of mesh " + r.meshes[j].name + " point at " + winner +
+                          " in only " + std::to_string(top) + " of " + std::to_string(analysed) +
+                          " channels: no finding");
+        continue;
+      }
       AnalysisFinding f;
       f.kind = "gear_sidebands";
       f.shaft = winner;
@@ -663,8 +633,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       // spectrum has no noise floor (a noise-free simulation): said so, not a number.
       const double mean_db = best_mean_db[winner];
       const std::string prominence =
-          mean_db >= kMaxProminenceDb
-              ? "at the " + fmt(kMaxProminenceDb) + " dB cap: no noise floor"
+          mean_db >= opt.sidebands.dynamic_range_db
+              ? "at the " + fmt(opt.sidebands.dynamic_range_db) +
+                    " dB dynamic-range cap: no noise floor"
               : fmt(mean_db, 3) + " dB over the local floor on average";
       f.note = "sidebands of mesh " + r.meshes[j].name + " (" + fmt(f.frequency_hz, 5) +
                " Hz) spaced at shaft " + winner + "'s rotation in " + std::to_string(top) + " of " +
@@ -968,6 +939,16 @@ nlohmann::json to_json(const AnalysisResult& r) {
   j["gearbox"] = r.gearbox_name.empty() ? json(nullptr) : json(r.gearbox_name);
   j["input_shaft"] = r.input_shaft.empty() ? json(nullptr) : json(r.input_shaft);
   j["duration_s"] = r.duration_s;
+  if (!r.speed.source.empty()) {
+    j["speed"] = {{"source", r.speed.source},
+                  {"reference_shaft", r.speed.reference_shaft},
+                  {"line", r.speed.line},
+                  {"nominal_rpm", r.speed.nominal_rpm},
+                  {"mean_rpm", r.speed.mean_rpm},
+                  {"min_rpm", r.speed.min_rpm},
+                  {"max_rpm", r.speed.max_rpm},
+                  {"stationary", r.speed.stationary}};
+  }
   j["shafts"] = json::array();
   for (const auto& s : r.shafts) {
     j["shafts"].push_back({{"shaft", s.shaft},
@@ -1184,6 +1165,15 @@ std::string format_summary(const AnalysisResult& r) {
   o << "recording: " << r.channels.size() << " channels, " << fmt(r.duration_s, 6) << " s";
   if (!r.gearbox_name.empty()) o << ", gearbox " << r.gearbox_name;
   o << "\n";
+  if (!r.speed.source.empty()) {
+    o << "  speed of " << r.speed.reference_shaft << " from the " << r.speed.source
+      << (r.speed.line.empty() ? "" : " (" + r.speed.line + ")") << ": "
+      << fmt(r.speed.mean_rpm, 6) << " rpm";
+    if (!r.speed.stationary) {
+      o << ", varying " << fmt(r.speed.min_rpm, 5) << " .. " << fmt(r.speed.max_rpm, 5) << " rpm";
+    }
+    o << " (nominal " << fmt(r.speed.nominal_rpm, 6) << " rpm)\n";
+  }
   for (const auto& s : r.shafts) {
     o << "  shaft " << s.shaft << ": " << fmt(s.speed_hz * 60, 6) << " rpm (" << s.source << ")\n";
   }

@@ -86,6 +86,8 @@ struct AnalyzeOptions {
   TwoDirectionOptions two_direction;        // mesh harmonics summed in the two-direction ratio
   GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
                                             // not used: the shaft angles are analyze's own)
+  bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
+                                     // mesh line within +-10 % of the nominal (speed_estimate.hpp)
 
   void validate() const;  // throws diag::InputError "analyze: <field>: ..."
 };
@@ -182,6 +184,17 @@ struct AnalysisShaftSpeed {
   int tacho_repairs = 0;
 };
 
+// The reference shaft's speed over the record and where it came from (analyze's kinematics).
+struct AnalysisSpeed {
+  std::string source;           // "tacho", "vibration" (speed_estimate.hpp) or "nominal"
+  std::string reference_shaft;  // the shaft measured or estimated
+  std::string line;             // the tacho or the vibration line followed
+  double nominal_rpm = 0;       // the description's (or --rpm's, or the file's) speed
+  double mean_rpm = 0, min_rpm = 0, max_rpm = 0;
+  bool stationary = true;              // max - min within 1 % of the mean
+  std::vector<double> time_s, speed_rpm;  // the speed over time (empty: nominal)
+};
+
 struct AnalysisMesh {
   std::string name, driver, driven;
   double frequency_hz = 0;
@@ -227,6 +240,7 @@ struct AnalysisResult {
   std::string input_shaft;   // the gearbox's input shaft (order spectra are in its orders)
   double duration_s = 0;
   std::vector<AnalysisShaftSpeed> shafts;
+  AnalysisSpeed speed;
   std::vector<AnalysisMesh> meshes;
   std::vector<ChannelAnalysis> channels;
   std::vector<TwoDirectionRow> two_direction;
@@ -234,7 +248,7 @@ struct AnalysisResult {
   std::optional<AnalysisBaseline> baseline;
   std::optional<GearDamageResult> gear_damage;  // the locator's result (absent: not run, notes
                                                 // say why)
-  std::string gear_damage_angles;               // "tacho" or "nominal": the shaft angles it used
+  std::string gear_damage_angles;  // "tacho", "vibration" or "nominal": the shaft angles used
   std::vector<std::string> notes;  // recording-level notes (speed source, skipped steps)
 };
 
