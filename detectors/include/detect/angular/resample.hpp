@@ -109,7 +109,8 @@ struct AngleResampled {
 // whose interpolation kernels lie inside the record, the time of every output angle and the
 // kernel cutoff there (see above). Immutable once built; share it across the channels of a
 // recording (they share the tacho) and across threads. Build it once per shaft and
-// samples_per_rev: it costs about as much as resampling one channel of ~Z / 2 taps per output.
+// samples_per_rev: it costs about as much as applying it to one channel (bench/RESULTS.md), so
+// a plan built per channel (the one-call resample_by_angle) gains nothing.
 class AnglePlan {
  public:
   // options.pulses_per_rev must equal angle.pulses_per_rev(). Throws diag::InputError for bad
