@@ -20,6 +20,7 @@ gb() {  # name, extra args...
     --benchmark_out_format=json "$@"
 }
 gb attribution --benchmark_min_time=1
+gb resample
 gb welch
 taskset -c 0 "$py" "$here/peer_welch.py"
 gb analysis

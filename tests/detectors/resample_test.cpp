@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <iostream>
 #include <numbers>
+#include <random>
+#include <span>
 #include <vector>
 
 #include "detect/angular/order_spectrum.hpp"
@@ -235,6 +238,183 @@ TEST(Resample, BadInputsNameTheField) {
     ADD_FAILURE() << "accepted";
   } catch (const diag::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("margin"), std::string::npos) << e.what();
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The AnglePlan against the documented formula, evaluated naively (std::cyl_bessel_i per tap).
+
+// The documented formula for output m of a plan, from the public ShaftAngle model:
+//   y_m = sum_n x[n] g sinc(g (u - n)) w((u - n) / K), u = time_at(theta_m) fs, K = Z / g,
+//   g = 2 min(spr f / 2, fs / 2) / (1 + delta / 2) / fs, f = max(speed, mean speed / 10),
+//   delta = (80 - 8) / (2.285 2 pi Z) (Kaiser's width formula, ~5 / Z), w Kaiser with
+//   beta = 0.1102 (80 - 8.7).
+double naive_output(std::span<const double> x, double fs, const detect::ShaftAngle& a,
+                    const detect::ResampleOptions& o, double theta, double* u_out, double* g_out) {
+  const int z = o.kernel_zero_crossings;
+  const double beta = 0.1102 * (80.0 - 8.7);
+  const double delta = (80.0 - 8.0) / (2.285 * 2 * kPi * z);
+  const double t = a.time_at(theta);
+  const double floor = 0.1 * a.total_revs() / (a.last_pulse_s() - a.first_pulse_s());
+  const double f = std::max(a.speed_rev_per_s(t), floor);
+  const double g = 2 * std::min(o.samples_per_rev * f / 2, fs / 2) / (1 + delta / 2) / fs;
+  const double u = t * fs, k_half = z / g;
+  double acc = 0;
+  for (long n = std::max<long>(0, static_cast<long>(std::ceil(u - k_half)));
+       n <= std::min<long>(static_cast<long>(x.size()) - 1, static_cast<long>(u + k_half)); ++n) {
+    const double d = u - static_cast<double>(n);
+    const double r = d / k_half;
+    if (std::abs(r) >= 1) continue;
+    const double sinc = d == 0 ? 1.0 : std::sin(kPi * g * d) / (kPi * g * d);
+    const double w =
+        std::cyl_bessel_i(0.0, beta * std::sqrt(1 - r * r)) / std::cyl_bessel_i(0.0, beta);
+    acc += x[static_cast<std::size_t>(n)] * g * sinc * w;
+  }
+  *u_out = u;
+  *g_out = g;
+  return acc;
+}
+
+std::vector<double> white_noise(std::size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss;
+  std::vector<double> x(n);
+  for (double& v : x) v = gauss(rng);
+  return x;
+}
+
+// The table's only approximation is the kernel's cubic interpolation, at most 3.1e-9 of its peak
+// per tap for Z = 16 (resample.hpp). A tap error e moves y_m by at most g sum_n |x[n]| e <=
+// 2 Z e max|x|, i.e. 1e-7 x max|x|; white noise (max ~ 4.5 RMS here) bounds it by 4.5e-7 RMS:
+// kRelTol = 1e-6 of the RMS. The plan's times come from a warm-started Newton on the same
+// Hermite model as time_at: kPositionTol = 1e-9 samples (round-off of u ~ 2e5 is 3e-11);
+// kCutoffTol: the speed from the same segment, 1e-12 relative.
+void expect_plan_matches_formula(const Ramp& ramp, double fs, double duration, int spr, int ppr) {
+  const auto p = ramp.pulses(duration, ppr);
+  const auto x = white_noise(static_cast<std::size_t>(duration * fs), 11);
+  detect::ResampleOptions o;
+  o.samples_per_rev = spr;
+  o.pulses_per_rev = ppr;
+  const detect::ShaftAngle a(p, ppr);
+  const auto plan = detect::make_angle_plan(a, fs, x.size(), o);
+  const auto y = detect::resample_by_angle(x, plan);
+  constexpr double kRelTol = 1e-6, kPositionTol = 1e-9, kCutoffTol = 1e-12;
+  ASSERT_EQ(y.samples.size(), plan.size());
+  double worst = 0;
+  for (std::size_t m = 0; m < y.samples.size(); m += 5) {
+    double u = 0, g = 0;
+    const double want =
+        naive_output(x, fs, a, o, y.first_rev + static_cast<double>(m) / spr, &u, &g);
+    ASSERT_NEAR(plan.positions()[m], u, kPositionTol) << m;
+    ASSERT_NEAR(plan.cutoffs()[m], g, kCutoffTol * g) << m;
+    worst = std::max(worst, std::abs(y.samples[m] - want));
+  }
+  EXPECT_LT(worst, kRelTol) << "(x has unit RMS)";
+  std::cout << "  worst |fast - formula| = " << worst << " x RMS over " << y.samples.size() / 5
+            << " outputs\n";
+  // The one-call form builds the same plan: the same bytes.
+  const auto direct = detect::resample_by_angle(x, fs, p, o);
+  EXPECT_EQ(direct.samples, y.samples);
+  EXPECT_EQ(direct.first_rev, y.first_rev);
+  EXPECT_EQ(direct.revolutions, y.revolutions);
+}
+
+TEST(AnglePlan, EqualsTheDocumentedFormulaAtConstantSpeed) {
+  expect_plan_matches_formula(Ramp{0.3, 37.0, 0.0}, 20e3, 1.5, 64, 1);
+}
+
+// Run-up 10 -> 40 rev/s with 3 pulses per revolution and 256 samples per revolution: the cutoff
+// reaches fs / 2 (the kernel's g is capped) in the second half.
+TEST(AnglePlan, EqualsTheDocumentedFormulaOnARunUp) {
+  expect_plan_matches_formula(Ramp{0.1, 10.0, 20.0}, 10e3, 1.5, 256, 3);
+}
+
+// The table against the formula sinc(v) w(v / Z) over [0, Z] (v on and between the table's
+// points), within the cubic Hermite bound h(0) / (384 x 64^4) (resample.hpp): h(0) =
+// pi^4 / 5 + 2 pi^2 beta I1(beta) / (I0(beta) Z^2) + 3 beta^2 I2(beta) / (I0(beta) Z^4), from the
+// Taylor series of the sinc and of the window in (v / Z)^2; 4.5e-9 at Z = 4, 3.0e-9 at Z = 64.
+TEST(AnglePlan, KernelTableIsWithinItsStatedErrorOfTheFormula) {
+  const std::vector<double> p{0.2, 0.3, 0.4, 0.5, 0.6};
+  const double beta = 0.1102 * (80.0 - 8.7);
+  const double i0 = std::cyl_bessel_i(0.0, beta), i1 = std::cyl_bessel_i(1.0, beta),
+               i2 = std::cyl_bessel_i(2.0, beta);
+  for (int z : {4, 16, 64}) {
+    detect::ResampleOptions o;
+    o.kernel_zero_crossings = z;
+    o.samples_per_rev = 64;
+    const auto plan = detect::make_angle_plan(p, 1e3, 1000, o);
+    const double z2 = static_cast<double>(z) * z;
+    const double d4 = std::pow(kPi, 4) / 5 + 2 * kPi * kPi * beta * i1 / (i0 * z2) +
+                      3 * beta * beta * i2 / (i0 * z2 * z2);
+    const double table_tol = d4 / (384 * std::pow(64.0, 4));
+    double worst = 0;
+    for (double v = 0; v <= z; v += 1.0 / 1000) {
+      const double r = v / z;
+      const double want = (v == 0 ? 1.0 : std::sin(kPi * v) / (kPi * v)) *
+                          std::cyl_bessel_i(0.0, beta * std::sqrt(std::max(0.0, 1 - r * r))) / i0;
+      worst = std::max(worst, std::abs(plan.kernel(v) - want));
+    }
+    EXPECT_LT(worst, table_tol) << "Z = " << z;
+    std::cout << "  Z = " << z << ": worst table error " << worst << " (bound " << table_tol
+              << ")\n";
+  }
+}
+
+TEST(AnglePlan, AppliedToTwoChannelsEqualsTwoSeparateCalls) {
+  const Ramp r{0.25, 20.0, 8.0};
+  const double fs = 8e3, duration = 2.0;
+  const auto p = r.pulses(duration);
+  const auto a = white_noise(static_cast<std::size_t>(duration * fs), 1);
+  const auto b = white_noise(static_cast<std::size_t>(duration * fs), 2);
+  detect::ResampleOptions o;
+  o.samples_per_rev = 128;
+  const auto plan = detect::make_angle_plan(p, fs, a.size(), o);
+  const std::vector<std::span<const double>> both{a, b};
+  const auto together = detect::resample_by_angle(both, plan);
+  ASSERT_EQ(together.size(), 2u);
+  EXPECT_EQ(together[0].samples, detect::resample_by_angle(a, plan).samples);
+  EXPECT_EQ(together[1].samples, detect::resample_by_angle(b, fs, p, o).samples);
+  EXPECT_EQ(together[1].first_rev, plan.first_rev());
+  EXPECT_EQ(together[1].revolutions, plan.revolutions());
+  EXPECT_EQ(together[1].samples_per_rev, 128);
+}
+
+TEST(AnglePlan, BadInputsNameTheField) {
+  const std::vector<double> x(1000, 0.0);
+  const std::vector<double> p{0.1, 0.2, 0.3, 0.4, 0.5};
+  detect::ResampleOptions o;
+  o.samples_per_rev = 16;
+  const auto plan = detect::make_angle_plan(p, 1e3, x.size(), o);
+  const std::vector<double> shorter(999, 0.0);
+  EXPECT_THROW(detect::resample_by_angle(shorter, plan), diag::InputError);
+  std::vector<double> nan = x;
+  nan[500] = std::nan("");
+  EXPECT_THROW(detect::resample_by_angle(nan, plan), diag::InputError);
+  const detect::ShaftAngle two_per_rev(p, 2);
+  try {
+    detect::make_angle_plan(two_per_rev, 1e3, x.size(), o);
+    ADD_FAILURE() << "accepted";
+  } catch (const diag::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pulses_per_rev"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(detect::make_angle_plan(p, 0.0, x.size(), o), diag::InputError);
+}
+
+// The incremental inverse equals time_at() and speed_rev_per_s() where the limiter acts too
+// (an abrupt 10 -> 67 rev/s step) and beyond the pulses (linear extrapolation).
+TEST(ShaftAngle, UniformAnglesWalkEqualsTimeAt) {
+  std::vector<double> p;
+  double t = 0;
+  for (int i = 0; i < 40; ++i) p.push_back(t += (i < 20 ? 0.1 : 0.015));
+  const detect::ShaftAngle a(p, 2);
+  const int spr = 37;
+  std::vector<double> times(static_cast<std::size_t>(22 * spr)), speeds(times.size());
+  a.times_at_uniform_angles(-0.5, spr, times, speeds);
+  constexpr double kTimeTol = 1e-14;  // s: the Newton stops within a few ulps of s in [0, 1]
+  for (std::size_t m = 0; m < times.size(); ++m) {
+    const double revs = -0.5 + static_cast<double>(m) / spr;
+    ASSERT_NEAR(times[m], a.time_at(revs), kTimeTol) << m;
+    ASSERT_NEAR(speeds[m], a.speed_rev_per_s(times[m]), 1e-9 * speeds[m]) << m;
   }
 }
 

@@ -160,6 +160,26 @@ TEST(Tsa, OfAnotherShaftFromScaledPulsesRecoversThatShaftsWaveform) {
   for (std::size_t j = 0; j < truth.size(); ++j) EXPECT_NEAR(t.samples[j], truth[j], 5e-4) << j;
 }
 
+// Several channels sharing one shaft's plan (what the analysis does for every channel of a
+// recording) give the same bytes as the one-call form per channel.
+TEST(Tsa, ThroughASharedPlanEqualsTheOneCallForm) {
+  const double fs = 10e3, duration = 4.0;
+  const Ramp r{0.3, 15.0, 3.0};
+  const auto p = r.pulses(duration);
+  std::vector<double> a(static_cast<std::size_t>(duration * fs)), b(a.size());
+  for (std::size_t n = 0; n < a.size(); ++n) {
+    a[n] = synchronous(r.revs(n / fs));
+    b[n] = std::cos(2 * kPi * 77.3 * n / fs);
+  }
+  detect::TsaOptions opt;
+  opt.samples_per_rev = 128;
+  const auto plan = detect::make_angle_plan(p, fs, a.size(), opt.resample_options());
+  for (const auto* x : {&a, &b}) {
+    EXPECT_EQ(detect::tsa(*x, plan, opt.min_revolutions).samples,
+              detect::tsa(*x, fs, p, opt).samples);
+  }
+}
+
 TEST(Tsa, FewerRevolutionsThanRequiredIsAnErrorNamingTheField) {
   const double fs = 5e3;
   const Ramp r{0.5, 10.0, 0.0};

@@ -27,41 +27,70 @@ double hermite_slope(double s, double m0, double m1) {
   return (-6 * s2 + 6 * s) + m0 * (3 * s2 - 4 * s + 1) + m1 * (3 * s2 - 2 * s);
 }
 
-// The interpolation kernel as a function of r = (u - n) / K in [-1, 1]: since g (u - n) = Z r,
-// sinc(g (u - n)) w((u - n) / K) = sinc(Z r) w(r) does not depend on the cutoff, so one table
-// serves every speed. w is the Kaiser window I0(beta sqrt(1 - r^2)) / I0(beta). The table has
-// 512 points per zero crossing, read with linear interpolation: error <= (pi Z)^2 (1/(512 Z))^2 / 8
-// = 5e-6 of the kernel's peak.
-class KernelTable {
- public:
-  KernelTable(int zero_crossings, double beta)
-      : size_(512 * zero_crossings), h_(static_cast<std::size_t>(size_) + 2, 0.0) {
-    const double norm = std::cyl_bessel_i(0.0, beta);
-    for (int i = 0; i <= size_; ++i) {
-      const double r = static_cast<double>(i) / size_;
-      const double x = std::numbers::pi * zero_crossings * r;
-      const double sinc = i == 0 ? 1.0 : std::sin(x) / x;
-      h_[i] = sinc * std::cyl_bessel_i(0.0, beta * std::sqrt(std::max(0.0, 1 - r * r))) / norm;
-    }
-    // h_[size_ + 1] stays 0: r == 1 exactly reads a zero neighbour.
-  }
-  double operator()(double r) const {  // r in [0, 1]
-    const double p = r * size_;
-    const auto i = static_cast<std::size_t>(p);
-    const double f = p - static_cast<double>(i);
-    return h_[i] + f * (h_[i + 1] - h_[i]);
-  }
-
- private:
-  int size_;
-  std::vector<double> h_;
-};
-
 // Kaiser beta for 80 dB stopband (Kaiser's formula 0.1102 (A - 8.7)), and the matching
 // transition width relative to the cutoff for Z zero crossings: (A - 8) / (2.285 * 2 pi * Z).
 constexpr double kKaiserBeta = 0.1102 * (80.0 - 8.7);
 double transition_rel(int zero_crossings) {
   return (80.0 - 8.0) / (2.285 * 2 * std::numbers::pi * zero_crossings);
+}
+
+// The kernel h(v) = sinc(v) w(v / Z), v = g (u - n) in zero crossings, w the Kaiser window
+// I0(beta sqrt(1 - r^2)) / I0(beta), as a piecewise cubic Hermite table: cell i covers
+// [i, i + 1) / kCellsPerZeroCrossing and holds c0..c3 of h = c0 + f (c1 + f (c2 + f c3)), f the
+// position in the cell. Value and slope are exact at the cell ends, so the error is at most
+// max|h''''| d^4 / 384, d = 1 / 64: 4.5e-9 of the peak at Z = 4, 3.1e-9 at Z = 16 (resample.hpp
+// gives h''''(0), the maximum). One extra cell of zeros after v = Z takes v == Z (and v a few
+// ulps above it) without a branch.
+constexpr int kCellsPerZeroCrossing = 64;
+
+std::vector<double> kernel_table(int z, double beta) {
+  const int cells = kCellsPerZeroCrossing * z;
+  const double i0_beta = std::cyl_bessel_i(0.0, beta);
+  const double pi = std::numbers::pi;
+  std::vector<double> h(static_cast<std::size_t>(cells) + 1), dh(h.size());
+  for (int i = 0; i <= cells; ++i) {
+    const double v = static_cast<double>(i) / kCellsPerZeroCrossing;
+    const double r = v / z;
+    const double sinc = i == 0 ? 1.0 : std::sin(pi * v) / (pi * v);
+    const double dsinc = i == 0 ? 0.0 : (std::cos(pi * v) - sinc) / v;
+    const double arg = beta * std::sqrt(std::max(0.0, 1 - r * r));
+    const double w = std::cyl_bessel_i(0.0, arg) / i0_beta;
+    // dw/dr = -beta^2 r (I1(arg) / arg) / I0(beta); I1(a) / a -> 1/2 as a -> 0 (r = 1).
+    const double i1_over = arg > 1e-8 ? std::cyl_bessel_i(1.0, arg) / arg : 0.5;
+    const double dw = -beta * beta * r * i1_over / i0_beta;
+    h[static_cast<std::size_t>(i)] = sinc * w;
+    dh[static_cast<std::size_t>(i)] = dsinc * w + sinc * dw / z;
+  }
+  const double d = 1.0 / kCellsPerZeroCrossing;
+  std::vector<double> table(4 * (static_cast<std::size_t>(cells) + 1), 0.0);
+  for (std::size_t i = 0; i < static_cast<std::size_t>(cells); ++i) {
+    const double h0 = h[i], h1 = h[i + 1], s0 = d * dh[i], s1 = d * dh[i + 1];
+    table[4 * i] = h0;
+    table[4 * i + 1] = s0;
+    table[4 * i + 2] = 3 * (h1 - h0) - 2 * s0 - s1;
+    table[4 * i + 3] = 2 * (h0 - h1) + s0 + s1;
+  }
+  return table;
+}
+
+// Safeguarded Newton on the monotone cubic hermite(s, m0, m1) = q in [0, 1], from s.
+double solve_hermite(double q, double m0, double m1, double s) {
+  double lo = 0, hi = 1;
+  for (int it = 0; it < 60; ++it) {
+    const double f = hermite(s, m0, m1) - q;
+    if (std::abs(f) <= 4e-16) break;  // p is in [0, 1]: a few ulps
+    if (f > 0)
+      hi = s;
+    else
+      lo = s;
+    const double df = hermite_slope(s, m0, m1);
+    double next = df > 0 ? s - f / df : 0.5 * (lo + hi);
+    if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
+    const bool done = std::abs(next - s) <= 1e-15;
+    s = next;
+    if (done) break;
+  }
+  return s;
 }
 
 }  // namespace
@@ -155,23 +184,47 @@ double ShaftAngle::time_at(double revs) const {
   const double h = t_[i + 1] - t_[i];
   const double dth = 1.0 / ppr_;
   const double m0 = slope_[i] * h / dth, m1 = slope_[i + 1] * h / dth;
-  // Safeguarded Newton on the monotone cubic p(s) = q, bracket [lo, hi].
-  double lo = 0, hi = 1, s = q;
-  for (int it = 0; it < 60; ++it) {
-    const double f = hermite(s, m0, m1) - q;
-    if (std::abs(f) <= 4e-16) break;  // p is in [0, 1]: a few ulps
-    if (f > 0)
-      hi = s;
-    else
-      lo = s;
-    const double df = hermite_slope(s, m0, m1);
-    double next = df > 0 ? s - f / df : 0.5 * (lo + hi);
-    if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
-    const bool done = std::abs(next - s) <= 1e-15;
-    s = next;
-    if (done) break;
+  return t_[i] + solve_hermite(q, m0, m1, q) * h;
+}
+
+void ShaftAngle::times_at_uniform_angles(double first_revs, int spr, std::span<double> times,
+                                         std::span<double> speeds) const {
+  require(spr >= 1, "ShaftAngle::times_at_uniform_angles", "samples_per_rev",
+          std::to_string(spr) + " is not >= 1");
+  require(speeds.empty() || speeds.size() == times.size(), "ShaftAngle::times_at_uniform_angles",
+          "speeds_rev_per_s", "is neither empty nor as long as times_s");
+  const double total = total_revs();
+  const double dth = 1.0 / ppr_;
+  std::size_t seg = t_.size();  // the pulse interval of the previous angle (none yet)
+  double h = 0, m0 = 0, m1 = 0, s = 0, q_prev = 0;
+  for (std::size_t m = 0; m < times.size(); ++m) {
+    const double revs = first_revs + static_cast<double>(m) / spr;
+    if (!(revs > 0 && revs < total)) {  // extrapolated: rare, at most the ends
+      times[m] = time_at(revs);
+      if (!speeds.empty()) speeds[m] = speed_rev_per_s(times[m]);
+      seg = t_.size();
+      continue;
+    }
+    const double pos = revs * ppr_;
+    const std::size_t i = std::min(static_cast<std::size_t>(pos), t_.size() - 2);
+    const double q = pos - static_cast<double>(i);
+    double guess = q;
+    if (i != seg) {
+      seg = i;
+      h = t_[i + 1] - t_[i];
+      m0 = slope_[i] * h / dth;
+      m1 = slope_[i + 1] * h / dth;
+    } else {
+      // One Newton step from the previous angle's solution: the Newton below then converges in
+      // one or two evaluations.
+      const double df = hermite_slope(s, m0, m1);
+      guess = df > 0 ? std::clamp(s + (q - q_prev) / df, s, 1.0) : q;
+    }
+    s = solve_hermite(q, m0, m1, guess);
+    q_prev = q;
+    times[m] = t_[i] + s * h;
+    if (!speeds.empty()) speeds[m] = hermite_slope(s, m0, m1) * dth / h;
   }
-  return t_[i] + s * h;
 }
 
 std::vector<double> scale_pulses(std::span<const double> pulse_times_s, double ratio,
@@ -199,32 +252,32 @@ void ResampleOptions::validate() const {
           std::to_string(kernel_zero_crossings) + " is not in [4, 64]");
 }
 
-AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
-                                 std::span<const double> pulse_times_s,
-                                 const ResampleOptions& opt) {
+AnglePlan::AnglePlan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
+                     const ResampleOptions& opt) {
   opt.validate();
-  require(fs_hz > 0 && std::isfinite(fs_hz), "resample_by_angle", "fs_hz",
+  require(fs_hz > 0 && std::isfinite(fs_hz), "make_angle_plan", "fs_hz",
           std::to_string(fs_hz) + " is not > 0");
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    if (!std::isfinite(x[i]))
-      fail("resample_by_angle", "x", "sample " + std::to_string(i) + " is NaN or Inf");
-  }
-  const ShaftAngle angle(pulse_times_s, opt.pulses_per_rev);
-  const int spr = opt.samples_per_rev;
-  const int z = opt.kernel_zero_crossings;
-  const double guard = 1 + 0.5 * transition_rel(z);
-  const double last_sample = static_cast<double>(x.size()) - 1;
+  require(opt.pulses_per_rev == angle.pulses_per_rev(), "make_angle_plan", "pulses_per_rev",
+          "the options say " + std::to_string(opt.pulses_per_rev) + ", the ShaftAngle " +
+              std::to_string(angle.pulses_per_rev()));
+  spr_ = opt.samples_per_rev;
+  z_ = opt.kernel_zero_crossings;
+  fs_hz_ = fs_hz;
+  n_samples_ = n_samples;
+  const double guard = 1 + 0.5 * transition_rel(z_);
+  const double last_sample = static_cast<double>(n_samples) - 1;
 
   // Kernel cutoff g = 2 f_c / fs (cycles per sample x 2) and half-width K = z / g [samples].
   // The speed is floored at a tenth of the record's mean: the monotonicity limiter may set a zero
   // slope at an end pulse, which would ask for an infinitely long kernel.
   const double speed_floor =
       0.1 * angle.total_revs() / (angle.last_pulse_s() - angle.first_pulse_s());
-  auto cutoff = [&](double t) {
-    const double f = std::max(angle.speed_rev_per_s(t), speed_floor);
-    const double f_nyq = std::min(0.5 * spr * f, 0.5 * fs_hz);
+  auto cutoff_at_speed = [&](double speed) {
+    const double f = std::max(speed, speed_floor);
+    const double f_nyq = std::min(0.5 * spr_ * f, 0.5 * fs_hz);
     return 2 * (f_nyq / guard) / fs_hz;
   };
+  auto cutoff = [&](double t) { return cutoff_at_speed(angle.speed_rev_per_s(t)); };
 
   // Whole revolutions whose boundaries have the kernel inside the record.
   const auto total = static_cast<long>(std::floor(angle.total_revs() + 1e-9));
@@ -232,7 +285,7 @@ AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
   double margin_s = 0;
   for (long k = 0; k <= total; ++k) {
     const double t = angle.time_at(static_cast<double>(k));
-    const double half = z / cutoff(t);
+    const double half = z_ / cutoff(t);
     margin_s = std::max(margin_s, half / fs_hz);
     if (t * fs_hz - half >= 0) {
       first = k;
@@ -241,7 +294,7 @@ AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
   }
   for (long k = total; k >= 0; --k) {
     const double t = angle.time_at(static_cast<double>(k));
-    const double half = z / cutoff(t);
+    const double half = z_ / cutoff(t);
     margin_s = std::max(margin_s, half / fs_hz);
     if (t * fs_hz + half <= last_sample) {
       last = k;
@@ -251,32 +304,147 @@ AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
   require(first >= 0 && last > first, "resample_by_angle", "pulse_times_s",
           "no whole revolution lies inside the record with the interpolation filter's margin of " +
               std::to_string(margin_s) + " s on each side");
+  first_rev_ = static_cast<double>(first);
+  revolutions_ = static_cast<int>(last - first);
 
-  AngleResampled out;
-  out.samples_per_rev = spr;
-  out.first_rev = static_cast<double>(first);
-  out.revolutions = static_cast<int>(last - first);
-  out.samples.resize(static_cast<std::size_t>(out.revolutions) * spr);
+  const std::size_t outputs = static_cast<std::size_t>(revolutions_) * spr_;
+  position_.resize(outputs);
+  cutoff_.resize(outputs);
+  angle.times_at_uniform_angles(first_rev_, spr_, position_, cutoff_);
+  for (std::size_t m = 0; m < outputs; ++m) {
+    position_[m] *= fs_hz;
+    cutoff_[m] = cutoff_at_speed(cutoff_[m]);
+  }
+  table_ = kernel_table(z_, kKaiserBeta);
+}
 
-  const KernelTable kernel(z, kKaiserBeta);
-  const long n_max = static_cast<long>(x.size()) - 1;
-  for (std::size_t m = 0; m < out.samples.size(); ++m) {
-    const double theta = out.first_rev + static_cast<double>(m) / spr;
-    const double t = angle.time_at(theta);
-    const double g = cutoff(t);
-    const double half = z / g;
-    const double inv_half = g / z;
-    const double u = t * fs_hz;
+double AnglePlan::kernel(double v) const {
+  const double p = std::abs(v) * kCellsPerZeroCrossing;
+  const auto i =
+      std::min(static_cast<std::size_t>(p), static_cast<std::size_t>(z_) * kCellsPerZeroCrossing);
+  const double f = p - static_cast<double>(i);
+  const double* c = table_.data() + 4 * i;
+  return c[0] + f * (c[1] + f * (c[2] + f * c[3]));
+}
+
+// The taps of one output sample and the dot products with them: y_m = g_m sum_k x[n0 + k] c_k.
+struct AnglePlanAccess {
+  struct Taps {
+    std::size_t n0 = 0, count = 0;
+  };
+  // Fills taps[0 .. count) for output m (taps grows as needed).
+  static Taps taps(const AnglePlan& plan, std::size_t m, std::vector<double>& taps) {
+    const double u = plan.position_[m], g = plan.cutoff_[m];
+    const double half = plan.z_ / g;
+    const long n_max = static_cast<long>(plan.n_samples_) - 1;
     const long n0 = std::max<long>(0, static_cast<long>(std::ceil(u - half)));
     const long n1 = std::min<long>(n_max, static_cast<long>(std::floor(u + half)));
-    double acc = 0;
-    for (long n = n0; n <= n1; ++n) {
-      const double r = std::abs(u - static_cast<double>(n)) * inv_half;
-      if (r < 1) acc += x[static_cast<std::size_t>(n)] * kernel(r);
+    const std::size_t count = n1 >= n0 ? static_cast<std::size_t>(n1 - n0 + 1) : 0;
+    if (taps.size() < count) taps.resize(count);
+    // p_k = g |u - n0 - k| kCellsPerZeroCrossing, the table position of tap k; taps with
+    // |u - n| <= K only, so p <= Z kCellsPerZeroCrossing up to rounding (the zero cell).
+    const double step = g * kCellsPerZeroCrossing;
+    const double p0 = (u - static_cast<double>(n0)) * step;
+    // int, not size_t: x86-64 converts a double to a signed integer in one instruction.
+    const int last_cell = plan.z_ * kCellsPerZeroCrossing;
+    const double* table = plan.table_.data();
+    double* c = taps.data();
+    for (std::size_t k = 0; k < count; ++k) {
+      const double p = std::abs(p0 - static_cast<double>(k) * step);
+      const int i = std::min(static_cast<int>(p), last_cell);
+      const double f = p - static_cast<double>(i);
+      const double* a = table + 4 * static_cast<std::ptrdiff_t>(i);
+      c[k] = a[0] + f * (a[1] + f * (a[2] + f * a[3]));
     }
-    out.samples[m] = g * acc;
+    return {static_cast<std::size_t>(std::max<long>(n0, 0)), count};
+  }
+
+  // sum_k x[k] c[k] in four interleaved partial sums (a fixed order: the same bytes on every
+  // call, and a loop the compiler can keep in vector registers).
+  static double dot(const double* x, const double* c, std::size_t count) {
+    double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
+    std::size_t k = 0;
+    for (; k + 4 <= count; k += 4) {
+      a0 += x[k] * c[k];
+      a1 += x[k + 1] * c[k + 1];
+      a2 += x[k + 2] * c[k + 2];
+      a3 += x[k + 3] * c[k + 3];
+    }
+    for (; k < count; ++k) a0 += x[k] * c[k];
+    return (a0 + a1) + (a2 + a3);
+  }
+};
+
+AnglePlan make_angle_plan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
+                          const ResampleOptions& options) {
+  return AnglePlan(angle, fs_hz, n_samples, options);
+}
+
+AnglePlan make_angle_plan(std::span<const double> pulse_times_s, double fs_hz,
+                          std::size_t n_samples, const ResampleOptions& options) {
+  options.validate();
+  return AnglePlan(ShaftAngle(pulse_times_s, options.pulses_per_rev), fs_hz, n_samples, options);
+}
+
+std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const double>> channels,
+                                              const AnglePlan& plan) {
+  for (std::size_t c = 0; c < channels.size(); ++c) {
+    const auto& x = channels[c];
+    require(x.size() == plan.n_samples(), "resample_by_angle", "x",
+            "channel " + std::to_string(c) + " has " + std::to_string(x.size()) +
+                " samples; the plan is for " + std::to_string(plan.n_samples()));
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (!std::isfinite(x[i]))
+        fail("resample_by_angle", "x",
+             "channel " + std::to_string(c) + " sample " + std::to_string(i) + " is NaN or Inf");
+    }
+  }
+  std::vector<AngleResampled> out(channels.size());
+  for (AngleResampled& o : out) {
+    o.samples_per_rev = plan.samples_per_rev();
+    o.first_rev = plan.first_rev();
+    o.revolutions = plan.revolutions();
+    o.samples.resize(plan.size());
+  }
+  // Outputs in blocks whose taps fill ~32 KiB (L1/L2): the taps of a block are computed once,
+  // then each channel streams through its part of the record for the whole block (one channel
+  // at a time keeps the hardware prefetcher on one stream).
+  constexpr std::size_t kBlockTaps = 4096;
+  const std::span<const double> g = plan.cutoffs();
+  std::vector<double> taps, one;
+  std::vector<AnglePlanAccess::Taps> where;
+  for (std::size_t m0 = 0; m0 < plan.size();) {
+    taps.clear();
+    where.clear();
+    std::size_t m1 = m0;
+    for (; m1 < plan.size() && (m1 == m0 || taps.size() < kBlockTaps); ++m1) {
+      const AnglePlanAccess::Taps w = AnglePlanAccess::taps(plan, m1, one);
+      where.push_back({w.n0, w.count});
+      taps.insert(taps.end(), one.begin(), one.begin() + static_cast<std::ptrdiff_t>(w.count));
+    }
+    for (std::size_t c = 0; c < channels.size(); ++c) {
+      const double* x = channels[c].data();
+      double* y = out[c].samples.data();
+      const double* t = taps.data();
+      for (std::size_t m = m0; m < m1; ++m) {
+        const AnglePlanAccess::Taps& w = where[m - m0];
+        y[m] = g[m] * AnglePlanAccess::dot(x + w.n0, t, w.count);
+        t += w.count;
+      }
+    }
+    m0 = m1;
   }
   return out;
+}
+
+AngleResampled resample_by_angle(std::span<const double> x, const AnglePlan& plan) {
+  return std::move(resample_by_angle(std::span<const std::span<const double>>(&x, 1), plan)[0]);
+}
+
+AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
+                                 std::span<const double> pulse_times_s,
+                                 const ResampleOptions& opt) {
+  return resample_by_angle(x, make_angle_plan(pulse_times_s, fs_hz, x.size(), opt));
 }
 
 }  // namespace detect

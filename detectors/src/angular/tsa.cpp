@@ -87,14 +87,23 @@ Tsa tsa(const AngleResampled& r, int min_revolutions) {
   return out;
 }
 
+ResampleOptions TsaOptions::resample_options() const {
+  ResampleOptions ro;
+  ro.samples_per_rev = samples_per_rev;
+  ro.pulses_per_rev = pulses_per_rev;
+  ro.kernel_zero_crossings = kernel_zero_crossings;
+  return ro;
+}
+
 Tsa tsa(std::span<const double> x, double fs_hz, std::span<const double> pulse_times_s,
         const TsaOptions& opt) {
   opt.validate();
-  ResampleOptions ro;
-  ro.samples_per_rev = opt.samples_per_rev;
-  ro.pulses_per_rev = opt.pulses_per_rev;
-  ro.kernel_zero_crossings = opt.kernel_zero_crossings;
-  return tsa(resample_by_angle(x, fs_hz, pulse_times_s, ro), opt.min_revolutions);
+  return tsa(resample_by_angle(x, fs_hz, pulse_times_s, opt.resample_options()),
+             opt.min_revolutions);
+}
+
+Tsa tsa(std::span<const double> x, const AnglePlan& plan, int min_revolutions) {
+  return tsa(resample_by_angle(x, plan), min_revolutions);
 }
 
 std::vector<bool> tsa_regular_orders(std::size_t n, std::span<const int> mesh_orders,

@@ -29,9 +29,24 @@
 // A fixed time-domain low-pass set for the highest speed would let orders between the Nyquist
 // orders of the lowest and highest speeds alias; one set for the lowest speed would cut orders
 // the high-speed part holds. Tracking the speed avoids both. Cost: about 2.3 Z multiply-adds per
-// input sample, whatever the speed.
+// input sample while the output rate is below fs (2 Z per output sample above it).
+//
+// Implementation (AnglePlan). Design is kept apart from processing: the plan holds, per output
+// sample, u_m = t_m fs and g_m, found once per shaft (the output angles are monotone, so the
+// inverse of the angle walks the pulse intervals with a warm-started Newton instead of a search
+// per sample, and the speed for g_m comes from the same Hermite segment), and it holds the
+// kernel h(v) = sinc(v) w(v / Z), v = g (u - n) in [0, Z] zero crossings: since the cutoff enters
+// only through v, one table serves every g. The table is piecewise cubic Hermite (value and slope
+// exact at 64 points per zero crossing): error <= max|h''''| / (384 x 64^4), the maximum at
+// v = 0: h''''(0) = pi^4 / 5 + 2 pi^2 beta I1(beta) / (I0(beta) Z^2) + 3 beta^2 I2(beta) /
+// (I0(beta) Z^4), so 4.5e-9 of the kernel's peak per tap at Z = 4, 3.1e-9 at Z = 16,
+// far below the -80 dB (1e-4) stopband; no Bessel function per tap. Applying a plan computes the
+// taps of one output sample into a contiguous buffer and takes dot products with it, once per
+// channel: the per-channel work is a plain dot product when many channels share a plan. The
+// result does not depend on whether channels are resampled together or one by one (same bytes).
 #pragma once
 
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -51,6 +66,13 @@ class ShaftAngle {
   double first_pulse_s() const { return t_.front(); }
   double last_pulse_s() const { return t_.back(); }
   int pulses_per_rev() const { return ppr_; }
+
+  // time_at(theta_m) and speed_rev_per_s there, for the uniform angles theta_m = first_revs +
+  // m / samples_per_rev, m = 0 .. times_s.size() - 1 (speeds_rev_per_s: same size, or empty to
+  // skip them). Walks the pulse intervals with a warm-started Newton instead of a search per
+  // angle: equals time_at() and speed_rev_per_s() to a few ulps. samples_per_rev >= 1.
+  void times_at_uniform_angles(double first_revs, int samples_per_rev, std::span<double> times_s,
+                               std::span<double> speeds_rev_per_s) const;
 
  private:
   std::size_t interval_of_time(double t) const;
@@ -83,9 +105,63 @@ struct AngleResampled {
   int revolutions = 0;   // whole revolutions held: samples.size() / samples_per_rev
 };
 
+// The angle grid of one shaft for records of n_samples samples at fs_hz: the whole revolutions
+// whose interpolation kernels lie inside the record, the time of every output angle and the
+// kernel cutoff there (see above). Immutable once built; share it across the channels of a
+// recording (they share the tacho) and across threads. Build it once per shaft and
+// samples_per_rev: it costs about as much as applying it to one channel (bench/RESULTS.md), so
+// a plan built per channel (the one-call resample_by_angle) gains nothing.
+class AnglePlan {
+ public:
+  // options.pulses_per_rev must equal angle.pulses_per_rev(). Throws diag::InputError for bad
+  // options, fs_hz <= 0, or when not one whole revolution fits in n_samples (the message names
+  // the margin the filter needs).
+  AnglePlan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
+            const ResampleOptions& options = {});
+
+  int samples_per_rev() const { return spr_; }
+  double first_rev() const { return first_rev_; }  // angle of output 0 [rev]; an integer
+  int revolutions() const { return revolutions_; }
+  std::size_t size() const { return position_.size(); }  // output samples: revolutions x spr
+  double fs_hz() const { return fs_hz_; }
+  std::size_t n_samples() const { return n_samples_; }  // input length the plan is for
+  int kernel_zero_crossings() const { return z_; }
+  // u_m = t_m fs_hz: time of output m in input samples (t = 0 at input sample 0).
+  std::span<const double> positions() const { return position_; }
+  // g_m = 2 f_c / fs_hz of output m, in (0, 1).
+  std::span<const double> cutoffs() const { return cutoff_; }
+
+  // The kernel h(v) = sinc(v) w(v / Z) at v in [0, Z] zero crossings, from the table: exposed so
+  // the tests can check the table against the formula.
+  double kernel(double v) const;
+
+ private:
+  friend struct AnglePlanAccess;
+  int spr_ = 0, z_ = 0, revolutions_ = 0;
+  double first_rev_ = 0, fs_hz_ = 0;
+  std::size_t n_samples_ = 0;
+  std::vector<double> position_, cutoff_;
+  std::vector<double> table_;  // kernel: 4 cubic coefficients per cell, 64 cells per unit v
+};
+
+// Builds the plan from pulse times (pulses_per_rev from the options). Throws like AnglePlan().
+AnglePlan make_angle_plan(std::span<const double> pulse_times_s, double fs_hz,
+                          std::size_t n_samples, const ResampleOptions& options = {});
+AnglePlan make_angle_plan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
+                          const ResampleOptions& options = {});
+
+// Applies a plan: x.size() must equal plan.n_samples(). Throws diag::InputError for a length
+// mismatch or non-finite samples.
+AngleResampled resample_by_angle(std::span<const double> x, const AnglePlan& plan);
+// Every channel through the same plan: the kernel taps of each output sample are computed once
+// for all channels. Equals one call per channel, to the byte.
+std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const double>> channels,
+                                              const AnglePlan& plan);
+
 // Resamples whole revolutions: those whose interpolation kernels lie inside the record. Throws
 // diag::InputError for bad options, fs_hz <= 0, non-finite samples, bad pulse times, or when not
-// one whole revolution fits (the message names the margin the filter needs).
+// one whole revolution fits (the message names the margin the filter needs). Builds a plan and
+// applies it: when several channels share the tacho, build the plan once (make_angle_plan).
 AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
                                  std::span<const double> pulse_times_s,
                                  const ResampleOptions& options = {});

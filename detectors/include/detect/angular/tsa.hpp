@@ -45,6 +45,9 @@ struct TsaOptions {
   int kernel_zero_crossings = 16;  // resampling kernel, see ResampleOptions, [4, 64]
 
   void validate() const;  // throws diag::InputError naming the field
+  // The resampling these options ask for: build the shaft's AnglePlan from it to share the plan
+  // with other channels (tsa(x, plan, min_revolutions)).
+  ResampleOptions resample_options() const;
 };
 
 struct Tsa {
@@ -59,6 +62,9 @@ struct Tsa {
 // revolutions in the record.
 Tsa tsa(std::span<const double> x, double fs_hz, std::span<const double> pulse_times_s,
         const TsaOptions& options = {});
+// x resampled through a plan shared with other channels (make_angle_plan with
+// TsaOptions::resample_options()): equals tsa(x, fs, pulses, options) to the byte.
+Tsa tsa(std::span<const double> x, const AnglePlan& plan, int min_revolutions = 10);
 // Averages an already resampled record (its samples_per_rev must be a power of two >= 64).
 Tsa tsa(const AngleResampled& resampled, int min_revolutions = 10);
 
