@@ -78,6 +78,7 @@ diag::Recording gearbox_recording(OperatingPoint op, unsigned seed, double tooth
   force.fs_hz = kFsHz;
   force.unit = "N";
   force.location = "z1_z2";
+  force.role = diag::Role::kForce;  // the channel contract: a force is no vibration sensor
   force.samples.resize(kSamples);
   for (std::size_t j = 0; j < kSamples; ++j)
     force.samples[j] = 1000 * (1 + 0.05 * mesh(static_cast<double>(j) / kFsHz));

@@ -147,6 +147,7 @@ TEST(Analyze, ChannelsWithoutADirectionBesideSensorsDoNotVote) {
                           std::sin(2 * M_PI * kMeshHz * t);
   }
   diag::Signal f = channel("a_b_force", diag::Direction::kUnspecified, force);
+  f.role = diag::Role::kForce;  // the channel contract: a force is no vibration sensor
   f.unit = "N";
   f.location = "a_b";
   rec.signals.push_back(f);

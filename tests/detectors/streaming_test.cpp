@@ -3,7 +3,6 @@
 #include "detect/analysis/streaming.hpp"
 
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "diag/error.hpp"
@@ -49,8 +49,15 @@ class Streaming : public ::testing::Test {
       decoy[i] = g(rng);
     }
     diag::Recording rec;
-    rec.signals.push_back({"decoy", kFs, "m/s^2", diag::Direction::kVertical, "b1", decoy});
-    rec.signals.push_back({"accel", kFs, "m/s^2", diag::Direction::kVertical, "b2", accel});
+    for (auto [name, location, x] : {std::tuple{"decoy", "b1", &decoy}, {"accel", "b2", &accel}}) {
+      diag::Signal& s = rec.signals.emplace_back();
+      s.name = name;
+      s.fs_hz = kFs;
+      s.unit = "m/s^2";
+      s.direction = diag::Direction::kVertical;
+      s.location = location;
+      s.samples = *x;
+    }
     diag::Hdf5WriteOptions w;
     w.chunk_samples = 4096;  // file chunks smaller than most read blocks, unaligned with them
     const fs::path path = dir_ / "rec.h5";
@@ -87,8 +94,8 @@ TEST_F(Streaming, BlockwiseAnalysisOfAFileEqualsTheOneShotFunctions) {
   constexpr double kSumRelTol = 1e-12;
   constexpr double kMeanAbsTol = 2e-12;
   diag::RecordingReader reader(path);
-  for (std::size_t block : {std::size_t{1000}, std::size_t{2048}, std::size_t{65537},
-                            std::size_t{1} << 20}) {
+  for (std::size_t block :
+       {std::size_t{1000}, std::size_t{2048}, std::size_t{65537}, std::size_t{1} << 20}) {
     SCOPED_TRACE("block_samples " + std::to_string(block));
     const detect::StreamingSummary s = detect::analyze_streaming(reader, "accel", options(block));
     EXPECT_EQ(s.channel, "signals/accel");
@@ -137,7 +144,8 @@ TEST_F(Streaming, FindsTheToneAndTheSignalStatisticsOfTheFile) {
   EXPECT_NEAR(s.moments.mean, 0.7, kMeanTol);
   EXPECT_NEAR(s.moments.variance(), 2.09, kVarianceTol);
   const double a2 = 4.0, s2 = 0.09;
-  const double kurt = (3 * s2 * s2 + 3 * s2 * a2 + 3 * a2 * a2 / 8) / ((a2 / 2 + s2) * (a2 / 2 + s2));
+  const double kurt =
+      (3 * s2 * s2 + 3 * s2 * a2 + 3 * a2 * a2 / 8) / ((a2 / 2 + s2) * (a2 / 2 + s2));
   EXPECT_NEAR(s.moments.kurtosis(), kurt, kKurtosisTol);
 }
 

@@ -101,17 +101,25 @@ TEST(AnalyzeGearDamage, AHealthyGearboxHasNoGearDamageFinding) {
   EXPECT_TRUE(of_kind(r, "gear_damage").empty());
 }
 
-// Without a tacho the shaft angles come from the nominal speed; every channel without a
-// direction is a casing sensor. The chip on the output gear is still put on the output shaft.
-TEST(AnalyzeGearDamage, WithoutTachoTheNominalSpeedServesASteadyRig) {
+// Without a tacho the shaft angles come from the vibration's mesh line (speed_estimate.hpp) or,
+// when that is switched off, from the nominal speed; every channel without a direction is a
+// casing sensor. The chip on the output gear is put on the output shaft either way.
+TEST(AnalyzeGearDamage, WithoutTachoTheVibrationOrTheNominalSpeedServesASteadyRig) {
   const diag::Gearbox gb = two_stage();
-  const detect::AnalysisResult r = detect::analyze_recording(as_imported(simulate(gb, "z4")), &gb);
-  ASSERT_TRUE(r.gear_damage.has_value());
-  EXPECT_EQ(r.gear_damage_angles, "nominal");
-  const auto found = of_kind(r, "gear_damage");
-  ASSERT_FALSE(found.empty()) << detect::to_json(r)["gear_damage"].dump(1);
-  EXPECT_EQ(found[0].shaft, "output");
-  EXPECT_NE(found[0].note.find("nominal speed"), std::string::npos);
+  const diag::Recording rec = as_imported(simulate(gb, "z4"));
+  for (const bool from_vibration : {true, false}) {
+    detect::AnalyzeOptions opt;
+    opt.speed_from_vibration = from_vibration;
+    const detect::AnalysisResult r = detect::analyze_recording(rec, &gb, opt);
+    ASSERT_TRUE(r.gear_damage.has_value());
+    EXPECT_EQ(r.gear_damage_angles, from_vibration ? "vibration" : "nominal");
+    EXPECT_EQ(r.speed.source, r.gear_damage_angles);
+    const auto found = of_kind(r, "gear_damage");
+    ASSERT_FALSE(found.empty()) << detect::to_json(r)["gear_damage"].dump(1);
+    EXPECT_EQ(found[0].shaft, "output");
+    EXPECT_NE(found[0].note.find(from_vibration ? "mesh line" : "nominal speed"),
+              std::string::npos);
+  }
 }
 
 // A nominal speed off the true one moves a pulse of the last revolutions by more than half a
@@ -120,14 +128,29 @@ TEST(AnalyzeGearDamage, WithoutTachoTheNominalSpeedServesASteadyRig) {
 // all, on a chipped output gear or a healthy box, rather than a wrong one. (Correcting each
 // shaft on its own, an earlier version put this output gear's fault on the input shaft: the
 // fast shaft was corrected, the slow ones stayed smeared.)
+//
+// With the speed from the vibration (the default) the same wrong nominal speed gives the same
+// findings as the right one: the output gear's chip on the output shaft, nothing on the healthy
+// box (the "a nominal speed 3 % off must give the same findings").
 TEST(AnalyzeGearDamage, AWrongNominalSpeedGivesNoFindingRatherThanAWrongOne) {
   const diag::Gearbox gb = two_stage();
   const diag::Recording faulty = as_imported(simulate(gb, "z4"));
   const diag::Recording healthy = as_imported(simulate(gb, ""));
+  detect::AnalyzeOptions nominal_only;
+  nominal_only.speed_from_vibration = false;
   for (const double off : {1.005, 1.03}) {
     const diag::Gearbox nominal = two_stage(kRpm * off);
     for (const diag::Recording* rec : {&faulty, &healthy}) {
-      const auto r = detect::analyze_recording(*rec, &nominal);
+      const auto v = detect::analyze_recording(*rec, &nominal);
+      EXPECT_EQ(v.speed.source, "vibration");
+      const auto found = of_kind(v, "gear_damage");
+      if (rec == &faulty) {
+        ASSERT_EQ(found.size(), 1u) << "x " << off << detect::to_json(v)["gear_damage"].dump(1);
+        EXPECT_EQ(found[0].shaft, "output");
+      } else {
+        EXPECT_TRUE(found.empty()) << "x " << off << detect::to_json(v)["gear_damage"].dump(1);
+      }
+      const auto r = detect::analyze_recording(*rec, &nominal, nominal_only);
       ASSERT_TRUE(r.gear_damage.has_value());
       EXPECT_TRUE(of_kind(r, "gear_damage").empty())
           << "speed x " << off << ": " << detect::to_json(r)["gear_damage"].dump(1);

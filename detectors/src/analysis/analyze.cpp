@@ -1,7 +1,5 @@
 #include "detect/analysis/analyze.hpp"
 
-#include "kinematics.hpp"
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -9,6 +7,7 @@
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -22,6 +21,7 @@
 #include "detect/spectral/welch.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "kinematics.hpp"
 
 namespace detect {
 
@@ -73,6 +73,16 @@ PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>
   const auto n = static_cast<std::size_t>(e - b);
   return decimate_for_plot(std::span<const double>(x).subspan(i0, n),
                            std::span<const double>(y).subspan(i0, n), max_points, Decimation::kMax);
+}
+
+// TSA angular resolution of shaft s: 2.8 x the highest order its gear metrics examine.
+int tsa_samples_per_rev(const diag::Gearbox& gb, std::size_t s, const AnalyzeOptions& opt) {
+  int zmax = 1;
+  for (int g : gb.shafts()[s].gears)
+    zmax = std::max(zmax, gb.gears()[static_cast<std::size_t>(g)].spec.teeth);
+  const double top = opt.gear_metrics.mesh_harmonics * zmax + opt.gear_metrics.ser_sidebands;
+  return static_cast<int>(
+      std::clamp<std::size_t>(pow2_at_least(kOrderOversampling * top), 64, kMaxSamplesPerRev));
 }
 
 // P(X >= k) for X ~ Binomial(n, p).
@@ -190,8 +200,8 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     const double scale = input_hz / gb->shaft_speed_hz(input);
     for (std::size_t j = 0; j < gb->meshes().size(); ++j) {
       const diag::Mesh& m = gb->meshes()[j];
-      r.meshes.push_back({diag::mesh_name(*gb, static_cast<int>(j)),
-                          gb->gears()[m.driver].name, gb->gears()[m.driven].name,
+      r.meshes.push_back({diag::mesh_name(*gb, static_cast<int>(j)), gb->gears()[m.driver].name,
+                          gb->gears()[m.driven].name,
                           gb->mesh_frequency_hz(static_cast<int>(j)) * scale});
     }
   } else {
@@ -206,6 +216,47 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     double max_shaft = 0;
     for (const auto& s : r.shafts) max_shaft = std::max(max_shaft, s.speed_hz);
     max_input_order = (H * max_input_order + K * max_shaft) / input_hz;
+  }
+
+  // One angle plan per shaft for every channel of the common rate and length (resample.hpp: its
+  // taps are computed once; applied per channel it gives the same bytes as the one-call form). A
+  // channel of another rate or length, or a plan that cannot be built (too few revolutions: the
+  // one-call form then says why in the channel's notes), resamples on its own.
+  double plan_fs = 0;
+  std::size_t plan_n = 0;
+  for (const diag::Signal& sig : rec.signals) {
+    if (sig.role == diag::Role::kVibration) {
+      plan_fs = sig.fs_hz;
+      plan_n = sig.samples.size();
+      break;
+    }
+  }
+  auto shares_plans = [&](const diag::Signal& sig) {
+    return sig.fs_hz == plan_fs && sig.samples.size() == plan_n;
+  };
+  std::optional<AnglePlan> order_plan;
+  std::vector<std::optional<AnglePlan>> tsa_plans(gb ? gb->shafts().size() : 0);
+  if (gb && plan_n > 0) {
+    try {
+      ResampleOptions ro;
+      ro.samples_per_rev = static_cast<int>(std::clamp<std::size_t>(
+          pow2_at_least(kOrderOversampling * max_input_order), 64, kMaxSamplesPerRev));
+      order_plan.emplace(
+          make_angle_plan(kin.pulses_s[static_cast<std::size_t>(input)], plan_fs, plan_n, ro));
+    } catch (const diag::InputError&) {
+    }
+    for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
+      const auto& pulses = kin.pulses_s[s];
+      const int revs = pulses.size() > 1 ? static_cast<int>(pulses.size()) - 1 : 0;
+      if (gb->shafts()[s].gears.empty() || revs < opt.tsa_min_revolutions) continue;
+      try {
+        TsaOptions to;
+        to.samples_per_rev = tsa_samples_per_rev(*gb, s, opt);
+        to.min_revolutions = opt.tsa_min_revolutions;
+        tsa_plans[s].emplace(make_angle_plan(pulses, plan_fs, plan_n, to.resample_options()));
+      } catch (const diag::InputError&) {
+      }
+    }
   }
 
   std::vector<Spectrum> full(rec.signals.size()), full_env(rec.signals.size());
@@ -403,7 +454,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         ro.samples_per_rev = static_cast<int>(std::clamp<std::size_t>(
             pow2_at_least(kOrderOversampling * max_input_order), 64, kMaxSamplesPerRev));
         const AngleResampled ar =
-            resample_by_angle(x, fs, kin.pulses_s[static_cast<std::size_t>(input)], ro);
+            shares_plans(sig) && order_plan
+                ? resample_by_angle(x, *order_plan)
+                : resample_by_angle(x, fs, kin.pulses_s[static_cast<std::size_t>(input)], ro);
         const OrderSpectrum os = order_spectrum(ar);
         c.order_spectrum =
             slice_for_plot(os.order, os.amplitude, 0,
@@ -420,10 +473,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         std::vector<int> orders;
         for (int g : shaft.gears)
           orders.push_back(gb->gears()[static_cast<std::size_t>(g)].spec.teeth);
-        const int zmax = *std::max_element(orders.begin(), orders.end());
-        const double top = opt.gear_metrics.mesh_harmonics * zmax + opt.gear_metrics.ser_sidebands;
-        const int spr = static_cast<int>(std::clamp<std::size_t>(
-            pow2_at_least(kOrderOversampling * top), 64, kMaxSamplesPerRev));
+        const int spr = tsa_samples_per_rev(*gb, s, opt);
         const auto& pulses = kin.pulses_s[s];
         const int revs = pulses.size() > 1 ? static_cast<int>(pulses.size()) - 1 : 0;
         if (revs < opt.tsa_min_revolutions) {
@@ -436,7 +486,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
           TsaOptions to;
           to.samples_per_rev = spr;
           to.min_revolutions = opt.tsa_min_revolutions;
-          const Tsa t = tsa(x, fs, pulses, to);
+          const Tsa t = shares_plans(sig) && tsa_plans[s]
+                            ? tsa(x, *tsa_plans[s], opt.tsa_min_revolutions)
+                            : tsa(x, fs, pulses, to);
           ta.revolutions = t.revolutions;
           ta.samples_per_rev = t.samples_per_rev;
           ta.tsa = t.samples;
@@ -567,11 +619,10 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         f.note =
             "a localised fault once per revolution of " + g.shaft + " (TSA per shaft, " +
             r.gear_damage->status + "): " + g.note +
-            (r.gear_damage_angles == "nominal"
-                 ? " (shaft angles from the nominal speed: no tacho)"
-                 : r.gear_damage_angles == "vibration"
-                       ? " (shaft angles from the vibration's mesh line: no tacho)"
-                       : "");
+            (r.gear_damage_angles == "nominal" ? " (shaft angles from the nominal speed: no tacho)"
+             : r.gear_damage_angles == "vibration"
+                 ? " (shaft angles from the vibration's mesh line: no tacho)"
+                 : "");
         r.findings.push_back(std::move(f));
       }
     }
@@ -632,11 +683,10 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       // The mean prominence of the best channel's detected lines; at the detector's cap the
       // spectrum has no noise floor (a noise-free simulation): said so, not a number.
       const double mean_db = best_mean_db[winner];
-      const std::string prominence =
-          mean_db >= opt.sidebands.dynamic_range_db
-              ? "at the " + fmt(opt.sidebands.dynamic_range_db) +
-                    " dB dynamic-range cap: no noise floor"
-              : fmt(mean_db, 3) + " dB over the local floor on average";
+      const std::string prominence = mean_db >= opt.sidebands.dynamic_range_db
+                                         ? "at the " + fmt(opt.sidebands.dynamic_range_db) +
+                                               " dB dynamic-range cap: no noise floor"
+                                         : fmt(mean_db, 3) + " dB over the local floor on average";
       f.note = "sidebands of mesh " + r.meshes[j].name + " (" + fmt(f.frequency_hz, 5) +
                " Hz) spaced at shaft " + winner + "'s rotation in " + std::to_string(top) + " of " +
                std::to_string(analysed) + " channels (best " + f.channel + ", " + prominence +
@@ -940,14 +990,10 @@ nlohmann::json to_json(const AnalysisResult& r) {
   j["input_shaft"] = r.input_shaft.empty() ? json(nullptr) : json(r.input_shaft);
   j["duration_s"] = r.duration_s;
   if (!r.speed.source.empty()) {
-    j["speed"] = {{"source", r.speed.source},
-                  {"reference_shaft", r.speed.reference_shaft},
-                  {"line", r.speed.line},
-                  {"nominal_rpm", r.speed.nominal_rpm},
-                  {"mean_rpm", r.speed.mean_rpm},
-                  {"min_rpm", r.speed.min_rpm},
-                  {"max_rpm", r.speed.max_rpm},
-                  {"stationary", r.speed.stationary}};
+    j["speed"] = {{"source", r.speed.source},     {"reference_shaft", r.speed.reference_shaft},
+                  {"line", r.speed.line},         {"nominal_rpm", r.speed.nominal_rpm},
+                  {"mean_rpm", r.speed.mean_rpm}, {"min_rpm", r.speed.min_rpm},
+                  {"max_rpm", r.speed.max_rpm},   {"stationary", r.speed.stationary}};
   }
   j["shafts"] = json::array();
   for (const auto& s : r.shafts) {
@@ -1167,8 +1213,8 @@ std::string format_summary(const AnalysisResult& r) {
   o << "\n";
   if (!r.speed.source.empty()) {
     o << "  speed of " << r.speed.reference_shaft << " from the " << r.speed.source
-      << (r.speed.line.empty() ? "" : " (" + r.speed.line + ")") << ": "
-      << fmt(r.speed.mean_rpm, 6) << " rpm";
+      << (r.speed.line.empty() ? "" : " (" + r.speed.line + ")") << ": " << fmt(r.speed.mean_rpm, 6)
+      << " rpm";
     if (!r.speed.stationary) {
       o << ", varying " << fmt(r.speed.min_rpm, 5) << " .. " << fmt(r.speed.max_rpm, 5) << " rpm";
     }
