@@ -9,8 +9,8 @@
 #include <span>
 #include <vector>
 
-#include "detect/indicators/indicators.hpp"
 #include "bench_data.hpp"
+#include "detect/indicators/indicators.hpp"
 #include "detect/spectral/welch.hpp"
 
 namespace {

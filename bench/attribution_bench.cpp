@@ -4,7 +4,6 @@
 
 #include <fstream>
 #include <map>
-
 #include <nlohmann/json.hpp>
 
 #include "detect/attribution/period_matcher.hpp"

@@ -22,12 +22,11 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/geometry/gear.hpp"
@@ -42,12 +41,14 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 const diag::Gearbox& pair_gearbox() {
-  static const diag::Gearbox gb = diag::load_gearbox(GEARDIAG_TESTDATA_DIR "/gearbox/seed000_pair.json");
+  static const diag::Gearbox gb =
+      diag::load_gearbox(GEARDIAG_TESTDATA_DIR "/gearbox/seed000_pair.json");
   return gb;
 }
 
 const diag::Gearbox& three_shaft_gearbox() {
-  static const diag::Gearbox gb = diag::load_gearbox(GEARDIAG_TESTDATA_DIR "/gearbox/three_shaft.json");
+  static const diag::Gearbox gb =
+      diag::load_gearbox(GEARDIAG_TESTDATA_DIR "/gearbox/three_shaft.json");
   return gb;
 }
 
@@ -136,8 +137,10 @@ void BM_SimulateThreeShaft(benchmark::State& state) {
   state.counters["step_us"] = r.step_s * 1e6;
   state.counters["decimation"] = r.decimation;
   state.counters["channels"] = static_cast<double>(r.channels.size());
-  state.counters["settle_s"] = r.truth.value("integrator", nlohmann::json::object()).value("settle_s", -1.0);
-  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(run.duration_s * run.fs_hz));
+  state.counters["settle_s"] =
+      r.truth.value("integrator", nlohmann::json::object()).value("settle_s", -1.0);
+  state.SetItemsProcessed(state.iterations() *
+                          static_cast<std::int64_t>(run.duration_s * run.fs_hz));
 }
 BENCHMARK(BM_SimulateThreeShaft)->Unit(benchmark::kMillisecond)->Iterations(2);
 
@@ -147,7 +150,8 @@ double cpu_seconds() {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-// ---- export for bench/peer_dynamics.py -----------------------------------------------------------
+// ---- export for bench/peer_dynamics.py
+// -----------------------------------------------------------
 int export_pair_model(const std::string& path, double span_s) {
   const diag::Gearbox& gb = pair_gearbox();
   const sim::DynamicsOptions opt = pair_options();
@@ -171,7 +175,8 @@ int export_pair_model(const std::string& path, double span_s) {
     mass[x + 1] += gear.disc_mass_kg();
   }
   const int a = mesh.driver, b = mesh.driven;
-  const int xa = model.shaft_x_dof(gb.shaft_of_gear(a)), xb = model.shaft_x_dof(gb.shaft_of_gear(b));
+  const int xa = model.shaft_x_dof(gb.shaft_of_gear(a)),
+            xb = model.shaft_x_dof(gb.shaft_of_gear(b));
   const double rba = pair.driver().base_radius_m(), rbb = pair.driven().base_radius_m();
   const double k_mean = model.mean_mesh_stiffness_n_per_m(0);
   const double inv_je = rba * rba / mass[a] + rbb * rbb / mass[b];
@@ -210,7 +215,8 @@ int export_pair_model(const std::string& path, double span_s) {
   const std::vector<double> mu = friction.tabulate(w_in * ra, o.input_torque_nm / ra / rba, 257);
 
   nlohmann::json j;
-  j["model"] = "seed-000 pair, gearbox_model.cpp equations, healthy teeth, no pitch errors, no runout";
+  j["model"] =
+      "seed-000 pair, gearbox_model.cpp equations, healthy teeth, no pitch errors, no runout";
   j["dofs"] = n;
   j["mass"] = mass;
   j["driver"] = a;

@@ -130,8 +130,8 @@ int write_big(const std::string& path, std::uint64_t samples, int deflate) {
   if (group >= 0) H5Gclose(group);
   good = ok(H5Fclose(file), "close") && good;
   if (!good) return 1;
-  std::cout << "wrote " << samples << " samples (" << samples * 8.0 / (1 << 30) << " GiB of float64) to "
-            << path << '\n';
+  std::cout << "wrote " << samples << " samples (" << samples * 8.0 / (1 << 30)
+            << " GiB of float64) to " << path << '\n';
   return 0;
 }
 
@@ -156,8 +156,9 @@ int analyze(const std::string& path, std::size_t block) {
 
 void BM_AnalyzeStreaming(benchmark::State& state) {
   const std::uint64_t n = static_cast<std::uint64_t>(state.range(0));
-  const std::filesystem::path path = std::filesystem::temp_directory_path() /
-                                     ("geardiag_bench_streaming_" + std::to_string(::getpid()) + ".h5");
+  const std::filesystem::path path =
+      std::filesystem::temp_directory_path() /
+      ("geardiag_bench_streaming_" + std::to_string(::getpid()) + ".h5");
   {
     diag::Recording rec;
     diag::Signal s;

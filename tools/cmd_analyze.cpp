@@ -96,6 +96,8 @@ int cmd_analyze(int argc, char** argv) {
       "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
+  desc.add_options()("timing", po::bool_switch(&opt.timing),
+                     "add the wall time of each stage to the JSON (timing_s)");
   channels.add_to(desc, true);
   po::positional_options_description pos;
   pos.add("recording", 1);

@@ -103,9 +103,9 @@ int cmd_attribute(int argc, char** argv) {
     if (truth.contains("defects")) {
       std::cout << "truth (simulated recording):\n";
       for (const auto& d : truth["defects"]) {
-        std::cout << "  " << d["gear"].get<std::string>() << " on "
-                  << d["shaft"].get<std::string>() << ": period "
-                  << d["period_input_rev"].get<double>() << " input rev, size at output "
+        std::cout << "  " << d["gear"].get<std::string>() << " on " << d["shaft"].get<std::string>()
+                  << ": period " << d["period_input_rev"].get<double>()
+                  << " input rev, size at output "
                   << d["size_output_rad"].get<double>() * 57.29577951308232 << " deg\n";
       }
     }

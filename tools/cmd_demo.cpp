@@ -6,18 +6,17 @@
 // by `analyze`'s pipeline; its summary is printed and the HTML report written (--report).
 #include <cmath>
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/html_report.hpp"
-#include "sim/dynamics/simulate.hpp"
 #include "detect/attribution/period_matcher.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
+#include "output.hpp"
+#include "sim/dynamics/simulate.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
 
 namespace geardiag {
@@ -72,8 +71,8 @@ int cmd_demo(int argc, char** argv) {
   k.encoder_counts_per_rev = 1 << 16;
   k.seed = 2012;
   const sim::KinematicResult r = sim::simulate_kinematic(gb, k);
-  std::cout << "\nsimulated (kinematic): " << r.input_angle_rad.size() << " samples, step 0.05 deg, "
-            << r.truth["revolutions"].get<double>()
+  std::cout << "\nsimulated (kinematic): " << r.input_angle_rad.size()
+            << " samples, step 0.05 deg, " << r.truth["revolutions"].get<double>()
             << " input revolutions; runout 0.05 deg, mesh TE 0.005 deg, noise 0.002 deg RMS, "
                "16-bit encoders\n\n";
 
@@ -83,7 +82,8 @@ int cmd_demo(int argc, char** argv) {
   std::cout << "\ntruth:\n";
   for (const auto& d : r.truth["defects"]) {
     std::cout << "  " << d["gear"].get<std::string>() << " on shaft '"
-              << d["shaft"].get<std::string>() << "': size " << rad_to_deg(d["size_gear_rad"].get<double>())
+              << d["shaft"].get<std::string>() << "': size "
+              << rad_to_deg(d["size_gear_rad"].get<double>())
               << " deg at the gear = " << rad_to_deg(d["size_output_rad"].get<double>())
               << " deg at the output, every " << 360.0 * d["period_input_rev"].get<double>()
               << " deg of input, first at " << rad_to_deg(d["first_event_input_rad"].get<double>())
@@ -105,8 +105,9 @@ int cmd_demo(int argc, char** argv) {
   run.fs_hz = 20000.0;
   run.accel_noise_m_per_s2 = 1.0;
   const sim::DynamicResult d = sim::simulate_dynamic(gb, dyn, run);
-  std::cout << "simulated (dynamic): 1500 rpm, 50 N m, root crack 1.5 mm on z2 tooth 7; 2 s at 20 kHz, "
-            << d.channels.size() << " channels, RK4 step " << d.step_s * 1e6 << " us\n\n";
+  std::cout
+      << "simulated (dynamic): 1500 rpm, 50 N m, root crack 1.5 mm on z2 tooth 7; 2 s at 20 kHz, "
+      << d.channels.size() << " channels, RK4 step " << d.step_s * 1e6 << " us\n\n";
   const diag::Recording rec = sim::to_recording(gb, d);
   detect::AnalyzeOptions aopt;
   const detect::AnalysisResult a2 = detect::analyze_recording(rec, &gb, aopt);

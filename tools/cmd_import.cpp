@@ -23,8 +23,8 @@ namespace po = boost::program_options;
 namespace {
 
 void print_channel(std::FILE* to, const diag::Signal& s, const char* group) {
-  std::fprintf(to, "  %-24s %-8s %10zu samples  %12.6g Hz  %10.3f s  %s%s\n", s.name.c_str(),
-               group, s.samples.size(), s.fs_hz, s.duration_s(),
+  std::fprintf(to, "  %-24s %-8s %10zu samples  %12.6g Hz  %10.3f s  %s%s\n", s.name.c_str(), group,
+               s.samples.size(), s.fs_hz, s.duration_s(),
                std::string(diag::to_string(s.role)).c_str(),
                s.shaft.empty() ? "" : (" (" + s.shaft + ")").c_str());
 }
@@ -38,7 +38,8 @@ int cmd_import(int argc, char** argv) {
   ChannelOptions channels;
 
   po::options_description visible(
-      "usage: geardiag import INPUT -o OUTPUT.h5 [--fs HZ] [--gearbox GB.json] [--channels MAP.json]\n"
+      "usage: geardiag import INPUT -o OUTPUT.h5 [--fs HZ] [--gearbox GB.json] [--channels "
+      "MAP.json]\n"
       "       [--tacho CHANNEL=SHAFT[:PPR]]...\n\n"
       "Converts every numeric channel of INPUT to a geardiag HDF5 recording.\n"
       "INPUT: .csv / .csv.gz (header row; a column time, t, time_s or time_sec [s] gives the\n"

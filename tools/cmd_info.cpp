@@ -36,7 +36,8 @@ struct Description {
 Description describe(const std::string& file, const diag::ImportOptions& options) {
   Description d;
   d.file = file;
-  if (diag::is_hdf5_file(file) && !options.fs_hz && diag::RecordingReader(file).format_version() >= 2) {
+  if (diag::is_hdf5_file(file) && !options.fs_hz &&
+      diag::RecordingReader(file).format_version() >= 2) {
     const diag::RecordingReader reader(file);
     d.format = reader.format_attributes();
     d.channels = reader.channels();
@@ -64,7 +65,8 @@ Description describe(const std::string& file, const diag::ImportOptions& options
     }
   }
   d.metadata = rec.metadata;
-  for (const std::string& n : rec.notes) d.metadata["note"] += (d.metadata["note"].empty() ? "" : "; ") + n;
+  for (const std::string& n : rec.notes)
+    d.metadata["note"] += (d.metadata["note"].empty() ? "" : "; ") + n;
   d.gearbox_json = rec.gearbox_json;
   d.truth_json = rec.truth_json;
   return d;
@@ -90,9 +92,9 @@ void print_text(const Description& d) {
   for (const auto& [key, value] : d.format) std::cout << "  " << key << ": " << value << "\n";
 
   // Column widths from the content so that the table lines up.
-  std::vector<std::vector<std::string>> rows = {
-      {"name", "group", "samples", "fs_hz", "duration_s", "unit", "role", "direction", "location",
-       "shaft", "mesh"}};
+  std::vector<std::vector<std::string>> rows = {{"name", "group", "samples", "fs_hz", "duration_s",
+                                                 "unit", "role", "direction", "location", "shaft",
+                                                 "mesh"}};
   for (const auto& c : d.channels) {
     char fs[32], duration[32];
     std::snprintf(fs, sizeof fs, "%.6g", c.fs_hz);

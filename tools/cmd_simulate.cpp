@@ -51,8 +51,8 @@ int simulate_kinematic_mode(const std::string& gearbox, const std::string& outpu
     diag::write_recording(output, sim::to_recording(gb, r));
   }
   std::cout << "simulated " << r.input_angle_rad.size() << " samples over "
-            << r.truth["revolutions"].get<double>() << " input revolutions, "
-            << gb.defects().size() << " defect(s) -> " << output << "\n";
+            << r.truth["revolutions"].get<double>() << " input revolutions, " << gb.defects().size()
+            << " defect(s) -> " << output << "\n";
   return 0;
 }
 
@@ -119,7 +119,8 @@ int cmd_simulate(int argc, char** argv) {
   // A FIFO, device or stdout has no meaningful extension.
   if (target.kind == diag::OutputKind::kRegular &&
       std::filesystem::path(output).extension() != ".h5") {
-    throw diag::InputError("--output: '" + output + "': the dynamic mode writes an HDF5 recording (.h5)");
+    throw diag::InputError("--output: '" + output +
+                           "': the dynamic mode writes an HDF5 recording (.h5)");
   }
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
   sim::Scenario sc;

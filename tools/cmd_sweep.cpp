@@ -1,17 +1,16 @@
 // geardiag sweep: the input speed ramped slowly up and down through a range; peak and RMS of the
 // chosen channels per speed window, contact loss, natural frequencies and the speeds where the
 // first mesh's frequency meets each mesh's torsional natural frequency.
+#include <boost/program_options.hpp>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
-
-#include <boost/program_options.hpp>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "output.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "output.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/sweep.hpp"
 
@@ -64,7 +63,8 @@ int cmd_sweep(int argc, char** argv) {
   auto table = [&](const char* title, const std::vector<sim::SweepPoint>& pts) {
     std::cout << title << "\n" << std::setw(10) << "rpm" << std::setw(12) << "f_mesh_Hz";
     for (const std::string& c : r.channels) std::cout << std::setw(24) << (c + " pk");
-    std::cout << std::setw(10) << "lost" << "\n";
+    std::cout << std::setw(10) << "lost"
+              << "\n";
     for (const sim::SweepPoint& p : pts) {
       std::cout << std::setw(10) << std::fixed << std::setprecision(1) << p.rpm << std::setw(12)
                 << p.mesh_frequency_hz << std::defaultfloat;

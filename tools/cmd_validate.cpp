@@ -1,9 +1,8 @@
 // geardiag validate --attribution: the closed simulate -> attribute loop on the user's gearbox,
 // with the user's rig (runout, noise, encoder); prints the confusion table and the smallest defect
 // that is reliably attributed. Exit 1 when the loop misses its targets.
-#include <iostream>
-
 #include <boost/program_options.hpp>
+#include <iostream>
 
 #include "commands.hpp"
 #include "diag/error.hpp"
@@ -20,8 +19,10 @@ namespace geardiag {
 int cmd_validate(int argc, char** argv) {
   validate::AttributionLoopOptions opt;
   std::string gearbox;
-  double min_deg = rad_to_deg(opt.min_size_output_rad), max_deg = rad_to_deg(opt.max_size_output_rad);
-  double runout_deg = rad_to_deg(opt.runout_output_rad), te_deg = rad_to_deg(opt.mesh_te_output_rad);
+  double min_deg = rad_to_deg(opt.min_size_output_rad),
+         max_deg = rad_to_deg(opt.max_size_output_rad);
+  double runout_deg = rad_to_deg(opt.runout_output_rad),
+         te_deg = rad_to_deg(opt.mesh_te_output_rad);
   double noise_deg = rad_to_deg(opt.noise_output_rad);
   int ladder_cases = 40;
   po::options_description desc(
@@ -33,12 +34,16 @@ int cmd_validate(int argc, char** argv) {
       "gearbox", po::value(&gearbox)->required(), "gearbox description (JSON)")(
       "cases", po::value(&opt.cases)->default_value(opt.cases), "random cases")(
       "seed", po::value(&opt.seed)->default_value(opt.seed), "random seed")(
-      "min-size-deg", po::value(&min_deg)->default_value(min_deg), "smallest defect at the output [deg]")(
-      "max-size-deg", po::value(&max_deg)->default_value(max_deg), "largest defect at the output [deg]")(
-      "runout-deg", po::value(&runout_deg)->default_value(runout_deg), "runout at the output [deg]")(
-      "mesh-te-deg", po::value(&te_deg)->default_value(te_deg), "mesh TE at the output [deg]")(
+      "min-size-deg", po::value(&min_deg)->default_value(min_deg),
+      "smallest defect at the output [deg]")("max-size-deg",
+                                             po::value(&max_deg)->default_value(max_deg),
+                                             "largest defect at the output [deg]")(
+      "runout-deg", po::value(&runout_deg)->default_value(runout_deg),
+      "runout at the output [deg]")("mesh-te-deg", po::value(&te_deg)->default_value(te_deg),
+                                    "mesh TE at the output [deg]")(
       "noise-deg", po::value(&noise_deg)->default_value(noise_deg), "angle noise RMS [deg]")(
-      "encoder-counts", po::value(&opt.encoder_counts_per_rev)->default_value(opt.encoder_counts_per_rev),
+      "encoder-counts",
+      po::value(&opt.encoder_counts_per_rev)->default_value(opt.encoder_counts_per_rev),
       "encoder counts per revolution (0 = exact angles)")(
       "ladder-cases", po::value(&ladder_cases)->default_value(ladder_cases),
       "single-defect cases per size when searching the smallest reliable size (0 = skip)");
@@ -64,7 +69,8 @@ int cmd_validate(int argc, char** argv) {
   opt.noise_output_rad = deg_to_rad(noise_deg);
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
   if (gb.power_path().empty()) {
-    throw diag::InputError(gearbox + ": no mesh between the input and the output shaft: nothing to attribute");
+    throw diag::InputError(
+        gearbox + ": no mesh between the input and the output shaft: nothing to attribute");
   }
   const validate::LoopReport r = validate::run_attribution_loop(gb, opt);
   std::cout << validate::format_report(r);

@@ -1,10 +1,9 @@
 // geardiag: one binary, git-style subcommands.
+#include <boost/program_options/errors.hpp>
 #include <cstring>
 #include <exception>
 #include <iostream>
 #include <string>
-
-#include <boost/program_options/errors.hpp>
 
 #include "commands.hpp"
 #include "diag/error.hpp"
@@ -63,8 +62,8 @@ int main(int argc, char** argv) {
       std::cerr << "geardiag " << name << ": error: " << e.what() << "\n";
       return 2;
     } catch (const boost::program_options::error& e) {
-      std::cerr << "geardiag " << name << ": usage error: " << e.what()
-                << " (see geardiag " << name << " --help)\n";
+      std::cerr << "geardiag " << name << ": usage error: " << e.what() << " (see geardiag " << name
+                << " --help)\n";
       return 2;
     } catch (const std::exception& e) {
       std::cerr << "geardiag " << name << ": internal error: " << e.what() << "\n";

@@ -1,11 +1,11 @@
 #include "detect/spectral/fft.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 namespace {
 

@@ -1,11 +1,11 @@
 // Period matching and attribution on simulated kinematics with known truth.
+#include "detect/attribution/period_matcher.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
 #include <nlohmann/json.hpp>
 
-#include "detect/attribution/period_matcher.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
@@ -99,8 +99,10 @@ TEST(PeriodMatcher, EventsThatNoPeriodExplainsGiveMultiplicity) {
   for (std::size_t i = 0; i < r.output_angle_rad.size(); ++i) {
     const double y = std::fmod(r.input_angle_rad[i] + 1.0, p);
     const double h = deg_to_rad(0.4);
-    if (y < 0.05) r.output_angle_rad[i] -= h * y / 0.05;
-    else if (y < 0.1) r.output_angle_rad[i] -= h * (0.1 - y) / 0.05;
+    if (y < 0.05)
+      r.output_angle_rad[i] -= h * y / 0.05;
+    else if (y < 0.1)
+      r.output_angle_rad[i] -= h * (0.1 - y) / 0.05;
   }
   const auto gb = seed_gearbox(json::array());
   const auto a = detect::attribute_defects(r.input_angle_rad, r.output_angle_rad, gb, {});

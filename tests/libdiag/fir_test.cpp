@@ -1,10 +1,10 @@
 #include "diag/dsp/fir.hpp"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "diag/error.hpp"
 

@@ -73,7 +73,8 @@ TEST(GearPair, SlidingVanishesAndChangesSignAtThePitchPoint) {
 //   lambda1 = 1 - rho2 z1 / (rho1 z2) = 1 - 45.2663*49 / (23.1377*51) = -0.87966,
 //   lambda2 = 1 - rho1 z2 / (rho2 z1) = 1 - 23.1377*51 / (45.2663*49) = 0.46799;
 // at s_end: rho1 = 43.8572, rho2 = 24.5468:
-//   lambda1 = 1 - 24.5468*49 / (43.8572*51) = 0.46225, lambda2 = 1 - 43.8572*51/(24.5468*49) = -0.85960.
+//   lambda1 = 1 - 24.5468*49 / (43.8572*51) = 0.46225, lambda2 = 1 - 43.8572*51/(24.5468*49) =
+//   -0.85960.
 TEST(GearPair, SpecificSlidingAtTheEndsOfContactMatchesTheHandComputation) {
   const GearPair p(Gear(spur(49, 4)), Gear(spur(51, 4)));
   constexpr double kTol = 5e-4;  // hand values carry 4 significant figures of rho

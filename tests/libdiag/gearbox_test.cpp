@@ -1,11 +1,12 @@
 // Gearbox description: derived speeds, frequencies and recurrence periods on the seed-003
 // gearbox (numbers from the seed), and refusal of bad descriptions with the field named.
+#include "diag/gearbox/gearbox.hpp"
+
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
-#include "diag/gearbox/gearbox.hpp"
 
 namespace {
 
@@ -68,10 +69,10 @@ TEST(Gearbox, SpeedsMeshFrequenciesAndHuntingPeriodsFollowFromToothCounts) {
   const auto gb = diag::parse_gearbox(j, "gb");
   const int counter = gb.shaft_index("counter");
   EXPECT_DOUBLE_EQ(gb.shaft_speed_rpm(counter), 30.0 * 18 / 45);
-  EXPECT_DOUBLE_EQ(gb.mesh_frequency_hz(0), 18 * 0.5);   // z1 f_input
-  EXPECT_DOUBLE_EQ(gb.mesh_frequency_hz(1), 18 * 0.2);   // z3 f_counter, f_counter = 0.5*18/45
+  EXPECT_DOUBLE_EQ(gb.mesh_frequency_hz(0), 18 * 0.5);    // z1 f_input
+  EXPECT_DOUBLE_EQ(gb.mesh_frequency_hz(1), 18 * 0.2);    // z3 f_counter, f_counter = 0.5*18/45
   EXPECT_DOUBLE_EQ(gb.hunting_period_input_rev(0), 5.0);  // 45 / gcd(18, 45) driver revs
-  EXPECT_LT(gb.shafts()[counter].speed_ratio, 0.0);      // external mesh reverses
+  EXPECT_LT(gb.shafts()[counter].speed_ratio, 0.0);       // external mesh reverses
 }
 
 TEST(Gearbox, RefusesAnUnknownShaftNamingTheField) {

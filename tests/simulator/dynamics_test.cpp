@@ -1,15 +1,15 @@
 // The gearbox dynamics (SPEC section 1, seed 000) against physics: the stiffness matrix and natural
-// frequencies against the seed's printed matrix (with SPEC's K56 correction), the seed's results 1-5,
-// energy balance, RK4 against GSL's adaptive integrator, defaults and bad input.
+// frequencies against the seed's printed matrix (with SPEC's K56 correction), the seed's results
+// 1-5, energy balance, RK4 against GSL's adaptive integrator, defaults and bad input.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include <Eigen/Dense>
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -29,10 +29,18 @@ diag::Gearbox seed_pair(double torque_nm = 2000.0, double rpm = 3000.0, double a
   nlohmann::json j = {
       {"shafts", {{{"name", "input"}}, {{"name", "output"}}}},
       {"gears",
-       {{{"name", "pinion"}, {"shaft", "input"}, {"teeth", 49}, {"module_mm", 4.0},
-         {"face_width_mm", 20.0}, {"addendum_coefficient", addendum}},
-        {{"name", "wheel"}, {"shaft", "output"}, {"teeth", 51}, {"module_mm", 4.0},
-         {"face_width_mm", 20.0}, {"addendum_coefficient", addendum}}}},
+       {{{"name", "pinion"},
+         {"shaft", "input"},
+         {"teeth", 49},
+         {"module_mm", 4.0},
+         {"face_width_mm", 20.0},
+         {"addendum_coefficient", addendum}},
+        {{"name", "wheel"},
+         {"shaft", "output"},
+         {"teeth", 51},
+         {"module_mm", 4.0},
+         {"face_width_mm", 20.0},
+         {"addendum_coefficient", addendum}}}},
       {"meshes", {{{"driver", "pinion"}, {"driven", "wheel"}}}},
       {"input", {{"shaft", "input"}, {"speed_rpm", rpm}, {"torque_nm", torque_nm}}}};
   return diag::parse_gearbox(j, "seed_pair");
@@ -78,12 +86,12 @@ TEST(GearboxModel, NaturalFrequenciesMatchTheSeedsCorrectedStiffnessMatrix) {
   const double a = p.working_pressure_angle_rad(), s = std::sin(a), c = std::cos(a);
   const double kbx = 2 * 1.5e8, kby = 2 * 2.5e8;  // two bearings per shaft
   Eigen::Matrix<double, 6, 6> K;
-  K << k * r1 * r1, k * r1 * r2, k * r1 * s, -k * r1 * s, k * r1 * c, -k * r1 * c,
-      k * r1 * r2, k * r2 * r2, k * r2 * s, -k * r2 * s, k * r2 * c, -k * r2 * c,
-      k * r1 * s, k * r2 * s, k * s * s + kbx, -k * s * s, k * s * c, -k * s * c,
-      -k * r1 * s, -k * r2 * s, -k * s * s, k * s * s + kbx, -k * s * c, k * s * c,
-      k * r1 * c, k * r2 * c, k * s * c, -k * s * c, k * c * c + kby, -k * c * c,
-      -k * r1 * c, -k * r2 * c, -k * s * c, k * s * c, -k * c * c, k * c * c + kby;
+  K << k * r1 * r1, k * r1 * r2, k * r1 * s, -k * r1 * s, k * r1 * c, -k * r1 * c, k * r1 * r2,
+      k * r2 * r2, k * r2 * s, -k * r2 * s, k * r2 * c, -k * r2 * c, k * r1 * s, k * r2 * s,
+      k * s * s + kbx, -k * s * s, k * s * c, -k * s * c, -k * r1 * s, -k * r2 * s, -k * s * s,
+      k * s * s + kbx, -k * s * c, k * s * c, k * r1 * c, k * r2 * c, k * s * c, -k * s * c,
+      k * c * c + kby, -k * c * c, -k * r1 * c, -k * r2 * c, -k * s * c, k * s * c, -k * c * c,
+      k * c * c + kby;
   const diag::Gear g1(gb.gears()[0].spec), g2(gb.gears()[1].spec);
   Eigen::Matrix<double, 6, 1> m;
   m << g1.disc_inertia_kg_m2(), g2.disc_inertia_kg_m2(), g1.disc_mass_kg(), g2.disc_mass_kg(),
@@ -92,7 +100,8 @@ TEST(GearboxModel, NaturalFrequenciesMatchTheSeedsCorrectedStiffnessMatrix) {
   const Eigen::Matrix<double, 6, 6> A = si.asDiagonal() * K * si.asDiagonal();
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(A);
   std::vector<double> expected;
-  for (int i = 0; i < 6; ++i) expected.push_back(std::sqrt(std::max(0.0, es.eigenvalues()[i])) / (2 * kPi));
+  for (int i = 0; i < 6; ++i)
+    expected.push_back(std::sqrt(std::max(0.0, es.eigenvalues()[i])) / (2 * kPi));
   std::sort(expected.begin(), expected.end());
   const std::vector<double> got = model.natural_frequencies_hz();
   ASSERT_EQ(got.size(), 6u);
@@ -120,7 +129,8 @@ TEST(GearboxModel, AStiffnessTableSetsTheMeshStiffness) {
   const diag::Gearbox gb = seed_pair();
   const sim::Scenario sc = sim::parse_scenario(nlohmann::json::parse(R"({"stiffness": {"tables": [
       {"mesh": "pinion_wheel", "angle_deg": [0, 2, 4, 6], "load_n": [1000, 100000],
-       "k_n_per_m": [[3e8, 3e8], [3e8, 3e8], [3e8, 3e8], [3e8, 3e8]]}]}})"), "sc.json");
+       "k_n_per_m": [[3e8, 3e8], [3e8, 3e8], [3e8, 3e8], [3e8, 3e8]]}]}})"),
+                                               "sc.json");
   const sim::GearboxModel model(gb, sc.dynamics);
   EXPECT_NEAR(model.mean_mesh_stiffness_n_per_m(0), 3e8, 4e-3 * 3e8);
   sim::Scenario bad = sc;
@@ -410,17 +420,18 @@ TEST(Integrators, Rk4AgreesWithGslAdaptive) {
 // bearings per shaft, a tachometer per shaft, the transmission error, mesh channels; no NaN; the
 // same seed gives the same samples.
 TEST(Simulate, MinimalGearboxSimulatesWithDefaultsDeterministically) {
-  const diag::Gearbox gb = diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
+  const diag::Gearbox gb =
+      diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
   sim::DynamicsOptions o;
   o.speed = sim::SpeedProfile::constant(1500);
   sim::RunOptions r = short_run(0.05, 20000);
   r.accel_noise_m_per_s2 = 0.01;
   const sim::DynamicResult a = sim::simulate_dynamic(gb, o, r);
   EXPECT_EQ(a.tachos.size(), 3u);
-  for (const char* name : {"input_bearing1_along_loa", "input_bearing2_normal_loa",
-                           "counter_bearing1_along_loa_z1_z2", "counter_bearing1_normal_loa_z3_z4",
-                           "output_bearing2_horizontal", "output_bearing1_vertical",
-                           "transmission_error", "z1_z2_force", "z3_z4_contact"}) {
+  for (const char* name :
+       {"input_bearing1_along_loa", "input_bearing2_normal_loa", "counter_bearing1_along_loa_z1_z2",
+        "counter_bearing1_normal_loa_z3_z4", "output_bearing2_horizontal",
+        "output_bearing1_vertical", "transmission_error", "z1_z2_force", "z3_z4_contact"}) {
     const sim::Channel* c = a.find(name);
     ASSERT_NE(c, nullptr) << name;
     EXPECT_EQ(c->samples.size(), 1000u);
@@ -507,15 +518,18 @@ TEST(Scenario, BadFieldsAreNamed) {
   expect_error(R"({"frcition": {}})", "frcition");
   expect_error(R"({"friction": {"law": "magic"}})", "friction.law");
   expect_error(R"({"faults": [{"gear": "z2", "tooth": 1, "type": "dent"}]})", "faults[0].type");
-  expect_error(R"({"faults": [{"gear": "z2", "tooth": 1, "type": "crack"}]})", "faults[0].depth_mm");
-  expect_error(R"({"sensors": {"casing_frequency_hz": 15000}, "fs_hz": 20000})", "casing_frequency_hz");
+  expect_error(R"({"faults": [{"gear": "z2", "tooth": 1, "type": "crack"}]})",
+               "faults[0].depth_mm");
+  expect_error(R"({"sensors": {"casing_frequency_hz": 15000}, "fs_hz": 20000})",
+               "casing_frequency_hz");
   expect_error(R"({"mesh_damping_ratio": 3})", "mesh_damping_ratio");
 }
 
 TEST(Scenario, AFaultOnAnUnknownGearIsRefused) {
   const diag::Gearbox gb = seed_pair();
   sim::Scenario sc = sim::parse_scenario(
-      nlohmann::json::parse(R"({"faults": [{"gear": "nope", "tooth": 1, "type": "missing"}]})"), "sc.json");
+      nlohmann::json::parse(R"({"faults": [{"gear": "nope", "tooth": 1, "type": "missing"}]})"),
+      "sc.json");
   EXPECT_THROW(sim::simulate_dynamic(gb, sc.dynamics, short_run(0.01)), diag::InputError);
 }
 

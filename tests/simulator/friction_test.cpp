@@ -237,7 +237,8 @@ TEST(FrictionLaws, BenedictKelleyMatchesAHandComputationInUsCustomaryUnits) {
 }
 
 // Xu et al. (2007) eqs. 11-12 written out again from the contact's radii and speeds, with the
-// Hertzian line-contact pressure p_h = sqrt(w E* / (pi R)) [GPa] and steel's E* = E / (2 (1 - nu^2)).
+// Hertzian line-contact pressure p_h = sqrt(w E* / (pi R)) [GPa] and steel's E* = E / (2 (1 -
+// nu^2)).
 TEST(FrictionLaws, XuKahramanMatchesAHandComputationInItsUnits) {
   constexpr double kRelTol = 1e-12;  // same formula, different order of operations
   const diag::GearPair pair = seed_pair();
@@ -257,9 +258,11 @@ TEST(FrictionLaws, XuKahramanMatchesAHandComputationInItsUnits) {
   const double nu0_cp = naive_walther(220.0, 18.75, 60.0) * rho_g_cm3;
   const double s_um = 0.8;
   const double f = -8.916465 - 0.354068 * sr * ph_gpa * std::log10(nu0_cp) +
-                   2.812084 * std::exp(-sr * ph_gpa * std::log10(nu0_cp)) + 0.620305 * std::exp(s_um);
+                   2.812084 * std::exp(-sr * ph_gpa * std::log10(nu0_cp)) +
+                   0.620305 * std::exp(s_um);
   const double expected = std::exp(f) * std::pow(ph_gpa, 1.03303) * std::pow(sr, 1.036077) *
-                          std::pow(ve, -0.100601) * std::pow(nu0_cp, 0.752755) * std::pow(r_m, -0.390958);
+                          std::pow(ve, -0.100601) * std::pow(nu0_cp, 0.752755) *
+                          std::pow(r_m, -0.390958);
   ASSERT_GT(expected, 0.005);  // a typical EHL gear friction magnitude
   ASSERT_LT(expected, opt.mu_cap);
   EXPECT_NEAR(model.coefficient(pair.kinematics(c.s_m, omega1), pair_load_n), expected,

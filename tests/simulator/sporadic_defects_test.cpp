@@ -1,15 +1,15 @@
 // Kinematic simulator of sporadic defects against the seed-003 example and its mechanics.
+#include "sim/kinematic/sporadic_defects.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
-
 #include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
-#include "sim/kinematic/sporadic_defects.hpp"
 
 namespace {
 
@@ -62,7 +62,7 @@ TEST(SporadicDefects, DefectOnZ2ReproducesTheSeedFigure7a) {
       seed_gearbox({{{"gear", "z2"}, {"size_deg", 1.0}, {"phase_deg", 10.0}}}), "gb");
   const auto r = sim::simulate_kinematic(gb, exact());
   const auto p = pulses(r);
-  ASSERT_EQ(p.size(), 12u);  // 24 input revolutions / 2
+  ASSERT_EQ(p.size(), 12u);            // 24 input revolutions / 2
   constexpr double kAngleTol = 0.011;  // one 0.01 deg step
   for (std::size_t k = 0; k < p.size(); ++k) {
     EXPECT_NEAR(p[k].onset_deg, 20.0 + 720.0 * k, kAngleTol);
@@ -111,8 +111,10 @@ TEST(SporadicDefects, CoincidingDefectsOverlapRatherThanAdd) {
                      {{"gear", "z4"}, {"size_deg", 1.0}, {"phase_deg", 5.0}}};
   const auto gb = diag::parse_gearbox(seed_gearbox(both), "gb");
   const auto r = sim::simulate_kinematic(gb, exact());
-  const auto a = sim::simulate_kinematic(diag::parse_gearbox(seed_gearbox(json::array({both[0]})), "a"), exact());
-  const auto b = sim::simulate_kinematic(diag::parse_gearbox(seed_gearbox(json::array({both[1]})), "b"), exact());
+  const auto a = sim::simulate_kinematic(
+      diag::parse_gearbox(seed_gearbox(json::array({both[0]})), "a"), exact());
+  const auto b = sim::simulate_kinematic(
+      diag::parse_gearbox(seed_gearbox(json::array({both[1]})), "b"), exact());
   // Worked by hand: both gaps open at 20 deg of input. The output is stopped from 20 to 24 deg
   // (the counter stops 20..22 for z2's gap, and z4's 1 deg gap holds until 24), so the lag
   // rises at 1/u to 1 deg at 24 deg; at 22 deg it is 0.5 deg, where the naive sum of the two

@@ -1,19 +1,18 @@
 // geardiag simulate (dynamic and kinematic) / sweep / attribute / validate / demo, end to end
 // through the binary.
 #include <gtest/gtest.h>
-
-#include "cli_run.hpp"
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <nlohmann/json.hpp>
+#include "cli_run.hpp"
 
 namespace {
 
@@ -21,7 +20,9 @@ namespace fs = std::filesystem;
 
 using cli_test::run;
 
-std::filesystem::path scratch(const std::string& name) { return cli_test::scratch("attribute_cli", name); }
+std::filesystem::path scratch(const std::string& name) {
+  return cli_test::scratch("attribute_cli", name);
+}
 
 fs::path seed_gearbox_with_defects() {
   const fs::path p = scratch("gb_defects.json");
@@ -40,7 +41,8 @@ fs::path seed_gearbox_with_defects() {
 TEST(AttributeCli, SimulatedCsvIsAttributedToTheCountershaftWithJsonKeys) {
   const fs::path csv = scratch("angles.csv"), js = scratch("findings.json");
   const fs::path gb = seed_gearbox_with_defects();
-  auto s = run("simulate --mode kinematic --gearbox " + gb.string() + " --step-deg 0.05 --runout-deg 0.05 " +
+  auto s = run("simulate --mode kinematic --gearbox " + gb.string() +
+               " --step-deg 0.05 --runout-deg 0.05 " +
                "--noise-deg 0.002 --encoder-counts 65536 -o " + csv.string());
   ASSERT_EQ(s.code, 0) << s.out;
   std::ifstream in(csv);
@@ -68,7 +70,8 @@ TEST(AttributeCli, SimulatedCsvIsAttributedToTheCountershaftWithJsonKeys) {
 
 TEST(AttributeCli, HdfRecordingCarriesItsGearboxAndTruth) {
   const fs::path h5 = scratch("kin.h5");
-  auto s = run("simulate --mode kinematic --gearbox " + seed_gearbox_with_defects().string() + " -o " + h5.string());
+  auto s = run("simulate --mode kinematic --gearbox " + seed_gearbox_with_defects().string() +
+               " -o " + h5.string());
   ASSERT_EQ(s.code, 0) << s.out;
   auto a = run("attribute " + h5.string());  // gearbox from /gearbox
   ASSERT_EQ(a.code, 0) << a.out;
@@ -95,7 +98,8 @@ TEST(AttributeCli, BadInputExitsTwoWithTheReason) {
     "meshes": [{"driver": "p", "driven": "w"}],
     "input": {"shaft": "a", "speed_rpm": 60},
     "defects": [{"gear": "q", "size_deg": 1}]})";
-  auto s = run("simulate --mode kinematic --gearbox " + unknown.string() + " -o " + scratch("x.h5").string());
+  auto s = run("simulate --mode kinematic --gearbox " + unknown.string() + " -o " +
+               scratch("x.h5").string());
   EXPECT_EQ(s.code, 2);
   EXPECT_NE(s.out.find("defects[0].gear: unknown gear 'q'"), std::string::npos) << s.out;
   EXPECT_FALSE(fs::exists(scratch("x.h5")));
@@ -125,19 +129,22 @@ TEST(AttributeCli, DemoAttributesTheSeedExample) {
 // recording whose channels carry their directions; a scenario fault lands in the truth.
 TEST(SimulateCli, DynamicModeWritesARecordingWithDirectionsAndTruth) {
   const fs::path scenario = scratch("scenario.json");
-  std::ofstream(scenario) << R"({"faults": [{"gear": "z2", "tooth": 3, "type": "crack", "depth_mm": 1.0}],
+  std::ofstream(scenario)
+      << R"({"faults": [{"gear": "z2", "tooth": 3, "type": "crack", "depth_mm": 1.0}],
                                "sensors": {"noise_m_per_s2": 0.01}})";
   const fs::path out = scratch("dyn.h5");
-  auto s = run("simulate --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
-               " --scenario " + scenario.string() + " --duration 0.2 --fs 10000 --rpm 1200 -o " +
-               out.string());
+  auto s =
+      run("simulate --gearbox " +
+          (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() + " --scenario " +
+          scenario.string() + " --duration 0.2 --fs 10000 --rpm 1200 -o " + out.string());
   ASSERT_EQ(s.code, 0) << s.out;
   auto info = run("info " + out.string() + " --json");
   ASSERT_EQ(info.code, 0) << info.out;
   const nlohmann::json j = nlohmann::json::parse(info.out.substr(info.out.find('{')));
   const std::string dump = j.dump();
-  for (const char* needle : {"input_bearing1_along_loa", "\"along_loa\"", "\"normal_loa\"",
-                             "\"horizontal\"", "\"vertical\"", "transmission_error", "z1_z2_force"}) {
+  for (const char* needle :
+       {"input_bearing1_along_loa", "\"along_loa\"", "\"normal_loa\"", "\"horizontal\"",
+        "\"vertical\"", "transmission_error", "z1_z2_force"}) {
     EXPECT_NE(dump.find(needle), std::string::npos) << needle;
   }
   EXPECT_NE(dump.find("crack"), std::string::npos);  // the truth names the fault
@@ -147,7 +154,8 @@ TEST(SimulateCli, BadScenarioIsRefusedNamingTheFieldAndWritesNothing) {
   const fs::path scenario = scratch("bad_scenario.json");
   std::ofstream(scenario) << R"({"friction": {"law": "grease"}})";
   const fs::path out = scratch("never.h5");
-  auto s = run("simulate --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
+  auto s = run("simulate --gearbox " +
+               (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
                " --scenario " + scenario.string() + " --duration 0.1 -o " + out.string());
   EXPECT_EQ(s.code, 2) << s.out;
   EXPECT_NE(s.out.find("friction.law"), std::string::npos) << s.out;
@@ -156,8 +164,10 @@ TEST(SimulateCli, BadScenarioIsRefusedNamingTheFieldAndWritesNothing) {
 
 TEST(SweepCli, RunsUpAndDownAndWritesJson) {
   const fs::path json = scratch("sweep.json");
-  auto s = run("sweep --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/seed000_pair.json").string() +
-               " --from-rpm 2000 --to-rpm 3000 --steps 4 --dwell 0.01 --down --json " + json.string());
+  auto s =
+      run("sweep --gearbox " +
+          (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/seed000_pair.json").string() +
+          " --from-rpm 2000 --to-rpm 3000 --steps 4 --dwell 0.01 --down --json " + json.string());
   ASSERT_EQ(s.code, 0) << s.out;
   EXPECT_NE(s.out.find("run down"), std::string::npos) << s.out;
   std::ifstream in(json);
@@ -166,7 +176,8 @@ TEST(SweepCli, RunsUpAndDownAndWritesJson) {
   EXPECT_EQ(j["down"].size(), 4u);
   EXPECT_TRUE(j["up"][0].contains("pinion_wheel_force"));
   EXPECT_GT(j["natural_frequencies_hz"].size(), 0u);
-  auto bad = run("sweep --gearbox " + (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/seed000_pair.json").string() +
+  auto bad = run("sweep --gearbox " +
+                 (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/seed000_pair.json").string() +
                  " --from-rpm 3000 --to-rpm 2000");
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_NE(bad.out.find("to_rpm"), std::string::npos) << bad.out;

@@ -68,9 +68,10 @@ TEST(GearDamageLoop, BadOptionsAreRefused) {
 // the right shaft in >= 95 % of the faulty cases and no finding on any healthy one (the numbers
 // are printed). Measured at this commit: seed 2024 (this test) 75/75 faulty cases on the right
 // shaft and no false alarm in 25; seeds 1 and 7 (not in CI) 74/75 (a 4.2 mm root crack on the
-// input gear scored 4.8 < 5) and 75/75, no false alarm in either. Before the revolution-by-revolution pulse correction
-// (GearDamageOptions::refine_speed) healthy cases near 2243 rpm raised false alarms from the
-// tacho's quantisation (gear_damage_test.cpp, TachoQuantisationIsCorrectedFromTheMeshLinePhase).
+// input gear scored 4.8 < 5) and 75/75, no false alarm in either. Before the
+// revolution-by-revolution pulse correction (GearDamageOptions::refine_speed) healthy cases near
+// 2243 rpm raised false alarms from the tacho's quantisation (gear_damage_test.cpp,
+// TachoQuantisationIsCorrectedFromTheMeshLinePhase).
 TEST(GearDamageLoop, FindsTheDamagedShaftInNinetyFivePercentOfRandomCases) {
   validate::GearDamageLoopOptions o;
   o.cases = 100;

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/units.hpp"
 
@@ -43,7 +42,8 @@ Case make_case(const diag::Gearbox& base, int n_defects, bool same_shaft,
   desc["defects"] = json::array();
   Case c{base, {}, 0};
   std::vector<std::pair<int, double>> placed;  // (shaft, first event in input angle)
-  const double log_lo = std::log(opt.min_size_output_rad), log_hi = std::log(opt.max_size_output_rad);
+  const double log_lo = std::log(opt.min_size_output_rad),
+               log_hi = std::log(opt.max_size_output_rad);
   for (int k = 0; k < n_defects; ++k) {
     for (int attempt = 0; attempt < 100; ++attempt) {
       int g = path_gears[rng() % path_gears.size()];
@@ -101,15 +101,16 @@ diag::Gearbox random_three_shaft(std::mt19937_64& rng) {
   int z2 = z1, z4 = z3;
   while (z2 == z1) z2 = teeth(18, 60);
   while (z4 == z3) z4 = teeth(18, 60);
-  json d = {{"name", "random-three-shaft"},
-            {"shafts", {{{"name", "input"}}, {{"name", "counter"}}, {{"name", "output"}}}},
-            {"gears",
-             {{{"name", "z1"}, {"shaft", "input"}, {"teeth", z1}, {"module_mm", 3.0}},
-              {{"name", "z2"}, {"shaft", "counter"}, {"teeth", z2}, {"module_mm", 3.0}},
-              {{"name", "z3"}, {"shaft", "counter"}, {"teeth", z3}, {"module_mm", 3.0}},
-              {{"name", "z4"}, {"shaft", "output"}, {"teeth", z4}, {"module_mm", 3.0}}}},
-            {"meshes", {{{"driver", "z1"}, {"driven", "z2"}}, {{"driver", "z3"}, {"driven", "z4"}}}},
-            {"input", {{"shaft", "input"}, {"speed_rpm", 30.0}, {"torque_nm", 50.0}}}};
+  json d = {
+      {"name", "random-three-shaft"},
+      {"shafts", {{{"name", "input"}}, {{"name", "counter"}}, {{"name", "output"}}}},
+      {"gears",
+       {{{"name", "z1"}, {"shaft", "input"}, {"teeth", z1}, {"module_mm", 3.0}},
+        {{"name", "z2"}, {"shaft", "counter"}, {"teeth", z2}, {"module_mm", 3.0}},
+        {{"name", "z3"}, {"shaft", "counter"}, {"teeth", z3}, {"module_mm", 3.0}},
+        {{"name", "z4"}, {"shaft", "output"}, {"teeth", z4}, {"module_mm", 3.0}}}},
+      {"meshes", {{{"driver", "z1"}, {"driven", "z2"}}, {{"driver", "z3"}, {"driven", "z4"}}}},
+      {"input", {{"shaft", "input"}, {"speed_rpm", 30.0}, {"torque_nm", 50.0}}}};
   return diag::parse_gearbox(d, "random three-shaft gearbox");
 }
 
@@ -174,10 +175,14 @@ LoopReport run_attribution_loop(const diag::Gearbox& gb_in, const AttributionLoo
       case 1: {
         ++rep.single_total;
         std::string got;
-        if (a.multiplicity) got = "multiplicity";
-        else if (a.findings.empty()) got = "none";
-        else if (a.findings.size() > 1) got = "several";
-        else got = a.findings[0].shaft;
+        if (a.multiplicity)
+          got = "multiplicity";
+        else if (a.findings.empty())
+          got = "none";
+        else if (a.findings.size() > 1)
+          got = "several";
+        else
+          got = a.findings[0].shaft;
         ++rep.confusion[c.truth[0].shaft][got];
         if (got == c.truth[0].shaft && matched == 1) ++rep.single_correct;
         break;
@@ -221,8 +226,7 @@ std::string format_report(const LoopReport& r) {
   o << "  single defects on the right shaft:    " << r.single_correct << "/" << r.single_total
     << " (" << pct(r.single_correct, r.single_total) << " %)\n";
   o << "  defects attributed, two-defect cases: " << r.two_defects_attributed << "/"
-    << r.two_defects_total << " (" << pct(r.two_defects_attributed, r.two_defects_total)
-    << " %)\n";
+    << r.two_defects_total << " (" << pct(r.two_defects_attributed, r.two_defects_total) << " %)\n";
   o << "  defects attributed, three-defect cases: " << r.three_defects_attributed << "/"
     << r.three_defects_total << " (" << pct(r.three_defects_attributed, r.three_defects_total)
     << " %), multiplicity flagged in " << r.three_multiplicity_flagged << " case(s)\n";
@@ -245,10 +249,9 @@ double smallest_reliable_size(const diag::Gearbox& gb, AttributionLoopOptions op
   for (double deg : {1.0, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001}) {
     opt.min_size_output_rad = opt.max_size_output_rad = deg_to_rad(deg);
     const LoopReport r = run_attribution_loop(gb, opt);
-    const double share =
-        r.single_total > 0
-            ? std::min(r.single_correct, r.sizes_within_tolerance) / double(r.single_total)
-            : 0.0;
+    const double share = r.single_total > 0 ? std::min(r.single_correct, r.sizes_within_tolerance) /
+                                                  double(r.single_total)
+                                            : 0.0;
     if (ladder) ladder->emplace_back(deg_to_rad(deg), share);
     if (share < required_share) break;
     best = deg_to_rad(deg);

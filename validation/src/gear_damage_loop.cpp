@@ -168,8 +168,7 @@ std::string format_report(const GearDamageLoopReport& r) {
                    : std::string("healthy"))
       << " size " << c.size_m * 1e3 << " mm, " << c.rpm << " rpm, " << c.torque_nm << " N m, noise "
       << c.noise_m_per_s2 << " -> " << c.result.status << " " << c.found_shaft << "; scores";
-    for (const auto& s : c.result.shafts)
-      o << " " << s.shaft << "=" << s.score << "/snr " << s.snr;
+    for (const auto& s : c.result.shafts) o << " " << s.shaft << "=" << s.score << "/snr " << s.snr;
     o << "\n";
   }
   o << "faulty: " << r.faulty_correct << "/" << r.faulty_total << " right shaft ("

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <iomanip>
 #include <nlohmann/json.hpp>
 #include <numeric>
@@ -179,6 +181,14 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     r.duration_s = std::max(r.duration_s, s.duration_s());
   }
   const std::size_t plot_points = static_cast<std::size_t>(opt.plot_points);
+  // Wall time per stage (AnalyzeOptions::timing; left out otherwise, so reports stay byte-equal).
+  auto clock_start = std::chrono::steady_clock::now();
+  auto lap = [&](const char* stage) {
+    if (!opt.timing) return;
+    const auto now = std::chrono::steady_clock::now();
+    r.timing_s[stage] += std::chrono::duration<double>(now - clock_start).count();
+    clock_start = now;
+  };
 
   ShaftKinematics kin;
   int input = -1;
@@ -194,6 +204,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
                         " rpm): spectra and sidebands are drawn at the mean speed and smear; "
                         "the TSA and the damaged-shaft locator follow the shaft angles");
     }
+    lap("kinematics");
     input = gb->input_shaft();
     r.input_shaft = gb->shafts()[static_cast<std::size_t>(input)].name;
     input_hz = kin.speeds[static_cast<std::size_t>(input)].speed_hz;
@@ -259,6 +270,58 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     }
   }
 
+  // Every sharing channel through each plan in one call (the kernel taps of an output sample are
+  // computed once for all channels: the cost of resampling); the plans in parallel.
+  const std::size_t nsig = rec.signals.size();
+  auto through = [&](const AnglePlan& plan) {
+    std::vector<std::span<const double>> xs;
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < nsig; ++i) {
+      const diag::Signal& sig = rec.signals[i];
+      const bool spectra = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
+                           sig.role == diag::Role::kDisplacement;
+      if (spectra && shares_plans(sig) && sig.samples.size() >= 64) {
+        xs.push_back(sig.samples);
+        which.push_back(i);
+      }
+    }
+    std::vector<std::optional<AngleResampled>> out(nsig);
+    std::vector<AngleResampled> ar = resample_by_angle(xs, plan);
+    for (std::size_t k = 0; k < which.size(); ++k) out[which[k]] = std::move(ar[k]);
+    return out;
+  };
+  std::vector<std::optional<AngleResampled>> order_resampled;
+  std::vector<std::vector<std::optional<AngleResampled>>> tsa_resampled(tsa_plans.size());
+  {
+    std::vector<std::function<void()>> jobs;
+    if (order_plan) jobs.emplace_back([&] { order_resampled = through(*order_plan); });
+    for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
+      if (tsa_plans[s]) jobs.emplace_back([&, s] { tsa_resampled[s] = through(*tsa_plans[s]); });
+    }
+    std::vector<std::exception_ptr> failed(jobs.size());
+    std::atomic<std::size_t> next_job{0};
+    auto run_jobs = [&] {
+      for (std::size_t k = next_job++; k < jobs.size(); k = next_job++) {
+        try {
+          jobs[k]();
+        } catch (...) {
+          failed[k] = std::current_exception();
+        }
+      }
+    };
+    const std::size_t workers = std::min<std::size_t>(
+        jobs.size(), opt.threads > 0 ? static_cast<std::size_t>(opt.threads)
+                                     : std::max(1u, std::thread::hardware_concurrency()));
+    {
+      std::vector<std::jthread> pool;
+      for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(run_jobs);
+      run_jobs();
+    }
+    for (const auto& e : failed) {
+      if (e) std::rethrow_exception(e);
+    }
+  }
+  lap("angle_plans");
   std::vector<Spectrum> full(rec.signals.size()), full_env(rec.signals.size());
   std::vector<bool> sensor(rec.signals.size(), false);
   for (std::size_t i : sensor_channels(rec)) sensor[i] = true;
@@ -453,11 +516,11 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         ResampleOptions ro;
         ro.samples_per_rev = static_cast<int>(std::clamp<std::size_t>(
             pow2_at_least(kOrderOversampling * max_input_order), 64, kMaxSamplesPerRev));
-        const AngleResampled ar =
-            shares_plans(sig) && order_plan
-                ? resample_by_angle(x, *order_plan)
-                : resample_by_angle(x, fs, kin.pulses_s[static_cast<std::size_t>(input)], ro);
-        const OrderSpectrum os = order_spectrum(ar);
+        const OrderSpectrum os =
+            !order_resampled.empty() && order_resampled[ci]
+                ? order_spectrum(*order_resampled[ci])
+                : order_spectrum(
+                      resample_by_angle(x, fs, kin.pulses_s[static_cast<std::size_t>(input)], ro));
         c.order_spectrum =
             slice_for_plot(os.order, os.amplitude, 0,
                            std::min(1.2 * max_input_order, os.order.back()), plot_points);
@@ -486,8 +549,8 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
           TsaOptions to;
           to.samples_per_rev = spr;
           to.min_revolutions = opt.tsa_min_revolutions;
-          const Tsa t = shares_plans(sig) && tsa_plans[s]
-                            ? tsa(x, *tsa_plans[s], opt.tsa_min_revolutions)
+          const Tsa t = !tsa_resampled[s].empty() && tsa_resampled[s][ci]
+                            ? tsa(*tsa_resampled[s][ci], opt.tsa_min_revolutions)
                             : tsa(x, fs, pulses, to);
           ta.revolutions = t.revolutions;
           ta.samples_per_rev = t.samples_per_rev;
@@ -545,6 +608,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   for (const auto& e : errors) {
     if (e) std::rethrow_exception(e);  // the first failing channel, in channel order
   }
+  lap("channels");
 
   if (gb) {
     // ---- two directions ----
@@ -594,6 +658,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       }
     }
 
+    lap("two_direction");
     // ---- which shaft carries a damaged gear ----
     bool has_gear_shaft = false;
     for (const diag::Shaft& sh : gb->shafts()) has_gear_shaft |= !sh.gears.empty();
@@ -627,6 +692,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
       }
     }
 
+    lap("gear_damage");
     // ---- findings: sideband families (low confidence: a vote over channels) ----
     for (std::size_t j = 0; j < r.meshes.size(); ++j) {
       std::map<std::string, int> votes;
@@ -747,6 +813,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
                        return a.confidence > b.confidence;
                      });
   }
+  lap("findings");
   return r;
 }
 
@@ -989,6 +1056,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
   j["gearbox"] = r.gearbox_name.empty() ? json(nullptr) : json(r.gearbox_name);
   j["input_shaft"] = r.input_shaft.empty() ? json(nullptr) : json(r.input_shaft);
   j["duration_s"] = r.duration_s;
+  if (!r.timing_s.empty()) j["timing_s"] = r.timing_s;
   if (!r.speed.source.empty()) {
     j["speed"] = {{"source", r.speed.source},     {"reference_shaft", r.speed.reference_shaft},
                   {"line", r.speed.line},         {"nominal_rpm", r.speed.nominal_rpm},

@@ -15,9 +15,9 @@ constexpr std::size_t kMaxBlockSamples = std::size_t{1} << 27;  // 1 GiB of doub
 
 void StreamingOptions::validate() const {
   if (block_samples < 1 || block_samples > kMaxBlockSamples) {
-    throw diag::InputError(diag::format_error(
-        "analyze_streaming", "block_samples",
-        std::to_string(block_samples) + " is not in [1, " + std::to_string(kMaxBlockSamples) + "]"));
+    throw diag::InputError(diag::format_error("analyze_streaming", "block_samples",
+                                              std::to_string(block_samples) + " is not in [1, " +
+                                                  std::to_string(kMaxBlockSamples) + "]"));
   }
   welch.validate();
 }
@@ -29,8 +29,8 @@ StreamingSummary analyze_streaming(diag::RecordingReader& reader, const std::str
   if (info.length < options.welch.nperseg) {
     throw diag::InputError(diag::format_error(
         "analyze_streaming", "channel '" + channel + "'",
-        std::to_string(info.length) + " samples is shorter than welch.nperseg = " +
-            std::to_string(options.welch.nperseg)));
+        std::to_string(info.length) +
+            " samples is shorter than welch.nperseg = " + std::to_string(options.welch.nperseg)));
   }
   WelchOptions welch = options.welch;
   welch.fs_hz = info.fs_hz;
@@ -39,8 +39,8 @@ StreamingSummary analyze_streaming(diag::RecordingReader& reader, const std::str
 
   // Read by the explicit "group/name" so a signal and a tacho of the same name cannot mix.
   const std::string path = info.group + "/" + info.name;
-  const std::size_t block = static_cast<std::size_t>(
-      std::min<std::uint64_t>(options.block_samples, info.length));
+  const std::size_t block =
+      static_cast<std::size_t>(std::min<std::uint64_t>(options.block_samples, info.length));
   std::vector<double> buffer(block);
   StreamingSummary out;
   out.channel = path;

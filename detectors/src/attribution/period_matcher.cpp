@@ -5,11 +5,10 @@
 #include <cmath>
 #include <iomanip>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <set>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
 #include "diag/units.hpp"
@@ -28,10 +27,10 @@ void require(bool ok, const std::string& field, const std::string& reason) {
 // The smooth part of the irregularity that turns with one shaft: a table over one revolution of
 // the shaft, fitted by weighted least squares to a few Fourier orders of the bin means.
 struct ShaftComponent {
-  double period_rad = 0;        // shaft period in input angle
-  int bins = 0;                 // power of two
-  std::vector<int> orders;      // Fourier orders kept (cycles per shaft revolution)
-  std::vector<double> table;    // value at bin j (phase j / bins)
+  double period_rad = 0;      // shaft period in input angle
+  int bins = 0;               // power of two
+  std::vector<int> orders;    // Fourier orders kept (cycles per shaft revolution)
+  std::vector<double> table;  // value at bin j (phase j / bins)
 
   double phase_pos(double x) const {
     const double p = x / period_rad;
@@ -157,7 +156,8 @@ struct Train {
 }  // namespace
 
 void AttributionOptions::validate() const {
-  require(threshold_sigma >= 3 && std::isfinite(threshold_sigma), "threshold_sigma", "must be >= 3");
+  require(threshold_sigma >= 3 && std::isfinite(threshold_sigma), "threshold_sigma",
+          "must be >= 3");
   require(min_event_rad >= 0, "min_event_rad", "must be >= 0");
   require(position_tolerance_rad >= 0, "position_tolerance_rad", "must be >= 0");
   require(period_tolerance > 0 && period_tolerance <= 0.2, "period_tolerance",
@@ -183,9 +183,9 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     }
     if (i > 0 && in[i] < in[i - 1]) {
       require(false, "input_angle_rad",
-              "angles not increasing: sample " + std::to_string(i) + " (" +
-                  std::to_string(in[i]) + ") is below sample " + std::to_string(i - 1) + " (" +
-                  std::to_string(in[i - 1]) + ")");
+              "angles not increasing: sample " + std::to_string(i) + " (" + std::to_string(in[i]) +
+                  ") is below sample " + std::to_string(i - 1) + " (" + std::to_string(in[i - 1]) +
+                  ")");
     }
   }
   const std::size_t n = in.size();
@@ -390,12 +390,15 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     std::sort(phases.begin(), phases.end());
     std::vector<std::vector<std::pair<double, int>>> clusters;
     for (const auto& ph : phases) {
-      if (clusters.empty() || ph.first - clusters.back().back().first > tau) clusters.emplace_back();
+      if (clusters.empty() || ph.first - clusters.back().back().first > tau)
+        clusters.emplace_back();
       clusters.back().push_back(ph);
     }
-    if (clusters.size() > 1 && clusters.front().front().first + p - clusters.back().back().first <= tau) {
+    if (clusters.size() > 1 &&
+        clusters.front().front().first + p - clusters.back().back().first <= tau) {
       for (auto& ph : clusters.back()) ph.first -= p;  // wrap-around: one cluster
-      clusters.front().insert(clusters.front().begin(), clusters.back().begin(), clusters.back().end());
+      clusters.front().insert(clusters.front().begin(), clusters.back().begin(),
+                              clusters.back().end());
       clusters.pop_back();
     }
     for (const auto& cl : clusters) {
@@ -405,8 +408,7 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
       const double phi = median_of(ph);
       Train t = build_train(p, phi);
       const int hits_interior = static_cast<int>(t.hits.size());
-      if (t.expected < 3 || hits_interior < 3 ||
-          hits_interior < opt.min_coverage * t.expected) {
+      if (t.expected < 3 || hits_interior < 3 || hits_interior < opt.min_coverage * t.expected) {
         continue;
       }
       fit_period(t);
@@ -447,7 +449,8 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
         if (slow.empty()) continue;
         t.size_events.clear();
         for (long r = 0; r < m; ++r) {
-          if (med[r] - low <= split) t.size_events.insert(t.size_events.end(), groups[r].begin(), groups[r].end());
+          if (med[r] - low <= split)
+            t.size_events.insert(t.size_events.end(), groups[r].begin(), groups[r].end());
         }
         std::ostringstream alt_text;
         alt_text << "one recurrence in " << m << " coincides with a defect on shaft '"
@@ -515,17 +518,20 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     if (!assigned[k]) res.unexplained.push_back({events[k].onset, events[k].height});
   }
   res.multiplicity = !res.unexplained.empty();
-  res.status = res.multiplicity        ? AttributionStatus::kMultiplicity
-               : res.findings.empty()  ? AttributionStatus::kHealthy
-                                       : AttributionStatus::kAttributed;
+  res.status = res.multiplicity       ? AttributionStatus::kMultiplicity
+               : res.findings.empty() ? AttributionStatus::kHealthy
+                                      : AttributionStatus::kAttributed;
   return res;
 }
 
 std::string_view to_string(AttributionStatus s) {
   switch (s) {
-    case AttributionStatus::kHealthy: return "healthy";
-    case AttributionStatus::kAttributed: return "attributed";
-    case AttributionStatus::kMultiplicity: return "multiplicity";
+    case AttributionStatus::kHealthy:
+      return "healthy";
+    case AttributionStatus::kAttributed:
+      return "attributed";
+    case AttributionStatus::kMultiplicity:
+      return "multiplicity";
   }
   return "unknown";
 }
@@ -579,9 +585,9 @@ std::string format_table(const AttributionResult& r) {
         << std::setprecision(3) << std::setw(15) << f.period_input_rev << std::setprecision(4)
         << std::setw(19) << rad_to_deg(f.size_output_rad) << std::setw(17)
         << rad_to_deg(f.size_gear_rad) << std::setprecision(2) << std::setw(22)
-        << rad_to_deg(f.first_event_input_rad) << std::setw(10) << f.events << "/"
-        << std::left << std::setw(5) << f.expected_events << std::right << std::setprecision(2)
-        << std::setw(10) << f.confidence << "\n";
+        << rad_to_deg(f.first_event_input_rad) << std::setw(10) << f.events << "/" << std::left
+        << std::setw(5) << f.expected_events << std::right << std::setprecision(2) << std::setw(10)
+        << f.confidence << "\n";
       if (!f.note.empty()) o << "      note: " << f.note << "\n";
     }
   }

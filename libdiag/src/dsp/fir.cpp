@@ -14,17 +14,17 @@ std::vector<double> lowpass_taps(double cutoff_fraction, int half_length) {
                                   std::to_string(cutoff_fraction) + " is not in (0, 0.5)"));
   }
   if (half_length < 1) {
-    throw InputError(format_error("lowpass_taps", "half_length",
-                                  std::to_string(half_length) + " is not >= 1"));
+    throw InputError(
+        format_error("lowpass_taps", "half_length", std::to_string(half_length) + " is not >= 1"));
   }
   const int n = 2 * half_length + 1;
   std::vector<double> h(n);
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     const double x = i - half_length;
-    const double sinc = x == 0.0 ? 2 * cutoff_fraction
-                                 : std::sin(2 * std::numbers::pi * cutoff_fraction * x) /
-                                       (std::numbers::pi * x);
+    const double sinc =
+        x == 0.0 ? 2 * cutoff_fraction
+                 : std::sin(2 * std::numbers::pi * cutoff_fraction * x) / (std::numbers::pi * x);
     const double a = 2 * std::numbers::pi * i / (n - 1);
     const double w = 0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2 * a);
     h[i] = sinc * w;

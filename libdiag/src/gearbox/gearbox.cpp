@@ -3,12 +3,11 @@
 #include <cmath>
 #include <fstream>
 #include <iomanip>
+#include <nlohmann/json.hpp>
 #include <numeric>
 #include <queue>
 #include <set>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
 #include "diag/io/json_fields.hpp"
@@ -36,16 +35,17 @@ std::string indexed(const std::string& key, std::size_t i) {
 }
 
 Material parse_material(const json& j, const std::string& where, const std::string& path) {
-  Fields f(j, where, path,
-           {"youngs_modulus_gpa", "poisson_ratio", "density_kg_m3", "hardness_hb",
-            "roughness_ra_um"});
+  Fields f(
+      j, where, path,
+      {"youngs_modulus_gpa", "poisson_ratio", "density_kg_m3", "hardness_hb", "roughness_ra_um"});
   Material m;
   m.youngs_modulus_pa = units::gpa_to_pa(f.positive("youngs_modulus_gpa", 206.0));
   m.poisson_ratio = f.num("poisson_ratio", m.poisson_ratio);
   if (m.poisson_ratio < 0 || m.poisson_ratio >= 0.5) f.fail("poisson_ratio", "must be in [0, 0.5)");
   m.density_kg_per_m3 = f.positive("density_kg_m3", m.density_kg_per_m3);
   m.hardness_hb = f.positive("hardness_hb", m.hardness_hb);
-  m.roughness_ra_m = units::um_to_m(f.positive("roughness_ra_um", units::m_to_um(m.roughness_ra_m)));
+  m.roughness_ra_m =
+      units::um_to_m(f.positive("roughness_ra_um", units::m_to_um(m.roughness_ra_m)));
   return m;
 }
 
@@ -78,8 +78,8 @@ double Gearbox::ratio_to_output(int gear) const {
 
 Gearbox Gearbox::with_input_speed_rpm(double speed_rpm) const {
   if (!(speed_rpm > 0) || !std::isfinite(speed_rpm) || speed_rpm > 1e6) {
-    throw InputError(format_error(name_, "input speed",
-                                  std::to_string(speed_rpm) + " rpm is not in (0, 1e6]"));
+    throw InputError(
+        format_error(name_, "input speed", std::to_string(speed_rpm) + " rpm is not in (0, 1e6]"));
   }
   Gearbox g = *this;
   g.input_.speed_rpm = speed_rpm;
@@ -126,9 +126,9 @@ std::vector<int> Gearbox::gears_sharing_shaft(int gear) const {
 
 Gearbox parse_gearbox(const json& j, const std::string& where) {
   Gearbox gb;
-  Fields top(j, where, "",
-             {"name", "shafts", "gears", "meshes", "input", "output", "bearings", "sensors",
-              "defects"});
+  Fields top(
+      j, where, "",
+      {"name", "shafts", "gears", "meshes", "input", "output", "bearings", "sensors", "defects"});
   gb.name_ = top.str("name", "gearbox");
 
   // Shafts.
@@ -156,17 +156,19 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     const int shaft = gb.shaft_index(g.shaft);
     if (shaft < 0) f.fail("shaft", "unknown shaft '" + g.shaft + "'");
     g.spec.teeth = f.integer("teeth");
-    if (g.spec.teeth <= 0) f.fail("teeth", "must be a positive integer (got " +
-                                               std::to_string(g.spec.teeth) + ")");
+    if (g.spec.teeth <= 0)
+      f.fail("teeth", "must be a positive integer (got " + std::to_string(g.spec.teeth) + ")");
     if (g.spec.teeth < 5) f.fail("teeth", "must be >= 5 for an involute spur gear");
     g.spec.module_m = units::mm_to_m(f.positive("module_mm"));
     g.spec.pressure_angle_rad = units::deg_to_rad(f.positive("pressure_angle_deg", 20.0));
     // Face width defaults to 10 modules, a common proportion, when the description omits it.
-    g.spec.face_width_m = units::mm_to_m(f.positive("face_width_mm", 10.0 * units::m_to_mm(g.spec.module_m)));
+    g.spec.face_width_m =
+        units::mm_to_m(f.positive("face_width_mm", 10.0 * units::m_to_mm(g.spec.module_m)));
     g.spec.profile_shift = f.num("profile_shift", 0.0);
     g.spec.addendum_coefficient = f.positive("addendum_coefficient", 1.0);
     g.spec.clearance_coefficient = f.non_negative("clearance_coefficient", 0.25);
-    if (f.has("material")) g.spec.material = parse_material(f.raw("material"), where, f.sub("material"));
+    if (f.has("material"))
+      g.spec.material = parse_material(f.raw("material"), where, f.sub("material"));
     validate(g.spec, format_error(where, path, ""));
     const Gear gear(g.spec);
     if (gear.undercut()) {
@@ -232,8 +234,8 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
       if (sd != s && sn != s) continue;
       const double zd = gb.gears_[mesh.driver].spec.teeth, zn = gb.gears_[mesh.driven].spec.teeth;
       const int other = (sd == s) ? sn : sd;
-      const double r = (sd == s) ? -gb.shafts_[s].speed_ratio * zd / zn
-                                 : -gb.shafts_[s].speed_ratio * zn / zd;
+      const double r =
+          (sd == s) ? -gb.shafts_[s].speed_ratio * zd / zn : -gb.shafts_[s].speed_ratio * zn / zd;
       if (known[other]) {
         constexpr double kLoopTol = 1e-9;  // relative; exact for integer tooth counts
         if (std::abs(gb.shafts_[other].speed_ratio - r) > kLoopTol * std::abs(r)) {
@@ -342,7 +344,8 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     if (d.size_rad >= 0.5 * gear.angular_pitch_rad()) {
       f.fail(f.has("size_deg") ? "size_deg" : "size_um",
              "must be smaller than half an angular pitch (" +
-                 Fields::fmt(units::rad_to_deg(0.5 * gear.angular_pitch_rad())) + " deg) of the gear");
+                 Fields::fmt(units::rad_to_deg(0.5 * gear.angular_pitch_rad())) +
+                 " deg) of the gear");
     }
     if (f.has("tooth") && f.has("phase_deg")) f.fail("tooth", "give tooth or phase_deg, not both");
     if (f.has("tooth")) {
@@ -452,9 +455,8 @@ std::string format_summary(const Gearbox& gb) {
   std::ostringstream o;
   o << std::setprecision(6);
   o << "gearbox '" << gb.name() << "': input shaft '" << gb.shafts()[gb.input_shaft()].name
-    << "' at " << gb.input().speed_rpm << " rpm, " << gb.input().torque_nm
-    << " N m; output shaft '" << gb.shafts()[gb.output_shaft()].name
-    << "'; overall ratio u = " << gb.total_ratio() << "\n\n";
+    << "' at " << gb.input().speed_rpm << " rpm, " << gb.input().torque_nm << " N m; output shaft '"
+    << gb.shafts()[gb.output_shaft()].name << "'; overall ratio u = " << gb.total_ratio() << "\n\n";
   o << "shafts:\n";
   o << "  name            speed_rpm   freq_hz     period_input_rev  gears\n";
   for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
@@ -466,10 +468,12 @@ std::string format_summary(const Gearbox& gb) {
   }
   if (!gb.meshes().empty()) {
     o << "\nmeshes:\n";
-    o << "  driver -> driven        ratio     mesh_freq_hz  contact_ratio  hunting_period_input_rev\n";
+    o << "  driver -> driven        ratio     mesh_freq_hz  contact_ratio  "
+         "hunting_period_input_rev\n";
     for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
       const Mesh& mesh = gb.meshes()[m];
-      const std::string label = gb.gears()[mesh.driver].name + " -> " + gb.gears()[mesh.driven].name;
+      const std::string label =
+          gb.gears()[mesh.driver].name + " -> " + gb.gears()[mesh.driven].name;
       o << "  " << std::left << std::setw(24) << label << std::setw(10) << mesh.pair.ratio()
         << std::setw(14) << gb.mesh_frequency_hz(m) << std::setw(15) << mesh.pair.contact_ratio()
         << gb.hunting_period_input_rev(m) << "\n";

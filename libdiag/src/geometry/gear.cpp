@@ -23,10 +23,9 @@ void require(bool ok, const std::string& where, const std::string& field, double
 void validate(const GearSpec& s, const std::string& where) {
   require(s.teeth >= 5, where, "teeth", s.teeth, "an integer >= 5");
   require(s.module_m > 0 && std::isfinite(s.module_m), where, "module", s.module_m, "> 0");
-  require(s.pressure_angle_rad > units::deg_to_rad(5) &&
-              s.pressure_angle_rad < units::deg_to_rad(45),
-          where, "pressure_angle", units::rad_to_deg(s.pressure_angle_rad),
-          "between 5 and 45 degrees");
+  require(
+      s.pressure_angle_rad > units::deg_to_rad(5) && s.pressure_angle_rad < units::deg_to_rad(45),
+      where, "pressure_angle", units::rad_to_deg(s.pressure_angle_rad), "between 5 and 45 degrees");
   require(std::isfinite(s.profile_shift) && std::abs(s.profile_shift) <= 2.0, where,
           "profile_shift", s.profile_shift, "within [-2, 2]");
   require(s.face_width_m > 0 && std::isfinite(s.face_width_m), where, "face_width", s.face_width_m,
@@ -43,8 +42,8 @@ void validate(const GearSpec& s, const std::string& where) {
   require(m.hardness_hb > 0, where, "material.hardness_hb", m.hardness_hb, "> 0");
   require(m.roughness_ra_m > 0, where, "material.roughness_ra", m.roughness_ra_m, "> 0");
   // The root circle must stay outside the centre.
-  const double rf = s.module_m * (0.5 * s.teeth - s.addendum_coefficient -
-                                  s.clearance_coefficient + s.profile_shift);
+  const double rf = s.module_m * (0.5 * s.teeth - s.addendum_coefficient - s.clearance_coefficient +
+                                  s.profile_shift);
   require(rf > 0, where, "teeth", s.teeth, "large enough for a positive root radius");
 }
 

@@ -49,14 +49,14 @@ GearPair::GearPair(const Gear& driver, const Gear& driven, const char* where,
   if (centre_distance_m > 0) {
     const double c = a0 * std::cos(alpha) / centre_distance_m;
     if (c >= 1.0) {
-      throw InputError(format_error(where, "centre_distance_mm",
-                                    "too small for the base circles to mesh"));
+      throw InputError(
+          format_error(where, "centre_distance_mm", "too small for the base circles to mesh"));
     }
     alpha_w_ = std::acos(c);
     a_w_ = centre_distance_m;
     // A distance below the zero-backlash one means the teeth would overlap.
-    const double inv_w0 = involute(alpha) + 2.0 * std::tan(alpha) *
-                                                (a.profile_shift + b.profile_shift) / (z1 + z2);
+    const double inv_w0 =
+        involute(alpha) + 2.0 * std::tan(alpha) * (a.profile_shift + b.profile_shift) / (z1 + z2);
     const double a_w0 = a0 * std::cos(alpha) / std::cos(inverse_involute(inv_w0));
     if (centre_distance_m < a_w0 * (1 - 1e-9)) {
       std::ostringstream m;
@@ -66,8 +66,8 @@ GearPair::GearPair(const Gear& driver, const Gear& driven, const char* where,
     }
   } else {
     // inv(alpha_w) = inv(alpha) + 2 tan(alpha) (x1 + x2) / (z1 + z2)  (ISO 21771, zero backlash)
-    const double inv_w = involute(alpha) + 2.0 * std::tan(alpha) *
-                                               (a.profile_shift + b.profile_shift) / (z1 + z2);
+    const double inv_w =
+        involute(alpha) + 2.0 * std::tan(alpha) * (a.profile_shift + b.profile_shift) / (z1 + z2);
     alpha_w_ = inverse_involute(inv_w);
     a_w_ = a0 * std::cos(alpha) / std::cos(alpha_w_);
   }

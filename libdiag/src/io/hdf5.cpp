@@ -565,8 +565,8 @@ RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path
           }
           info.ppr = static_cast<int>(ppr);
           if (info.group == "tacho" && (info.role != Role::kTacho || info.ppr < 1)) {
-            throw InputError(format_error(where, what,
-                                          "a /tacho channel must have role tacho and ppr >= 1"));
+            throw InputError(
+                format_error(where, what, "a /tacho channel must have role tacho and ppr >= 1"));
           }
         } else if (info.group == "tacho") {
           info.role = Role::kTacho;

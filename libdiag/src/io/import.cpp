@@ -472,9 +472,9 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
   }
   for (Signal& s : rec.signals) s.fs_hz = *options.fs_hz;
   if (!rpm_values.empty()) {
-    const auto [lo, hi] = std::minmax_element(
-        rpm_values.begin(), rpm_values.end(),
-        [](const auto& a, const auto& b) { return a.second < b.second; });
+    const auto [lo, hi] =
+        std::minmax_element(rpm_values.begin(), rpm_values.end(),
+                            [](const auto& a, const auto& b) { return a.second < b.second; });
     if (hi->second <= lo->second * 1.001) {
       rec.speed_rpm = rpm_values.front().second;
       rec.notes.push_back("speed " + number_text(rec.speed_rpm) + " rpm from variable " +

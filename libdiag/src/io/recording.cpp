@@ -27,9 +27,8 @@ struct RoleName {
 };
 
 constexpr RoleName kRoleNames[] = {
-    {Role::kVibration, "vibration"}, {Role::kTacho, "tacho"},
-    {Role::kAngle, "angle"},         {Role::kSpeed, "speed"},
-    {Role::kForce, "force"},         {Role::kDisplacement, "displacement"},
+    {Role::kVibration, "vibration"}, {Role::kTacho, "tacho"}, {Role::kAngle, "angle"},
+    {Role::kSpeed, "speed"},         {Role::kForce, "force"}, {Role::kDisplacement, "displacement"},
     {Role::kOther, "other"},
 };
 

@@ -1,15 +1,14 @@
 #include "sim/dynamics/gearbox_model.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <random>
 
-#include <Eigen/Dense>
-
-#include "diag/io/channels.hpp"
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 
 namespace sim {
 namespace {
@@ -24,12 +23,12 @@ constexpr int kFrictionTablePoints = 257;
 constexpr int kMaxDofs = 256;
 
 struct MeshData {
-  int a = -1, b = -1;          // driver / driven gear (= their rotation DOF)
-  int xa = -1, xb = -1;        // x DOF of their shafts (y = x + 1)
-  double rba = 0, rbb = 0;     // base radii
-  double ra = 0, rb = 0;       // speed ratios of the gears to the input
-  double nx = 0, ny = 0;       // LOA unit vector, fixed frame
-  double tx = 0, ty = 0;       // sliding direction unit vector, fixed frame
+  int a = -1, b = -1;       // driver / driven gear (= their rotation DOF)
+  int xa = -1, xb = -1;     // x DOF of their shafts (y = x + 1)
+  double rba = 0, rbb = 0;  // base radii
+  double ra = 0, rb = 0;    // speed ratios of the gears to the input
+  double nx = 0, ny = 0;    // LOA unit vector, fixed frame
+  double tx = 0, ty = 0;    // sliding direction unit vector, fixed frame
   double pitch_a = 0, inv_pitch_a = 0;
   int za = 0, zb = 0;
   double s_start = 0, s_end = 0, pb = 0, loa = 0, s_pitch = 0;
@@ -37,14 +36,14 @@ struct MeshData {
   double backlash = 0;
   bool back_flank = true;
   std::unique_ptr<MeshStiffness> stiffness;
-  std::vector<double> mu;      // mu over [s_start, s_end], kFrictionTablePoints points
+  std::vector<double> mu;  // mu over [s_start, s_end], kFrictionTablePoints points
   double mu_inv_ds = 0;
   bool friction = false;
-  bool faulty = false;         // faults on either gear: use MeshStiffness::pair_force
-  bool per_tooth = false;      // faults or pitch errors: the teeth in contact matter
-  bool gap_free = true;        // no pitch errors and no faults: every pair's gap is exactly 0
+  bool faulty = false;     // faults on either gear: use MeshStiffness::pair_force
+  bool per_tooth = false;  // faults or pitch errors: the teeth in contact matter
+  bool gap_free = true;    // no pitch errors and no faults: every pair's gap is exactly 0
   double runout_a = 0, runout_b = 0, phase_a = 0, phase_b = 0;
-  double omega_table = -1;     // driver speed at which mu was tabulated [rad/s]
+  double omega_table = -1;  // driver speed at which mu was tabulated [rad/s]
 };
 
 struct Link {  // torsional spring-damper between two gears on one shaft
@@ -57,20 +56,20 @@ struct Link {  // torsional spring-damper between two gears on one shaft
 struct GearboxModel::Impl {
   const diag::Gearbox* gb = nullptr;
   DynamicsOptions opt;
-  int n = 0;                     // DOFs
+  int n = 0;  // DOFs
   int gears = 0;
-  std::vector<int> shaft_x;      // per shaft: x DOF or -1
-  std::vector<double> mass;      // per DOF: J or m
+  std::vector<int> shaft_x;  // per shaft: x DOF or -1
+  std::vector<double> mass;  // per DOF: J or m
   std::vector<double> inv_mass;
-  std::vector<double> ratio;     // per gear: |omega_g / omega_in|
+  std::vector<double> ratio;           // per gear: |omega_g / omega_in|
   std::vector<double> kx, ky, cx, cy;  // per DOF index of x (stored at x DOF), per shaft
   std::vector<MeshData> meshes;
   std::vector<Link> links;
   int in_gear = -1, out_gear = -1;
-  double k_c = 0, c_c = 0;       // coupling (speed mode)
+  double k_c = 0, c_c = 0;  // coupling (speed mode)
   double torque_in = 0, torque_load = 0, c_load = 0;
 
-  bool constant_speed = true;    // the speed profile is constant: omega_c t, no profile calls
+  bool constant_speed = true;  // the speed profile is constant: omega_c t, no profile calls
   double omega_c = 0.0;
   double nominal_angle(double t) const {
     return constant_speed ? omega_c * t : opt.speed.angle_rad(t);
@@ -106,8 +105,8 @@ struct GearboxModel::Impl {
   }
 
   // Mesh j's compression, its rate, and the driver's total angle.
-  void mesh_kinematics(const MeshData& m, double t, const double* q, const double* v,
-                       double& delta, double& delta_dot, double& theta_a) const {
+  void mesh_kinematics(const MeshData& m, double t, const double* q, const double* v, double& delta,
+                       double& delta_dot, double& theta_a) const {
     const double th_in = nominal_angle(t);
     theta_a = m.ra * th_in + q[m.a];
     delta = m.rba * q[m.a] - m.rbb * q[m.b] + m.nx * (q[m.xa] - q[m.xb]) +
@@ -118,7 +117,8 @@ struct GearboxModel::Impl {
       const double w_in = nominal_speed(t);
       const double theta_b = m.rb * th_in + q[m.b];
       const double wa = m.ra * w_in + v[m.a], wb = m.rb * w_in + v[m.b];
-      delta += m.runout_a * std::sin(theta_a + m.phase_a) + m.runout_b * std::sin(theta_b + m.phase_b);
+      delta +=
+          m.runout_a * std::sin(theta_a + m.phase_a) + m.runout_b * std::sin(theta_b + m.phase_b);
       delta_dot += m.runout_a * wa * std::cos(theta_a + m.phase_a) +
                    m.runout_b * wb * std::cos(theta_b + m.phase_b);
     }
@@ -127,28 +127,28 @@ struct GearboxModel::Impl {
   // Stiffness matrix at mean mesh stiffness: each mesh k g g^T with g = d delta / dq (SPEC: K from
   // the gradient of delta), the shafts' torsion, the bearings and the motor coupling.
   Eigen::MatrixXd stiffness_matrix() const {
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
-  for (const MeshData& d : meshes) {
-    Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
-    g[d.a] += d.rba;
-    g[d.b] -= d.rbb;
-    g[d.xa] += d.nx;
-    g[d.xa + 1] += d.ny;
-    g[d.xb] -= d.nx;
-    g[d.xb + 1] -= d.ny;
-    K += d.k_mean * g * g.transpose();
-  }
-  for (const Link& l : links) {
-    K(l.g1, l.g1) += l.k;
-    K(l.g2, l.g2) += l.k;
-    K(l.g1, l.g2) -= l.k;
-    K(l.g2, l.g1) -= l.k;
-  }
-  for (int x : shaft_x) {
-    if (x < 0) continue;
-    K(x, x) += kx[x];
-    K(x + 1, x + 1) += ky[x];
-  }
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+    for (const MeshData& d : meshes) {
+      Eigen::VectorXd g = Eigen::VectorXd::Zero(n);
+      g[d.a] += d.rba;
+      g[d.b] -= d.rbb;
+      g[d.xa] += d.nx;
+      g[d.xa + 1] += d.ny;
+      g[d.xb] -= d.nx;
+      g[d.xb + 1] -= d.ny;
+      K += d.k_mean * g * g.transpose();
+    }
+    for (const Link& l : links) {
+      K(l.g1, l.g1) += l.k;
+      K(l.g2, l.g2) += l.k;
+      K(l.g1, l.g2) -= l.k;
+      K(l.g2, l.g1) -= l.k;
+    }
+    for (int x : shaft_x) {
+      if (x < 0) continue;
+      K(x, x) += kx[x];
+      K(x + 1, x + 1) += ky[x];
+    }
     if (opt.motor == MotorMode::kSpeed) K(in_gear, in_gear) += k_c;
     return K;
   }
@@ -170,7 +170,8 @@ struct GearboxModel::Impl {
       // (partial-width faults have a piecewise law; the energy check runs on healthy meshes)
       if (d > 0 && std::isfinite(d)) e += 0.5 * kp * d * d;
     }
-    if (m.back_flank && delta < -m.backlash) e += 0.5 * ksum * (delta + m.backlash) * (delta + m.backlash);
+    if (m.back_flank && delta < -m.backlash)
+      e += 0.5 * ksum * (delta + m.backlash) * (delta + m.backlash);
     return e;
   }
 };
@@ -186,14 +187,16 @@ void DynamicsOptions::validate(const std::string& where) const {
       throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not >= 0"));
     }
   };
-  if (!(speed.kind == SpeedProfile::Kind::kConstant && speed.rpm == 0.0)) speed.validate(where + ": speed");
+  if (!(speed.kind == SpeedProfile::Kind::kConstant && speed.rpm == 0.0))
+    speed.validate(where + ": speed");
   nonneg(coupling_stiffness_nm_per_rad, "coupling_stiffness_nm_per_rad");
   if (!(coupling_damping_ratio > 0 && coupling_damping_ratio <= 2)) {
-    throw diag::InputError(diag::format_error(where, "coupling_damping_ratio", "must be in (0, 2]"));
+    throw diag::InputError(
+        diag::format_error(where, "coupling_damping_ratio", "must be in (0, 2]"));
   }
   if (!(mesh_damping_ratio >= 0 && mesh_damping_ratio <= 1)) {
-    throw diag::InputError(diag::format_error(where, "mesh_damping_ratio",
-                                              std::to_string(mesh_damping_ratio) + " is not in [0, 1]"));
+    throw diag::InputError(diag::format_error(
+        where, "mesh_damping_ratio", std::to_string(mesh_damping_ratio) + " is not in [0, 1]"));
   }
   positive(bearing_stiffness_x_n_per_m, "bearing_stiffness_x_n_per_m");
   positive(bearing_stiffness_y_n_per_m, "bearing_stiffness_y_n_per_m");
@@ -238,9 +241,10 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     }
   }
   if (m.n > kMaxDofs) {
-    throw diag::InputError(diag::format_error(where, "gears", std::to_string(m.n) +
-                                              " degrees of freedom; at most " +
-                                              std::to_string(kMaxDofs) + " are supported"));
+    throw diag::InputError(diag::format_error(where, "gears",
+                                              std::to_string(m.n) +
+                                                  " degrees of freedom; at most " +
+                                                  std::to_string(kMaxDofs) + " are supported"));
   }
   m.mass.assign(m.n, 0.0);
   m.ratio.assign(m.gears, 0.0);
@@ -313,8 +317,10 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     if (m.opt.accuracy_grade > 0) {
       // Each gear's pitch errors drawn once from the seed and the gear index, so a gear meshing
       // twice (an idler) has the same errors in both meshes.
-      errors_a = pitch_errors_iso1328(pair.driver(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.a);
-      errors_b = pitch_errors_iso1328(pair.driven(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.b);
+      errors_a =
+          pitch_errors_iso1328(pair.driver(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.a);
+      errors_b =
+          pitch_errors_iso1328(pair.driven(), m.opt.accuracy_grade, m.opt.seed * 1000003u + d.b);
     }
     const std::string name = diag::mesh_name(gb, static_cast<int>(j));
     const StiffnessTable* table = nullptr;
@@ -323,15 +329,16 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     }
     if (table) {
       if (!faults.empty() || !errors_a.empty() || !errors_b.empty()) {
-        throw diag::InputError(diag::format_error(
-            where, "stiffness.tables: " + name,
-            "a tabulated mesh cannot also have tooth faults or pitch errors"));
+        throw diag::InputError(
+            diag::format_error(where, "stiffness.tables: " + name,
+                               "a tabulated mesh cannot also have tooth faults or pitch errors"));
       }
       const double f_static = m.opt.input_torque_nm / d.ra / d.rba;
       d.stiffness = std::make_unique<MeshStiffness>(MeshStiffness::from_table(
           pair, table->angle_deg, table->load_n, table->k_n_per_m, f_static, m.opt.stiffness));
     } else {
-      d.stiffness = std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
+      d.stiffness =
+          std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
     }
     d.faulty = d.stiffness->has_faults();
     d.per_tooth = d.faulty || !errors_a.empty() || !errors_b.empty();
@@ -355,10 +362,12 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
 
   for (const StiffnessTable& t : m.opt.stiffness_tables) {
     bool found = false;
-    for (std::size_t j = 0; j < m.meshes.size(); ++j) found |= diag::mesh_name(gb, static_cast<int>(j)) == t.mesh;
+    for (std::size_t j = 0; j < m.meshes.size(); ++j)
+      found |= diag::mesh_name(gb, static_cast<int>(j)) == t.mesh;
     if (!found) {
-      throw diag::InputError(diag::format_error(where, "stiffness.tables",
-                                                "'" + t.mesh + "' is not a mesh <driver>_<driven> of the gearbox"));
+      throw diag::InputError(
+          diag::format_error(where, "stiffness.tables",
+                             "'" + t.mesh + "' is not a mesh <driver>_<driven> of the gearbox"));
     }
   }
 
@@ -372,7 +381,8 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
       l.k = m.opt.shaft_torsional_stiffness_nm_per_rad;
       if (l.k == 0.0) {
         double d_root = std::numeric_limits<double>::infinity();
-        for (int g : gears) d_root = std::min(d_root, 2 * diag::Gear(gb.gears()[g].spec).root_radius_m());
+        for (int g : gears)
+          d_root = std::min(d_root, 2 * diag::Gear(gb.gears()[g].spec).root_radius_m());
         const double d = 0.6 * d_root;
         l.k = kShearModulusSteelPa * kPi * std::pow(d, 4) / 32.0 / kDefaultShaftLengthM;
       }
@@ -432,7 +442,9 @@ int GearboxModel::input_gear() const { return impl_->in_gear; }
 int GearboxModel::output_gear() const { return impl_->out_gear; }
 double GearboxModel::load_torque_nm() const { return impl_->torque_load; }
 double GearboxModel::input_torque_nm() const { return impl_->torque_in; }
-double GearboxModel::mean_mesh_stiffness_n_per_m(int mesh) const { return impl_->meshes.at(mesh).k_mean; }
+double GearboxModel::mean_mesh_stiffness_n_per_m(int mesh) const {
+  return impl_->meshes.at(mesh).k_mean;
+}
 double GearboxModel::mesh_backlash_m(int mesh) const { return impl_->meshes.at(mesh).backlash; }
 
 std::pair<double, double> GearboxModel::loa_direction(int mesh) const {
@@ -462,8 +474,8 @@ std::uint64_t GearboxModel::contact_signature(double t, const double* y) const {
     // Mix (cycle, pairs, pairs before the pitch point) of every mesh into one number (FNV-1a
     // style); a change of any changes it (collisions between consecutive steps are practically
     // impossible).
-    sig = (sig ^ static_cast<std::uint64_t>(static_cast<long long>(cycles) * 16 + pairs * 4 +
-                                            approach)) *
+    sig = (sig ^
+           static_cast<std::uint64_t>(static_cast<long long>(cycles) * 16 + pairs * 4 + approach)) *
           0x100000001b3ULL;
   }
   return sig;
@@ -484,7 +496,8 @@ void GearboxModel::update_speed(double t) {
   Impl& m = *impl_;
   const double w = m.nominal_speed(t);
   for (MeshData& d : m.meshes) {
-    if (m.opt.friction.law == FrictionLaw::kNone || m.opt.friction.law == FrictionLaw::kConstant) continue;
+    if (m.opt.friction.law == FrictionLaw::kNone || m.opt.friction.law == FrictionLaw::kConstant)
+      continue;
     if (std::abs(w - d.omega_table) > 0.02 * std::abs(d.omega_table)) m.tabulate_friction(d, w);
   }
 }
@@ -616,9 +629,9 @@ void GearboxModel::derivatives(double t, const double* y, double* dydt, Observat
       st.contact = contact;
       st.pairs = pairs;
       // Power of the friction forces and moments on both gears (negative = dissipated).
-      const double p = moment_a * wa + moment_b * wb +
-                       (-fric * d.tx) * v[d.xa] + (-fric * d.ty) * v[d.xa + 1] +
-                       (fric * d.tx) * v[d.xb] + (fric * d.ty) * v[d.xb + 1];
+      const double p = moment_a * wa + moment_b * wb + (-fric * d.tx) * v[d.xa] +
+                       (-fric * d.ty) * v[d.xa + 1] + (fric * d.tx) * v[d.xb] +
+                       (fric * d.ty) * v[d.xb + 1];
       friction_power -= p;
     }
   }

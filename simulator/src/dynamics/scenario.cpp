@@ -1,7 +1,6 @@
 #include "sim/dynamics/scenario.hpp"
 
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
@@ -23,9 +22,10 @@ SpeedProfile parse_speed(const json& j, const std::string& where) {
   if (given != 1) f.fail("", "give exactly one of rpm, ramp, measured");
   if (f.has("rpm")) return SpeedProfile::constant(f.positive("rpm"));
   if (f.has("ramp")) {
-    diag::Fields r(f.raw("ramp"), where, "speed.ramp", {"from_rpm", "to_rpm", "start_s", "duration_s"});
-    return SpeedProfile::ramp(r.positive("from_rpm"), r.positive("to_rpm"), r.non_negative("start_s", 0.0),
-                              r.positive("duration_s"));
+    diag::Fields r(f.raw("ramp"), where, "speed.ramp",
+                   {"from_rpm", "to_rpm", "start_s", "duration_s"});
+    return SpeedProfile::ramp(r.positive("from_rpm"), r.positive("to_rpm"),
+                              r.non_negative("start_s", 0.0), r.positive("duration_s"));
   }
   diag::Fields m(f.raw("measured"), where, "speed.measured", {"time_s", "rpm"});
   SpeedProfile p;
@@ -80,12 +80,30 @@ Scenario parse_scenario(const json& j, const std::string& where) {
   DynamicsOptions& d = sc.dynamics;
   RunOptions& r = sc.run;
   diag::Fields f(j, where, "",
-                 {"speed", "torque_nm", "motor", "coupling_stiffness_nm_per_rad",
-                  "mesh_damping_ratio", "bearing_stiffness_n_per_m", "bearing_stiffness_x_n_per_m",
-                  "bearing_stiffness_y_n_per_m", "bearing_damping_ratio",
-                  "shaft_torsional_stiffness_nm_per_rad", "backlash_um", "back_flank", "friction",
-                  "oil", "faults", "accuracy_grade", "runout_um", "sensors", "integrator",
-                  "settle_s", "duration_s", "fs_hz", "seed", "stiffness"});
+                 {"speed",
+                  "torque_nm",
+                  "motor",
+                  "coupling_stiffness_nm_per_rad",
+                  "mesh_damping_ratio",
+                  "bearing_stiffness_n_per_m",
+                  "bearing_stiffness_x_n_per_m",
+                  "bearing_stiffness_y_n_per_m",
+                  "bearing_damping_ratio",
+                  "shaft_torsional_stiffness_nm_per_rad",
+                  "backlash_um",
+                  "back_flank",
+                  "friction",
+                  "oil",
+                  "faults",
+                  "accuracy_grade",
+                  "runout_um",
+                  "sensors",
+                  "integrator",
+                  "settle_s",
+                  "duration_s",
+                  "fs_hz",
+                  "seed",
+                  "stiffness"});
   if (f.has("speed")) d.speed = parse_speed(f.raw("speed"), where);
   d.input_torque_nm = f.has("torque_nm") ? f.non_negative("torque_nm", 0.0) : -1.0;
   const std::string motor = f.str("motor", "speed");
@@ -99,12 +117,16 @@ Scenario parse_scenario(const json& j, const std::string& where) {
   d.coupling_stiffness_nm_per_rad = f.non_negative("coupling_stiffness_nm_per_rad", 0.0);
   d.mesh_damping_ratio = f.non_negative("mesh_damping_ratio", d.mesh_damping_ratio);
   if (f.has("bearing_stiffness_n_per_m")) {
-    d.bearing_stiffness_x_n_per_m = d.bearing_stiffness_y_n_per_m = f.positive("bearing_stiffness_n_per_m");
+    d.bearing_stiffness_x_n_per_m = d.bearing_stiffness_y_n_per_m =
+        f.positive("bearing_stiffness_n_per_m");
   }
-  d.bearing_stiffness_x_n_per_m = f.positive("bearing_stiffness_x_n_per_m", d.bearing_stiffness_x_n_per_m);
-  d.bearing_stiffness_y_n_per_m = f.positive("bearing_stiffness_y_n_per_m", d.bearing_stiffness_y_n_per_m);
+  d.bearing_stiffness_x_n_per_m =
+      f.positive("bearing_stiffness_x_n_per_m", d.bearing_stiffness_x_n_per_m);
+  d.bearing_stiffness_y_n_per_m =
+      f.positive("bearing_stiffness_y_n_per_m", d.bearing_stiffness_y_n_per_m);
   d.bearing_damping_ratio = f.non_negative("bearing_damping_ratio", d.bearing_damping_ratio);
-  d.shaft_torsional_stiffness_nm_per_rad = f.non_negative("shaft_torsional_stiffness_nm_per_rad", 0.0);
+  d.shaft_torsional_stiffness_nm_per_rad =
+      f.non_negative("shaft_torsional_stiffness_nm_per_rad", 0.0);
   if (f.has("backlash_um")) d.backlash_m = f.non_negative("backlash_um", 0.0) * 1e-6;
   d.back_flank = f.boolean("back_flank", true);
   if (f.has("friction")) {
@@ -118,7 +140,8 @@ Scenario parse_scenario(const json& j, const std::string& where) {
     d.friction.mu_cap = fr.positive("mu_cap", d.friction.mu_cap);
   }
   if (f.has("oil")) {
-    diag::Fields o(f.raw("oil"), where, "oil", {"iso_vg", "nu40_cst", "nu100_cst", "temperature_c"});
+    diag::Fields o(f.raw("oil"), where, "oil",
+                   {"iso_vg", "nu40_cst", "nu100_cst", "temperature_c"});
     if (o.has("iso_vg")) {
       try {
         d.friction.oil = Lubricant::iso_vg(o.integer("iso_vg"));
@@ -142,8 +165,9 @@ Scenario parse_scenario(const json& j, const std::string& where) {
   if (f.has("accuracy_grade")) d.accuracy_grade = f.integer("accuracy_grade");
   d.runout_m = f.non_negative("runout_um", 0.0) * 1e-6;
   if (f.has("sensors")) {
-    diag::Fields s(f.raw("sensors"), where, "sensors",
-                   {"noise_m_per_s2", "casing_frequency_hz", "casing_damping_ratio", "mesh_channels"});
+    diag::Fields s(
+        f.raw("sensors"), where, "sensors",
+        {"noise_m_per_s2", "casing_frequency_hz", "casing_damping_ratio", "mesh_channels"});
     r.accel_noise_m_per_s2 = s.non_negative("noise_m_per_s2", r.accel_noise_m_per_s2);
     r.casing_frequency_hz = s.non_negative("casing_frequency_hz", r.casing_frequency_hz);
     r.casing_damping_ratio = s.positive("casing_damping_ratio", r.casing_damping_ratio);
@@ -151,7 +175,8 @@ Scenario parse_scenario(const json& j, const std::string& where) {
   }
   if (f.has("integrator")) {
     diag::Fields in(f.raw("integrator"), where, "integrator",
-                    {"method", "step_s", "steps_per_period", "steps_per_mesh", "contact_substeps", "rel_tol", "abs_tol"});
+                    {"method", "step_s", "steps_per_period", "steps_per_mesh", "contact_substeps",
+                     "rel_tol", "abs_tol"});
     const std::string method = in.str("method", "rk4");
     if (method == "rk4") {
       r.method = RunOptions::Method::kRk4;
@@ -193,7 +218,8 @@ Scenario parse_scenario(const json& j, const std::string& where) {
         table.angle_deg = numbers(t.raw("angle_deg"), "angle_deg");
         table.load_n = numbers(t.raw("load_n"), "load_n");
         if (!t.raw("k_n_per_m").is_array()) t.fail("k_n_per_m", "must be an array of rows");
-        for (const json& row : t.raw("k_n_per_m")) table.k_n_per_m.push_back(numbers(row, "k_n_per_m"));
+        for (const json& row : t.raw("k_n_per_m"))
+          table.k_n_per_m.push_back(numbers(row, "k_n_per_m"));
         d.stiffness_tables.push_back(std::move(table));
       }
     }

@@ -1,6 +1,7 @@
 #include "sim/dynamics/simulate.hpp"
 
-#include "diag/io/channels.hpp"
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_odeiv2.h>
 
 #include <algorithm>
 #include <cmath>
@@ -8,11 +9,9 @@
 #include <random>
 #include <sstream>
 
-#include <gsl/gsl_errno.h>
-#include <gsl/gsl_odeiv2.h>
-
 #include "diag/dsp/fir.hpp"
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 #include "sim/dynamics/rk4.hpp"
 
 namespace sim {
@@ -47,13 +46,21 @@ class Resonator {
   double b0_, b1_, b2_, a1_, a2_, s1_ = 0, s2_ = 0;
 };
 
-enum class Source { kAccel, kTransmissionError, kAngle, kMeshForce, kMeshFriction, kMeshDte, kMeshContact };
+enum class Source {
+  kAccel,
+  kTransmissionError,
+  kAngle,
+  kMeshForce,
+  kMeshFriction,
+  kMeshDte,
+  kMeshContact
+};
 
 struct ChannelPlan {
   Channel channel;
   Source source;
-  int index = 0;         // DOF (x DOF for accelerations), gear, or mesh
-  double cx = 0, cy = 0; // projection of (x'', y'')
+  int index = 0;          // DOF (x DOF for accelerations), gear, or mesh
+  double cx = 0, cy = 0;  // projection of (x'', y'')
   bool filtered = true;
   bool casing = false;
 };
@@ -72,8 +79,10 @@ void RunOptions::validate() const {
   positive(duration_s, "duration_s");
   positive(fs_hz, "fs_hz");
   if (!(step_s >= 0.0)) throw diag::InputError(diag::format_error(where, "step_s", "must be >= 0"));
-  if (steps_per_period < 8) throw diag::InputError(diag::format_error(where, "steps_per_period", "must be >= 8"));
-  if (steps_per_mesh < 8) throw diag::InputError(diag::format_error(where, "steps_per_mesh", "must be >= 8"));
+  if (steps_per_period < 8)
+    throw diag::InputError(diag::format_error(where, "steps_per_period", "must be >= 8"));
+  if (steps_per_mesh < 8)
+    throw diag::InputError(diag::format_error(where, "steps_per_mesh", "must be >= 8"));
   if (contact_substeps < 1) {
     throw diag::InputError(diag::format_error(where, "contact_substeps", "must be >= 1"));
   }
@@ -86,9 +95,10 @@ void RunOptions::validate() const {
     throw diag::InputError(diag::format_error(where, "casing_frequency_hz", "must be >= 0"));
   }
   if (casing_frequency_hz > 0.0 && casing_frequency_hz >= 0.45 * fs_hz) {
-    throw diag::InputError(diag::format_error(
-        where, "casing_frequency_hz",
-        std::to_string(casing_frequency_hz) + " Hz is not below 0.45 fs = " + std::to_string(0.45 * fs_hz)));
+    throw diag::InputError(
+        diag::format_error(where, "casing_frequency_hz",
+                           std::to_string(casing_frequency_hz) +
+                               " Hz is not below 0.45 fs = " + std::to_string(0.45 * fs_hz)));
   }
   if (!(casing_damping_ratio > 0.0 && casing_damping_ratio < 1.0)) {
     throw diag::InputError(diag::format_error(where, "casing_damping_ratio", "must be in (0, 1)"));
@@ -127,8 +137,8 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     f_mesh_max = std::max(f_mesh_max, gb.gears()[m.driver].spec.teeth *
                                           model.gear_speed_ratio(m.driver) * w_in_max / (2 * kPi));
   }
-  const double h_needed = std::min(1.0 / (f_max * run.steps_per_period),
-                                   1.0 / (f_mesh_max * run.steps_per_mesh));
+  const double h_needed =
+      std::min(1.0 / (f_max * run.steps_per_period), 1.0 / (f_mesh_max * run.steps_per_mesh));
   int D = std::max(4, static_cast<int>(std::ceil(1.0 / (run.fs_hz * h_needed) - 1e-9)));
   if (run.step_s > 0.0) {
     const double stability = run.step_s * 2 * kPi * f_max;
@@ -313,12 +323,11 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   struct GslParams {
     const GearboxModel* model;
   } params{&model};
-  gsl_odeiv2_system sys{
-      [](double t, const double* yy, double* dy, void* p) -> int {
-        static_cast<GslParams*>(p)->model->derivatives(t, yy, dy);
-        return GSL_SUCCESS;
-      },
-      nullptr, static_cast<std::size_t>(2 * n), &params};
+  gsl_odeiv2_system sys{[](double t, const double* yy, double* dy, void* p) -> int {
+                          static_cast<GslParams*>(p)->model->derivatives(t, yy, dy);
+                          return GSL_SUCCESS;
+                        },
+                        nullptr, static_cast<std::size_t>(2 * n), &params};
   gsl_odeiv2_driver* driver = nullptr;
   if (run.method == RunOptions::Method::kGslRk8pd) {
     driver = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, h, run.gsl_abs_tol,
@@ -388,10 +397,18 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
           case Source::kAngle:
             value = 0.0;  // filled below from the state at t
             break;
-          case Source::kMeshForce: value = obs.meshes[p.index].force_n; break;
-          case Source::kMeshFriction: value = obs.meshes[p.index].friction_n; break;
-          case Source::kMeshDte: value = obs.meshes[p.index].delta_m; break;
-          case Source::kMeshContact: value = obs.meshes[p.index].contact; break;
+          case Source::kMeshForce:
+            value = obs.meshes[p.index].force_n;
+            break;
+          case Source::kMeshFriction:
+            value = obs.meshes[p.index].friction_n;
+            break;
+          case Source::kMeshDte:
+            value = obs.meshes[p.index].delta_m;
+            break;
+          case Source::kMeshContact:
+            value = obs.meshes[p.index].contact;
+            break;
         }
         if (p.source == Source::kTransmissionError || p.source == Source::kAngle) {
           // State at t: for RK4 y is already at t + h; keep the pre-step copy in scratch.
@@ -426,8 +443,9 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
         if (!std::isfinite(obs.meshes[j].force_n) ||
             std::abs(obs.meshes[j].delta_m) > kDivergenceFactor * static_delta[j]) {
           std::ostringstream msg;
-          msg << "simulation diverged at t = " << t << " s: mesh " << mesh_name(gb, static_cast<int>(j))
-              << " deflection " << obs.meshes[j].delta_m << " m exceeds " << kDivergenceFactor
+          msg << "simulation diverged at t = " << t << " s: mesh "
+              << mesh_name(gb, static_cast<int>(j)) << " deflection " << obs.meshes[j].delta_m
+              << " m exceeds " << kDivergenceFactor
               << " static deflections; the scenario is not physical (check stiffness, damping, "
               << "speed) or the step " << h << " s is too large";
           throw diag::InputError(msg.str());
@@ -446,8 +464,9 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     scratch.assign(y.begin(), y.end());
     for (double v : y) {
       if (!std::isfinite(v)) {
-        throw diag::InputError("simulation diverged at t = " + std::to_string(t) +
-                               " s: the state is not finite; reduce the step or check the scenario");
+        throw diag::InputError(
+            "simulation diverged at t = " + std::to_string(t) +
+            " s: the state is not finite; reduce the step or check the scenario");
       }
     }
   }
@@ -498,10 +517,18 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     const int g = gb.gear_index(f.gear);
     const char* kind = "";
     switch (f.fault.kind) {
-      case ToothFault::Kind::kRootCrack: kind = "crack"; break;
-      case ToothFault::Kind::kChip: kind = "chip"; break;
-      case ToothFault::Kind::kMissing: kind = "missing"; break;
-      case ToothFault::Kind::kSpall: kind = "spall"; break;
+      case ToothFault::Kind::kRootCrack:
+        kind = "crack";
+        break;
+      case ToothFault::Kind::kChip:
+        kind = "chip";
+        break;
+      case ToothFault::Kind::kMissing:
+        kind = "missing";
+        break;
+      case ToothFault::Kind::kSpall:
+        kind = "spall";
+        break;
     }
     faults.push_back({{"gear", f.gear},
                       {"shaft", gb.shafts()[gb.shaft_of_gear(g)].name},

@@ -26,8 +26,7 @@ SpeedProfile SpeedProfile::constant(double rpm) {
   return p;
 }
 
-SpeedProfile SpeedProfile::ramp(double from_rpm, double to_rpm, double start_s,
-                                double duration_s) {
+SpeedProfile SpeedProfile::ramp(double from_rpm, double to_rpm, double start_s, double duration_s) {
   SpeedProfile p;
   p.kind = Kind::kRamp;
   p.from_rpm = from_rpm;
@@ -52,8 +51,8 @@ void SpeedProfile::validate(const std::string& where) const {
       break;
     case Kind::kMeasured:
       if (time_s.size() < 2 || time_s.size() != rpm_values.size()) {
-        throw diag::InputError(diag::format_error(
-            where, "profile", "needs >= 2 (time_s, rpm) points of equal count"));
+        throw diag::InputError(
+            diag::format_error(where, "profile", "needs >= 2 (time_s, rpm) points of equal count"));
       }
       if (time_s[0] != 0.0) {
         throw diag::InputError(diag::format_error(where, "time_s[0]", "must be 0"));
@@ -61,8 +60,8 @@ void SpeedProfile::validate(const std::string& where) const {
       for (std::size_t i = 0; i < time_s.size(); ++i) {
         require_positive(rpm_values[i], where, ("rpm[" + std::to_string(i) + "]").c_str());
         if (i > 0 && !(time_s[i] > time_s[i - 1])) {
-          throw diag::InputError(diag::format_error(
-              where, "time_s[" + std::to_string(i) + "]", "times must increase strictly"));
+          throw diag::InputError(diag::format_error(where, "time_s[" + std::to_string(i) + "]",
+                                                    "times must increase strictly"));
         }
       }
       break;
@@ -138,18 +137,24 @@ double SpeedProfile::angle_rad(double t) const {
 
 double SpeedProfile::max_rpm() const {
   switch (kind) {
-    case Kind::kConstant: return rpm;
-    case Kind::kRamp: return std::max(from_rpm, to_rpm);
-    case Kind::kMeasured: return *std::max_element(rpm_values.begin(), rpm_values.end());
+    case Kind::kConstant:
+      return rpm;
+    case Kind::kRamp:
+      return std::max(from_rpm, to_rpm);
+    case Kind::kMeasured:
+      return *std::max_element(rpm_values.begin(), rpm_values.end());
   }
   return 0.0;
 }
 
 double SpeedProfile::min_rpm() const {
   switch (kind) {
-    case Kind::kConstant: return rpm;
-    case Kind::kRamp: return std::min(from_rpm, to_rpm);
-    case Kind::kMeasured: return *std::min_element(rpm_values.begin(), rpm_values.end());
+    case Kind::kConstant:
+      return rpm;
+    case Kind::kRamp:
+      return std::min(from_rpm, to_rpm);
+    case Kind::kMeasured:
+      return *std::min_element(rpm_values.begin(), rpm_values.end());
   }
   return 0.0;
 }

@@ -1,22 +1,23 @@
 #include "sim/dynamics/sweep.hpp"
 
-#include "diag/io/channels.hpp"
-
 #include <algorithm>
 #include <cmath>
 
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 
 namespace sim {
 
 void SweepOptions::validate() const {
   const std::string where = "sweep";
-  if (!(from_rpm > 0.0)) throw diag::InputError(diag::format_error(where, "from_rpm", "must be > 0"));
+  if (!(from_rpm > 0.0))
+    throw diag::InputError(diag::format_error(where, "from_rpm", "must be > 0"));
   if (!(to_rpm > from_rpm)) {
     throw diag::InputError(diag::format_error(where, "to_rpm", "must be > from_rpm"));
   }
   if (steps < 2) throw diag::InputError(diag::format_error(where, "steps", "must be >= 2"));
-  if (!(dwell_s >= 0.0)) throw diag::InputError(diag::format_error(where, "dwell_s", "must be >= 0"));
+  if (!(dwell_s >= 0.0))
+    throw diag::InputError(diag::format_error(where, "dwell_s", "must be >= 0"));
   if (!(fs_hz >= 0.0)) throw diag::InputError(diag::format_error(where, "fs_hz", "must be >= 0"));
 }
 
@@ -28,7 +29,8 @@ void cut(const DynamicResult& r, const std::vector<std::string>& channels, doubl
   const std::size_t n = r.channels.front().samples.size();
   std::vector<const Channel*> contacts;
   for (const Channel& c : r.channels) {
-    if (c.name.size() > 8 && c.name.compare(c.name.size() - 8, 8, "_contact") == 0) contacts.push_back(&c);
+    if (c.name.size() > 8 && c.name.compare(c.name.size() - 8, 8, "_contact") == 0)
+      contacts.push_back(&c);
   }
   for (int w = 0; w < steps; ++w) {
     const std::size_t i0 = n * w / steps, i1 = n * (w + 1) / steps;
@@ -82,7 +84,8 @@ SweepResult run_sweep(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
   RunOptions r = run;
   r.fs_hz = sweep.fs_hz > 0 ? sweep.fs_hz : 8.0 * z0 * r0 * sweep.to_rpm / 60.0;
   r.mesh_channels = true;
-  const double dwell = sweep.dwell_s > 0 ? sweep.dwell_s : std::max(0.01, 200.0 / (z0 * r0 * sweep.from_rpm / 60.0));
+  const double dwell =
+      sweep.dwell_s > 0 ? sweep.dwell_s : std::max(0.01, 200.0 / (z0 * r0 * sweep.from_rpm / 60.0));
   r.duration_s = dwell * sweep.steps;
   r.settle_s = -1.0;
   result.channels = sweep.channels;
@@ -108,7 +111,8 @@ SweepResult run_sweep(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
       if (!res.find(name)) {
         std::string list;
         for (const Channel& c : res.channels) list += (list.empty() ? "" : ", ") + c.name;
-        throw diag::InputError("sweep: channel '" + name + "' does not exist (channels: " + list + ")");
+        throw diag::InputError("sweep: channel '" + name + "' does not exist (channels: " + list +
+                               ")");
       }
     }
     cut(res, result.channels, a, b, sweep.steps, z0, r0, out);

@@ -2,10 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
 #include "diag/units.hpp"
@@ -25,12 +24,12 @@ void require(bool ok, const std::string& field, const std::string& reason) {
 // A defect as the simulation needs it: which path mesh, its gap in down-gear angle, and how its
 // own gear's angle follows the input angle.
 struct ActiveDefect {
-  std::size_t step = 0;          // index into power_path()
-  double gap_down_rad = 0.0;     // deficit opened in the contact, in down-gear angle
-  double phase_rad = 0.0;        // gear angle at which the defect enters the mesh
-  double gear_per_input = 0.0;   // d(gear angle) / d(input angle) = 1 / T_i
-  double hold_rad = 0.0;         // gear-angle span at full depth (= the defect's own size)
-  double recovery_rad = 0.0;     // gear-angle span over which the gap closes again
+  std::size_t step = 0;         // index into power_path()
+  double gap_down_rad = 0.0;    // deficit opened in the contact, in down-gear angle
+  double phase_rad = 0.0;       // gear angle at which the defect enters the mesh
+  double gear_per_input = 0.0;  // d(gear angle) / d(input angle) = 1 / T_i
+  double hold_rad = 0.0;        // gear-angle span at full depth (= the defect's own size)
+  double recovery_rad = 0.0;    // gear-angle span over which the gap closes again
 };
 
 // Fraction of the gap open at input angle x: 1 while the defect is in contact, then a linear
@@ -147,8 +146,8 @@ KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptio
       if (opt.step_rad > pulse_input_rad / kStepsPerPulse) {
         std::ostringstream m;
         m << "too coarse for the defect on gear '" << d.gear << "': its pulse spans "
-          << pulse_input_rad << " rad of input angle; use step_rad <= "
-          << pulse_input_rad / kStepsPerPulse;
+          << pulse_input_rad
+          << " rad of input angle; use step_rad <= " << pulse_input_rad / kStepsPerPulse;
         require(false, "step_rad", m.str());
       }
       active.push_back(a);

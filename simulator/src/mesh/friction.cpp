@@ -135,12 +135,12 @@ double FrictionModel::xu_kahraman(const diag::ContactKinematics& k, double norma
   if (ve == 0.0 || !(r > 0.0) || normal_load_n == 0.0) return 0.0;
   const double sr = std::abs(2.0 * k.sliding_m_per_s / k.rolling_sum_m_per_s);
   if (sr == 0.0) return 0.0;
-  const double w = normal_load_n / face_width_m_;                    // [N/m]
+  const double w = normal_load_n / face_width_m_;                      // [N/m]
   const double ph_gpa = std::sqrt(w * e_star_pa_ / (kPi * r)) * 1e-9;  // line contact
   const double nu0_cp = eta_pa_s_ * 1e3;
   const double lg = std::log10(nu0_cp);
-  const double f = b1 + b4 * sr * ph_gpa * lg + b5 * std::exp(-sr * ph_gpa * lg) +
-                   b9 * std::exp(roughness_um_);
+  const double f =
+      b1 + b4 * sr * ph_gpa * lg + b5 * std::exp(-sr * ph_gpa * lg) + b9 * std::exp(roughness_um_);
   const double mu = std::exp(f) * std::pow(ph_gpa, b2) * std::pow(sr, b3) * std::pow(ve, b6) *
                     std::pow(nu0_cp, b7) * std::pow(r, b8);
   return std::clamp(mu, 0.0, options_.mu_cap);

@@ -18,15 +18,15 @@
 namespace validate {
 
 struct AttributionLoopOptions {
-  int cases = 200;                   // random cases, >= 1
-  std::uint64_t seed = 1;            // the whole loop is reproducible from this seed
+  int cases = 200;         // random cases, >= 1
+  std::uint64_t seed = 1;  // the whole loop is reproducible from this seed
   double min_size_output_rad = 0.1 * 0.017453292519943295;  // smallest defect at the output
   double max_size_output_rad = 1.0 * 0.017453292519943295;  // largest (log-uniform between)
   // Share of cases with 0, 1, 2, 3 defects (weights, normalised).
   double weight[4] = {0.15, 0.45, 0.30, 0.10};
-  double same_shaft_share = 0.3;     // of multi-defect cases: put two defects on one shaft
-  double size_tolerance = 0.15;      // relative size error that counts as right
-  bool random_gearbox = false;       // draw tooth counts per case (a three-shaft box)
+  double same_shaft_share = 0.3;  // of multi-defect cases: put two defects on one shaft
+  double size_tolerance = 0.15;   // relative size error that counts as right
+  bool random_gearbox = false;    // draw tooth counts per case (a three-shaft box)
   // Measurement effects of the simulated rig (see sim::KinematicOptions).
   double runout_output_rad = 0.05 * 0.017453292519943295;
   double mesh_te_output_rad = 0.005 * 0.017453292519943295;
@@ -42,8 +42,8 @@ struct LoopReport {
   int single_total = 0, single_correct = 0;
   int two_defects_total = 0, two_defects_attributed = 0;      // counted per defect
   int three_defects_total = 0, three_defects_attributed = 0;  // counted per defect
-  int three_multiplicity_flagged = 0;                          // cases
-  int healthy_total = 0, healthy_clean = 0;                    // no finding, no multiplicity
+  int three_multiplicity_flagged = 0;                         // cases
+  int healthy_total = 0, healthy_clean = 0;                   // no finding, no multiplicity
   int sizes_checked = 0, sizes_within_tolerance = 0;
   int wrong_findings = 0;  // findings on a shaft that carries no defect
   double worst_size_error = 0;

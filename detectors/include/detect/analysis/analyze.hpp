@@ -86,6 +86,8 @@ struct AnalyzeOptions {
   TwoDirectionOptions two_direction;        // mesh harmonics summed in the two-direction ratio
   GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
                                             // not used: the shaft angles are analyze's own)
+  bool timing = false;                      // record the wall time of each stage (AnalysisResult::
+                                            // timing_s); off by default: it differs run to run
   bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
                                      // mesh line within +-10 % of the nominal (speed_estimate.hpp)
 
@@ -191,7 +193,7 @@ struct AnalysisSpeed {
   std::string line;             // the tacho or the vibration line followed
   double nominal_rpm = 0;       // the description's (or --rpm's, or the file's) speed
   double mean_rpm = 0, min_rpm = 0, max_rpm = 0;
-  bool stationary = true;              // max - min within 1 % of the mean
+  bool stationary = true;                 // max - min within 1 % of the mean
   std::vector<double> time_s, speed_rpm;  // the speed over time (empty: nominal)
 };
 
@@ -250,6 +252,7 @@ struct AnalysisResult {
                                                 // say why)
   std::string gear_damage_angles;  // "tacho", "vibration" or "nominal": the shaft angles used
   std::vector<std::string> notes;  // recording-level notes (speed source, skipped steps)
+  std::map<std::string, double> timing_s;  // wall time per stage [s] (AnalyzeOptions::timing)
 };
 
 // Throws diag::InputError for bad options, a recording without signals, or a signal that fails

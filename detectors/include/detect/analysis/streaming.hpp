@@ -21,8 +21,8 @@
 namespace detect {
 
 struct StreamingOptions {
-  WelchOptions welch;                        // PSD parameters; welch.fs_hz is ignored and set to
-                                             // the channel's sampling rate
+  WelchOptions welch;  // PSD parameters; welch.fs_hz is ignored and set to
+                       // the channel's sampling rate
   std::size_t block_samples = std::size_t{1} << 20;  // samples read per block [samples],
                                                      // [1, 2^27] (8 MiB of doubles by default)
 

@@ -26,44 +26,43 @@
 //     `unexplained` with multiplicity = true instead of a guess.
 #pragma once
 
+#include <nlohmann/json_fwd.hpp>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "diag/gearbox/gearbox.hpp"
 
 namespace detect {
 
 struct AttributionOptions {
-  double threshold_sigma = 8.0;      // event threshold [robust noise sigmas], >= 3
-  double min_event_rad = 1e-5;       // absolute floor of the event threshold at the output
-                                     // [rad], >= 0 (quantisation and numerical noise)
-  double position_tolerance_rad = 0; // an event within this input angle of a train's expected
-                                     // position belongs to it [rad]; 0: automatic,
-                                     // max(5 steps, 0.5 deg)
-  double period_tolerance = 0.01;    // relative match of a measured period to T_i, (0, 0.2]
-  double min_coverage = 0.75;        // fraction of recurrences a train must show, (0, 1]
-  int smooth_harmonics = 6;          // shaft orders removed per path shaft, 0..64
-  int mesh_harmonics = 3;            // mesh orders removed per path gear, 0..8
-  int min_recurrences = 5;           // record must hold this many of the longest period, >= 2
+  double threshold_sigma = 8.0;       // event threshold [robust noise sigmas], >= 3
+  double min_event_rad = 1e-5;        // absolute floor of the event threshold at the output
+                                      // [rad], >= 0 (quantisation and numerical noise)
+  double position_tolerance_rad = 0;  // an event within this input angle of a train's expected
+                                      // position belongs to it [rad]; 0: automatic,
+                                      // max(5 steps, 0.5 deg)
+  double period_tolerance = 0.01;     // relative match of a measured period to T_i, (0, 0.2]
+  double min_coverage = 0.75;         // fraction of recurrences a train must show, (0, 1]
+  int smooth_harmonics = 6;           // shaft orders removed per path shaft, 0..64
+  int mesh_harmonics = 3;             // mesh orders removed per path gear, 0..8
+  int min_recurrences = 5;            // record must hold this many of the longest period, >= 2
 
   void validate() const;  // throws diag::InputError naming the field
 };
 
 struct Finding {
-  std::string shaft;                 // shaft carrying the defective gear
-  std::vector<std::string> gears;    // every path gear on that shaft (one when determined)
-  double period_input_rev = 0;       // the matched recurrence period T_i [input revolutions]
+  std::string shaft;                     // shaft carrying the defective gear
+  std::vector<std::string> gears;        // every path gear on that shaft (one when determined)
+  double period_input_rev = 0;           // the matched recurrence period T_i [input revolutions]
   double measured_period_input_rev = 0;  // least-squares period of the train
-  double size_output_rad = 0;        // median event height at the output [rad]
-  double size_gear_rad = 0;          // size in the gear's own rotation: size_output * u_i [rad]
-  double first_event_input_rad = 0;  // onset of the train's first recurrence [rad of input]
-  double confidence = 0;             // coverage x period match x height consistency, [0, 1]
-  int events = 0;                    // recurrences seen
-  int expected_events = 0;           // recurrences the record holds
-  std::string note;                  // when another reading fits the same events, it is named here
+  double size_output_rad = 0;            // median event height at the output [rad]
+  double size_gear_rad = 0;              // size in the gear's own rotation: size_output * u_i [rad]
+  double first_event_input_rad = 0;      // onset of the train's first recurrence [rad of input]
+  double confidence = 0;                 // coverage x period match x height consistency, [0, 1]
+  int events = 0;                        // recurrences seen
+  int expected_events = 0;               // recurrences the record holds
+  std::string note;  // when another reading fits the same events, it is named here
 };
 
 struct UnexplainedEvent {
@@ -83,8 +82,8 @@ struct AttributionResult {
   bool multiplicity = false;
   std::vector<UnexplainedEvent> unexplained;
   int events_detected = 0;
-  double noise_rad = 0;       // robust sigma of the residual
-  double threshold_rad = 0;   // event threshold used
+  double noise_rad = 0;      // robust sigma of the residual
+  double threshold_rad = 0;  // event threshold used
   double record_input_rev = 0;
 };
 

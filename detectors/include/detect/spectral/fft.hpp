@@ -34,8 +34,8 @@ class RealFft {
   std::size_t n_ = 0;
   void* forward_plan_ = nullptr;  // fftw_plan, owned by the process-wide cache
   void* inverse_plan_ = nullptr;
-  double* real_ = nullptr;        // fftw_malloc'ed scratch, n doubles
-  void* spectrum_ = nullptr;      // fftw_complex scratch, n/2 + 1
+  double* real_ = nullptr;    // fftw_malloc'ed scratch, n doubles
+  void* spectrum_ = nullptr;  // fftw_complex scratch, n/2 + 1
 };
 
 }  // namespace detect

@@ -37,12 +37,12 @@ class Decimator {
  private:
   void emit(std::vector<double>& out);
   int factor_ = 1;
-  int half_ = 0;                 // M, a multiple of factor_
-  std::vector<double> taps_;     // 2M + 1
-  std::vector<double> history_;  // last 2M + 1 inputs, circular
-  std::size_t pos_ = 0;          // next write position in history_
-  long long received_ = 0;       // inputs pushed so far
-  long long next_out_index_ = 0; // input index of the next output sample
+  int half_ = 0;                  // M, a multiple of factor_
+  std::vector<double> taps_;      // 2M + 1
+  std::vector<double> history_;   // last 2M + 1 inputs, circular
+  std::size_t pos_ = 0;           // next write position in history_
+  long long received_ = 0;        // inputs pushed so far
+  long long next_out_index_ = 0;  // input index of the next output sample
   double last_ = 0.0;
 };
 

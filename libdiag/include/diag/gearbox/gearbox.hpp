@@ -8,11 +8,10 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "diag/geometry/gear.hpp"
 #include "diag/geometry/gear_pair.hpp"
@@ -26,25 +25,25 @@ struct GearEntry {
 };
 
 struct MeshSpec {
-  std::string driver;             // gear name
-  std::string driven;             // gear name
-  double backlash_m = 0.0;        // circumferential backlash along the LOA [m], >= 0
-  double centre_distance_m = 0.0; // 0: the zero-backlash working distance from the profile shifts
+  std::string driver;              // gear name
+  std::string driven;              // gear name
+  double backlash_m = 0.0;         // circumferential backlash along the LOA [m], >= 0
+  double centre_distance_m = 0.0;  // 0: the zero-backlash working distance from the profile shifts
 };
 
 struct InputSpec {
   std::string shaft;
-  double speed_rpm = 0.0;   // input shaft speed [rpm], > 0
-  double torque_nm = 0.0;   // input torque [N m], >= 0
+  double speed_rpm = 0.0;  // input shaft speed [rpm], > 0
+  double torque_nm = 0.0;  // input torque [N m], >= 0
 };
 
 struct BearingSpec {
   std::string name;
   std::string shaft;
-  int rolling_elements = 0;        // n, >= 3
-  double pitch_diameter_m = 0.0;   // P_d [m], > 0
-  double element_diameter_m = 0.0; // B_d [m], 0 < B_d < P_d
-  double contact_angle_rad = 0.0;  // phi [rad], [0, pi/2)
+  int rolling_elements = 0;         // n, >= 3
+  double pitch_diameter_m = 0.0;    // P_d [m], > 0
+  double element_diameter_m = 0.0;  // B_d [m], 0 < B_d < P_d
+  double contact_angle_rad = 0.0;   // phi [rad], [0, pi/2)
 };
 
 // A sporadic tooth defect (SPEC.md section 3): an angular loss of the gear's own rotation that
@@ -59,8 +58,8 @@ struct DefectSpec {
 
 struct Shaft {
   std::string name;
-  double speed_ratio = 0.0;   // omega_shaft / omega_input, signed (negative: opposite sense)
-  std::vector<int> gears;     // indices into Gearbox::gears()
+  double speed_ratio = 0.0;  // omega_shaft / omega_input, signed (negative: opposite sense)
+  std::vector<int> gears;    // indices into Gearbox::gears()
 };
 
 // One mesh on the kinematic path from the input shaft to the output shaft, oriented from the
@@ -97,9 +96,9 @@ class Gearbox {
   double total_ratio() const;
   // u_i = |omega_gear / omega_output|: the ratio from a gear to the output shaft (seed 003, eq. 4).
   double ratio_to_output(int gear) const;
-  double shaft_speed_hz(int shaft) const;   // |rotation frequency| [Hz]
+  double shaft_speed_hz(int shaft) const;  // |rotation frequency| [Hz]
   double shaft_speed_rpm(int shaft) const;
-  double mesh_frequency_hz(int mesh) const; // z_driver * f_driver shaft [Hz]
+  double mesh_frequency_hz(int mesh) const;  // z_driver * f_driver shaft [Hz]
   // Defect recurrence period in input-shaft revolutions: T = |omega_in / omega_shaft| for the shaft
   // carrying the gear. Seed 003 eq. (5) corrected: T_i = 2 pi u_max / u_i (SPEC.md section 3).
   double recurrence_period_input_rev(int gear) const;

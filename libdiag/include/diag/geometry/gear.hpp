@@ -15,13 +15,13 @@ struct Material {
 };
 
 struct GearSpec {
-  int teeth = 0;                        // z, >= 5
-  double module_m = 0.0;                // m [m], > 0
+  int teeth = 0;                                   // z, >= 5
+  double module_m = 0.0;                           // m [m], > 0
   double pressure_angle_rad = 0.3490658503988659;  // alpha of the basic rack [rad], (0, pi/4)
-  double profile_shift = 0.0;           // x [-] (positive away from the centre)
-  double face_width_m = 0.0;            // b [m], > 0
-  double addendum_coefficient = 1.0;    // h_a* [-]
-  double clearance_coefficient = 0.25;  // c* [-]; dedendum h_f* = h_a* + c*
+  double profile_shift = 0.0;                      // x [-] (positive away from the centre)
+  double face_width_m = 0.0;                       // b [m], > 0
+  double addendum_coefficient = 1.0;               // h_a* [-]
+  double clearance_coefficient = 0.25;             // c* [-]; dedendum h_f* = h_a* + c*
   Material material;
 };
 
@@ -35,11 +35,11 @@ class Gear {
   const GearSpec& spec() const { return spec_; }
   int teeth() const { return spec_.teeth; }
   double module_m() const { return spec_.module_m; }
-  double pitch_radius_m() const;  // r = m z / 2
-  double base_radius_m() const;   // r_b = r cos(alpha)
-  double tip_radius_m() const;    // r_a = m (z/2 + h_a* + x)   (no tip shortening)
-  double root_radius_m() const;   // r_f = m (z/2 - h_a* - c* + x)
-  double base_pitch_m() const;    // p_b = pi m cos(alpha)
+  double pitch_radius_m() const;     // r = m z / 2
+  double base_radius_m() const;      // r_b = r cos(alpha)
+  double tip_radius_m() const;       // r_a = m (z/2 + h_a* + x)   (no tip shortening)
+  double root_radius_m() const;      // r_f = m (z/2 - h_a* - c* + x)
+  double base_pitch_m() const;       // p_b = pi m cos(alpha)
   double angular_pitch_rad() const;  // 2 pi / z
   // Smallest profile shift without undercut by the rack: x_min = h_a* - z sin^2(alpha) / 2.
   double min_profile_shift_without_undercut() const;

@@ -20,18 +20,18 @@ double involute(double angle_rad);
 double inverse_involute(double inv);
 
 struct ContactKinematics {
-  double s_m = 0;                   // position on the LOA from T1 [m]
-  double rho1_m = 0;                // radius of curvature of gear 1's flank [m] (= s)
-  double rho2_m = 0;                // radius of curvature of gear 2's flank [m]
-  double reduced_radius_m = 0;      // rho1 rho2 / (rho1 + rho2) [m]
-  double v1_m_per_s = 0;            // tangential speed of gear 1's surface at the contact [m/s]
-  double v2_m_per_s = 0;            // same for gear 2 [m/s]
-  double sliding_m_per_s = 0;       // v_s = v1 - v2: < 0 in the approach, > 0 in the recess [m/s]
-  double rolling_sum_m_per_s = 0;   // V_sum = v1 + v2 [m/s]
-  double specific_sliding_1 = 0;    // lambda1 = (v1 - v2) / v1 = 1 - rho2 z1 / (rho1 z2)
-  double specific_sliding_2 = 0;    // lambda2 = (v2 - v1) / v2 = 1 - rho1 z2 / (rho2 z1)
-  double friction_arm_1_m = 0;      // arm of the friction force about gear 1's centre: rho1 [m]
-  double friction_arm_2_m = 0;      // same about gear 2's centre: rho2 [m]
+  double s_m = 0;                  // position on the LOA from T1 [m]
+  double rho1_m = 0;               // radius of curvature of gear 1's flank [m] (= s)
+  double rho2_m = 0;               // radius of curvature of gear 2's flank [m]
+  double reduced_radius_m = 0;     // rho1 rho2 / (rho1 + rho2) [m]
+  double v1_m_per_s = 0;           // tangential speed of gear 1's surface at the contact [m/s]
+  double v2_m_per_s = 0;           // same for gear 2 [m/s]
+  double sliding_m_per_s = 0;      // v_s = v1 - v2: < 0 in the approach, > 0 in the recess [m/s]
+  double rolling_sum_m_per_s = 0;  // V_sum = v1 + v2 [m/s]
+  double specific_sliding_1 = 0;   // lambda1 = (v1 - v2) / v1 = 1 - rho2 z1 / (rho1 z2)
+  double specific_sliding_2 = 0;   // lambda2 = (v2 - v1) / v2 = 1 - rho1 z2 / (rho2 z1)
+  double friction_arm_1_m = 0;     // arm of the friction force about gear 1's centre: rho1 [m]
+  double friction_arm_2_m = 0;     // same about gear 2's centre: rho2 [m]
 };
 
 class GearPair {
@@ -44,17 +44,17 @@ class GearPair {
 
   const Gear& driver() const { return g1_; }
   const Gear& driven() const { return g2_; }
-  double ratio() const;                     // u = z2 / z1
+  double ratio() const;  // u = z2 / z1
   double centre_distance_m() const { return a_w_; }
   double working_pressure_angle_rad() const { return alpha_w_; }
-  double loa_length_m() const;              // T1T2 = a_w sin(alpha_w)
+  double loa_length_m() const;  // T1T2 = a_w sin(alpha_w)
   double s_start_m() const { return s_start_; }
   double s_end_m() const { return s_end_; }
   double s_pitch_m() const;
   double path_of_contact_m() const { return s_end_ - s_start_; }  // g_alpha
   double base_pitch_m() const;
-  double contact_ratio() const;             // epsilon_alpha = g_alpha / p_b
-  double mesh_period_rad() const;           // rotation of gear 1 per tooth: 2 pi / z1
+  double contact_ratio() const;    // epsilon_alpha = g_alpha / p_b
+  double mesh_period_rad() const;  // rotation of gear 1 per tooth: 2 pi / z1
 
   // Kinematics at LOA position s for driver speed omega1 [rad/s] (gear 2 turns at omega1 / u).
   ContactKinematics kinematics(double s_m, double omega1_rad_per_s) const;

@@ -53,7 +53,7 @@ struct ChannelInfo {
   std::string unit;
   Direction direction = Direction::kUnspecified;
   std::string location;
-  std::uint64_t length = 0;  // samples
+  std::uint64_t length = 0;      // samples
   Role role = Role::kVibration;  // format 1: inferred (infer_format1_roles)
   std::string shaft, mesh;
   int ppr = 0;
@@ -79,7 +79,7 @@ class RecordingReader {
   // as text; absent ones are left out.
   std::map<std::string, std::string> format_attributes() const;
   int format_version() const { return format_version_; }
-  double speed_rpm() const;  // 0 when the file stores none
+  double speed_rpm() const;   // 0 when the file stores none
   bool roles_stated() const;  // the root's roles_stated (format 2; true when absent)
   // Reads samples [offset, offset + out.size()) of a channel into `out`. Throws InputError when
   // the range is past the end or a sample is NaN/Inf.

@@ -3,11 +3,10 @@
 #pragma once
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
 
@@ -16,7 +15,8 @@ namespace diag {
 // Reads typed fields of one JSON object, naming "where: path.key" in every error.
 class Fields {
  public:
-  Fields(const nlohmann::json& obj, std::string where, std::string path, std::set<std::string> allowed)
+  Fields(const nlohmann::json& obj, std::string where, std::string path,
+         std::set<std::string> allowed)
       : obj_(obj), where_(std::move(where)), path_(std::move(path)) {
     if (!obj_.is_object()) fail("", "must be a JSON object");
     for (const auto& [key, value] : obj_.items()) {

@@ -41,11 +41,11 @@ std::string_view to_string(Role r);
 Role role_from_string(std::string_view name);
 
 struct Signal {
-  std::string name;          // channel name, unique in a recording; no '/'
-  double fs_hz = 0.0;        // sampling rate [Hz], > 0
-  std::string unit;          // unit symbol ("m/s^2", "rad", "g", ...); empty when unknown
+  std::string name;    // channel name, unique in a recording; no '/'
+  double fs_hz = 0.0;  // sampling rate [Hz], > 0
+  std::string unit;    // unit symbol ("m/s^2", "rad", "g", ...); empty when unknown
   Direction direction = Direction::kUnspecified;
-  std::string location;      // bearing or shaft the sensor sits on; empty when unknown
+  std::string location;  // bearing or shaft the sensor sits on; empty when unknown
   std::vector<double> samples;
   // What the channel is (kept after `samples` so that brace initialisation of the fields above
   // stays as it was).
@@ -59,13 +59,14 @@ struct Signal {
 };
 
 struct Recording {
-  std::vector<Signal> signals;   // /signals/<name>
-  std::vector<Signal> tachos;    // /tacho/<shaft>: pulse trains, location = shaft name
-  std::string gearbox_json;      // /gearbox: the description as given; empty when unknown
-  std::string truth_json;        // /truth: ground truth of a simulated recording; empty otherwise
+  std::vector<Signal> signals;  // /signals/<name>
+  std::vector<Signal> tachos;   // /tacho/<shaft>: pulse trains, location = shaft name
+  std::string gearbox_json;     // /gearbox: the description as given; empty when unknown
+  std::string truth_json;       // /truth: ground truth of a simulated recording; empty otherwise
   std::map<std::string, std::string> metadata;  // extra root attributes (source file, rpm, ...)
-  // The input shaft's speed recorded with the data [rpm] (root attribute `input_speed_rpm`; imported
-  // from e.g. CWRU's X105RPM); 0 when unknown. Analysis prefers it to a description's nominal.
+  // The input shaft's speed recorded with the data [rpm] (root attribute `input_speed_rpm`;
+  // imported from e.g. CWRU's X105RPM); 0 when unknown. Analysis prefers it to a description's
+  // nominal.
   double speed_rpm = 0.0;
   // How the roles were obtained, said by analyze and info: empty when they were stored (format 2)
   // or set by the simulator; else e.g. "format-1 file: roles inferred from directions".

@@ -54,23 +54,23 @@ enum class MotorMode {
 
 // A tooth fault placed on a gear of the gearbox, by name.
 struct GearFault {
-  std::string gear;    // gear name in the gearbox description
-  ToothFault fault;    // fault.gear (0/1) is filled in per mesh; fault.tooth is the tooth index
+  std::string gear;  // gear name in the gearbox description
+  ToothFault fault;  // fault.gear (0/1) is filled in per mesh; fault.tooth is the tooth index
 };
 
 // A measured or FEM mesh stiffness table for one mesh (MeshStiffness::from_table): total mesh
 // stiffness k[i][j] [N/m] at driver angle angle_deg[i] within the mesh period and load load_n[j].
 struct StiffnessTable {
-  std::string mesh;                       // "<driver>_<driven>" gear names
+  std::string mesh;  // "<driver>_<driven>" gear names
   std::vector<double> angle_deg;
   std::vector<double> load_n;
   std::vector<std::vector<double>> k_n_per_m;
 };
 
 struct DynamicsOptions {
-  SpeedProfile speed;                 // input shaft speed; kind kConstant with rpm 0 means: the
-                                      // gearbox's input speed_rpm
-  double input_torque_nm = -1.0;      // < 0: the gearbox's input torque_nm
+  SpeedProfile speed;             // input shaft speed; kind kConstant with rpm 0 means: the
+                                  // gearbox's input speed_rpm
+  double input_torque_nm = -1.0;  // < 0: the gearbox's input torque_nm
   MotorMode motor = MotorMode::kSpeed;
   double coupling_stiffness_nm_per_rad = 0.0;  // motor coupling [N m/rad]; 0: automatic (the
                                                // coupling mode at 1/20 of the lowest mesh's
@@ -83,40 +83,40 @@ struct DynamicsOptions {
   double shaft_torsional_stiffness_nm_per_rad = 0.0;  // between gears on one shaft; 0: a steel
                                                       // shaft of 0.6 x the smallest root diameter
                                                       // and 100 mm length
-  double shaft_damping_ratio = 0.02;           // [-]
-  double backlash_m = -1.0;                    // < 0: each mesh's backlash_m, and when that is
-                                               // 0, the ISO/TR 10064-2 minimum
-                                               // (2/3)(0.06 + 0.0005 a + 0.03 m) mm
-  bool back_flank = true;                      // false: infinite backlash (the seed's h(delta))
-  StiffnessOptions stiffness;                  // potential-energy method options
+  double shaft_damping_ratio = 0.02;                  // [-]
+  double backlash_m = -1.0;                      // < 0: each mesh's backlash_m, and when that is
+                                                 // 0, the ISO/TR 10064-2 minimum
+                                                 // (2/3)(0.06 + 0.0005 a + 0.03 m) mm
+  bool back_flank = true;                        // false: infinite backlash (the seed's h(delta))
+  StiffnessOptions stiffness;                    // potential-energy method options
   std::vector<StiffnessTable> stiffness_tables;  // meshes whose stiffness comes from a table
                                                  // (no faults or pitch errors on those meshes)
-  FrictionOptions friction;                    // law, mu, oil and temperature
-  std::vector<GearFault> faults;               // tooth faults
-  int accuracy_grade = 0;                      // ISO 1328-1 grade of pitch errors, 0: none, 1..12
-  double runout_m = 0.0;                       // eccentricity of every gear [m], >= 0
-  std::uint64_t seed = 1;                      // pitch errors and runout phases
+  FrictionOptions friction;                      // law, mu, oil and temperature
+  std::vector<GearFault> faults;                 // tooth faults
+  int accuracy_grade = 0;                        // ISO 1328-1 grade of pitch errors, 0: none, 1..12
+  double runout_m = 0.0;                         // eccentricity of every gear [m], >= 0
+  std::uint64_t seed = 1;                        // pitch errors and runout phases
 
   void validate(const std::string& where) const;
 };
 
 // What one evaluation of the equations gives besides the derivatives (for sensors and checks).
 struct MeshState {
-  double delta_m = 0;          // dynamic transmission error (mesh compression) [m]
-  double force_n = 0;          // total normal force (drive flank > 0, back flank < 0) [N]
-  double friction_n = 0;       // sum of sigma_i mu_i F_i (force on gear b along t) [N]
+  double delta_m = 0;            // dynamic transmission error (mesh compression) [m]
+  double force_n = 0;            // total normal force (drive flank > 0, back flank < 0) [N]
+  double friction_n = 0;         // sum of sigma_i mu_i F_i (force on gear b along t) [N]
   double stiffness_n_per_m = 0;  // sum of the pairs' stiffnesses in contact
-  int contact = 0;             // 1 drive flank, 0 free flight, -1 back flank
-  int pairs = 0;               // pairs carrying load
+  int contact = 0;               // 1 drive flank, 0 free flight, -1 back flank
+  int pairs = 0;                 // pairs carrying load
 };
 
 struct Observation {
   std::vector<double> acceleration;  // q'' of every DOF
   std::vector<MeshState> meshes;
-  double motor_power_w = 0;          // power into the system at the motor
-  double load_power_w = 0;           // power taken by the load
-  double damping_power_w = 0;        // dissipated in all dampers
-  double friction_power_w = 0;       // dissipated by mesh friction (>= 0 up to discretisation)
+  double motor_power_w = 0;     // power into the system at the motor
+  double load_power_w = 0;      // power taken by the load
+  double damping_power_w = 0;   // dissipated in all dampers
+  double friction_power_w = 0;  // dissipated by mesh friction (>= 0 up to discretisation)
 };
 
 class GearboxModel {
@@ -125,9 +125,9 @@ class GearboxModel {
   ~GearboxModel();
   GearboxModel(GearboxModel&&) noexcept;
 
-  int dofs() const;                       // n; the state has 2n entries (q, q')
+  int dofs() const;  // n; the state has 2n entries (q, q')
   int gear_dof(int gear) const { return gear; }
-  int shaft_x_dof(int shaft) const;       // -1 for a shaft without gears
+  int shaft_x_dof(int shaft) const;  // -1 for a shaft without gears
   // dy/dt at time t. `obs` may be null; when given it is filled too.
   void derivatives(double t, const double* y, double* dydt, Observation* obs = nullptr) const;
   // Static equilibrium under the mean loads at mean mesh stiffness (the initial state).

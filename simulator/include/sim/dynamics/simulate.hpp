@@ -15,10 +15,9 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/io/recording.hpp"
 #include "sim/dynamics/gearbox_model.hpp"
@@ -26,14 +25,14 @@
 namespace sim {
 
 struct RunOptions {
-  double duration_s = 1.0;     // recorded duration [s], > 0
-  double fs_hz = 20000.0;      // output sampling rate [Hz], > 0
-  double settle_s = -1.0;      // discarded transient [s]; < 0: automatic (ten time constants of
-                               // the least damped mode, at least 0.05 s)
+  double duration_s = 1.0;  // recorded duration [s], > 0
+  double fs_hz = 20000.0;   // output sampling rate [Hz], > 0
+  double settle_s = -1.0;   // discarded transient [s]; < 0: automatic (ten time constants of
+                            // the least damped mode, at least 0.05 s)
   enum class Method { kRk4, kGslRk8pd } method = Method::kRk4;
-  double step_s = 0.0;         // RK4 step [s]; 0: automatic
-  int steps_per_period = 20;   // RK4 steps per period of the highest natural frequency, >= 8
-  int steps_per_mesh = 48;     // RK4 steps per period of the highest mesh frequency, >= 8
+  double step_s = 0.0;        // RK4 step [s]; 0: automatic
+  int steps_per_period = 20;  // RK4 steps per period of the highest natural frequency, >= 8
+  int steps_per_mesh = 48;    // RK4 steps per period of the highest mesh frequency, >= 8
   // RK4 steps across which a tooth pair enters or leaves a mesh (GearboxModel::
   // contact_signature) are redone as this many sub-steps, >= 1 (1: off). Why: the pair stiffness
   // jumps there, RK4 is only first order across the jump, and its error depends on where in the
@@ -43,7 +42,7 @@ struct RunOptions {
   // enough to look like a damaged input gear to time-synchronous averaging). 32 sub-steps cut it
   // by about 32 (first order) at about +25 % run time (four such steps per mesh period).
   int contact_substeps = 32;
-  double gsl_rel_tol = 1e-9;   // GSL odeiv2 relative / absolute tolerance
+  double gsl_rel_tol = 1e-9;  // GSL odeiv2 relative / absolute tolerance
   double gsl_abs_tol = 1e-13;
   double accel_noise_m_per_s2 = 0.0;   // accelerometer noise, Gaussian, RMS [m/s^2], >= 0
   double casing_frequency_hz = 0.0;    // casing transmission path resonance [Hz]; 0: none
@@ -68,11 +67,11 @@ struct Channel {
 struct DynamicResult {
   double fs_hz = 0.0;
   std::vector<Channel> channels;
-  std::vector<Channel> tachos;          // 0/1 pulse trains, once per revolution, per shaft
-  double step_s = 0.0;                  // the integrator's step (RK4) or sample spacing (GSL)
-  int decimation = 1;                   // internal samples per output sample
-  std::vector<std::string> warnings;    // said on stderr by the CLI
-  nlohmann::json truth;                 // operating point, model, faults, natural frequencies
+  std::vector<Channel> tachos;        // 0/1 pulse trains, once per revolution, per shaft
+  double step_s = 0.0;                // the integrator's step (RK4) or sample spacing (GSL)
+  int decimation = 1;                 // internal samples per output sample
+  std::vector<std::string> warnings;  // said on stderr by the CLI
+  nlohmann::json truth;               // operating point, model, faults, natural frequencies
   const Channel* find(const std::string& name) const;
 };
 

@@ -7,33 +7,32 @@
 // speeds up and down.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "sim/dynamics/simulate.hpp"
 
 namespace sim {
 
 struct SweepOptions {
-  double from_rpm = 0.0;          // [rpm], > 0
-  double to_rpm = 0.0;            // [rpm], > from_rpm
-  int steps = 40;                 // windows per run, >= 2
-  bool down = true;               // also run down
-  double dwell_s = 0.0;           // time per window [s]; 0: 200 mesh periods of the first mesh at
-                                  // from_rpm, at least 0.01 s
-  double fs_hz = 0.0;             // output rate [Hz]; 0: 8 x the highest mesh frequency
+  double from_rpm = 0.0;  // [rpm], > 0
+  double to_rpm = 0.0;    // [rpm], > from_rpm
+  int steps = 40;         // windows per run, >= 2
+  bool down = true;       // also run down
+  double dwell_s = 0.0;   // time per window [s]; 0: 200 mesh periods of the first mesh at
+                          // from_rpm, at least 0.01 s
+  double fs_hz = 0.0;     // output rate [Hz]; 0: 8 x the highest mesh frequency
   std::vector<std::string> channels;  // channels to report; empty: every mesh force and the
                                       // first bearing's along/normal LOA accelerations
   void validate() const;
 };
 
 struct SweepPoint {
-  double rpm = 0.0;                 // window centre
-  double mesh_frequency_hz = 0.0;   // of the first mesh
-  std::vector<double> peak;         // per channel: max |x - mean|
-  std::vector<double> rms;          // per channel: RMS of x - mean
+  double rpm = 0.0;                    // window centre
+  double mesh_frequency_hz = 0.0;      // of the first mesh
+  std::vector<double> peak;            // per channel: max |x - mean|
+  std::vector<double> rms;             // per channel: RMS of x - mean
   double contact_loss_fraction = 0.0;  // share of samples with a mesh out of drive-flank contact
 };
 

@@ -25,10 +25,9 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/recording.hpp"
@@ -36,17 +35,17 @@
 namespace sim {
 
 struct KinematicOptions {
-  double step_rad = 0.001;        // input-angle step [rad], > 0 and < 1/20 of the smallest
-                                  // defect pulse (checked)
-  double revolutions = 0.0;       // input revolutions to simulate; 0: five recurrences of the
-                                  // longest period on the power path plus one (the seed's rule)
+  double step_rad = 0.001;   // input-angle step [rad], > 0 and < 1/20 of the smallest
+                             // defect pulse (checked)
+  double revolutions = 0.0;  // input revolutions to simulate; 0: five recurrences of the
+                             // longest period on the power path plus one (the seed's rule)
   // Measurement effects, amplitudes in output-shaft angle [rad], >= 0.
   double runout_output_rad = 0.0;   // once-per-revolution runout of every path shaft
   double mesh_te_output_rad = 0.0;  // mesh-frequency TE per mesh (harmonics 1..3 at 1, 1/2, 1/4)
   double noise_output_rad = 0.0;    // Gaussian noise on the output angle, RMS
   double noise_input_rad = 0.0;     // Gaussian noise on the input angle, RMS
   std::int64_t encoder_counts_per_rev = 0;  // quantisation of both encoders; 0: none, else >= 16
-  std::uint64_t seed = 1;           // phases of runout/TE and the noise come from this seed
+  std::uint64_t seed = 1;                   // phases of runout/TE and the noise come from this seed
 
   void validate() const;  // throws diag::InputError naming the field
 };
@@ -56,7 +55,7 @@ struct KinematicResult {
   std::vector<double> output_angle_rad;  // measured output angle (unwrapped, same sense)
   std::vector<double> irregularity_rad;  // delta_phi = phi_in / u - phi_out (measured)
   double step_rad = 0.0;
-  nlohmann::json truth;                  // defects with periods, sizes at output, first events
+  nlohmann::json truth;  // defects with periods, sizes at output, first events
 };
 
 // Simulates the defects of gb.defects(). Throws diag::InputError for invalid options or a step
