@@ -161,9 +161,18 @@ int cmd_analyze(int argc, char** argv) {
       throw diag::InputError("--baseline " + baselines[i] + ": " + e.what());
     }
   }
+  // A progress line on a terminal only: piped or redirected, stderr stays quiet.
+  const bool terminal = ::isatty(STDERR_FILENO) != 0;
+  if (terminal) {
+    opt.progress = [&](const std::string& stage) {
+      std::fprintf(stderr, "\ranalyze %s: %-14s", path.filename().string().c_str(), stage.c_str());
+      std::fflush(stderr);
+    };
+  }
   detect::AnalysisResult r;
   try {
     r = detect::analyze_recording(rec, gb ? &*gb : nullptr, opt);
+    if (terminal) std::fprintf(stderr, "\r%-60s\r", "");
   } catch (const diag::InputError& e) {
     throw diag::InputError(recording + ": " + e.what());
   }

@@ -215,6 +215,26 @@ TEST(MeasuredInput, ImportWritesTheRolesIntoTheRecording) {
   EXPECT_EQ(damaged_shafts(a), std::vector<std::string>{"counter"});
 }
 
+// Progress goes to a terminal only: piped, stderr carries no progress line; under a
+// pseudo-terminal (util-linux `script`) the stage names appear.
+TEST(MeasuredInput, AProgressLineOnATerminalOnly) {
+  const fs::path gb = gearbox_file(kRpm);
+  const fs::path csv = measured_csv("tacho");
+  const auto piped = run("analyze " + csv.string() + " --gearbox " + gb.string());
+  ASSERT_EQ(piped.code, 0) << piped.out;
+  EXPECT_EQ(piped.out.find('\r'), std::string::npos);
+  if (std::system("command -v script > /dev/null 2>&1") != 0) GTEST_SKIP() << "no script(1)";
+  const std::string cmd = std::string("script -qec '") + GEARDIAG_BINARY + " analyze " +
+                          csv.string() + " --gearbox " + gb.string() + "' /dev/null 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  EXPECT_EQ(pclose(p), 0) << out;
+  EXPECT_NE(out.find("\ranalyze meas_tacho.csv: channels"), std::string::npos) << out;
+}
+
 // A format-1 recording (before channel roles) still analyses, and says its roles were inferred.
 TEST(MeasuredInput, AFormat1RecordingIsStillAnalysed) {
   const auto j = analyze(std::string(GEARDIAG_TESTDATA_DIR) + "/recordings/format1_three_shaft.h5");

@@ -183,7 +183,18 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   const std::size_t plot_points = static_cast<std::size_t>(opt.plot_points);
   // Wall time per stage (AnalyzeOptions::timing; left out otherwise, so reports stay byte-equal).
   auto clock_start = std::chrono::steady_clock::now();
+  const char* const kNextStage[][2] = {{"kinematics", "angle_plans"},
+                                       {"angle_plans", "channels"},
+                                       {"channels", "two_direction"},
+                                       {"two_direction", "gear_damage"},
+                                       {"gear_damage", "findings"}};
+  if (opt.progress) opt.progress(gb ? "kinematics" : "channels");
   auto lap = [&](const char* stage) {
+    if (opt.progress) {
+      for (const auto& [done, next] : kNextStage) {
+        if (std::string_view(done) == stage) opt.progress(next);
+      }
+    }
     if (!opt.timing) return;
     const auto now = std::chrono::steady_clock::now();
     r.timing_s[stage] += std::chrono::duration<double>(now - clock_start).count();

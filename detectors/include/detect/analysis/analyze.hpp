@@ -37,6 +37,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <limits>
 #include <map>
 #include <nlohmann/json_fwd.hpp>
@@ -86,8 +87,11 @@ struct AnalyzeOptions {
   TwoDirectionOptions two_direction;        // mesh harmonics summed in the two-direction ratio
   GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
                                             // not used: the shaft angles are analyze's own)
-  bool timing = false;                      // record the wall time of each stage (AnalysisResult::
-                                            // timing_s); off by default: it differs run to run
+  // Called with the name of each stage as it starts ("kinematics", "angle_plans", "channels",
+  // "two_direction", "gear_damage", "findings"); the CLI draws a progress line on a terminal.
+  std::function<void(const std::string&)> progress;
+  bool timing = false;               // record the wall time of each stage (AnalysisResult::
+                                     // timing_s); off by default: it differs run to run
   bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
                                      // mesh line within +-10 % of the nominal (speed_estimate.hpp)
 
