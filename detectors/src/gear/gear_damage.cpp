@@ -30,6 +30,11 @@ constexpr double kMaxPhaseNoise = 0.1;
 // exact products of tooth-count ratios, so only round-off separates them from p/q.
 constexpr double kRatioTol = 1e-9;
 constexpr int kMaxDenominator = 64;
+// Pulse fit (smooth_pulses): the fit of the time of pulse k is replaced by the fit of the angle
+// at the time of a pulse when its residual is this many times larger. For constant speed both
+// are exact and leave the same residual (the pulses' jitter); 2 keeps steady records on the
+// first fit by a wide margin (their residuals differ by the fit's noise, ~1/sqrt(N)).
+constexpr double kMaxFitResidualRatio = 2.0;
 
 void fail(const std::string& field, const std::string& reason) {
   throw diag::InputError(diag::format_error("GearDamageOptions", field, reason));
@@ -106,24 +111,92 @@ int next_power_of_two(double x) {
   return p;
 }
 
-// Least-squares polynomial of degree `degree` through (k, t_k), k the pulse index scaled to
-// [-1, 1] (conditioning), evaluated at every k: the pulse times with their jitter averaged out.
+// Least-squares polynomial of degree `degree` through the points (x_i, y_i), x scaled to [-1, 1]
+// (conditioning): its coefficients in the scaled variable.
+struct PolyFit {
+  Eigen::VectorXd c;
+  double x0 = 0.0, x_scale = 1.0;  // u = (x - x0) * x_scale
+  double operator()(double x) const {
+    const double u = (x - x0) * x_scale;
+    double v = 0.0;
+    for (Eigen::Index j = c.size() - 1; j >= 0; --j) v = v * u + c(j);
+    return v;
+  }
+  double slope(double x) const {
+    const double u = (x - x0) * x_scale;
+    double v = 0.0;
+    for (Eigen::Index j = c.size() - 1; j >= 1; --j) v = v * u + static_cast<double>(j) * c(j);
+    return v * x_scale;
+  }
+};
+PolyFit poly_fit(const std::vector<double>& x, const std::vector<double>& y, int degree) {
+  const auto n = static_cast<Eigen::Index>(x.size());
+  PolyFit f;
+  f.x0 = 0.5 * (x.front() + x.back());
+  f.x_scale = 2.0 / (x.back() - x.front());
+  Eigen::MatrixXd a(n, degree + 1);
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double u = (x[static_cast<std::size_t>(i)] - f.x0) * f.x_scale;
+    double p = 1.0;
+    for (int j = 0; j <= degree; ++j, p *= u) a(i, j) = p;
+    b(i) = y[static_cast<std::size_t>(i)];
+  }
+  f.c = a.colPivHouseholderQr().solve(b);
+  return f;
+}
+
+// The pulse times with their jitter averaged out (GearDamageOptions::pulse_fit_degree): the
+// least-squares polynomial t(k) of the pulse index k, or, when that leaves a residual above
+// kMaxFitResidualRatio x that of the other fit, the polynomial k(t) (the shaft angle in
+// revolutions as a function of time) inverted at every integer k. Why both: t(k) is exact for
+// constant speed and, over a short record, for a linear run-up, but over a long run-up t(k) ~
+// sqrt(k) is not a polynomial (500 -> 3000 rpm over 263 revolutions: a cubic t(k) is off by 5
+// revolutions), while the angle of a linear run-up is exactly quadratic in time. The residuals
+// are compared in time: k(t)'s residual in revolutions over the local speed.
 std::vector<double> smooth_pulses(const std::vector<double>& t, int degree) {
   const int n = static_cast<int>(t.size());
   if (degree <= 0 || n <= degree + 1) return t;
   Eigen::MatrixXd a(n, degree + 1);
   Eigen::VectorXd b(n);
-  for (int k = 0; k < n; ++k) {
-    const double u = 2.0 * k / (n - 1) - 1.0;
+  for (int i = 0; i < n; ++i) {
+    const double u = 2.0 * i / (n - 1) - 1.0;
     double p = 1.0;
-    for (int j = 0; j <= degree; ++j, p *= u) a(k, j) = p;
-    b(k) = t[k] - t.front();
+    for (int j = 0; j <= degree; ++j, p *= u) a(i, j) = p;
+    b(i) = t[i] - t.front();
   }
-  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
-  const Eigen::VectorXd fit = a * c;
-  std::vector<double> out(n);
-  for (int k = 0; k < n; ++k) out[k] = t.front() + fit(k);
-  return out;
+  const Eigen::VectorXd fit = a * a.colPivHouseholderQr().solve(b);
+  const double t_rms_s = std::sqrt((b - fit).squaredNorm() / n);
+  std::vector<double> out(t.size());
+  for (int i = 0; i < n; ++i) out[i] = t.front() + fit(i);
+  std::vector<double> k(t.size());
+  std::iota(k.begin(), k.end(), 0.0);
+  const PolyFit k_of_t = poly_fit(t, k, degree);
+  double sq = 0.0;  // k(t)'s residual in time
+  bool increasing = true;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double rate = k_of_t.slope(t[i]);
+    increasing = increasing && rate > 0.0;
+    const double r = (k[i] - k_of_t(t[i])) / rate;
+    sq += r * r;
+  }
+  const double k_rms_s = std::sqrt(sq / n);
+  if (!increasing || !(t_rms_s > kMaxFitResidualRatio * k_rms_s)) return out;
+  // Invert k(t) by Newton's method from the measured time (within a fraction of a period).
+  std::vector<double> inv(t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    double x = t[i];
+    for (int it = 0; it < 20; ++it) {
+      const double dx = (k_of_t(x) - k[i]) / k_of_t.slope(x);
+      x -= dx;
+      if (std::abs(dx) < 1e-12 * std::max(1.0, std::abs(x))) break;
+    }
+    inv[i] = x;
+  }
+  for (std::size_t i = 1; i < inv.size(); ++i) {
+    if (!(inv[i] > inv[i - 1]) || !std::isfinite(inv[i])) return out;
+  }
+  return inv;
 }
 
 // The regular order (shaft order 1, mesh harmonics, their first sidebands) in 1..top with the
@@ -384,9 +457,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     once.push_back(tr.pulse_times_s[i]);
   }
   if (once.size() < 3) {
-    throw diag::InputError(diag::format_error(
-        where, "tacho '" + tacho->name + "'",
-        std::to_string(once.size()) + " revolutions; at least 3 are needed"));
+    throw diag::InputError(
+        diag::format_error(where, "tacho '" + tacho->name + "'",
+                           std::to_string(once.size()) + " revolutions; at least 3 are needed"));
   }
   GearDamageResult res = locate_gear_damage(rec, gb, ref, once, options);
   if (!tr.repairs.empty()) {
