@@ -30,6 +30,20 @@ constexpr double kMaxPhaseNoise = 0.1;
 // exact products of tooth-count ratios, so only round-off separates them from p/q.
 constexpr double kRatioTol = 1e-9;
 constexpr int kMaxDenominator = 64;
+// Pulse fit (smooth_pulses): the fit of the time of pulse k is replaced by the fit of the angle
+// at the time of a pulse when its residual is this many times larger. For constant speed both
+// are exact and leave the same residual (the pulses' jitter); 2 keeps steady records on the
+// first fit by a wide margin (their residuals differ by the fit's noise, ~1/sqrt(N)).
+constexpr double kMaxFitResidualRatio = 2.0;
+// Speed varying within the record (the averages weighted by revolution, see the shaft loop): the
+// fitted revolution periods spread by more than this share of their mean, as analyze's
+// "non-stationary" (max - min speed above 1 % of the mean). A steady record (the closed loop)
+// keeps the plain average.
+constexpr double kVaryingSpeedSpread = 0.01;
+// Revolutions either side over which a revolution's noise energy is averaged for its weight: 9
+// revolutions of a few hundred orders each give the weight to ~2 %; the speed changes by less
+// than 15 % over them in a run-up 500 -> 3000 rpm over 9 s.
+constexpr std::ptrdiff_t kWeightHalfWindow = 4;
 
 void fail(const std::string& field, const std::string& reason) {
   throw diag::InputError(diag::format_error("GearDamageOptions", field, reason));
@@ -106,24 +120,94 @@ int next_power_of_two(double x) {
   return p;
 }
 
-// Least-squares polynomial of degree `degree` through (k, t_k), k the pulse index scaled to
-// [-1, 1] (conditioning), evaluated at every k: the pulse times with their jitter averaged out.
+// Least-squares polynomial of degree `degree` through the points (x_i, y_i), x scaled to [-1, 1]
+// (conditioning): its coefficients in the scaled variable.
+struct PolyFit {
+  Eigen::VectorXd c;
+  double x0 = 0.0, x_scale = 1.0;  // u = (x - x0) * x_scale
+  double operator()(double x) const {
+    const double u = (x - x0) * x_scale;
+    double v = 0.0;
+    for (Eigen::Index j = c.size() - 1; j >= 0; --j) v = v * u + c(j);
+    return v;
+  }
+  double slope(double x) const {
+    const double u = (x - x0) * x_scale;
+    double v = 0.0;
+    for (Eigen::Index j = c.size() - 1; j >= 1; --j) v = v * u + static_cast<double>(j) * c(j);
+    return v * x_scale;
+  }
+};
+PolyFit poly_fit(const std::vector<double>& x, const std::vector<double>& y, int degree) {
+  const auto n = static_cast<Eigen::Index>(x.size());
+  PolyFit f;
+  f.x0 = 0.5 * (x.front() + x.back());
+  f.x_scale = 2.0 / (x.back() - x.front());
+  Eigen::MatrixXd a(n, degree + 1);
+  Eigen::VectorXd b(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double u = (x[static_cast<std::size_t>(i)] - f.x0) * f.x_scale;
+    double p = 1.0;
+    for (int j = 0; j <= degree; ++j, p *= u) a(i, j) = p;
+    b(i) = y[static_cast<std::size_t>(i)];
+  }
+  f.c = a.colPivHouseholderQr().solve(b);
+  return f;
+}
+
+// The pulse times with their jitter averaged out (GearDamageOptions::pulse_fit_degree): the
+// least-squares polynomial t(k) of the pulse index k, or, when that leaves a residual above
+// kMaxFitResidualRatio x that of the other fit, the polynomial k(t) (the shaft angle in
+// revolutions as a function of time) inverted at every integer k. Why both: t(k) is exact for
+// constant speed and, over a short record, for a linear run-up, but over a long run-up t(k) ~
+// sqrt(k) is not a polynomial (500 -> 3000 rpm over 263 revolutions: a cubic t(k) is off by 5
+// revolutions), while the angle of a linear run-up is exactly quadratic in time. The residuals
+// are compared in time: k(t)'s residual in revolutions over the local speed.
 std::vector<double> smooth_pulses(const std::vector<double>& t, int degree) {
   const int n = static_cast<int>(t.size());
   if (degree <= 0 || n <= degree + 1) return t;
   Eigen::MatrixXd a(n, degree + 1);
   Eigen::VectorXd b(n);
-  for (int k = 0; k < n; ++k) {
-    const double u = 2.0 * k / (n - 1) - 1.0;
+  for (int i = 0; i < n; ++i) {
+    const double u = 2.0 * i / (n - 1) - 1.0;
     double p = 1.0;
-    for (int j = 0; j <= degree; ++j, p *= u) a(k, j) = p;
-    b(k) = t[k] - t.front();
+    for (int j = 0; j <= degree; ++j, p *= u) a(i, j) = p;
+    b(i) = t[i] - t.front();
   }
-  const Eigen::VectorXd c = a.colPivHouseholderQr().solve(b);
-  const Eigen::VectorXd fit = a * c;
-  std::vector<double> out(n);
-  for (int k = 0; k < n; ++k) out[k] = t.front() + fit(k);
-  return out;
+  const Eigen::VectorXd fit = a * a.colPivHouseholderQr().solve(b);
+  const double t_rms_s = std::sqrt((b - fit).squaredNorm() / n);
+  std::vector<double> out(t.size());
+  for (int i = 0; i < n; ++i) out[i] = t.front() + fit(i);
+  std::vector<double> k(t.size());
+  std::iota(k.begin(), k.end(), 0.0);
+  const PolyFit k_of_t = poly_fit(t, k, degree);
+  double sq = 0.0;  // k(t)'s residual in time
+  bool increasing = true;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const double rate = k_of_t.slope(t[i]);
+    increasing = increasing && rate > 0.0;
+    const double r = (k[i] - k_of_t(t[i])) / rate;
+    sq += r * r;
+  }
+  const double k_rms_s = std::sqrt(sq / n);
+  // Round-off (exact pulses, e.g. from a nominal speed) is no reason to switch.
+  const double floor_s = 1e-12 * (t.back() - t.front());
+  if (!increasing || !(t_rms_s > kMaxFitResidualRatio * k_rms_s + floor_s)) return out;
+  // Invert k(t) by Newton's method from the measured time (within a fraction of a period).
+  std::vector<double> inv(t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    double x = t[i];
+    for (int it = 0; it < 20; ++it) {
+      const double dx = (k_of_t(x) - k[i]) / k_of_t.slope(x);
+      x -= dx;
+      if (std::abs(dx) < 1e-12 * std::max(1.0, std::abs(x))) break;
+    }
+    inv[i] = x;
+  }
+  for (std::size_t i = 1; i < inv.size(); ++i) {
+    if (!(inv[i] > inv[i - 1]) || !std::isfinite(inv[i])) return out;
+  }
+  return inv;
 }
 
 // The regular order (shaft order 1, mesh harmonics, their first sidebands) in 1..top with the
@@ -384,9 +468,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     once.push_back(tr.pulse_times_s[i]);
   }
   if (once.size() < 3) {
-    throw diag::InputError(diag::format_error(
-        where, "tacho '" + tacho->name + "'",
-        std::to_string(once.size()) + " revolutions; at least 3 are needed"));
+    throw diag::InputError(
+        diag::format_error(where, "tacho '" + tacho->name + "'",
+                           std::to_string(once.size()) + " revolutions; at least 3 are needed"));
   }
   GearDamageResult res = locate_gear_damage(rec, gb, ref, once, options);
   if (!tr.repairs.empty()) {
@@ -436,6 +520,18 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
 
   ResampleOptions ro;
   ro.pulses_per_rev = 1;
+  // Varying speed: the reference's revolution periods (fitted) spread by more than
+  // kVaryingSpeedSpread of their mean.
+  bool varying_speed = false;
+  if (ref_pulses.size() >= 3) {
+    double lo = kInf, hi = 0.0;
+    for (std::size_t i = 1; i < ref_pulses.size(); ++i) {
+      lo = std::min(lo, ref_pulses[i] - ref_pulses[i - 1]);
+      hi = std::max(hi, ref_pulses[i] - ref_pulses[i - 1]);
+    }
+    const double mean = (ref_pulses.back() - ref_pulses.front()) / (ref_pulses.size() - 1);
+    varying_speed = hi - lo > kVaryingSpeedSpread * mean;
+  }
 
   auto channels_of = [&](const diag::Shaft& sh) {
     std::vector<const diag::Signal*> chans;
@@ -543,6 +639,7 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     RealFft fft(static_cast<std::size_t>(spr));
     std::vector<std::complex<double>> mean_spec(fft.bins()), rev_spec(fft.bins());
     std::vector<double> var(fft.bins());
+    std::vector<std::vector<std::complex<double>>> rev_specs;
     for (const diag::Signal* ch : chans) {
       AngleResampled ar;
       Tsa t;
@@ -553,15 +650,69 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
         break;
       }
-      // Spectrum of the TSA and the revolution-to-revolution variance of every order.
-      fft.forward(t.samples, mean_spec);
+      // Spectrum of the TSA and the revolution-to-revolution variance of every order. When the
+      // speed varies (a run-up), the average is weighted: revolution r by 1 / n_r, n_r its
+      // energy in the exclusive orders (noise and non-synchronous content: the fault's share of
+      // one revolution is small) averaged over +-kWeightHalfWindow revolutions; the variance is
+      // then that of the weighted mean. Why: the non-synchronous content changes strongly with
+      // speed (in the two-stage box run up 500 -> 3000 rpm the last fifth of the revolutions held
+      // 6-12x the exclusive-order energy of each earlier fifth), so the plain average is as
+      // noisy as its loudest revolutions; the inverse-variance weighting is the least-variance
+      // unbiased mean of revolutions with the same synchronous part. (Dividing each revolution
+      // by its mesh lines' RMS instead, as for a synchronous part that scales with speed, made
+      // it worse: it amplifies the quiet slow revolutions' sensor noise.)
       std::fill(var.begin(), var.end(), 0.0);
-      for (int r = 0; r < ar.revolutions; ++r) {
-        fft.forward(std::span<const double>(ar.samples)
-                        .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
-                    rev_spec);
-        for (std::size_t k = 0; k < var.size(); ++k)
-          var[k] += std::norm(rev_spec[k] - mean_spec[k]);
+      if (varying_speed) {
+        rev_specs.assign(static_cast<std::size_t>(ar.revolutions), {});
+        std::vector<double> w(rev_specs.size());
+        for (std::size_t r = 0; r < rev_specs.size(); ++r) {
+          rev_specs[r].resize(fft.bins());
+          fft.forward(std::span<const double>(ar.samples).subspan(r * spr, spr), rev_specs[r]);
+          double e = 0.0;
+          for (std::size_t k = 0; k < keep.size(); ++k) {
+            if (keep[k]) e += std::norm(rev_specs[r][k]);
+          }
+          w[r] = e;
+        }
+        // Smoothed: a weight that follows the speed, not each revolution's own noise.
+        {
+          const std::vector<double> e = w;
+          const auto nr = static_cast<std::ptrdiff_t>(e.size());
+          for (std::ptrdiff_t r = 0; r < nr; ++r) {
+            const std::ptrdiff_t lo = std::max<std::ptrdiff_t>(0, r - kWeightHalfWindow);
+            const std::ptrdiff_t hi = std::min<std::ptrdiff_t>(nr - 1, r + kWeightHalfWindow);
+            const double m = std::accumulate(e.begin() + lo, e.begin() + hi + 1, 0.0) /
+                             static_cast<double>(hi - lo + 1);
+            w[static_cast<std::size_t>(r)] = m > 0.0 ? 1.0 / m : 0.0;
+          }
+        }
+        const double sum_w = std::accumulate(w.begin(), w.end(), 0.0);
+        double sum_w2 = 0.0;
+        for (double x : w) sum_w2 += x * x;
+        std::fill(mean_spec.begin(), mean_spec.end(), 0.0);
+        for (std::size_t r = 0; r < rev_specs.size(); ++r) {
+          for (std::size_t k = 0; k < mean_spec.size(); ++k)
+            mean_spec[k] += w[r] / sum_w * rev_specs[r][k];
+        }
+        for (std::size_t r = 0; r < rev_specs.size(); ++r) {
+          for (std::size_t k = 0; k < var.size(); ++k)
+            var[k] += w[r] * w[r] * std::norm(rev_specs[r][k] - mean_spec[k]);
+        }
+        // So that var / (N (N - 1)) below estimates Var(M) = sum w_r^2 s_r^2 / W^2 (W = sum w) by
+        // sum w_r^2 |X_r - M|^2 / (W^2 - sum w^2): the unweighted N (N - 1) for equal weights,
+        // nearly unbiased when no weight dominates.
+        const double n = ar.revolutions;
+        for (double& v : var) v *= n * (n - 1) / (sum_w * sum_w - sum_w2);
+      } else {
+        fft.forward(t.samples, mean_spec);
+        for (int r = 0; r < ar.revolutions; ++r) {
+          fft.forward(
+              std::span<const double>(ar.samples)
+                  .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
+              rev_spec);
+          for (std::size_t k = 0; k < var.size(); ++k)
+            var[k] += std::norm(rev_spec[k] - mean_spec[k]);
+        }
       }
       double energy = 0.0, noise = 0.0, band = 0.0, regular_energy = 0.0;
       for (std::size_t k = 0; k < keep.size(); ++k) {

@@ -21,7 +21,11 @@
 //     energy in e_s (a single impulse minus its k-fold folded copy: still impulsive).
 //  4. Significance: SNR_s = sum over the kept orders of |TSA_k|^2 over sum of var_k / N, var_k
 //     the variance of order k over the N revolutions (the noise and every non-synchronous
-//     component, which the average leaves at var_k / N). Noise alone: 1.
+//     component, which the average leaves at var_k / N). Noise alone: 1. When the speed varies
+//     within the record (the reference's fitted revolution periods spread by more than 1 %: a
+//     run-up), the average and var_k are weighted: each revolution by the inverse of its energy
+//     in the kept orders, averaged over +-4 revolutions (inverse-variance weighting: the
+//     non-synchronous content of a run-up changes strongly with speed, through resonances).
 //  5. Score_s = the kurtosis of e_s's synchronous part: FM4(e_s) = N sum e^4 / (sum e^2)^2
 //     corrected for the noise (Gaussian noise adds variance and no fourth cumulant):
 //     3 + (FM4 - 3) (SNR / (SNR - 1))^2; only when SNR_s >= min_snr, else 3. The largest over
@@ -68,15 +72,19 @@ struct GearDamageOptions {
   // so that the resampling filter passes every order of the recorded band (its passband ends at
   // 0.72 x the Nyquist order, resample.hpp), at most 16384.
   int samples_per_rev = 0;
-  int min_revolutions = 8;    // fewer whole revolutions of a shaft than this: the shaft is
-                              // skipped (noted), >= 2
+  int min_revolutions = 8;  // fewer whole revolutions of a shaft than this: the shaft is
+                            // skipped (noted), >= 2
   // Degree of the least-squares polynomial t(k) fitted to the reference tacho's pulse times
   // (k the pulse index), which replaces them; 0: the pulse times as detected. [0, 8]. Why: a
   // 0/1 pulse train's edges are known only to +- half a sampling period (tacho.hpp), which at the
   // high mesh harmonics (kHz) is a phase jitter of tens of degrees per revolution; the TSA turns
   // it into spurious impulsive content that FM4 reads as damage. A degree-3 fit is exact for
   // constant speed and for a linear run-up over a short record, and averages the jitter over
-  // all pulses. Use 0 when the speed wanders within the record.
+  // all pulses. Over a long run-up t(k) ~ sqrt(k) is no polynomial (500 -> 3000 rpm over 263
+  // revolutions: a cubic t(k) is off by 5 revolutions), so the polynomial of the same degree
+  // for the angle k(t) is fitted as well, and inverted at every k, when t(k) leaves twice its
+  // residual (in time): a linear run-up's angle is exactly quadratic in time. Use 0 when the
+  // speed wanders within the record (neither is a polynomial).
   int pulse_fit_degree = 3;
   // Pulse correction from the vibration itself (phase demodulation of a mesh line, as in
   // Bonnardot et al. 2005, Mech. Syst. Signal Process. 19, for resampling without a tacho), once,
@@ -91,7 +99,9 @@ struct GearDamageOptions {
   // or more (beyond, the phase steps are ambiguous and the angle can lock onto a neighbouring
   // order) and (c) the TSA's regular lines gain energy (they became more coherent). So it
   // corrects small errors only; a speed error of 0.5 % over 44 revolutions is left as it is,
-  // and smears the averages: no finding rather than a wrong one.
+  // and smears the averages: no finding rather than a wrong one. In a run-up the lines'
+  // amplitude follows the speed through resonances and (a) declines the stage: the pulses are
+  // the fit's (pulse_fit_degree).
   // Why: a 0/1 tacho sampled at fs places each pulse late by up to one sampling period, by an
   // amount that follows the fractional part of (revolution x samples per revolution); when that
   // beats slowly (267.48 samples per revolution: period 50 revolutions) the polynomial fit keeps
