@@ -66,6 +66,17 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     o << "</table>\n";
   }
   for (const auto& n : r.notes) o << "<p class=note>" << html_escape(n) << "</p>\n";
+  // ---- speed over time (from the tacho or the vibration) ----
+  if (r.speed.time_s.size() > 1) {
+    PlotOptions ps;
+    ps.title = "Speed of " + r.speed.reference_shaft + " from the " + r.speed.source +
+               (r.speed.stationary ? " (stationary)" : " (varying)");
+    ps.x_label = "time [s]";
+    ps.y_label = "speed [rpm]";
+    ps.height_px = 200;
+    const PlotSeries series{r.speed.time_s, r.speed.speed_rpm, "", "#1f77b4"};
+    o << svg_line_plot(std::span(&series, 1), ps);
+  }
 
   // ---- findings ----
   o << "<h2 id=findings>Findings</h2>\n";
