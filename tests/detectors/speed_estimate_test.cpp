@@ -243,7 +243,7 @@ TEST(SpeedEstimate, GearboxCandidatesAreMeshHarmonicsInReferenceOrders) {
   EXPECT_DOUBLE_EQ(l[2].order, 9.0);
   EXPECT_DOUBLE_EQ(l[3].order, 18.0);
   EXPECT_DOUBLE_EQ(l[3].modulation_order, 0.25);
-  EXPECT_EQ(l[0].label, "mesh z1/z2 h1");
+  EXPECT_EQ(l[0].label, "mesh z1_z2 h1");  // diag::mesh_name
   const auto c = detect::gearbox_speed_lines(gb, gb.shaft_index("counter"), 1);
   EXPECT_DOUBLE_EQ(c[0].order, 36.0);
   EXPECT_DOUBLE_EQ(c[1].order, 18.0);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../validation/two_stage_case.hpp"
 #include "cli_run.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "sim/dynamics/simulate.hpp"
@@ -24,41 +25,17 @@ constexpr double kRpm = 2000.0;
 
 fs::path scratch(const std::string& name) { return cli_test::scratch("measured_cli", name); }
 
-nlohmann::json three_shaft_at(double rpm) {
-  std::ifstream in(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
-  nlohmann::json j = nlohmann::json::parse(in);
-  j["input"]["speed_rpm"] = rpm;
-  return j;
-}
-
 fs::path gearbox_file(double rpm) {
   const fs::path p = scratch("gb_" + std::to_string(static_cast<int>(rpm)) + ".json");
-  std::ofstream(p) << three_shaft_at(rpm).dump(2);
+  std::ofstream(p) << two_stage_case::description(rpm).dump(2);
   return p;
 }
 
-// The analyze_gear_damage_test setting: 11 output revolutions at 10 kHz, sensor noise 4 m/s^2,
-// a 0.8-module chip on tooth 5 of z3.
+// The analyze_gear_damage_test case: 11 output revolutions, a 0.8-module chip on tooth 5 of z3.
 const diag::Recording& chipped_counter() {
-  static const diag::Recording rec = [] {
-    const diag::Gearbox gb = diag::parse_gearbox(three_shaft_at(kRpm), "three_shaft");
-    sim::DynamicsOptions dyn;
-    dyn.speed = sim::SpeedProfile::constant(kRpm);
-    dyn.input_torque_nm = 50.0;
-    sim::GearFault f;
-    f.gear = "z3";
-    f.fault.kind = sim::ToothFault::Kind::kChip;
-    f.fault.tooth = 5;
-    f.fault.size_m = 0.8 * 3e-3;
-    dyn.faults.push_back(f);
-    sim::RunOptions run;
-    run.duration_s = 11.0 / (kRpm / 60.0 / 4.0);
-    run.fs_hz = 10000.0;
-    run.accel_noise_m_per_s2 = 4.0;
-    run.seed = 3;
-    run.mesh_channels = false;
-    return sim::to_recording(gb, sim::simulate_dynamic(gb, dyn, run));
-  }();
+  static const diag::Recording rec =
+      two_stage_case::simulate(two_stage_case::gearbox(kRpm), sim::SpeedProfile::constant(kRpm),
+                               11.0 / (kRpm / 60.0 / 4.0), two_stage_case::chip("z3"));
   return rec;
 }
 

@@ -11,49 +11,21 @@
 #include "detect/analysis/analyze.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "sim/dynamics/simulate.hpp"
+#include "two_stage_case.hpp"
 
 namespace {
 
 constexpr double kRpm = 2000.0;
 
-// The two-stage box with its nominal input speed set to `rpm`.
-diag::Gearbox two_stage(double rpm = kRpm) {
-  std::ifstream in(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
-  nlohmann::json j = nlohmann::json::parse(in);
-  j["input"]["speed_rpm"] = rpm;
-  return diag::parse_gearbox(j, "three_shaft.json at " + std::to_string(rpm) + " rpm");
-}
+using two_stage_case::of_kind;
 
-// 11 output revolutions at 10 kHz with sensor noise 4 m/s^2 (the loop's setting), optionally a
-// chipped tooth (0.8 module) on `gear`.
+diag::Gearbox two_stage(double rpm = kRpm) { return two_stage_case::gearbox(rpm); }
+
+// 11 output revolutions at constant speed, optionally a chipped tooth (0.8 module) on `gear`.
 diag::Recording simulate(const diag::Gearbox& gb, const std::string& gear) {
-  sim::DynamicsOptions dyn;
-  dyn.speed = sim::SpeedProfile::constant(kRpm);
-  dyn.input_torque_nm = 50.0;
-  if (!gear.empty()) {
-    sim::GearFault f;
-    f.gear = gear;
-    f.fault.kind = sim::ToothFault::Kind::kChip;
-    f.fault.tooth = 5;
-    f.fault.size_m = 0.8 * 3e-3;
-    dyn.faults.push_back(f);
-  }
-  sim::RunOptions run;
-  run.duration_s = 11.0 / (kRpm / 60.0 / 4.0);
-  run.fs_hz = 10000.0;
-  run.accel_noise_m_per_s2 = 4.0;
-  run.seed = 3;
-  run.mesh_channels = false;
-  return sim::to_recording(gb, sim::simulate_dynamic(gb, dyn, run));
-}
-
-std::vector<detect::AnalysisFinding> of_kind(const detect::AnalysisResult& r,
-                                             const std::string& kind) {
-  std::vector<detect::AnalysisFinding> out;
-  for (const auto& f : r.findings) {
-    if (f.kind == kind) out.push_back(f);
-  }
-  return out;
+  return two_stage_case::simulate(
+      gb, sim::SpeedProfile::constant(kRpm), 11.0 / (kRpm / 60.0 / 4.0),
+      gear.empty() ? std::nullopt : std::optional(two_stage_case::chip(gear)));
 }
 
 // What a measurement imported from CSV looks like: no tacho, no directions, no locations.

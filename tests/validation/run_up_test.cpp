@@ -13,6 +13,7 @@
 #include "detect/analysis/analyze.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "sim/dynamics/simulate.hpp"
+#include "two_stage_case.hpp"
 
 namespace {
 
@@ -22,51 +23,21 @@ constexpr double kToRpm = 3000.0;
 // well above the locator's min_revolutions (8) and enough for its noise estimate.
 constexpr double kDurationS = 9.0;
 
-diag::Gearbox two_stage() {
-  std::ifstream in(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
-  nlohmann::json j = nlohmann::json::parse(in);
-  j["input"]["speed_rpm"] = 0.5 * (kFromRpm + kToRpm);
-  return diag::parse_gearbox(j, "three_shaft.json (run-up)");
-}
+diag::Gearbox two_stage() { return two_stage_case::gearbox(0.5 * (kFromRpm + kToRpm)); }
 
 enum class Fault { kNone, kChip, kCrack };
 
 // The run-up with the fault on `gear`: a chip of 0.8 module (analyze_gear_damage_test's) or the
 // demo's 1.5 mm root crack.
 diag::Recording simulate_run_up(const diag::Gearbox& gb, Fault fault, const std::string& gear) {
-  sim::DynamicsOptions dyn;
-  dyn.speed = sim::SpeedProfile::ramp(kFromRpm, kToRpm, 0.0, kDurationS);
-  dyn.input_torque_nm = 50.0;
-  if (fault != Fault::kNone) {
-    sim::GearFault f;
-    f.gear = gear;
-    f.fault.tooth = 5;
-    if (fault == Fault::kChip) {
-      f.fault.kind = sim::ToothFault::Kind::kChip;
-      f.fault.size_m = 0.8 * 3e-3;
-    } else {
-      f.fault.kind = sim::ToothFault::Kind::kRootCrack;
-      f.fault.size_m = 1.5e-3;
-    }
-    dyn.faults.push_back(f);
-  }
-  sim::RunOptions run;
-  run.duration_s = kDurationS;
-  run.fs_hz = 10000.0;
-  run.accel_noise_m_per_s2 = 4.0;
-  run.seed = 3;
-  run.mesh_channels = false;
-  return sim::to_recording(gb, sim::simulate_dynamic(gb, dyn, run));
+  std::optional<sim::GearFault> f;
+  if (fault == Fault::kChip) f = two_stage_case::chip(gear);
+  if (fault == Fault::kCrack) f = two_stage_case::root_crack(gear, 1.5e-3);
+  return two_stage_case::simulate(gb, sim::SpeedProfile::ramp(kFromRpm, kToRpm, 0.0, kDurationS),
+                                  kDurationS, f);
 }
 
-std::vector<detect::AnalysisFinding> of_kind(const detect::AnalysisResult& r,
-                                             const std::string& kind) {
-  std::vector<detect::AnalysisFinding> out;
-  for (const auto& f : r.findings) {
-    if (f.kind == kind) out.push_back(f);
-  }
-  return out;
-}
+using two_stage_case::of_kind;
 
 void report(const std::string& what, const detect::AnalysisResult& r) {
   std::cout << what << ": speed " << r.speed.min_rpm << "-" << r.speed.max_rpm << " rpm\n";

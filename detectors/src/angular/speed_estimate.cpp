@@ -11,6 +11,7 @@
 #include "detect/spectral/window.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "diag/io/channels.hpp"
 
 namespace detect {
 
@@ -605,11 +606,11 @@ std::vector<SpeedLine> gearbox_speed_lines(const diag::Gearbox& gb, int referenc
     return std::abs(gb.shafts()[static_cast<std::size_t>(shaft)].speed_ratio) / ref;
   };
   std::vector<SpeedLine> lines;
-  for (const auto& m : gb.meshes()) {
+  for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+    const diag::Mesh& m = gb.meshes()[j];
     const int sd = gb.shaft_of_gear(m.driver), sn = gb.shaft_of_gear(m.driven);
     const double mesh_order = gb.gears()[static_cast<std::size_t>(m.driver)].spec.teeth * rel(sd);
-    const std::string name = gb.gears()[static_cast<std::size_t>(m.driver)].name + "/" +
-                             gb.gears()[static_cast<std::size_t>(m.driven)].name;
+    const std::string name = diag::mesh_name(gb, static_cast<int>(j));
     for (int h = 1; h <= harmonics; ++h) {
       lines.push_back(
           {h * mesh_order, "mesh " + name + " h" + std::to_string(h), std::min(rel(sd), rel(sn))});
