@@ -1,14 +1,16 @@
-// geardiag validate --attribution: the closed simulate -> attribute loop on the user's gearbox,
+// geardiag validate --attribution (--gear-damage: validate_gear_damage.hpp): the closed simulate -> attribute loop on the user's gearbox,
 // with the user's rig (runout, noise, encoder); prints the confusion table and the smallest defect
 // that is reliably attributed. Exit 1 when the loop misses its targets.
 #include <boost/program_options.hpp>
 #include <iostream>
+#include <string>
 
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
 #include "validate/attribution_loop.hpp"
+#include "validate_gear_damage.hpp"
 
 namespace po = boost::program_options;
 using diag::units::deg_to_rad;
@@ -17,6 +19,9 @@ using diag::units::rad_to_deg;
 namespace geardiag {
 
 int cmd_validate(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--gear-damage") return validate_gear_damage(argc, argv);
+  }
   validate::AttributionLoopOptions opt;
   std::string gearbox;
   double min_deg = rad_to_deg(opt.min_size_output_rad),
@@ -54,7 +59,7 @@ int cmd_validate(int argc, char** argv) {
     return 0;
   }
   po::notify(vm);
-  if (!vm.count("attribution")) throw diag::InputError("say what to validate: --attribution");
+  if (!vm.count("attribution")) throw diag::InputError("say what to validate: --attribution or --gear-damage");
   if (opt.cases < 1) throw diag::InputError("--cases: must be >= 1");
   if (!(min_deg > 0 && max_deg >= min_deg)) {
     throw diag::InputError("--min-size-deg/--max-size-deg: need 0 < min <= max");

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "detect/angular/pulse_refine.hpp"
 #include "detect/angular/resample.hpp"
 #include "detect/angular/tacho.hpp"
 #include "detect/angular/tsa.hpp"
@@ -23,18 +24,10 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Pulse correction (GearDamageOptions::refine_speed): the line followed must have an amplitude
-// steady to 0.1 of its mean over the revolutions, i.e. a phase known to about 0.1 rad in each.
-constexpr double kMaxPhaseNoise = 0.1;
 // Relative tolerance for "this speed ratio is the integer / rational p/q": the gearbox ratios are
 // exact products of tooth-count ratios, so only round-off separates them from p/q.
 constexpr double kRatioTol = 1e-9;
 constexpr int kMaxDenominator = 64;
-// Pulse fit (smooth_pulses): the fit of the time of pulse k is replaced by the fit of the angle
-// at the time of a pulse when its residual is this many times larger. For constant speed both
-// are exact and leave the same residual (the pulses' jitter); 2 keeps steady records on the
-// first fit by a wide margin (their residuals differ by the fit's noise, ~1/sqrt(N)).
-constexpr double kMaxFitResidualRatio = 2.0;
 // Speed varying within the record (the averages weighted by revolution, see the shaft loop): the
 // fitted revolution periods spread by more than this share of their mean, as analyze's
 // "non-stationary" (max - min speed above 1 % of the mean). A steady record (the closed loop)
@@ -65,29 +58,6 @@ int shared_order_step(double ratio) {
   return 0;
 }
 
-// The sensors of `shaft` by the channel contract (diag::shaft_sensors: the channel's shaft, or
-// a location naming a bearing of the shaft): the first location only (the simulator's bearing1 /
-// bearing2 see the same rigid shaft motion), along each line of action when there are such;
-// without sensors on the shaft, every sensor channel (a casing sensor serves all shafts).
-std::vector<const diag::Signal*> shaft_channels(const diag::Recording& rec, const diag::Gearbox& gb,
-                                                const std::string& shaft) {
-  std::vector<const diag::Signal*> along, any;
-  std::string first_location;
-  bool first = true;
-  for (std::size_t i : diag::shaft_sensors(rec, gb, shaft)) {
-    const diag::Signal& s = rec.signals[i];
-    if (first) first_location = s.location, first = false;
-    if (s.location != first_location) continue;
-    any.push_back(&s);
-    if (s.direction == diag::Direction::kAlongLoa) along.push_back(&s);
-  }
-  if (!along.empty()) return along;
-  if (!any.empty()) return any;
-  std::vector<const diag::Signal*> casing;
-  for (std::size_t i : diag::sensor_channels(rec)) casing.push_back(&rec.signals[i]);
-  return casing;
-}
-
 // The exclusive order set of a shaft, as a mask over the lines 0 .. spr/2 of its TSA: every
 // order up to `top`, less order 0, the regular orders (shaft order 1, the mesh orders with all
 // their harmonics and first sidebands: the difference signal's complement), the sidebands
@@ -114,265 +84,6 @@ std::vector<bool> exclusive_orders(std::size_t spr, const std::vector<int>& mesh
   return keep;
 }
 
-int next_power_of_two(double x) {
-  int p = 1;
-  while (p < x && p < (1 << 30)) p <<= 1;
-  return p;
-}
-
-// Least-squares polynomial of degree `degree` through the points (x_i, y_i), x scaled to [-1, 1]
-// (conditioning): its coefficients in the scaled variable.
-struct PolyFit {
-  Eigen::VectorXd c;
-  double x0 = 0.0, x_scale = 1.0;  // u = (x - x0) * x_scale
-  double operator()(double x) const {
-    const double u = (x - x0) * x_scale;
-    double v = 0.0;
-    for (Eigen::Index j = c.size() - 1; j >= 0; --j) v = v * u + c(j);
-    return v;
-  }
-  double slope(double x) const {
-    const double u = (x - x0) * x_scale;
-    double v = 0.0;
-    for (Eigen::Index j = c.size() - 1; j >= 1; --j) v = v * u + static_cast<double>(j) * c(j);
-    return v * x_scale;
-  }
-};
-PolyFit poly_fit(const std::vector<double>& x, const std::vector<double>& y, int degree) {
-  const auto n = static_cast<Eigen::Index>(x.size());
-  PolyFit f;
-  f.x0 = 0.5 * (x.front() + x.back());
-  f.x_scale = 2.0 / (x.back() - x.front());
-  Eigen::MatrixXd a(n, degree + 1);
-  Eigen::VectorXd b(n);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double u = (x[static_cast<std::size_t>(i)] - f.x0) * f.x_scale;
-    double p = 1.0;
-    for (int j = 0; j <= degree; ++j, p *= u) a(i, j) = p;
-    b(i) = y[static_cast<std::size_t>(i)];
-  }
-  f.c = a.colPivHouseholderQr().solve(b);
-  return f;
-}
-
-// The pulse times with their jitter averaged out (GearDamageOptions::pulse_fit_degree): the
-// least-squares polynomial t(k) of the pulse index k, or, when that leaves a residual above
-// kMaxFitResidualRatio x that of the other fit, the polynomial k(t) (the shaft angle in
-// revolutions as a function of time) inverted at every integer k. Why both: t(k) is exact for
-// constant speed and, over a short record, for a linear run-up, but over a long run-up t(k) ~
-// sqrt(k) is not a polynomial (500 -> 3000 rpm over 263 revolutions: a cubic t(k) is off by 5
-// revolutions), while the angle of a linear run-up is exactly quadratic in time. The residuals
-// are compared in time: k(t)'s residual in revolutions over the local speed.
-std::vector<double> smooth_pulses(const std::vector<double>& t, int degree) {
-  const int n = static_cast<int>(t.size());
-  if (degree <= 0 || n <= degree + 1) return t;
-  Eigen::MatrixXd a(n, degree + 1);
-  Eigen::VectorXd b(n);
-  for (int i = 0; i < n; ++i) {
-    const double u = 2.0 * i / (n - 1) - 1.0;
-    double p = 1.0;
-    for (int j = 0; j <= degree; ++j, p *= u) a(i, j) = p;
-    b(i) = t[i] - t.front();
-  }
-  const Eigen::VectorXd fit = a * a.colPivHouseholderQr().solve(b);
-  const double t_rms_s = std::sqrt((b - fit).squaredNorm() / n);
-  std::vector<double> out(t.size());
-  for (int i = 0; i < n; ++i) out[i] = t.front() + fit(i);
-  std::vector<double> k(t.size());
-  std::iota(k.begin(), k.end(), 0.0);
-  const PolyFit k_of_t = poly_fit(t, k, degree);
-  double sq = 0.0;  // k(t)'s residual in time
-  bool increasing = true;
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    const double rate = k_of_t.slope(t[i]);
-    increasing = increasing && rate > 0.0;
-    const double r = (k[i] - k_of_t(t[i])) / rate;
-    sq += r * r;
-  }
-  const double k_rms_s = std::sqrt(sq / n);
-  // Round-off (exact pulses, e.g. from a nominal speed) is no reason to switch.
-  const double floor_s = 1e-12 * (t.back() - t.front());
-  if (!increasing || !(t_rms_s > kMaxFitResidualRatio * k_rms_s + floor_s)) return out;
-  // Invert k(t) by Newton's method from the measured time (within a fraction of a period).
-  std::vector<double> inv(t.size());
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    double x = t[i];
-    for (int it = 0; it < 20; ++it) {
-      const double dx = (k_of_t(x) - k[i]) / k_of_t.slope(x);
-      x -= dx;
-      if (std::abs(dx) < 1e-12 * std::max(1.0, std::abs(x))) break;
-    }
-    inv[i] = x;
-  }
-  for (std::size_t i = 1; i < inv.size(); ++i) {
-    if (!(inv[i] > inv[i - 1]) || !std::isfinite(inv[i])) return out;
-  }
-  return inv;
-}
-
-// The regular order (shaft order 1, mesh harmonics, their first sidebands) in 1..top with the
-// largest TSA amplitude; 0 when there is none.
-std::size_t strongest_line(const std::vector<std::complex<double>>& mean_spec,
-                           const std::vector<bool>& regular, std::size_t top) {
-  std::size_t best = 0;
-  for (std::size_t k = 1; k <= top && k < mean_spec.size(); ++k) {
-    if (regular[k] && (best == 0 || std::norm(mean_spec[k]) > std::norm(mean_spec[best]))) best = k;
-  }
-  return best;
-}
-
-// The pulses corrected revolution by revolution from the phase of a line of order k, as
-// measured in each revolution of the resampled record (`phasors`, revolution j between pulses
-// first_rev + j and first_rev + j + 1); the pulses unchanged when the line's amplitude scatters
-// by more than max_phase_noise of its mean over the revolutions (additive noise moves the phase
-// about as much as the amplitude, so the phase would carry more noise than the pulses' error).
-// In revolution j the line's phase is c + k e_j, e_j the mean error of the pulses' angle
-// there (true minus assumed, rad); e is interpolated to the pulses between revolution middles
-// (held beyond the first and last) and each pulse moved by -e / (2 pi) of the local period.
-std::vector<double> phase_corrected_pulses(const std::vector<double>& pulses,
-                                           const std::vector<std::complex<double>>& phasors,
-                                           std::size_t k, double first_rev,
-                                           double max_phase_noise) {
-  const std::size_t n = phasors.size();
-  if (n < 3 || k == 0 || pulses.size() < 2) return pulses;
-  double mean_amp = 0.0, mean_sq = 0.0;
-  for (const auto& z : phasors) {
-    mean_amp += std::abs(z);
-    mean_sq += std::norm(z);
-  }
-  mean_amp /= static_cast<double>(n);
-  mean_sq /= static_cast<double>(n);
-  const double amp_sd = std::sqrt(std::max(0.0, mean_sq - mean_amp * mean_amp));
-  if (!(mean_amp > 0.0) || amp_sd > max_phase_noise * mean_amp) return pulses;
-  std::vector<double> e(n);
-  e[0] = std::arg(phasors[0]);
-  for (std::size_t j = 1; j < n; ++j)
-    e[j] = e[j - 1] + std::arg(phasors[j] * std::conj(phasors[j - 1]));
-  const double e_mean = std::accumulate(e.begin(), e.end(), 0.0) / static_cast<double>(n);
-  for (double& v : e) v = (v - e_mean) / static_cast<double>(k);
-  std::vector<double> out(pulses.size());
-  for (std::size_t b = 0; b < pulses.size(); ++b) {
-    const double x =
-        std::clamp(static_cast<double>(b) - first_rev - 0.5, 0.0, static_cast<double>(n - 1));
-    const auto j = std::min(static_cast<std::size_t>(x), n - 2);
-    const double err = e[j] + (x - static_cast<double>(j)) * (e[j + 1] - e[j]);
-    const double period =
-        b + 1 < pulses.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
-    out[b] = pulses[b] - err / (2.0 * std::numbers::pi) * period;
-  }
-  for (std::size_t b = 1; b < out.size(); ++b) {
-    if (!(out[b] > out[b - 1])) return pulses;
-  }
-  return out;
-}
-
-// Every mesh frequency of the gearbox that is an integer order of shaft `sh`, up to `half`.
-std::vector<int> synchronous_mesh_orders(const diag::Gearbox& gb, const diag::Shaft& sh, int half) {
-  const auto& shafts = gb.shafts();
-  std::vector<int> orders;
-  for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
-    const double f_mesh_over_in =
-        gb.gears()[gb.meshes()[m].driver].spec.teeth *
-        std::abs(shafts[gb.shaft_of_gear(gb.meshes()[m].driver)].speed_ratio);
-    int order = 0;
-    if (is_integer(f_mesh_over_in / std::abs(sh.speed_ratio), &order) && order <= half &&
-        std::find(orders.begin(), orders.end(), order) == orders.end()) {
-      orders.push_back(order);
-    }
-  }
-  return orders;
-}
-
-// TSA resolution for a shaft turning at shaft_hz (GearDamageOptions::samples_per_rev) and the
-// highest order analysed.
-struct Resolution {
-  int spr = 0;
-  std::size_t top = 0;
-};
-Resolution resolution(const GearDamageOptions& o, double fs, double shaft_hz) {
-  const double top_order = o.band_fraction * 0.5 * fs / shaft_hz;
-  Resolution r;
-  r.spr = o.samples_per_rev > 0 ? o.samples_per_rev
-                                : std::clamp(next_power_of_two(2.8 * top_order), 64, 16384);
-  r.top = static_cast<std::size_t>(std::min(top_order, 0.72 * (r.spr / 2)));
-  return r;
-}
-
-// The pulses of one shaft corrected from the phase of its regular lines in channel `ch`
-// (GearDamageOptions::refine_speed). Two stages: the lowest mesh order of the shaft (`first`;
-// its phase step per revolution, k eps, stays unambiguous up to a speed error of 0.5 / k), then
-// the strongest regular line (its phase is the most precise). Each stage corrects twice (the
-// first pass measures each revolution's phase through the error it corrects: a revolution's
-// spectrum is blurred by the error's change within it) and is kept only if no pulse moves by
-// half a period of the line or more and it raises the energy of the TSA's regular lines, i.e.
-// makes them more coherent. So the correction is for small errors (the tacho's quantisation and
-// the rate error of its fit, ~1e-5); a larger speed error is left as it is and smears the
-// averages: no finding rather than a wrong one. *line: the last order followed that was kept, 0
-// when the pulses stay as they are. Throws diag::InputError when the record cannot be
-// resampled.
-std::vector<double> refined_pulses(const diag::Signal& ch, const std::vector<double>& pulses,
-                                   int spr, const std::vector<bool>& regular, std::size_t first,
-                                   int min_revolutions, std::size_t* line) {
-  ResampleOptions ro;
-  ro.pulses_per_rev = 1;
-  ro.samples_per_rev = spr;
-  RealFft fft(static_cast<std::size_t>(spr));
-  std::vector<std::complex<double>> spec(fft.bins());
-  const auto passband = static_cast<std::size_t>(0.72 * (spr / 2));
-  // The TSA's spectrum and the energy of its regular lines, for pulses p.
-  auto coherent = [&](const AngleResampled& ar) {
-    fft.forward(tsa(ar, min_revolutions).samples, spec);
-    double e = 0.0;
-    for (std::size_t k = 1; k <= passband && k < spec.size(); ++k) {
-      if (regular[k]) e += std::norm(spec[k]);
-    }
-    return e;
-  };
-  AngleResampled ar = resample_by_angle(ch.samples, ch.fs_hz, pulses, ro);
-  double energy = coherent(ar);
-  const std::size_t strongest = strongest_line(spec, regular, passband);
-  std::vector<double> best = pulses;
-  *line = 0;
-  std::vector<std::complex<double>> phasors;
-  for (const std::size_t k : {first, strongest}) {
-    if (k == 0 || k > passband || k == *line) continue;
-    std::vector<double> p = best;
-    AngleResampled a = ar;
-    for (int pass = 0; pass < 2; ++pass) {
-      phasors.clear();
-      for (int r = 0; r < a.revolutions; ++r) {
-        fft.forward(std::span<const double>(a.samples).subspan(static_cast<std::size_t>(r) * spr,
-                                                               static_cast<std::size_t>(spr)),
-                    spec);
-        phasors.push_back(spec[k]);
-      }
-      std::vector<double> q = phase_corrected_pulses(p, phasors, k, a.first_rev, kMaxPhaseNoise);
-      if (q == p) break;
-      p = std::move(q);
-      a = resample_by_angle(ch.samples, ch.fs_hz, p, ro);
-    }
-    if (p == best) continue;
-    // No pulse may move by half a period of the line or more from where the tacho put it: the
-    // phase steps would then be ambiguous (a rate error of eps over N revolutions moves the end
-    // pulses by k eps N / 2 periods of order k), and following them can lock the angle onto a
-    // neighbouring order.
-    bool near = true;
-    for (std::size_t b = 0; b < p.size() && near; ++b) {
-      const double period =
-          b + 1 < p.size() ? pulses[b + 1] - pulses[b] : pulses[b] - pulses[b - 1];
-      near = std::abs(p[b] - pulses[b]) < 0.5 * period / static_cast<double>(k);
-    }
-    if (!near) continue;
-    const double e = coherent(a);
-    if (!(e > energy)) continue;
-    energy = e;
-    best = std::move(p);
-    ar = std::move(a);
-    *line = k;
-  }
-  return best;
-}
-
 GearIndicators indicators_for(const Tsa& t, const std::vector<double>& diff,
                               const std::vector<int>& mesh_orders, int first_gear_teeth) {
   GearIndicators ind;
@@ -390,6 +101,45 @@ GearIndicators indicators_for(const Tsa& t, const std::vector<double>& diff,
   }
   GearSignals s{t.samples, diff, regular, residual};
   return gear_indicators(s, mo);
+}
+
+// Gears with fewer teeth have too few other teeth to judge the outstanding one against.
+constexpr int kMinTeethForOutlier = 8;
+
+struct ToothOutlier {
+  double ratio = 1.0;      // the outstanding tooth's energy over the median of the others
+  double angle_deg = kNaN;  // where in the revolution (0: the revolution's start)
+};
+// The tooth that stands out in one revolution-averaged signal x (e_s, high-passed) for a gear of
+// z teeth: the local energy L(i) (mean of x^2 over one tooth pitch centred at sample i); its
+// largest value, L(i*), over the median of L at the same place of the other teeth (i* + t n / z,
+// t = 2 .. z - 2: its neighbours are left out, since a tooth's contact spans about 1.6 pitches
+// and its fault reaches them).
+ToothOutlier tooth_outlier(const std::vector<double>& x, int z) {
+  const std::size_t n = x.size();
+  const std::size_t w = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(
+                                                     static_cast<double>(n) / z)));
+  std::vector<double> local(n, 0.0);
+  double run = 0.0;
+  for (std::size_t j = 0; j < w; ++j) run += x[(n - w / 2 + j) % n] * x[(n - w / 2 + j) % n];
+  for (std::size_t i = 0; i < n; ++i) {
+    local[i] = run / static_cast<double>(w);
+    const double out = x[(i + n - w / 2) % n], in = x[(i + n - w / 2 + w) % n];
+    run += in * in - out * out;
+  }
+  const auto peak = static_cast<std::size_t>(
+      std::max_element(local.begin(), local.end()) - local.begin());
+  std::vector<double> others;
+  for (int t = 2; t <= z - 2; ++t) {
+    const auto off = static_cast<std::size_t>(std::lround(static_cast<double>(t) * n / z));
+    others.push_back(local[(peak + off) % n]);
+  }
+  std::nth_element(others.begin(), others.begin() + others.size() / 2, others.end());
+  const double med = others[others.size() / 2];
+  ToothOutlier o;
+  o.ratio = med > 0.0 ? local[peak] / med : kInf;
+  o.angle_deg = 360.0 * static_cast<double>(peak) / static_cast<double>(n);
+  return o;
 }
 
 }  // namespace
@@ -421,8 +171,8 @@ void GearDamageOptions::validate() const {
   if (min_revolutions < 2) {
     fail("min_revolutions", std::to_string(min_revolutions) + " is below 2");
   }
-  if (!(healthy_fm4 > 3.0) || !std::isfinite(healthy_fm4)) {
-    fail("healthy_fm4", std::to_string(healthy_fm4) + " must be finite and > 3 (Gaussian noise)");
+  if (!(healthy_fm4 > 1.0) || !std::isfinite(healthy_fm4)) {
+    fail("healthy_fm4", std::to_string(healthy_fm4) + " must be finite and > 1 (no tooth stands out)");
   }
   if (!(damaged_fm4 > healthy_fm4) || !std::isfinite(damaged_fm4)) {
     fail("damaged_fm4", std::to_string(damaged_fm4) + " must be finite and > healthy_fm4 (" +
@@ -513,10 +263,10 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   GearDamageResult res;
   res.reference_shaft = ref;
   std::ostringstream note;
-  const std::vector<double> ref_pulses = smooth_pulses(
-      std::vector<double>(pulse_times_s.begin(), pulse_times_s.end()), options.pulse_fit_degree);
   const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
   const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
+  const std::vector<double> ref_pulses =
+      smooth_pulse_times(pulse_times_s, options.pulse_fit_degree);
 
   ResampleOptions ro;
   ro.pulses_per_rev = 1;
@@ -538,58 +288,25 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
       for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
     } else {
-      chans = shaft_channels(rec, gb, sh.name);
+      chans = shaft_vibration_channels(rec, gb, sh.name);
     }
     return chans;
   };
 
-  // ---- pulse correction (refine_speed) on the fastest shaft with gears and channels ----
-  // Once for all shafts: the error is the reference pulses' (every shaft's revolutions are
-  // scaled from them), and the fastest shaft sees it at the lowest orders, where a phase step
-  // per revolution stays unambiguous longest. Correcting each shaft on its own could leave the
-  // slow shafts smeared while a fast one is corrected: a slow shaft's fault, which folds into
-  // the faster shafts' averages, would then be put on the fast shaft.
-  std::vector<double> base = ref_pulses;  // once-per-revolution times of a shaft turning at
-  double base_ratio = ref_ratio;          // |speed_ratio| = base_ratio
-  if (options.refine_speed) {
-    const diag::Shaft* fast = nullptr;
-    std::vector<const diag::Signal*> fast_chans;
-    for (const diag::Shaft& sh : shafts) {
-      if (sh.gears.empty() || (fast && std::abs(sh.speed_ratio) <= std::abs(fast->speed_ratio))) {
-        continue;
-      }
-      std::vector<const diag::Signal*> c = channels_of(sh);
-      if (!c.empty()) fast = &sh, fast_chans = std::move(c);
-    }
-    if (fast) {
-      const double rel = std::abs(fast->speed_ratio) / ref_ratio;
-      const std::vector<double> fast_pulses = scale_pulses(ref_pulses, rel);
-      const Resolution res_f = resolution(options, fast_chans.front()->fs_hz, ref_hz * rel);
-      const std::vector<int> orders = synchronous_mesh_orders(gb, *fast, res_f.spr / 2);
-      const std::vector<bool> regular =
-          tsa_regular_orders(static_cast<std::size_t>(res_f.spr), orders, 1);
-      const std::size_t first =
-          orders.empty()
-              ? 0
-              : static_cast<std::size_t>(*std::min_element(orders.begin(), orders.end()));
-      for (const diag::Signal* ch : fast_chans) {
-        std::size_t line = 0;
-        std::vector<double> p;
-        try {
-          p = refined_pulses(*ch, fast_pulses, res_f.spr, regular, first, options.min_revolutions,
-                             &line);
-        } catch (const diag::InputError&) {
-          continue;  // the shaft loop below says why
-        }
-        if (line == 0) continue;
-        base = std::move(p);
-        base_ratio = std::abs(fast->speed_ratio);
-        note << "pulses corrected from the phase of order " << line << " of shaft '" << fast->name
-             << "' on " << ch->name << ". ";
-        break;
-      }
-    }
-  }
+  // ---- pulse correction (pulse_refine.hpp): smoothed, then corrected from a mesh line's phase
+  // on the fastest shaft; every shaft's revolutions are scaled from the result ----
+  PulseRefineOptions pro;
+  pro.pulse_fit_degree = options.pulse_fit_degree;
+  pro.phase_correction = options.refine_speed;
+  pro.band_fraction = options.band_fraction;
+  pro.samples_per_rev = options.samples_per_rev;
+  pro.min_revolutions = options.min_revolutions;
+  pro.channels = options.channels;
+  const RefinedPulses refined = refine_pulses(rec, gb, ref, pulse_times_s, pro);
+  note << refined.note;
+  const std::vector<double>& base = refined.pulses;  // once per revolution of a shaft turning at
+  const double base_ratio =                          // |speed_ratio| = base_ratio
+      std::abs(shafts[static_cast<std::size_t>(gb.shaft_index(refined.shaft))].speed_ratio);
 
   for (std::size_t si = 0; si < shafts.size(); ++si) {
     const diag::Shaft& sh = shafts[si];
@@ -607,8 +324,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       continue;
     }
     // Highest order analysed and the TSA resolution (options).
-    const Resolution reso = resolution(options, chans.front()->fs_hz, sd.frequency_hz);
-    const int spr = reso.spr;
+    const TsaResolution reso = tsa_resolution(chans.front()->fs_hz, sd.frequency_hz,
+                                              options.band_fraction, options.samples_per_rev);
+    const int spr = reso.samples_per_rev;
     const int half = spr / 2;
     const std::size_t top = reso.top;
     sd.samples_per_rev = spr;
@@ -729,14 +447,27 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       fft.inverse(mean_spec, excl);
       const double raw = energy > 0.0 ? fm4(excl) : kNaN;
       const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
-      // Kurtosis of the synchronous part (options): only where it stands out of the noise.
-      double score = 3.0;
-      if (snr >= options.min_snr && std::isfinite(raw)) {
-        const double gain = std::isfinite(snr) ? snr / (snr - 1.0) : 1.0;
-        score = 3.0 + (raw - 3.0) * gain * gain;
+      // The tooth that stands out, per gear of the shaft (its own high-passed copy of e_s).
+      double score = 1.0;
+      ToothOutlier best_tooth;
+      std::string best_gear;
+      if (snr >= options.min_snr && energy > 0.0) {
+        for (int g : sh.gears) {
+          const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
+          if (z < kMinTeethForOutlier) continue;
+          std::vector<std::complex<double>> hp = mean_spec;
+          const auto cut = static_cast<std::size_t>(z / 2);
+          for (std::size_t k = 0; k < cut && k < hp.size(); ++k) hp[k] = 0.0;
+          std::vector<double> x(static_cast<std::size_t>(spr));
+          fft.inverse(hp, x);
+          const ToothOutlier to = tooth_outlier(x, z);
+          if (to.ratio > score) score = to.ratio, best_tooth = to, best_gear = gb.gears()[g].name;
+        }
       }
       if (std::isnan(sd.score) || score > sd.score || (score == sd.score && snr > sd.snr)) {
         sd.score = score;
+        sd.gear = best_gear;
+        sd.angle_deg = best_tooth.angle_deg;
         sd.fm4 = raw;
         sd.snr = snr;
         sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
@@ -751,11 +482,27 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     const bool significant =
         sd.snr >= options.min_snr && !(sd.level < options.min_level) &&
         !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
+    sd.significant = significant;
     sd.damaged = significant && sd.score > options.damaged_fm4;
     sd.uncertain = significant && !sd.damaged && sd.score > options.healthy_fm4;
     res.shafts.push_back(sd);
   }
 
+  auto speed_of = [&](const ShaftDamage& d) {
+    return std::abs(shafts[static_cast<std::size_t>(gb.shaft_index(d.shaft))].speed_ratio);
+  };
+  // Shafts whose periods are whole multiples of one another (sub-harmonic ratios): said, since
+  // a fault on the slower one folds into the faster one's average.
+  for (const ShaftDamage& a : res.shafts) {
+    for (const ShaftDamage& b : res.shafts) {
+      int m = 0;
+      if (is_integer(speed_of(b) / speed_of(a), &m) && m > 1) {
+        note << "the period of '" << a.shaft << "' is " << m << " x that of '" << b.shaft
+             << "': a fault on '" << a.shaft << "' also shows in '" << b.shaft
+             << "''s average, and is attributed to '" << a.shaft << "'. ";
+      }
+    }
+  }
   // ---- decision: the slowest damaged shaft ----
   std::vector<std::size_t> order(res.shafts.size());
   std::iota(order.begin(), order.end(), 0);
@@ -778,15 +525,27 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
     const ShaftDamage& sd = res.shafts[order[k]];
     if (!sd.damaged) continue;
     std::ostringstream why;
-    why << "noise-corrected kurtosis of the exclusive difference signal " << sd.score << " > "
-        << options.damaged_fm4 << " on " << sd.channel;
+    why << "a tooth of " << sd.gear << " stands out at " << std::lround(sd.angle_deg)
+        << " deg of the shaft's revolution: its energy in the exclusive difference signal is "
+        << sd.score << " x the median of the other teeth' (> " << options.damaged_fm4 << ") on "
+        << sd.channel;
+    // A faster shaft flagged as well whose period divides this one's: the fault folds into it.
+    for (std::size_t j = k + 1; j < order.size(); ++j) {
+      const ShaftDamage& faster = res.shafts[order[j]];
+      int m = 0;
+      if (faster.damaged && is_integer(speed_of(faster) / speed_of(sd), &m) && m > 1) {
+        why << "; '" << faster.shaft << "' (period 1/" << m << " of this shaft's) is flagged too: "
+            << "a fault here repeats in its average every " << m
+            << " revolutions, so it is put on the slower shaft, whose exclusive orders hold it";
+      }
+    }
     res.findings.push_back(make_finding(sd, why.str()));
     res.status = "damaged";
     for (std::size_t j = 0; j < k; ++j) {
       const ShaftDamage& slower = res.shafts[order[j]];
       if (!slower.uncertain) continue;
       std::ostringstream w2;
-      w2 << "FM4 " << slower.score << " in the uncertain band (" << options.healthy_fm4 << ", "
+      w2 << "tooth score " << slower.score << " in the uncertain band (" << options.healthy_fm4 << ", "
          << options.damaged_fm4 << "]: a fault here would also flag '" << sd.shaft << "'";
       res.findings.push_back(make_finding(slower, w2.str()));
       res.status = "ambiguous";
