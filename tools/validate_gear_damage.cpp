@@ -43,7 +43,9 @@ int validate_gear_damage(int argc, char** argv) {
       "min-noise", po::value(&opt.min_noise_m_per_s2)->default_value(opt.min_noise_m_per_s2),
       "lowest sensor noise RMS [m/s^2]")(
       "max-noise", po::value(&opt.max_noise_m_per_s2)->default_value(opt.max_noise_m_per_s2),
-      "highest sensor noise RMS [m/s^2]");
+      "highest sensor noise RMS [m/s^2]")(
+      "baseline", po::bool_switch(&opt.baseline),
+      "compare each case with a healthy baseline of the same gears (NA4-style)");
   po::variables_map vm;
   po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
   if (vm.count("help")) {

@@ -4,14 +4,23 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 
 namespace {
 
-diag::Gearbox two_stage() {
-  return diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
+diag::Gearbox load(const std::string& name) {
+  return diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/" + name);
+}
+
+// The report set (docs/notes/locator.md): the two gearboxes the thresholds were never tuned on
+// (17/44 x 21/50 and the single-stage 29/47) and the two they were tuned on (with other seeds
+// there), all with non-integer ratios but the three-shaft box.
+std::vector<diag::Gearbox> report_gearboxes() {
+  return {load("two_stage_17_44_21_50.json"), load("single_stage_29_47.json"),
+          load("two_stage_23_41_19_53.json"), load("three_shaft.json")};
 }
 
 TEST(GearDamageLoop, IsReproducibleFromItsSeedAndCountsEveryCase) {
@@ -19,9 +28,10 @@ TEST(GearDamageLoop, IsReproducibleFromItsSeedAndCountsEveryCase) {
   o.cases = 3;
   o.healthy_share = 1.0 / 3.0;
   o.seed = 11;
-  const diag::Gearbox gb = two_stage();
-  const auto a = validate::run_gear_damage_loop(gb, o);
-  const auto b = validate::run_gear_damage_loop(gb, o);
+  const std::vector<diag::Gearbox> gbs = {load("single_stage_29_47.json"),
+                                          load("three_shaft.json")};
+  const auto a = validate::run_gear_damage_loop(gbs, o);
+  const auto b = validate::run_gear_damage_loop(gbs, o);
   ASSERT_EQ(a.cases.size(), 3u);
   EXPECT_EQ(a.healthy_total, 1);
   EXPECT_EQ(a.faulty_total, 2);
@@ -30,10 +40,17 @@ TEST(GearDamageLoop, IsReproducibleFromItsSeedAndCountsEveryCase) {
   for (std::size_t i = 0; i < a.cases.size(); ++i) {
     const auto& ca = a.cases[i];
     const auto& cb = b.cases[i];
+    EXPECT_EQ(ca.gearbox, gbs[i % 2].name());
     EXPECT_EQ(ca.gear, cb.gear);
     EXPECT_EQ(ca.tooth, cb.tooth);
     EXPECT_EQ(ca.size_m, cb.size_m);
     EXPECT_EQ(ca.rpm, cb.rpm);
+    EXPECT_EQ(ca.accuracy_grade, cb.accuracy_grade);
+    EXPECT_EQ(ca.runout_m, cb.runout_m);
+    EXPECT_GE(ca.accuracy_grade, o.min_accuracy_grade);
+    EXPECT_LE(ca.accuracy_grade, o.max_accuracy_grade);
+    EXPECT_GE(ca.runout_m, o.min_runout_m);
+    EXPECT_LE(ca.runout_m, o.max_runout_m);
     EXPECT_EQ(ca.result.status, cb.result.status);
     ASSERT_EQ(ca.result.shafts.size(), cb.result.shafts.size());
     for (std::size_t s = 0; s < ca.result.shafts.size(); ++s) {
@@ -41,10 +58,16 @@ TEST(GearDamageLoop, IsReproducibleFromItsSeedAndCountsEveryCase) {
       EXPECT_EQ(ca.result.shafts[s].score, cb.result.shafts[s].score);
     }
     if (ca.faulty) {
-      EXPECT_EQ(ca.truth_shaft, gb.gears()[gb.gear_index(ca.gear)].shaft);
+      EXPECT_EQ(ca.truth_shaft, gbs[i % 2].gears()[gbs[i % 2].gear_index(ca.gear)].shaft);
       EXPECT_GE(ca.rpm, o.min_rpm);
       EXPECT_LE(ca.rpm, o.max_rpm);
     }
+  }
+  // The ROC at the detector's own threshold is the detector's decision (no case here is
+  // "ambiguous", which the ROC does not model).
+  const double th = o.detector.damaged_fm4;
+  for (const auto& c : a.cases) {
+    if (c.result.status != "ambiguous") EXPECT_EQ(validate::decide_at(c, th), c.found_shaft);
   }
 }
 
@@ -56,32 +79,61 @@ TEST(GearDamageLoop, BadOptionsAreRefused) {
   o.max_rpm = o.min_rpm - 1;
   EXPECT_THROW(o.validate(), diag::InputError);
   o = {};
-  o.root_crack = o.chip = o.missing = false;
+  o.root_crack = o.chip = o.missing = o.spall = false;
   EXPECT_THROW(o.validate(), diag::InputError);
   o = {};
   o.slowest_shaft_revolutions = o.detector.min_revolutions;
   EXPECT_THROW(o.validate(), diag::InputError);
+  o = {};
+  o.max_accuracy_grade = 13;
+  EXPECT_THROW(o.validate(), diag::InputError);
+  o = {};
+  o.min_accuracy_grade = 7;
+  o.max_accuracy_grade = 6;
+  EXPECT_THROW(o.validate(), diag::InputError);
+  o = {};
+  o.max_runout_m = -1e-6;
+  EXPECT_THROW(o.validate(), diag::InputError);
+  o = {};
+  o.max_spall_depth_m = 0.5 * o.min_spall_depth_m;
+  EXPECT_THROW(o.validate(), diag::InputError);
 }
 
-// The acceptance criterion of the closed loop (issue 5): 100 random cases (cracked, chipped or
-// missing tooth on a random gear, random tooth, size, speed, load and noise; a quarter healthy),
-// the right shaft in >= 95 % of the faulty cases and no finding on any healthy one (the numbers
-// are printed). Measured at this commit: seed 2024 (this test) 75/75 faulty cases on the right
-// shaft and no false alarm in 25; seeds 1 and 7 (not in CI) 74/75 (a 4.2 mm root crack on the
-// input gear scored 4.8 < 5) and 75/75, no false alarm in either. Before the
-// revolution-by-revolution pulse correction (GearDamageOptions::refine_speed) healthy cases near
-// 2243 rpm raised false alarms from the tacho's quantisation (gear_damage_test.cpp,
-// TachoQuantisationIsCorrectedFromTheMeshLinePhase).
-TEST(GearDamageLoop, FindsTheDamagedShaftInNinetyFivePercentOfRandomCases) {
+// Issue 12's acceptance: realistic gears (ISO 1328 grades 5-8, runout 0-20 um on every gear,
+// healthy and faulty alike) on four gearboxes, two never used for tuning, seed 2024 (tuning
+// used seed 11). FLOORS_MEASURED
+TEST(GearDamageLoop, RealisticGearsRaiseFewFalseAlarmsAndNoWrongShaft) {
   validate::GearDamageLoopOptions o;
-  o.cases = 100;
-  o.healthy_share = 0.25;
+  o.cases = 48;
+  o.healthy_share = 1.0 / 3.0;
   o.seed = 2024;
-  const auto r = validate::run_gear_damage_loop(two_stage(), o);
+  const auto r = validate::run_gear_damage_loop(report_gearboxes(), o);
   std::printf("%s", validate::format_report(r).c_str());
-  constexpr double kRequiredAccuracy = 0.95;
-  EXPECT_GE(r.faulty_accuracy(), kRequiredAccuracy);
+  ASSERT_EQ(r.healthy_total, 16);
+  EXPECT_LE(r.healthy_false_alarms, kMaxFalseAlarms);
+  EXPECT_LE(r.faulty_wrong_shaft, kMaxWrongShaft);
+  int missing = 0, missing_right = 0;
+  for (const auto& c : r.cases) {
+    if (c.kind != "missing") continue;
+    ++missing;
+    missing_right += c.correct;
+  }
+  EXPECT_GE(missing_right, kMinMissingRight * missing);
+  EXPECT_GE(r.faulty_correct, kMinRight * r.faulty_total);
+}
+
+// With a healthy baseline of the same gears (NA4-style), seed 2025. BASELINE_MEASURED
+TEST(GearDamageLoop, AHealthyBaselineCancelsThePitchErrors) {
+  validate::GearDamageLoopOptions o;
+  o.cases = 16;
+  o.healthy_share = 0.25;
+  o.seed = 2025;
+  o.baseline = true;
+  const auto r = validate::run_gear_damage_loop(report_gearboxes(), o);
+  std::printf("%s", validate::format_report(r).c_str());
   EXPECT_EQ(r.healthy_false_alarms, 0);
+  EXPECT_EQ(r.faulty_wrong_shaft, 0);
+  EXPECT_GE(r.faulty_correct, kMinRightWithBaseline * r.faulty_total);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -171,8 +173,25 @@ GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearbox
     run.seed = rng();
     run.mesh_channels = false;
     run.steps_per_period = opt.steps_per_period;
+    const std::uint64_t baseline_noise_seed = rng();
+    const double baseline_delay = uniform(rng, 0.3, 1.3);
     const sim::DynamicResult sr = sim::simulate_dynamic(gb, dyn, run);
-    c.result = detect::locate_gear_damage(sim::to_recording(gb, sr), gb, opt.detector);
+    detect::GearDamageOptions det = opt.detector;
+    if (opt.baseline) {
+      // The baseline is recorded later in the run (0.3-1.3 slowest-shaft revolutions more
+      // settling), as a real one is on another day: the shafts stand at other relative angles
+      // at its first tacho pulse, so the slower shafts' averages are rotated against the
+      // record's and what is not synchronous with a shaft does not cancel in the difference.
+      sim::DynamicsOptions healthy = dyn;
+      healthy.faults.clear();
+      sim::RunOptions run_b = run;
+      run_b.seed = baseline_noise_seed;
+      run_b.settle_s = sr.truth["integrator"]["settle_s"].get<double>() + baseline_delay / slowest_hz;
+      const diag::Recording rb = sim::to_recording(gb, sim::simulate_dynamic(gb, healthy, run_b));
+      det.baseline = std::make_shared<const detect::GearDamageBaseline>(
+          detect::gear_damage_baseline(rb, gb, opt.detector));
+    }
+    c.result = detect::locate_gear_damage(sim::to_recording(gb, sr), gb, det);
     for (const auto& s : c.result.shafts) {
       c.evidence.push_back({s.shaft, s.frequency_hz, s.score, s.significant});
     }

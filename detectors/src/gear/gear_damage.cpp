@@ -142,6 +142,38 @@ ToothOutlier tooth_outlier(const std::vector<double>& x, int z) {
   return o;
 }
 
+// The rotation phi [revolutions] of the baseline's average b that best matches x: the maximum of
+// C(phi) = Re sum_k x_k conj(b_k) exp(i 2 pi k phi) over the orders in `mask` (x(theta) =
+// b(theta - phi) gives x_k = b_k exp(-i 2 pi k phi)). Coarse on the TSA's sample grid (one
+// inverse FFT), then a parabola through the peak and three Newton steps on C.
+double baseline_rotation(const std::vector<std::complex<double>>& x,
+                         const std::vector<std::complex<double>>& b,
+                         const std::vector<bool>& mask, RealFft& fft) {
+  std::vector<std::complex<double>> p(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) p[k] = mask[k] ? x[k] * std::conj(b[k]) : 0.0;
+  std::vector<double> c(fft.size());
+  fft.inverse(p, c);
+  const std::size_t n = c.size();
+  const auto j = static_cast<std::size_t>(std::max_element(c.begin(), c.end()) - c.begin());
+  const double cm = c[(j + n - 1) % n], c0 = c[j], cp = c[(j + 1) % n];
+  const double den = cm - 2.0 * c0 + cp;
+  double phi = (static_cast<double>(j) + (den < 0.0 ? 0.5 * (cm - cp) / den : 0.0)) /
+               static_cast<double>(n);
+  for (int it = 0; it < 3; ++it) {
+    double d1 = 0.0, d2 = 0.0;
+    for (std::size_t k = 1; k < p.size(); ++k) {
+      if (p[k] == 0.0) continue;
+      const double w = 2.0 * std::numbers::pi * static_cast<double>(k);
+      const std::complex<double> e = p[k] * std::polar(1.0, w * phi);
+      d1 += -w * e.imag();
+      d2 += -w * w * e.real();
+    }
+    if (!(d2 < 0.0)) break;
+    phi -= d1 / d2;
+  }
+  return phi;
+}
+
 }  // namespace
 
 void GearDamageOptions::validate() const {
@@ -180,59 +212,12 @@ void GearDamageOptions::validate() const {
   }
 }
 
-GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
-                                    const GearDamageOptions& options) {
-  options.validate();
-  const std::string where = "locate_gear_damage";
-  const auto& shafts = gb.shafts();
+namespace {
 
-  // ---- reference tacho ----
-  std::string ref = options.reference_shaft;
-  if (!ref.empty() && gb.shaft_index(ref) < 0) {
-    throw diag::InputError(
-        diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
-  }
-  const diag::Signal* tacho = nullptr;
-  auto tacho_of = [&](const std::string& shaft) { return diag::shaft_tacho(rec, shaft); };
-  if (!ref.empty()) {
-    tacho = tacho_of(ref);
-  } else {
-    ref = shafts[gb.input_shaft()].name;
-    tacho = tacho_of(ref);
-    for (std::size_t s = 0; !tacho && s < shafts.size(); ++s) {
-      tacho = tacho_of(shafts[s].name);
-      if (tacho) ref = shafts[s].name;
-    }
-  }
-  if (!tacho) {
-    throw diag::InputError(
-        diag::format_error(where, "tachos", "no tacho for shaft '" + ref + "' in the recording"));
-  }
-  // The tacho's own pulses per revolution (a keyphasor: 1); every ppr-th pulse starts a
-  // revolution.
-  TachoOptions to;
-  to.pulses_per_rev = diag::pulses_per_rev(*tacho);
-  const TachoResult tr = tacho_pulses(tacho->samples, tacho->fs_hz, to);
-  std::vector<double> once;
-  for (std::size_t i = 0; i < tr.pulse_times_s.size(); i += to.pulses_per_rev) {
-    once.push_back(tr.pulse_times_s[i]);
-  }
-  if (once.size() < 3) {
-    throw diag::InputError(
-        diag::format_error(where, "tacho '" + tacho->name + "'",
-                           std::to_string(once.size()) + " revolutions; at least 3 are needed"));
-  }
-  GearDamageResult res = locate_gear_damage(rec, gb, ref, once, options);
-  if (!tr.repairs.empty()) {
-    res.note = std::to_string(tr.repairs.size()) + " tacho repair(s) on '" + ref + "'. " + res.note;
-  }
-  return res;
-}
-
-GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
-                                    const std::string& reference_shaft,
-                                    std::span<const double> pulse_times_s,
-                                    const GearDamageOptions& options) {
+GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb,
+                             const std::string& reference_shaft,
+                             std::span<const double> pulse_times_s,
+                             const GearDamageOptions& options, GearDamageBaseline* capture) {
   options.validate();
   const std::string where = "locate_gear_damage";
   const auto& shafts = gb.shafts();
@@ -308,6 +293,15 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   const double base_ratio =                          // |speed_ratio| = base_ratio
       std::abs(shafts[static_cast<std::size_t>(gb.shaft_index(refined.shaft))].speed_ratio);
 
+  bool used_baseline = false;
+  auto baseline_of = [&](const std::string& shaft, const std::string& channel) {
+    const BaselineTsa* b = nullptr;
+    if (!options.baseline) return b;
+    if (auto it = options.baseline->tsa.find(shaft); it != options.baseline->tsa.end()) {
+      if (auto jt = it->second.find(channel); jt != it->second.end()) b = &jt->second;
+    }
+    return b;
+  };
   for (std::size_t si = 0; si < shafts.size(); ++si) {
     const diag::Shaft& sh = shafts[si];
     if (sh.gears.empty()) continue;
@@ -432,13 +426,39 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
             var[k] += std::norm(rev_spec[k] - mean_spec[k]);
         }
       }
-      double energy = 0.0, noise = 0.0, band = 0.0, regular_energy = 0.0;
+      // The noise of each order in the average: var_k / (N (N - 1)).
+      for (double& v : var) v /= static_cast<double>(ar.revolutions) * (ar.revolutions - 1);
+      if (capture) {
+        capture->tsa[sh.name][ch->name] = {mean_spec, var};
+        continue;
+      }
+      double regular_energy = 0.0;
+      for (std::size_t k = 1; k < keep.size() && k <= top; ++k) {
+        if (regular[k]) regular_energy += std::norm(mean_spec[k]);
+      }
+      bool compared = false;
+      if (const BaselineTsa* b = baseline_of(sh.name, ch->name);
+          b && b->spectrum.size() == mean_spec.size()) {
+        // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
+        // into this record's angle and subtracted in the analysed band; its noise adds.
+        std::vector<bool> band_mask(keep.size());
+        for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
+        const double phi = baseline_rotation(mean_spec, b->spectrum, band_mask, fft);
+        for (std::size_t k = 0; k < keep.size(); ++k) {
+          if (!band_mask[k]) continue;
+          mean_spec[k] -=
+              b->spectrum[k] * std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
+          var[k] += b->noise[k];
+        }
+        used_baseline = true;
+        compared = true;
+      }
+      double energy = 0.0, noise = 0.0, band = 0.0;
       for (std::size_t k = 0; k < keep.size(); ++k) {
         if (in_band[k]) band += std::norm(mean_spec[k]);
-        if (k > 0 && k <= top && regular[k]) regular_energy += std::norm(mean_spec[k]);
         if (keep[k]) {
           energy += std::norm(mean_spec[k]);
-          noise += var[k] / (static_cast<double>(ar.revolutions) * (ar.revolutions - 1));
+          noise += var[k];
         } else {
           mean_spec[k] = 0.0;
         }
@@ -451,7 +471,7 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       double score = 1.0;
       ToothOutlier best_tooth;
       std::string best_gear;
-      if (snr >= options.min_snr && energy > 0.0) {
+      if ((compared || snr >= options.min_snr) && energy > 0.0) {
         for (int g : sh.gears) {
           const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
           if (z < kMinTeethForOutlier) continue;
@@ -471,8 +491,9 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
         sd.fm4 = raw;
         sd.snr = snr;
         sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
-        sd.level =
-            regular_energy > 0.0 ? std::sqrt(std::max(0.0, energy - noise) / regular_energy) : kInf;
+        const double synchronous = compared ? energy : std::max(0.0, energy - noise);
+        sd.level = regular_energy > 0.0 ? std::sqrt(synchronous / regular_energy) : kInf;
+        sd.compared = compared;
         sd.channel = ch->name;
         sd.revolutions = t.revolutions;
         const std::vector<double> diff = tsa_difference(t, mesh_orders);
@@ -480,7 +501,7 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
       }
     }
     const bool significant =
-        sd.snr >= options.min_snr && !(sd.level < options.min_level) &&
+        (sd.compared || sd.snr >= options.min_snr) && !(sd.level < options.min_level) &&
         !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
     sd.significant = significant;
     sd.damaged = significant && sd.score > options.damaged_fm4;
@@ -502,6 +523,10 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
              << "''s average, and is attributed to '" << a.shaft << "'. ";
       }
     }
+  }
+  if (options.baseline) {
+    note << (used_baseline ? "compared with the healthy baseline (its TSA subtracted). "
+                           : "the baseline has none of these shafts and channels: not used. ");
   }
   // ---- decision: the slowest damaged shaft ----
   std::vector<std::size_t> order(res.shafts.size());
@@ -559,6 +584,102 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   return res;
 }
 
+}  // namespace
+
+namespace {
+
+// The reference shaft's once-per-revolution pulse times from its tacho (GearDamageOptions::
+// reference_shaft, else the input's, else the first tacho of a known shaft); *ref its name,
+// *repairs the tacho's repairs.
+std::vector<double> reference_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
+                                     const GearDamageOptions& options, std::string* ref_out,
+                                     std::size_t* repairs) {
+  const std::string where = "locate_gear_damage";
+  const auto& shafts = gb.shafts();
+
+  // ---- reference tacho ----
+  std::string ref = options.reference_shaft;
+  if (!ref.empty() && gb.shaft_index(ref) < 0) {
+    throw diag::InputError(
+        diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
+  }
+  const diag::Signal* tacho = nullptr;
+  auto tacho_of = [&](const std::string& shaft) { return diag::shaft_tacho(rec, shaft); };
+  if (!ref.empty()) {
+    tacho = tacho_of(ref);
+  } else {
+    ref = shafts[gb.input_shaft()].name;
+    tacho = tacho_of(ref);
+    for (std::size_t s = 0; !tacho && s < shafts.size(); ++s) {
+      tacho = tacho_of(shafts[s].name);
+      if (tacho) ref = shafts[s].name;
+    }
+  }
+  if (!tacho) {
+    throw diag::InputError(
+        diag::format_error(where, "tachos", "no tacho for shaft '" + ref + "' in the recording"));
+  }
+  // The tacho's own pulses per revolution (a keyphasor: 1); every ppr-th pulse starts a
+  // revolution.
+  TachoOptions to;
+  to.pulses_per_rev = diag::pulses_per_rev(*tacho);
+  const TachoResult tr = tacho_pulses(tacho->samples, tacho->fs_hz, to);
+  std::vector<double> once;
+  for (std::size_t i = 0; i < tr.pulse_times_s.size(); i += to.pulses_per_rev) {
+    once.push_back(tr.pulse_times_s[i]);
+  }
+  if (once.size() < 3) {
+    throw diag::InputError(
+        diag::format_error(where, "tacho '" + tacho->name + "'",
+                           std::to_string(once.size()) + " revolutions; at least 3 are needed"));
+  }
+  *ref_out = ref;
+  *repairs = tr.repairs.size();
+  return once;
+}
+
+}  // namespace
+
+GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
+                                    const GearDamageOptions& options) {
+  options.validate();
+  std::string ref;
+  std::size_t repairs = 0;
+  const std::vector<double> once = reference_pulses(rec, gb, options, &ref, &repairs);
+  GearDamageResult res = locate_gear_damage(rec, gb, ref, once, options);
+  if (repairs > 0) {
+    res.note = std::to_string(repairs) + " tacho repair(s) on '" + ref + "'. " + res.note;
+  }
+  return res;
+}
+
+GearDamageBaseline gear_damage_baseline(const diag::Recording& healthy, const diag::Gearbox& gb,
+                                        const GearDamageOptions& options) {
+  options.validate();
+  std::string ref;
+  std::size_t repairs = 0;
+  const std::vector<double> once = reference_pulses(healthy, gb, options, &ref, &repairs);
+  return gear_damage_baseline(healthy, gb, ref, once, options);
+}
+
+GearDamageBaseline gear_damage_baseline(const diag::Recording& healthy, const diag::Gearbox& gb,
+                                        const std::string& reference_shaft,
+                                        std::span<const double> pulse_times_s,
+                                        const GearDamageOptions& options) {
+  GearDamageOptions o = options;
+  o.baseline.reset();
+  GearDamageBaseline b;
+  locate_impl(healthy, gb, reference_shaft, pulse_times_s, o, &b);
+  return b;
+}
+
+GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
+                                    const std::string& reference_shaft,
+                                    std::span<const double> pulse_times_s,
+                                    const GearDamageOptions& options) {
+  return locate_impl(rec, gb, reference_shaft, pulse_times_s, options, nullptr);
+}
+
 nlohmann::json to_json(const GearDamageResult& r) {
   auto num = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
   nlohmann::json j;
@@ -577,6 +698,10 @@ nlohmann::json to_json(const GearDamageResult& r) {
                            {"snr", num(s.snr)},
                            {"exclusive_share", num(s.exclusive_share)},
                            {"level", num(s.level)},
+                           {"gear", s.gear},
+                           {"tooth_angle_deg", num(s.angle_deg)},
+                           {"compared_with_baseline", s.compared},
+                           {"significant", s.significant},
                            {"damaged", s.damaged},
                            {"uncertain", s.uncertain},
                            {"fm4", num(s.indicators.fm4)},

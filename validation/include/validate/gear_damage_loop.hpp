@@ -59,6 +59,10 @@ struct GearDamageLoopOptions {
                                        // needs margins at both ends)
   int steps_per_period = 20;           // RK4 steps per period of the highest natural frequency
                                        // (see sim::RunOptions)
+  // NA4-style: each case is also simulated healthy (the same gears: the same pitch errors and
+  // runout, speed and load; its own sensor noise) and given to the detector as its baseline
+  // (GearDamageOptions::baseline). Doubles the simulation time.
+  bool baseline = false;
   detect::GearDamageOptions detector;
 
   void validate() const;  // throws diag::InputError naming the field

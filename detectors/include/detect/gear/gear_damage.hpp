@@ -71,7 +71,9 @@
 // averaged noise, whose largest tooth over the median is a matter of chance.
 #pragma once
 
+#include <complex>
 #include <map>
+#include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <span>
 #include <string>
@@ -82,6 +84,19 @@
 #include "diag/io/recording.hpp"
 
 namespace detect {
+
+// One channel's TSA of a shaft in a healthy recording: its spectrum (orders 0 .. spr / 2, the
+// RealFft of the one-revolution average) and the noise variance of each order in the average.
+struct BaselineTsa {
+  std::vector<std::complex<double>> spectrum;
+  std::vector<double> noise;
+};
+// A healthy baseline of the same gearbox (gear_damage_baseline): shaft -> channel -> TSA. Best
+// taken at the same speed and load as the records it is compared with (the pattern of the
+// pitch errors in the vibration depends on both).
+struct GearDamageBaseline {
+  std::map<std::string, std::map<std::string, BaselineTsa>> tsa;
+};
 
 struct GearDamageOptions {
   // TSA angular resolution [samples/rev], a power of two >= 64, the same for every shaft; 0
@@ -168,6 +183,20 @@ struct GearDamageOptions {
                                 // tacho, else the first tacho whose location is a known shaft
   std::map<std::string, std::vector<std::string>> channels;  // shaft -> channels to use
                                                              // (overrides the automatic choice)
+  // NA4-style comparison (Zakrajsek et al. 1993: NA4 normalises by a baseline; here the healthy
+  // pattern itself is removed): when set, each shaft's TSA (per channel, when the baseline has
+  // that shaft and channel at the same resolution) has the baseline's TSA subtracted in the
+  // analysed band, after rotating it to the best match (the slower shafts' angle zero is where
+  // the reference happened to be at the first pulse: it differs between records). The pitch
+  // errors' and runout's pattern cancels; what is left is what changed: a fault, and noise (the
+  // baseline's noise is added to the significance test's). The tooth score is then taken on
+  // that difference. The SNR gate is then not applied: its noise, the revolution-to-revolution
+  // scatter, counts the content that is not synchronous with the shaft (the other shafts'
+  // patterns) as noise, which is right for one record (it averages out at that rate) but not
+  // for the difference of two records of the same gears, where it largely cancels (in the loop
+  // the difference's SNR fell to 0.05-0.3 with a fault present). The tooth score alone decides:
+  // on a difference of noise alone it stays near 1-3. Null: no baseline.
+  std::shared_ptr<const GearDamageBaseline> baseline;
 
   void validate() const;  // throws diag::InputError naming the field
 };
@@ -187,6 +216,8 @@ struct ShaftDamage {
   double snr = 0;              // its energy over the expected noise energy (1: noise alone)
   double exclusive_share = 1;  // its energy over the difference signal's in the same band
   double level = 0;            // its synchronous RMS over the regular signal's RMS (options)
+  bool compared = false;       // the healthy baseline was subtracted (options.baseline): the
+                               // SNR gate is not applied (below) and level is the difference's
   bool significant = false;    // the gates pass: score compared with the thresholds
   bool damaged = false;        // snr >= min_snr, exclusive_share >= min_exclusive_share (when
                                // a faster shaft exists) and score > damaged_fm4
@@ -229,6 +260,16 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
                                     const std::string& reference_shaft,
                                     std::span<const double> pulse_times_s,
                                     const GearDamageOptions& options = {});
+
+// The healthy baseline of a recording (GearDamageOptions::baseline): every shaft's TSA per
+// channel, with the same pulse processing and resolution as locate_gear_damage (pass the same
+// options). Throws diag::InputError as locate_gear_damage.
+GearDamageBaseline gear_damage_baseline(const diag::Recording& healthy, const diag::Gearbox& gb,
+                                        const GearDamageOptions& options = {});
+GearDamageBaseline gear_damage_baseline(const diag::Recording& healthy, const diag::Gearbox& gb,
+                                        const std::string& reference_shaft,
+                                        std::span<const double> pulse_times_s,
+                                        const GearDamageOptions& options = {});
 
 // {"status", "reference_shaft", "note", "shafts": [...], "findings": [{"shaft", "gears",
 // "channel", "score", "confidence", "note"}]}: the findings share "shaft", "gears",
