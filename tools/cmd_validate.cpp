@@ -1,6 +1,7 @@
-// geardiag validate --attribution (--gear-damage: validate_gear_damage.hpp): the closed simulate -> attribute loop on the user's gearbox,
-// with the user's rig (runout, noise, encoder); prints the confusion table and the smallest defect
-// that is reliably attributed. Exit 1 when the loop misses its targets.
+// geardiag validate --attribution (--gear-damage: validate_gear_damage.hpp): the closed simulate ->
+// attribute loop on the user's gearbox, with the user's rig (runout, noise, encoder); prints the
+// confusion table and the smallest defect that is reliably attributed. Exit 1 when the loop misses
+// its targets.
 #include <boost/program_options.hpp>
 #include <iostream>
 #include <string>
@@ -59,7 +60,8 @@ int cmd_validate(int argc, char** argv) {
     return 0;
   }
   po::notify(vm);
-  if (!vm.count("attribution")) throw diag::InputError("say what to validate: --attribution or --gear-damage");
+  if (!vm.count("attribution"))
+    throw diag::InputError("say what to validate: --attribution or --gear-damage");
   if (opt.cases < 1) throw diag::InputError("--cases: must be >= 1");
   if (!(min_deg > 0 && max_deg >= min_deg)) {
     throw diag::InputError("--min-size-deg/--max-size-deg: need 0 < min <= max");

@@ -19,7 +19,8 @@ int validate_gear_damage(int argc, char** argv) {
   double min_runout_um = opt.min_runout_m * 1e6, max_runout_um = opt.max_runout_m * 1e6;
   po::options_description desc(
       "geardiag validate --gear-damage --gearbox GB.json [--gearbox GB2.json ...] [options]\n\n"
-      "Simulates random tooth faults (root crack, chip, missing tooth, spall) and healthy cases on\n"
+      "Simulates random tooth faults (root crack, chip, missing tooth, spall) and healthy cases "
+      "on\n"
       "your gearbox(es), with ISO 1328 pitch errors of a random grade and random runout on every\n"
       "gear, locates the damaged shaft and compares with the truth. Prints right / silent / wrong\n"
       "shaft per fault kind and size, false alarms, and the ROC as the score threshold moves.\n\n"
@@ -33,9 +34,9 @@ int validate_gear_damage(int argc, char** argv) {
       "min-grade", po::value(&opt.min_accuracy_grade)->default_value(opt.min_accuracy_grade),
       "lowest ISO 1328 accuracy grade (0: perfect gears)")(
       "max-grade", po::value(&opt.max_accuracy_grade)->default_value(opt.max_accuracy_grade),
-      "highest ISO 1328 accuracy grade")(
-      "min-runout-um", po::value(&min_runout_um)->default_value(min_runout_um),
-      "smallest runout of every gear [um]")(
+      "highest ISO 1328 accuracy grade")("min-runout-um",
+                                         po::value(&min_runout_um)->default_value(min_runout_um),
+                                         "smallest runout of every gear [um]")(
       "max-runout-um", po::value(&max_runout_um)->default_value(max_runout_um),
       "largest runout of every gear [um]")(
       "min-rpm", po::value(&opt.min_rpm)->default_value(opt.min_rpm), "lowest input speed [rpm]")(

@@ -83,7 +83,8 @@ diag::Recording synthetic(const std::string& fault_shaft, std::uint64_t seed,
         const double k = std::floor(t / tooth_period + 0.5);
         const double u = (t - k * tooth_period) / (0.25 * tooth_period);
         const auto tooth = static_cast<std::size_t>(static_cast<long long>(k) % 36);
-        x += tooth_amps[tooth] * std::exp(-0.5 * u * u) * std::cos(2 * pi * 111.0 * (input_hz / 2) * t);
+        x += tooth_amps[tooth] * std::exp(-0.5 * u * u) *
+             std::cos(2 * pi * 111.0 * (input_hz / 2) * t);
       }
       s.samples[i] = x;
     }
@@ -197,10 +198,10 @@ TEST(GearDamage, PitchErrorsOnEveryToothAreNotDamage) {
   const diag::Gearbox gb = gearbox();
   constexpr double kToothAmp = 30.0;  // [m/s^2]
   for (std::uint64_t seed = 1; seed <= 4; ++seed) {
-    const auto r = detect::locate_gear_damage(
-        synthetic("", seed, kNoiseRms, kMeshAmp, 1.0, kInputHz,
-                  pitch_error_amplitudes(seed, kToothAmp)),
-        gb);
+    const auto r =
+        detect::locate_gear_damage(synthetic("", seed, kNoiseRms, kMeshAmp, 1.0, kInputHz,
+                                             pitch_error_amplitudes(seed, kToothAmp)),
+                                   gb);
     const auto& c = shaft(r, "counter");
     EXPECT_GT(c.fm4, 5.0) << "the distributed pattern this test is about is not impulsive";
     EXPECT_EQ(r.status, "healthy") << nlohmann::json(detect::to_json(r)).dump(1);
@@ -252,9 +253,10 @@ TEST(GearDamage, ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines) {
 // to revolution and the average keeps part of its leakage in the exclusive orders, coherently:
 // without the refinement every shaft here has a significant exclusive signal (SNR 3.5-5.5)
 // with a damage-like kurtosis (FM4 8-14, the score before issue 12); only the level gate (its RMS
-// is below 0.005 of the mesh lines here) keeps them from being flagged. In the simulated closed loop the same error
-// on a resonant 6th mesh harmonic passed the level gate too: the loop's one false alarm before
-// this correction. Correcting each revolution from the mesh line's own phase leaves noise alone.
+// is below 0.005 of the mesh lines here) keeps them from being flagged. In the simulated closed
+// loop the same error on a resonant 6th mesh harmonic passed the level gate too: the loop's one
+// false alarm before this correction. Correcting each revolution from the mesh line's own phase
+// leaves noise alone.
 TEST(GearDamage, TachoQuantisationIsCorrectedFromTheMeshLinePhase) {
   const diag::Gearbox gb = gearbox();
   constexpr double kLoudMesh = 1000.0;              // [m/s^2], 60 dB over the noise

@@ -11,6 +11,17 @@
 
 namespace {
 
+// Floors on the report set below, measured at this commit (the loop is deterministic; the
+// margins are for other compilers' and the sanitizer build's round-off, which can move a case
+// across a threshold): without a baseline 0 false alarms in 16 healthy cases, 0 wrong shafts,
+// 14 of 32 faulty cases right (every missing tooth, 11 of 11); with a baseline 11 of 12 right, 0
+// wrong, 0 false alarms in 4.
+constexpr int kMaxFalseAlarms = 1;
+constexpr int kMaxWrongShaft = 1;
+constexpr double kMinMissingRight = 0.85;
+constexpr double kMinRight = 0.4;
+constexpr double kMinRightWithBaseline = 0.75;
+
 diag::Gearbox load(const std::string& name) {
   return diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/" + name);
 }
@@ -67,7 +78,9 @@ TEST(GearDamageLoop, IsReproducibleFromItsSeedAndCountsEveryCase) {
   // "ambiguous", which the ROC does not model).
   const double th = o.detector.damaged_fm4;
   for (const auto& c : a.cases) {
-    if (c.result.status != "ambiguous") EXPECT_EQ(validate::decide_at(c, th), c.found_shaft);
+    if (c.result.status != "ambiguous") {
+      EXPECT_EQ(validate::decide_at(c, th), c.found_shaft);
+    }
   }
 }
 
@@ -101,7 +114,11 @@ TEST(GearDamageLoop, BadOptionsAreRefused) {
 
 // Issue 12's acceptance: realistic gears (ISO 1328 grades 5-8, runout 0-20 um on every gear,
 // healthy and faulty alike) on four gearboxes, two never used for tuning, seed 2024 (tuning
-// used seed 11). FLOORS_MEASURED
+// used seed 11). The locator must rarely claim damage on a healthy box and almost never name
+// the wrong shaft; it is allowed to be silent, and is on small cracks, chips and spalls whose
+// effect on the vibration is below that of the largest pitch deviation of the gear (without a
+// baseline that cannot be told apart: docs/notes/locator.md gives the rates per class and the
+// ROC). Every missing tooth must be found.
 TEST(GearDamageLoop, RealisticGearsRaiseFewFalseAlarmsAndNoWrongShaft) {
   validate::GearDamageLoopOptions o;
   o.cases = 48;
@@ -122,7 +139,8 @@ TEST(GearDamageLoop, RealisticGearsRaiseFewFalseAlarmsAndNoWrongShaft) {
   EXPECT_GE(r.faulty_correct, kMinRight * r.faulty_total);
 }
 
-// With a healthy baseline of the same gears (NA4-style), seed 2025. BASELINE_MEASURED
+// With a healthy baseline of the same gears (NA4-style: the pitch errors' pattern subtracted),
+// seed 2025: most faults are found, none on a wrong shaft, no false alarm.
 TEST(GearDamageLoop, AHealthyBaselineCancelsThePitchErrors) {
   validate::GearDamageLoopOptions o;
   o.cases = 16;

@@ -58,7 +58,8 @@ void GearDamageLoopOptions::validate() const {
   check_range("min_torque_nm", min_torque_nm, "max_torque_nm", max_torque_nm, 0.0, true);
   check_range("min_noise_m_per_s2", min_noise_m_per_s2, "max_noise_m_per_s2", max_noise_m_per_s2,
               0.0, false);
-  if (min_accuracy_grade < 0 || max_accuracy_grade > 12 || max_accuracy_grade < min_accuracy_grade) {
+  if (min_accuracy_grade < 0 || max_accuracy_grade > 12 ||
+      max_accuracy_grade < min_accuracy_grade) {
     fail("min_accuracy_grade/max_accuracy_grade", std::to_string(min_accuracy_grade) + ".." +
                                                       std::to_string(max_accuracy_grade) +
                                                       " is not a range inside [0, 12]");
@@ -118,9 +119,10 @@ GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearbox
     c.rpm = uniform(rng, opt.min_rpm, opt.max_rpm);
     c.torque_nm = uniform(rng, opt.min_torque_nm, opt.max_torque_nm);
     c.noise_m_per_s2 = uniform(rng, opt.min_noise_m_per_s2, opt.max_noise_m_per_s2);
-    c.accuracy_grade = opt.min_accuracy_grade +
-                       static_cast<int>(rng() % static_cast<std::uint64_t>(
-                                                    opt.max_accuracy_grade - opt.min_accuracy_grade + 1));
+    c.accuracy_grade =
+        opt.min_accuracy_grade +
+        static_cast<int>(rng() % static_cast<std::uint64_t>(opt.max_accuracy_grade -
+                                                            opt.min_accuracy_grade + 1));
     c.runout_m = uniform(rng, opt.min_runout_m, opt.max_runout_m);
     sim::DynamicsOptions dyn;
     dyn.speed = sim::SpeedProfile::constant(c.rpm);
@@ -157,7 +159,8 @@ GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearbox
       } else if (c.kind == "spall") {
         f.fault.kind = sim::ToothFault::Kind::kSpall;
         f.fault.size_m = ge.spec.module_m * lerp(opt.min_spall_modules, opt.max_spall_modules);
-        f.fault.depth_m = opt.min_spall_depth_m + u2 * (opt.max_spall_depth_m - opt.min_spall_depth_m);
+        f.fault.depth_m =
+            opt.min_spall_depth_m + u2 * (opt.max_spall_depth_m - opt.min_spall_depth_m);
       } else {
         f.fault.kind = sim::ToothFault::Kind::kMissing;
         c.severity = 1.0;
@@ -186,7 +189,8 @@ GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearbox
       healthy.faults.clear();
       sim::RunOptions run_b = run;
       run_b.seed = baseline_noise_seed;
-      run_b.settle_s = sr.truth["integrator"]["settle_s"].get<double>() + baseline_delay / slowest_hz;
+      run_b.settle_s =
+          sr.truth["integrator"]["settle_s"].get<double>() + baseline_delay / slowest_hz;
       const diag::Recording rb = sim::to_recording(gb, sim::simulate_dynamic(gb, healthy, run_b));
       det.baseline = std::make_shared<const detect::GearDamageBaseline>(
           detect::gear_damage_baseline(rb, gb, opt.detector));
@@ -236,7 +240,9 @@ namespace {
 std::string group_of(const GearDamageCase& c) {
   if (!c.faulty) return "healthy";
   if (c.kind == "missing") return c.kind;
-  const char* third = c.severity < 1.0 / 3.0 ? "small" : c.severity < 2.0 / 3.0 ? "medium" : "large";
+  const char* third = c.severity < 1.0 / 3.0   ? "small"
+                      : c.severity < 2.0 / 3.0 ? "medium"
+                                               : "large";
   return c.kind + " " + third;
 }
 
@@ -317,17 +323,18 @@ std::string format_report(const GearDamageLoopReport& r) {
       << c.runout_m * 1e6 << " um, " << c.rpm << " rpm, " << c.torque_nm << " N m, noise "
       << c.noise_m_per_s2 << " -> " << c.result.status << " " << c.found_shaft << "; scores";
     for (const auto& s : c.result.shafts) {
-      o << " " << s.shaft << "=" << s.score << (s.significant ? "" : "(gated)") << "/snr "
-        << s.snr;
+      o << " " << s.shaft << "=" << s.score << (s.significant ? "" : "(gated)") << "/snr " << s.snr;
     }
     o << "\n";
   }
-  o << "\n" << std::left << std::setw(20) << "class" << std::right << std::setw(7) << "cases"
-    << std::setw(7) << "right" << std::setw(8) << "silent" << std::setw(7) << "wrong" << "\n";
+  o << "\n"
+    << std::left << std::setw(20) << "class" << std::right << std::setw(7) << "cases"
+    << std::setw(7) << "right" << std::setw(8) << "silent" << std::setw(7) << "wrong"
+    << "\n";
   for (const auto& [g, n] : outcome_table(r)) {
-    o << std::left << std::setw(20) << (g == "healthy" ? "healthy (wrong: alarm)" : g)
-      << std::right << std::setw(7) << n.total << std::setw(7) << n.right << std::setw(8)
-      << n.silent << std::setw(7) << n.wrong << "\n";
+    o << std::left << std::setw(20) << (g == "healthy" ? "healthy (wrong: alarm)" : g) << std::right
+      << std::setw(7) << n.total << std::setw(7) << n.right << std::setw(8) << n.silent
+      << std::setw(7) << n.wrong << "\n";
   }
   o << "faulty: " << r.faulty_correct << "/" << r.faulty_total << " right shaft ("
     << 100.0 * r.faulty_accuracy() << " %), silent " << r.faulty_missed + r.faulty_ambiguous

@@ -181,7 +181,6 @@ std::vector<double> phase_corrected_pulses(const std::vector<double>& pulses,
   return out;
 }
 
-
 void check_pulses(std::span<const double> p, const std::string& where) {
   if (p.size() < 3) {
     throw diag::InputError(diag::format_error(
@@ -206,8 +205,7 @@ std::vector<double> smooth_pulse_times(std::span<const double> pulse_times_s, in
   return smooth_pulses(std::vector<double>(pulse_times_s.begin(), pulse_times_s.end()), degree);
 }
 
-std::vector<int> synchronous_mesh_orders(const diag::Gearbox& gb, const diag::Shaft& sh,
-                                         int half) {
+std::vector<int> synchronous_mesh_orders(const diag::Gearbox& gb, const diag::Shaft& sh, int half) {
   const auto& shafts = gb.shafts();
   std::vector<int> orders;
   for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
@@ -322,7 +320,6 @@ std::vector<const diag::Signal*> shaft_vibration_channels(const diag::Recording&
   return casing;
 }
 
-
 void PulseRefineOptions::validate() const {
   auto fail = [](const std::string& field, const std::string& reason) {
     throw diag::InputError(diag::format_error("PulseRefineOptions", field, reason));
@@ -359,8 +356,7 @@ RefinedPulses refine_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
   out.pulses = smooth_pulse_times(pulse_times_s, options.pulse_fit_degree);
   if (!options.phase_correction) return out;
   const double ref_ratio = std::abs(shafts[static_cast<std::size_t>(ref_index)].speed_ratio);
-  const double ref_hz =
-      (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
+  const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
   // The fastest shaft with gears and a channel.
   const diag::Shaft* fast = nullptr;
   std::vector<const diag::Signal*> chans;

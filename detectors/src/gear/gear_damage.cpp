@@ -107,7 +107,7 @@ GearIndicators indicators_for(const Tsa& t, const std::vector<double>& diff,
 constexpr int kMinTeethForOutlier = 8;
 
 struct ToothOutlier {
-  double ratio = 1.0;      // the outstanding tooth's energy over the median of the others
+  double ratio = 1.0;       // the outstanding tooth's energy over the median of the others
   double angle_deg = kNaN;  // where in the revolution (0: the revolution's start)
 };
 // The tooth that stands out in one revolution-averaged signal x (e_s, high-passed) for a gear of
@@ -117,8 +117,8 @@ struct ToothOutlier {
 // and its fault reaches them).
 ToothOutlier tooth_outlier(const std::vector<double>& x, int z) {
   const std::size_t n = x.size();
-  const std::size_t w = std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(
-                                                     static_cast<double>(n) / z)));
+  const std::size_t w =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(static_cast<double>(n) / z)));
   std::vector<double> local(n, 0.0);
   double run = 0.0;
   for (std::size_t j = 0; j < w; ++j) run += x[(n - w / 2 + j) % n] * x[(n - w / 2 + j) % n];
@@ -127,8 +127,8 @@ ToothOutlier tooth_outlier(const std::vector<double>& x, int z) {
     const double out = x[(i + n - w / 2) % n], in = x[(i + n - w / 2 + w) % n];
     run += in * in - out * out;
   }
-  const auto peak = static_cast<std::size_t>(
-      std::max_element(local.begin(), local.end()) - local.begin());
+  const auto peak =
+      static_cast<std::size_t>(std::max_element(local.begin(), local.end()) - local.begin());
   std::vector<double> others;
   for (int t = 2; t <= z - 2; ++t) {
     const auto off = static_cast<std::size_t>(std::lround(static_cast<double>(t) * n / z));
@@ -147,8 +147,8 @@ ToothOutlier tooth_outlier(const std::vector<double>& x, int z) {
 // b(theta - phi) gives x_k = b_k exp(-i 2 pi k phi)). Coarse on the TSA's sample grid (one
 // inverse FFT), then a parabola through the peak and three Newton steps on C.
 double baseline_rotation(const std::vector<std::complex<double>>& x,
-                         const std::vector<std::complex<double>>& b,
-                         const std::vector<bool>& mask, RealFft& fft) {
+                         const std::vector<std::complex<double>>& b, const std::vector<bool>& mask,
+                         RealFft& fft) {
   std::vector<std::complex<double>> p(x.size());
   for (std::size_t k = 0; k < x.size(); ++k) p[k] = mask[k] ? x[k] * std::conj(b[k]) : 0.0;
   std::vector<double> c(fft.size());
@@ -157,8 +157,8 @@ double baseline_rotation(const std::vector<std::complex<double>>& x,
   const auto j = static_cast<std::size_t>(std::max_element(c.begin(), c.end()) - c.begin());
   const double cm = c[(j + n - 1) % n], c0 = c[j], cp = c[(j + 1) % n];
   const double den = cm - 2.0 * c0 + cp;
-  double phi = (static_cast<double>(j) + (den < 0.0 ? 0.5 * (cm - cp) / den : 0.0)) /
-               static_cast<double>(n);
+  double phi =
+      (static_cast<double>(j) + (den < 0.0 ? 0.5 * (cm - cp) / den : 0.0)) / static_cast<double>(n);
   for (int it = 0; it < 3; ++it) {
     double d1 = 0.0, d2 = 0.0;
     for (std::size_t k = 1; k < p.size(); ++k) {
@@ -204,7 +204,8 @@ void GearDamageOptions::validate() const {
     fail("min_revolutions", std::to_string(min_revolutions) + " is below 2");
   }
   if (!(healthy_fm4 > 1.0) || !std::isfinite(healthy_fm4)) {
-    fail("healthy_fm4", std::to_string(healthy_fm4) + " must be finite and > 1 (no tooth stands out)");
+    fail("healthy_fm4",
+         std::to_string(healthy_fm4) + " must be finite and > 1 (no tooth stands out)");
   }
   if (!(damaged_fm4 > healthy_fm4) || !std::isfinite(damaged_fm4)) {
     fail("damaged_fm4", std::to_string(damaged_fm4) + " must be finite and > healthy_fm4 (" +
@@ -446,8 +447,8 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
         const double phi = baseline_rotation(mean_spec, b->spectrum, band_mask, fft);
         for (std::size_t k = 0; k < keep.size(); ++k) {
           if (!band_mask[k]) continue;
-          mean_spec[k] -=
-              b->spectrum[k] * std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
+          mean_spec[k] -= b->spectrum[k] *
+                          std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
           var[k] += b->noise[k];
         }
         used_baseline = true;
@@ -570,8 +571,8 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
       const ShaftDamage& slower = res.shafts[order[j]];
       if (!slower.uncertain) continue;
       std::ostringstream w2;
-      w2 << "tooth score " << slower.score << " in the uncertain band (" << options.healthy_fm4 << ", "
-         << options.damaged_fm4 << "]: a fault here would also flag '" << sd.shaft << "'";
+      w2 << "tooth score " << slower.score << " in the uncertain band (" << options.healthy_fm4
+         << ", " << options.damaged_fm4 << "]: a fault here would also flag '" << sd.shaft << "'";
       res.findings.push_back(make_finding(slower, w2.str()));
       res.status = "ambiguous";
     }

@@ -72,7 +72,7 @@ struct GearDamageLoopOptions {
 struct ShaftEvidence {
   std::string shaft;
   double frequency_hz = 0;
-  double score = 0;          // ShaftDamage::score (NaN: skipped)
+  double score = 0;           // ShaftDamage::score (NaN: skipped)
   bool gates_passed = false;  // ShaftDamage::significant
 };
 

@@ -68,9 +68,9 @@ struct PhaseRefinement {
 // mesh order (0: only the strongest regular line). Throws diag::InputError when the record
 // cannot be resampled (fewer than min_revolutions whole revolutions).
 PhaseRefinement refine_pulses_from_phase(const diag::Signal& channel,
-                                         std::span<const double> pulse_times_s,
-                                         int samples_per_rev, const std::vector<bool>& regular,
-                                         std::size_t first_line, int min_revolutions);
+                                         std::span<const double> pulse_times_s, int samples_per_rev,
+                                         const std::vector<bool>& regular, std::size_t first_line,
+                                         int min_revolutions);
 
 // Every mesh frequency of the gearbox that is an integer order of `shaft` (its |speed_ratio|
 // divides the mesh frequency exactly, to round-off), up to max_order, each once.
@@ -98,7 +98,7 @@ TsaResolution tsa_resolution(double fs_hz, double shaft_hz, double band_fraction
                              int samples_per_rev = 0);
 
 struct PulseRefineOptions {
-  int pulse_fit_degree = 3;     // step 1, [0, 8]
+  int pulse_fit_degree = 3;      // step 1, [0, 8]
   bool phase_correction = true;  // step 2
   double band_fraction = 0.8;    // tsa_resolution, (0, 1]
   int samples_per_rev = 0;       // tsa_resolution: 0 automatic, else a power of two >= 64
