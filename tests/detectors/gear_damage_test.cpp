@@ -288,6 +288,24 @@ TEST(GearDamage, ShaftFrequenciesFollowTheTachoAndTheRatios) {
   EXPECT_NEAR(shaft(r, "output").frequency_hz, kInputHz / 4, kRelTol * kInputHz);
 }
 
+// The three-shaft box has sub-harmonic ratios (the counter's period is 2 x the input's, the
+// output's 2 x the counter's and 4 x the input's): said in the note, and a counter fault, which
+// folds into the input's average, is put on the counter.
+TEST(GearDamage, SubHarmonicRatiosAreSaidAndTheSlowerShaftIsBlamed) {
+  const auto r = detect::locate_gear_damage(synthetic("counter", 2), gearbox());
+  EXPECT_NE(r.note.find("the period of 'counter' is 2 x that of 'input'"), std::string::npos)
+      << r.note;
+  EXPECT_NE(r.note.find("the period of 'output' is 4 x that of 'input'"), std::string::npos)
+      << r.note;
+  ASSERT_FALSE(r.findings.empty());
+  EXPECT_EQ(r.findings[0].shaft, "counter");
+  if (shaft(r, "input").damaged) {
+    EXPECT_NE(r.findings[0].note.find("'input' (period 1/2 of this shaft's) is flagged too"),
+              std::string::npos)
+        << r.findings[0].note;
+  }
+}
+
 TEST(GearDamage, JsonFindingsShareTheAttributeKeys) {
   const auto j = detect::to_json(detect::locate_gear_damage(synthetic("counter", 2), gearbox()));
   ASSERT_EQ(j["findings"].size(), 1u);

@@ -106,43 +106,14 @@ struct GearDamageOptions {
   int samples_per_rev = 0;
   int min_revolutions = 8;  // fewer whole revolutions of a shaft than this: the shaft is
                             // skipped (noted), >= 2
-  // Degree of the least-squares polynomial t(k) fitted to the reference tacho's pulse times
-  // (k the pulse index), which replaces them; 0: the pulse times as detected. [0, 8]. Why: a
-  // 0/1 pulse train's edges are known only to +- half a sampling period (tacho.hpp), which at the
-  // high mesh harmonics (kHz) is a phase jitter of tens of degrees per revolution; the TSA turns
-  // it into spurious impulsive content that FM4 reads as damage. A degree-3 fit is exact for
-  // constant speed and for a linear run-up over a short record, and averages the jitter over
-  // all pulses. Over a long run-up t(k) ~ sqrt(k) is no polynomial (500 -> 3000 rpm over 263
-  // revolutions: a cubic t(k) is off by 5 revolutions), so the polynomial of the same degree
-  // for the angle k(t) is fitted as well, and inverted at every k, when t(k) leaves twice its
-  // residual (in time): a linear run-up's angle is exactly quadratic in time. Use 0 when the
-  // speed wanders within the record (neither is a polynomial).
+  // Degree of the least-squares polynomial fitted to the reference tacho's pulse times, which
+  // replaces them (detect::smooth_pulse_times, pulse_refine.hpp: why and how); 0: the pulse
+  // times as detected (use it when the speed wanders within the record). [0, 8].
   int pulse_fit_degree = 3;
-  // Pulse correction from the vibration itself (phase demodulation of a mesh line, as in
-  // Bonnardot et al. 2005, Mech. Syst. Signal Process. 19, for resampling without a tacho), once,
-  // on the fastest shaft with gears (its first channel that allows it), before any shaft is
-  // averaged; every shaft's revolutions are then scaled from the corrected pulses. A regular
-  // line of order k is measured in every revolution; its phase there is c + k e_r, e_r the
-  // error of the assumed shaft angle in revolution r; the pulses move by -e / (2 pi) of a
-  // period (e interpolated between revolution middles) and the record is resampled again
-  // (twice). First with the shaft's lowest mesh order, then with its strongest regular line.
-  // A stage is kept only when (a) the line's amplitude is steady to 0.1 of its mean over the
-  // revolutions (its phase known to ~0.1 rad), (b) no pulse moves by half a period of the line
-  // or more (beyond, the phase steps are ambiguous and the angle can lock onto a neighbouring
-  // order) and (c) the TSA's regular lines gain energy (they became more coherent). So it
-  // corrects small errors only; a speed error of 0.5 % over 44 revolutions is left as it is,
-  // and smears the averages: no finding rather than a wrong one. In a run-up the lines'
-  // amplitude follows the speed through resonances and (a) declines the stage: the pulses are
-  // the fit's (pulse_fit_degree).
-  // Why: a 0/1 tacho sampled at fs places each pulse late by up to one sampling period, by an
-  // amount that follows the fractional part of (revolution x samples per revolution); when that
-  // beats slowly (267.48 samples per revolution: period 50 revolutions) the polynomial fit keeps
-  // it, and the fit's rate error (~1e-5) adds a phase ramp. At order 108 (4 kHz) 50 us is
-  // 1.3 rad: a loud mesh line wanders in phase from revolution to revolution, its one-revolution
-  // leakage (falling as 1 / |k - 108|) stays in the average coherently, and a healthy shaft
-  // looks damaged (the closed loop's false alarms near 2243 rpm before this correction). Tests:
-  // gear_damage_test.cpp, TachoQuantisationIsCorrectedFromTheMeshLinePhase and
-  // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines. Costs a few resamplings of one channel.
+  // Pulse correction from the phase of a mesh line of the fastest shaft, once, before any shaft
+  // is averaged (detect::refine_pulses, pulse_refine.hpp: why, how, and when a stage is
+  // declined). Tests: gear_damage_test.cpp, TachoQuantisationIsCorrectedFromTheMeshLinePhase and
+  // ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines; pulse_refine_test.cpp.
   bool refine_speed = true;
   // Sidebands beyond the first also removed around every harmonic of the shaft's OWN gears' mesh
   // orders, >= 0 (other meshes synchronous with the shaft lose their first sidebands only).
