@@ -50,9 +50,11 @@ void report(const std::string& what, const detect::AnalysisResult& r) {
   }
 }
 
-// Measured (seed 3): counter score 22, SNR 19, level 0.12 (the input shaft, flagged by the fold
-// of the counter's fault, is faster: the slowest flagged shaft wins). Before the fix: no finding,
-// every shaft smeared (SNR 0.8-1.0): a cubic t(k) was off the true pulses by up to 5 revolutions.
+// Measured (seed 3): counter tooth score 47 (damaged above 20), SNR 19, level 0.12 (the input
+// shaft, flagged by the fold of the counter's fault, score 41, is faster: the slowest flagged
+// shaft wins; the counter's period is 2 x the input's, which the note says). Before the fix: no
+// finding, every shaft smeared (SNR 0.8-1.0): a cubic t(k) was off the true pulses by up to 5
+// revolutions.
 TEST(RunUp, AChippedCounterGearIsAFindingOnTheCounterShaft) {
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r =
@@ -67,10 +69,10 @@ TEST(RunUp, AChippedCounterGearIsAFindingOnTheCounterShaft) {
 
 // The crack is the smallest fault here: at steady speed (1000, 1750, 3000 rpm, the same 9 s) its
 // counter shaft level is 0.0051-0.0057, against min_level 0.005, and in this run-up 0.0054-0.0062
-// (seeds 1-4), SNR 2.4 (seed 3) against min_snr 2: a finding at the locator's own margin,
-// not a loosened one. Before the fix (a cubic t(k), the plain average): no finding at all on the
-// counter shaft (SNR 0.8), and with only the pulse fit fixed, the crack went to the input shaft
-// (score 27, the counter's SNR 1.1).
+// (seeds 1-4), SNR 2.4 (seed 3; 3.5 since issue 12) against min_snr 2: a finding at the
+// locator's own margin, not a loosened one; tooth score 27 (seed 3) against 20. Before the fix (a
+// cubic t(k), the plain average): no finding at all on the counter shaft (SNR 0.8), and with only
+// the pulse fit fixed, the crack went to the input shaft (score 27, the counter's SNR 1.1).
 TEST(RunUp, ACrackedCounterGearIsAFindingOnTheCounterShaft) {
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r =

@@ -520,8 +520,8 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
       int m = 0;
       if (is_integer(speed_of(b) / speed_of(a), &m) && m > 1) {
         note << "the period of '" << a.shaft << "' is " << m << " x that of '" << b.shaft
-             << "': a fault on '" << a.shaft << "' also shows in '" << b.shaft
-             << "''s average, and is attributed to '" << a.shaft << "'. ";
+             << "': a fault on '" << a.shaft << "' would also show in '" << b.shaft
+             << "''s average; it is attributed to '" << a.shaft << "'. ";
       }
     }
   }
