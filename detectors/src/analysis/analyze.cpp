@@ -35,6 +35,8 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // angular sampling is at least 2.8 x the highest order of interest.
 constexpr double kOrderOversampling = 2.8;
 constexpr int kMaxSamplesPerRev = 1 << 14;
+// Points of the speed trace in the JSON (a tacho gives one estimate per revolution).
+constexpr std::size_t kSpeedTracePoints = 200;
 
 void require(bool ok, const std::string& field, const std::string& reason) {
   if (!ok) throw diag::InputError("analyze: " + field + ": " + reason);
@@ -121,6 +123,7 @@ void AnalyzeOptions::validate() const {
   require(plot_points >= 16, "plot_points", std::to_string(plot_points) + " is not >= 16");
   require(envelope_plot_max_hz >= 0 && std::isfinite(envelope_plot_max_hz), "envelope_plot_max_hz",
           "must be finite and >= 0");
+  require(std::isfinite(nominal_time_s), "nominal_time_s", "must be finite");
   sidebands.validate();
   require(gear_metrics.mesh_harmonics >= 1 && gear_metrics.mesh_harmonics <= 32,
           "gear_metrics.mesh_harmonics", "is not in [1, 32]");
@@ -210,10 +213,13 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     r.shafts = kin.speeds;
     r.speed = kin.speed;
     if (!kin.speed.stationary) {
-      r.notes.push_back("the speed varies over the record (" + fmt(kin.speed.min_rpm, 5) + " to " +
-                        fmt(kin.speed.max_rpm, 5) +
-                        " rpm): spectra and sidebands are drawn at the mean speed and smear; "
-                        "the TSA and the damaged-shaft locator follow the shaft angles");
+      r.notes.push_back(
+          "the speed varies over the record (" + fmt(kin.speed.min_rpm, 5) + " to " +
+          fmt(kin.speed.max_rpm, 5) +
+          " rpm): spectra, sidebands and envelope spectra are computed in the order domain (the "
+          "signal resampled at uniform angles of the input shaft) and their frequencies stated at "
+          "the mean speed (order x mean shaft speed); the TSA and the damaged-shaft locator "
+          "follow the shaft angles");
     }
     lap("kinematics");
     input = gb->input_shaft();
@@ -230,6 +236,15 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     r.notes.push_back("no gearbox description: unit-free indicators and spectra only");
   }
 
+  // At varying speed every spectrum of a channel is an order spectrum: the channel resampled at
+  // uniform angles of the input shaft and read as a record at the constant mean speed (its
+  // "sampling rate" samples_per_rev x mean input speed), so that a line of order q sits at
+  // q x the mean speed whatever the speed did (order tracking; Fyfe & Munck 1997). The
+  // envelope is demodulated in time first (a structural resonance is fixed in Hz, not in
+  // orders), then resampled (Borghesani, Ricci, Chatterton, Pennacchi 2013, MSSP 38(1), the
+  // envelope order spectrum).
+  const bool order_domain = gb && !kin.speed.stationary;
+  r.speed.spectra_domain = gb ? (order_domain ? "order" : "time") : "";
   // Highest order of interest in input-shaft orders: H mesh harmonics plus K sidebands.
   const int H = opt.sidebands.mesh_harmonics, K = opt.sidebands.sidebands;
   double max_input_order = 0;
@@ -256,15 +271,37 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   auto shares_plans = [&](const diag::Signal& sig) {
     return sig.fs_hz == plan_fs && sig.samples.size() == plan_n;
   };
+  // The order spectrum's angular sampling: 2.8 x the highest order of interest; in the order
+  // domain at least the record's own samples per revolution at the mean speed, so that the
+  // resampled record keeps the band the recording has (fs / 2 at the mean speed).
+  ResampleOptions order_ro;
+  if (gb) {
+    double orders = kOrderOversampling * max_input_order;
+    if (order_domain && plan_fs > 0) orders = std::max(orders, plan_fs / input_hz);
+    order_ro.samples_per_rev =
+        static_cast<int>(std::clamp<std::size_t>(pow2_at_least(orders), 64, kMaxSamplesPerRev));
+  }
+  // In the order domain a tacho's pulse times are smoothed first (kinematics.hpp): each pulse of
+  // an ideal edge is uncertain by up to half a sampling period (tacho.hpp), i.e. 2.5e-3 rev at
+  // 3000 rpm and 10 kHz, a phase noise of 0.85 rad on the 54th order, which the cubic angle
+  // between pulses spreads into skirts around every mesh line that the sideband vote takes for
+  // shaft-rate sidebands. Measured on the healthy two-stage run-up 500 -> 3000 rpm
+  // (analyze_run_up_test.cpp): raw pulses: mesh z1_z2 "pointed" at the input in 21 of 28
+  // channels; +-4 revolutions: at the counter in 15 of 28; +-10 and +-20: no channel count
+  // passes. The TSA and the locator keep the raw pulses (they average the jitter out).
+  // The speed from the vibration has no such jitter (its angle is the mesh line's phase).
+  constexpr int kTachoSmoothingHalfWindow = 10;
+  const std::vector<double> order_pulses =
+      !gb ? std::vector<double>{}
+      : order_domain && kin.speed.source == "tacho"
+          ? smoothed_pulses(kin.pulses_s[static_cast<std::size_t>(input)],
+                            kTachoSmoothingHalfWindow)
+          : kin.pulses_s[static_cast<std::size_t>(input)];
   std::optional<AnglePlan> order_plan;
   std::vector<std::optional<AnglePlan>> tsa_plans(gb ? gb->shafts().size() : 0);
   if (gb && plan_n > 0) {
     try {
-      ResampleOptions ro;
-      ro.samples_per_rev = static_cast<int>(std::clamp<std::size_t>(
-          pow2_at_least(kOrderOversampling * max_input_order), 64, kMaxSamplesPerRev));
-      order_plan.emplace(
-          make_angle_plan(kin.pulses_s[static_cast<std::size_t>(input)], plan_fs, plan_n, ro));
+      order_plan.emplace(make_angle_plan(order_pulses, plan_fs, plan_n, order_ro));
     } catch (const diag::InputError&) {
     }
     for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
@@ -361,17 +398,50 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     c.vibration = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
                   sig.role == diag::Role::kDisplacement;
     c.sensor = sensor[ci];
-    const std::span<const double> x(sig.samples);
-    const Moments mo = moments(x);
+    const std::span<const double> xt(sig.samples);  // in time
+    const Moments mo = moments(xt);
     c.time = {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
     if (!c.vibration) {
       return c;
     }
-    if (x.size() < 64) {
+    if (xt.size() < 64) {
       c.notes.push_back("fewer than 64 samples: no spectra");
       return c;
     }
-    const double fs = sig.fs_hz, nyq = 0.5 * fs;
+    // The record the spectra are taken of: the channel itself, or in the order domain the
+    // channel at uniform input-shaft angles, read at the mean speed (see order_domain).
+    std::optional<AngleResampled> own_order;
+    const AngleResampled* angular = nullptr;
+    const std::vector<double>& input_pulses = order_pulses;
+    if (gb) {
+      try {
+        if (!order_resampled.empty() && order_resampled[ci]) {
+          angular = &*order_resampled[ci];
+        } else {
+          own_order = resample_by_angle(xt, sig.fs_hz, input_pulses, order_ro);
+          angular = &*own_order;
+        }
+      } catch (const diag::InputError& e) {
+        c.notes.push_back(std::string(order_domain ? "order-domain spectra" : "order spectrum") +
+                          " skipped: " + e.what());
+        if (order_domain) return c;
+      }
+    }
+    diag::Signal angle_sig;  // the order-domain record as a signal (bearing diagnosis)
+    if (order_domain) {
+      angle_sig.name = sig.name;
+      angle_sig.unit = sig.unit;
+      angle_sig.direction = sig.direction;
+      angle_sig.location = sig.location;
+      angle_sig.role = sig.role;
+      angle_sig.shaft = sig.shaft;
+      angle_sig.mesh = sig.mesh;
+      angle_sig.fs_hz = angular->samples_per_rev * input_hz;
+      angle_sig.samples = angular->samples;
+    }
+    const diag::Signal& ssig = order_domain ? angle_sig : sig;
+    const std::span<const double> x(ssig.samples);
+    const double fs = ssig.fs_hz, nyq = 0.5 * fs;
 
     // ---- spectra ----
     SpectrumOptions so;
@@ -395,24 +465,44 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     // ---- envelope in the kurtogram's band ----
     EnvelopeSpectrumOptions eo;
     eo.fs_hz = fs;
+    // The demodulation band is chosen and applied in time (in the order domain too: a
+    // resonance is fixed in Hz).
+    const double nyq_t = 0.5 * sig.fs_hz;
+    eo.fs_hz = sig.fs_hz;
     const int level =
         std::min(opt.kurtogram_max_level,
-                 static_cast<int>(std::floor(std::log2(static_cast<double>(x.size())))) - 7);
+                 static_cast<int>(std::floor(std::log2(static_cast<double>(xt.size())))) - 7);
     if (level >= 1) {
       KurtogramOptions ko;
-      ko.fs_hz = fs;
+      ko.fs_hz = sig.fs_hz;
       ko.max_level = level;
-      const Kurtogram kg = fast_kurtogram(x, ko);
+      const Kurtogram kg = fast_kurtogram(xt, ko);
       c.kurtogram_level = kg.level;
       c.kurtogram_kurtosis = kg.kurtosis;
       eo.band_low_hz = std::max(0.0, kg.low_hz());
-      eo.band_high_hz = std::min(nyq, kg.high_hz());
+      eo.band_high_hz = std::min(nyq_t, kg.high_hz());
     } else {
       c.notes.push_back("record too short for the kurtogram: envelope of the whole band");
     }
     c.envelope_low_hz = eo.band_low_hz;
-    c.envelope_high_hz = eo.band_high_hz == 0 ? nyq : eo.band_high_hz;
-    full_env[ci] = envelope_spectrum(x, eo);
+    c.envelope_high_hz = eo.band_high_hz == 0 ? nyq_t : eo.band_high_hz;
+    if (order_domain) {
+      // The envelope in time, resampled like the channel, its spectrum read at the mean speed.
+      const std::vector<double> env_t =
+          band_envelope(xt, {sig.fs_hz, eo.band_low_hz, eo.band_high_hz});
+      const AngleResampled env_a =
+          order_plan && shares_plans(sig)
+              ? resample_by_angle(env_t, *order_plan)
+              : resample_by_angle(env_t, sig.fs_hz, input_pulses, order_ro);
+      SpectrumOptions es;
+      es.fs_hz = fs;
+      es.window = eo.window;
+      es.scaling = eo.scaling;
+      es.remove_mean = true;
+      full_env[ci] = amplitude_spectrum(env_a.samples, es);
+    } else {
+      full_env[ci] = envelope_spectrum(xt, eo);
+    }
     const Spectrum& env = full_env[ci];
     double env_max = opt.envelope_plot_max_hz;
     if (env_max == 0) {
@@ -457,7 +547,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         }
         try {
           diagnoses.push_back(
-              diagnose_bearings(sig, kin.speeds[static_cast<std::size_t>(s)].speed_hz, specs, bo));
+              diagnose_bearings(ssig, kin.speeds[static_cast<std::size_t>(s)].speed_hz, specs, bo));
         } catch (const diag::InputError& e) {
           c.notes.push_back("bearing diagnosis (" + names + ") skipped: " + e.what());
           continue;
@@ -523,20 +613,15 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
         c.meshes.push_back(std::move(ma));
       }
       // ---- order spectrum (input-shaft orders) ----
-      try {
-        ResampleOptions ro;
-        ro.samples_per_rev = static_cast<int>(std::clamp<std::size_t>(
-            pow2_at_least(kOrderOversampling * max_input_order), 64, kMaxSamplesPerRev));
-        const OrderSpectrum os =
-            !order_resampled.empty() && order_resampled[ci]
-                ? order_spectrum(*order_resampled[ci])
-                : order_spectrum(
-                      resample_by_angle(x, fs, kin.pulses_s[static_cast<std::size_t>(input)], ro));
-        c.order_spectrum =
-            slice_for_plot(os.order, os.amplitude, 0,
-                           std::min(1.2 * max_input_order, os.order.back()), plot_points);
-      } catch (const diag::InputError& e) {
-        c.notes.push_back(std::string("order spectrum skipped: ") + e.what());
+      if (angular) {
+        try {
+          const OrderSpectrum os = order_spectrum(*angular);
+          c.order_spectrum =
+              slice_for_plot(os.order, os.amplitude, 0,
+                             std::min(1.2 * max_input_order, os.order.back()), plot_points);
+        } catch (const diag::InputError& e) {
+          c.notes.push_back(std::string("order spectrum skipped: ") + e.what());
+        }
       }
       // ---- TSA per shaft ----
       for (std::size_t s = 0; s < gb->shafts().size(); ++s) {
@@ -562,7 +647,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
           to.min_revolutions = opt.tsa_min_revolutions;
           const Tsa t = !tsa_resampled[s].empty() && tsa_resampled[s][ci]
                             ? tsa(*tsa_resampled[s][ci], opt.tsa_min_revolutions)
-                            : tsa(x, fs, pulses, to);
+                            : tsa(xt, sig.fs_hz, pulses, to);
           ta.revolutions = t.revolutions;
           ta.samples_per_rev = t.samples_per_rev;
           ta.tsa = t.samples;
@@ -1072,10 +1157,31 @@ nlohmann::json to_json(const AnalysisResult& r) {
   j["duration_s"] = r.duration_s;
   if (!r.timing_s.empty()) j["timing_s"] = r.timing_s;
   if (!r.speed.source.empty()) {
-    j["speed"] = {{"source", r.speed.source},     {"reference_shaft", r.speed.reference_shaft},
-                  {"line", r.speed.line},         {"nominal_rpm", r.speed.nominal_rpm},
-                  {"mean_rpm", r.speed.mean_rpm}, {"min_rpm", r.speed.min_rpm},
-                  {"max_rpm", r.speed.max_rpm},   {"stationary", r.speed.stationary}};
+    j["speed"] = {{"source", r.speed.source},
+                  {"reference_shaft", r.speed.reference_shaft},
+                  {"line", r.speed.line},
+                  {"nominal_rpm", r.speed.nominal_rpm},
+                  {"mean_rpm", r.speed.mean_rpm},
+                  {"min_rpm", r.speed.min_rpm},
+                  {"max_rpm", r.speed.max_rpm},
+                  {"stationary", r.speed.stationary},
+                  {"spectra_domain", r.speed.spectra_domain}};
+    // The speed over time, at most kSpeedTracePoints points (means over equal runs of the
+    // estimates: a tacho gives one per revolution).
+    const std::size_t n = r.speed.time_s.size();
+    if (n > 0) {
+      const std::size_t buckets = std::min(n, kSpeedTracePoints);
+      json t = json::array(), v = json::array();
+      for (std::size_t b = 0; b < buckets; ++b) {
+        const std::size_t i0 = b * n / buckets, i1 = (b + 1) * n / buckets;
+        double st = 0, sv = 0;
+        for (std::size_t i = i0; i < i1; ++i) st += r.speed.time_s[i], sv += r.speed.speed_rpm[i];
+        t.push_back(st / static_cast<double>(i1 - i0));
+        v.push_back(sv / static_cast<double>(i1 - i0));
+      }
+      j["speed"]["time_s"] = std::move(t);
+      j["speed"]["rpm"] = std::move(v);
+    }
   }
   j["shafts"] = json::array();
   for (const auto& s : r.shafts) {

@@ -17,8 +17,16 @@
 //  - order spectrum in input-shaft orders (order_spectrum.hpp) and, per shaft, the TSA with its
 //    regular, residual and difference signals and the gear metrics FM0, FM4, M6A, M8A, NA4, ER,
 //    SER, SLF, SI of each gear on the shaft (tsa.hpp, indicators.hpp). Without a tacho the angle
-//    is that of a constant nominal speed (pulse times k / f_shaft): fine for a steady rig, smeared
-//    when the speed drifts; the result says which was used;
+//    comes from the vibration (speed_estimate.hpp: a steady record first, else a run-up followed
+//    from the time where the nominal speed holds, nominal_time_s, default mid-record), else from
+//    the constant nominal speed; the result says which was used (AnalysisSpeed::source);
+//  - at varying speed (AnalysisSpeed::stationary false) the order domain: the amplitude
+//    spectrum, Welch PSD, sidebands, two-direction energies, envelope spectrum and bearing
+//    diagnosis of each channel run on the channel resampled at uniform input-shaft angles
+//    (resample.hpp) and read as a record at the mean speed, so a line of order q stands at
+//    q x the mean speed however the speed moved (the envelope is demodulated in time, in the
+//    kurtogram's band, and then resampled: the envelope order spectrum); every frequency of
+//    such a channel is "at the mean speed" (AnalysisSpeed::spectra_domain == "order");
 //  - every bearing of the description, on the sensor channels at that bearing (location ==
 //    bearing name; every sensor channel when none is): fault frequencies, fault bands and band
 //    metrics on the channel's envelope spectrum (bearing_faults.hpp, fault_bands.hpp), and the
@@ -94,6 +102,9 @@ struct AnalyzeOptions {
                                      // timing_s); off by default: it differs run to run
   bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
                                      // mesh line within +-10 % of the nominal (speed_estimate.hpp)
+  double nominal_time_s = -1;        // when the nominal speed holds [s], for the speed from the
+                                     // vibration; < 0: a steady record first, else (no steady line:
+                                     // a run-up) mid-record
 
   void validate() const;  // throws diag::InputError "analyze: <field>: ..."
 };
@@ -199,6 +210,10 @@ struct AnalysisSpeed {
   double mean_rpm = 0, min_rpm = 0, max_rpm = 0;
   bool stationary = true;                 // max - min within 1 % of the mean
   std::vector<double> time_s, speed_rpm;  // the speed over time (empty: nominal)
+  // "time": spectra of the record as sampled (a steady speed); "order": at varying speed, the
+  // spectra, sidebands and envelope spectra are order spectra of the input shaft, their
+  // frequencies stated at the mean speed (order x mean speed); empty without a gearbox.
+  std::string spectra_domain;
 };
 
 struct AnalysisMesh {
