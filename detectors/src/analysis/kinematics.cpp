@@ -9,16 +9,14 @@
 #include "detect/angular/tacho.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "stages.hpp"
 
 namespace detect {
 
 namespace {
 
-std::string fmt(double v, int prec = 6) {
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
+// Speeds with 6 significant digits.
+std::string fmt(double v, int prec = 6) { return analysis_stages::fmt(v, prec); }
 
 // Relative speed range above which a record is reported as non-stationary.
 constexpr double kStationaryTolerance = 0.01;

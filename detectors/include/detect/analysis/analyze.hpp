@@ -38,8 +38,12 @@
 //    kurtosis of the orders no faster shaft shares; validated in the closed loop with the
 //    simulator), from the shaft angles above: the tacho's, else the nominal speed (a speed off
 //    the nominal smears the averages: no finding rather than a wrong one).
-// Findings (AnalysisFinding) summarise what points at a shaft, gear or bearing, each with a
-// confidence and a note; only sensor channels (sensor_channels below) vote. Steps that cannot run
+// Findings (AnalysisFinding, the one finding type of the analysis: the locator's, the sideband
+// vote's and the bearing vote's, one fault vocabulary) summarise what points at a shaft, gear or
+// bearing, each with a confidence and a note; only sensor channels (sensor_channels below) vote.
+// The code is in stages (detectors/src/analysis/stages.hpp lists them, one file each: kinematics,
+// angle plans, per-channel spectra / envelope and bearings / sidebands / TSA, two directions,
+// findings, baseline, JSON and text writers). Steps that cannot run
 // on this record (too few revolutions for a TSA, a record too short for the kurtogram) are skipped
 // with a note, not an error: they are outcomes.
 #pragma once
