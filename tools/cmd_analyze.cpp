@@ -97,7 +97,10 @@ int cmd_analyze(int argc, char** argv) {
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
   desc.add_options()("timing", po::bool_switch(&opt.timing),
-                     "add the wall time of each stage to the JSON (timing_s)");
+                     "add the wall time of each stage to the JSON (timing_s)")(
+      "rpm-at", po::value(&opt.nominal_time_s),
+      "time [s] at which the nominal (or --rpm) speed holds, for the speed from the vibration "
+      "of a run-up without a tacho; default: a steady record, else mid-record");
   channels.add_to(desc, true);
   po::positional_options_description pos;
   pos.add("recording", 1);

@@ -111,6 +111,9 @@ TEST(AnalyzeCli, BadInputExitsWithCodeTwoNamingTheProblem) {
   const auto bad_fs = run("analyze " + simulated().string() + " --fs -5");
   EXPECT_EQ(bad_fs.code, 2);
   EXPECT_NE(bad_fs.out.find("--fs"), std::string::npos) << bad_fs.out;
+  const auto bad_time = run("analyze " + simulated().string() + " --rpm-at nan");
+  EXPECT_EQ(bad_time.code, 2);
+  EXPECT_NE(bad_time.out.find("nominal_time_s"), std::string::npos) << bad_time.out;
   const fs::path js = scratch("never.json");
   const auto no_rec = run("analyze " + scratch("nope.h5").string() + " --json " + js.string());
   EXPECT_EQ(no_rec.code, 2);

@@ -4,6 +4,7 @@
 // fault.
 #pragma once
 
+#include <cstdint>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -47,17 +48,28 @@ inline sim::GearFault root_crack(const std::string& gear, double depth_m) {
   return f;
 }
 
+// Manufacturing errors of every gear: ISO 1328 pitch errors of `accuracy_grade` (0: none) and an
+// eccentricity of runout_m, their phases from the seed.
+struct Errors {
+  int accuracy_grade = 0;
+  double runout_m = 0;
+};
+
 inline diag::Recording simulate(const diag::Gearbox& gb, const sim::SpeedProfile& speed,
-                                double duration_s, const std::optional<sim::GearFault>& fault) {
+                                double duration_s, const std::optional<sim::GearFault>& fault,
+                                const Errors& errors = {}, std::uint64_t seed = 3) {
   sim::DynamicsOptions dyn;
   dyn.speed = speed;
   dyn.input_torque_nm = 50.0;
   if (fault) dyn.faults.push_back(*fault);
+  dyn.accuracy_grade = errors.accuracy_grade;
+  dyn.runout_m = errors.runout_m;
+  dyn.seed = seed;
   sim::RunOptions run;
   run.duration_s = duration_s;
   run.fs_hz = 10000.0;
   run.accel_noise_m_per_s2 = 4.0;
-  run.seed = 3;
+  run.seed = seed;
   run.mesh_channels = false;
   return sim::to_recording(gb, sim::simulate_dynamic(gb, dyn, run));
 }

@@ -218,8 +218,15 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
                       kColors[j % 6], true});
       }
     }
-    po.title = "Amplitude spectrum";
-    po.x_label = "frequency [Hz]";
+    // At varying speed the spectra are order spectra read at the mean speed (analyze.hpp).
+    const bool orders = r.speed.spectra_domain == "order";
+    double input_hz = 0;
+    for (const auto& sh : r.shafts) {
+      if (sh.shaft == r.input_shaft) input_hz = sh.speed_hz;
+    }
+    po.title = orders ? "Amplitude order spectrum" : "Amplitude spectrum";
+    po.x_label = orders ? "frequency at the mean speed [Hz] (input order x " + f3(input_hz) + " Hz)"
+                        : "frequency [Hz]";
     po.y_label = "amplitude [" + unit + "]";
     po.y_db = true;
     const PlotSeries sp{c.spectrum.x, c.spectrum.y, "", "#1f77b4"};
@@ -268,8 +275,8 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         }
       }
       PlotOptions pe = po;
-      pe.title = "Envelope spectrum, band " + f3(c.envelope_low_hz) + "-" + f3(c.envelope_high_hz) +
-                 " Hz (kurtogram)";
+      pe.title = std::string(orders ? "Envelope order spectrum" : "Envelope spectrum") + ", band " +
+                 f3(c.envelope_low_hz) + "-" + f3(c.envelope_high_hz) + " Hz (kurtogram)";
       pe.y_db = false;
       const PlotSeries es{c.envelope.x, c.envelope.y, "", "#8c564b"};
       o << svg_line_plot(std::span(&es, 1), pe, {}, bands);

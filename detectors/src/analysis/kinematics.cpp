@@ -9,16 +9,14 @@
 #include "detect/angular/tacho.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "stages.hpp"
 
 namespace detect {
 
 namespace {
 
-std::string fmt(double v, int prec = 6) {
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
+// Speeds with 6 significant digits.
+std::string fmt(double v, int prec = 6) { return analysis_stages::fmt(v, prec); }
 
 // Relative speed range above which a record is reported as non-stationary.
 constexpr double kStationaryTolerance = 0.01;
@@ -48,6 +46,33 @@ void from_reference(ShaftKinematics& k, const diag::Gearbox& gb, int ref,
 }
 
 }  // namespace
+
+std::vector<double> smoothed_pulses(const std::vector<double>& pulses_s, int half_window) {
+  const std::size_t n = pulses_s.size(), w = static_cast<std::size_t>(half_window);
+  if (half_window < 1 || n < 2 * w + 1) return pulses_s;
+  std::vector<double> out(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t lo = std::min(k >= w ? k - w : 0, n - (2 * w + 1));
+    // Normal equations of t = a + b u + c u^2 in u = i - k (centred for conditioning).
+    double s[5] = {0, 0, 0, 0, 0}, r[3] = {0, 0, 0};
+    for (std::size_t i = lo; i < lo + 2 * w + 1; ++i) {
+      const double u = static_cast<double>(i) - static_cast<double>(k);
+      double p = 1;
+      for (int e = 0; e < 5; ++e, p *= u) {
+        s[e] += p;
+        if (e < 3) r[e] += p * pulses_s[i];
+      }
+    }
+    // a of the 3x3 system [[s0 s1 s2] [s1 s2 s3] [s2 s3 s4]] (a b c) = r, by Cramer's rule.
+    auto det3 = [](double a0, double a1, double a2, double b0, double b1, double b2, double c0,
+                   double c1, double c2) {
+      return a0 * (b1 * c2 - b2 * c1) - a1 * (b0 * c2 - b2 * c0) + a2 * (b0 * c1 - b1 * c0);
+    };
+    const double d = det3(s[0], s[1], s[2], s[1], s[2], s[3], s[2], s[3], s[4]);
+    out[k] = det3(r[0], s[1], s[2], r[1], s[2], s[3], r[2], s[3], s[4]) / d;
+  }
+  return out;
+}
 
 ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox& gb,
                                  double duration_s, const AnalyzeOptions& opt,
@@ -121,7 +146,31 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
   const double nominal_hz = gb.shaft_speed_hz(input);
   if (!channels.empty() && !lines.empty() && opt.speed_from_vibration) {
     try {
-      const SpeedEstimate est = estimate_speed(channels, fs, nominal_hz, lines);
+      // A steady machine first (the line chosen on the whole record's average); when no line
+      // stands out there (a run-up smears every line over its speed range), the run-up mode: the
+      // nominal speed holds at nominal_time_s (default: mid-record, where a linear run-up passes
+      // its mean speed), the line chosen there and followed both ways.
+      auto attempt = [&](double nominal_time_s) {
+        SpeedEstimateOptions so;
+        so.nominal_time_s = nominal_time_s;
+        return estimate_speed(channels, fs, nominal_hz, lines, so);
+      };
+      auto usable = [&](const SpeedEstimate& e) {
+        return e.status == SpeedStatus::kTracked && (e.confirmations > 0 || lines.size() == 1);
+      };
+      const double record_s = static_cast<double>(length) / fs;
+      SpeedEstimate est = attempt(opt.nominal_time_s >= 0 ? opt.nominal_time_s : -1.0);
+      if (!usable(est) && opt.nominal_time_s < 0) {
+        SpeedEstimate run_up = attempt(0.5 * record_s);
+        if (usable(run_up)) {
+          est = std::move(run_up);
+          notes.push_back("no steady mesh line: the speed followed as a run-up from mid-record (" +
+                          fmt(0.5 * record_s, 4) + " s), where the nominal speed is assumed");
+        }
+      }
+      if (opt.nominal_time_s >= 0) {
+        notes.push_back("the nominal speed assumed at " + fmt(opt.nominal_time_s, 4) + " s");
+      }
       const bool confirmed = est.confirmations > 0 || lines.size() == 1;
       if (est.status == SpeedStatus::kTracked && confirmed) {
         std::vector<double> pulses = revolution_times_s(est);

@@ -22,6 +22,13 @@ struct ShaftKinematics {
   AnalysisSpeed speed;                        // the report: source, range, trace
 };
 
+// Pulse times smoothed by a local quadratic least-squares fit of t(k) over 2 half_window + 1
+// pulses (Savitzky & Golay 1964; the window shifted inward at the ends), evaluated at k: the
+// timing jitter of each pulse (up to half a sampling period for a sharp tacho edge, tacho.hpp)
+// averaged out, a smooth run-up kept (t(k) is locally quadratic for a constant acceleration).
+// Fewer pulses than the window: returned as given.
+std::vector<double> smoothed_pulses(const std::vector<double>& pulses_s, int half_window);
+
 ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox& gb,
                                  double duration_s, const AnalyzeOptions& opt,
                                  std::vector<std::string>& notes);

@@ -17,8 +17,16 @@
 //  - order spectrum in input-shaft orders (order_spectrum.hpp) and, per shaft, the TSA with its
 //    regular, residual and difference signals and the gear metrics FM0, FM4, M6A, M8A, NA4, ER,
 //    SER, SLF, SI of each gear on the shaft (tsa.hpp, indicators.hpp). Without a tacho the angle
-//    is that of a constant nominal speed (pulse times k / f_shaft): fine for a steady rig, smeared
-//    when the speed drifts; the result says which was used;
+//    comes from the vibration (speed_estimate.hpp: a steady record first, else a run-up followed
+//    from the time where the nominal speed holds, nominal_time_s, default mid-record), else from
+//    the constant nominal speed; the result says which was used (AnalysisSpeed::source);
+//  - at varying speed (AnalysisSpeed::stationary false) the order domain: the amplitude
+//    spectrum, Welch PSD, sidebands, two-direction energies, envelope spectrum and bearing
+//    diagnosis of each channel run on the channel resampled at uniform input-shaft angles
+//    (resample.hpp) and read as a record at the mean speed, so a line of order q stands at
+//    q x the mean speed however the speed moved (the envelope is demodulated in time, in the
+//    kurtogram's band, and then resampled: the envelope order spectrum); every frequency of
+//    such a channel is "at the mean speed" (AnalysisSpeed::spectra_domain == "order");
 //  - every bearing of the description, on the sensor channels at that bearing (location ==
 //    bearing name; every sensor channel when none is): fault frequencies, fault bands and band
 //    metrics on the channel's envelope spectrum (bearing_faults.hpp, fault_bands.hpp), and the
@@ -30,8 +38,12 @@
 //    kurtosis of the orders no faster shaft shares; validated in the closed loop with the
 //    simulator), from the shaft angles above: the tacho's, else the nominal speed (a speed off
 //    the nominal smears the averages: no finding rather than a wrong one).
-// Findings (AnalysisFinding) summarise what points at a shaft, gear or bearing, each with a
-// confidence and a note; only sensor channels (sensor_channels below) vote. Steps that cannot run
+// Findings (AnalysisFinding, the one finding type of the analysis: the locator's, the sideband
+// vote's and the bearing vote's, one fault vocabulary) summarise what points at a shaft, gear or
+// bearing, each with a confidence and a note; only sensor channels (sensor_channels below) vote.
+// The code is in stages (detectors/src/analysis/stages.hpp lists them, one file each: kinematics,
+// angle plans, per-channel spectra / envelope and bearings / sidebands / TSA, two directions,
+// findings, baseline, JSON and text writers). Steps that cannot run
 // on this record (too few revolutions for a TSA, a record too short for the kurtogram) are skipped
 // with a note, not an error: they are outcomes.
 #pragma once
@@ -94,6 +106,9 @@ struct AnalyzeOptions {
                                      // timing_s); off by default: it differs run to run
   bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
                                      // mesh line within +-10 % of the nominal (speed_estimate.hpp)
+  double nominal_time_s = -1;        // when the nominal speed holds [s], for the speed from the
+                                     // vibration; < 0: a steady record first, else (no steady line:
+                                     // a run-up) mid-record
 
   void validate() const;  // throws diag::InputError "analyze: <field>: ..."
 };
@@ -199,6 +214,10 @@ struct AnalysisSpeed {
   double mean_rpm = 0, min_rpm = 0, max_rpm = 0;
   bool stationary = true;                 // max - min within 1 % of the mean
   std::vector<double> time_s, speed_rpm;  // the speed over time (empty: nominal)
+  // "time": spectra of the record as sampled (a steady speed); "order": at varying speed, the
+  // spectra, sidebands and envelope spectra are order spectra of the input shaft, their
+  // frequencies stated at the mean speed (order x mean speed); empty without a gearbox.
+  std::string spectra_domain;
 };
 
 struct AnalysisMesh {

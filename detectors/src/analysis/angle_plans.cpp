@@ -1,0 +1,138 @@
+// analyze's angle-plans stage (stages.hpp).
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <functional>
+#include <span>
+#include <thread>
+
+#include "detect/angular/tsa.hpp"
+#include "diag/error.hpp"
+#include "stages.hpp"
+
+namespace detect::analysis_stages {
+
+void run_parallel(std::size_t n, int threads, const std::function<void(std::size_t)>& fn) {
+  std::vector<std::exception_ptr> failed(n);
+  std::atomic<std::size_t> next{0};
+  auto worker = [&] {
+    for (std::size_t k = next++; k < n; k = next++) {
+      try {
+        fn(k);
+      } catch (...) {
+        failed[k] = std::current_exception();
+      }
+    }
+  };
+  const std::size_t workers =
+      std::min<std::size_t>(n, threads > 0 ? static_cast<std::size_t>(threads)
+                                           : std::max(1u, std::thread::hardware_concurrency()));
+  {
+    std::vector<std::jthread> pool;
+    for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(worker);
+    worker();
+  }
+  for (const auto& e : failed) {
+    if (e) std::rethrow_exception(e);  // the first failure, in index order
+  }
+}
+
+int tsa_samples_per_rev(const diag::Gearbox& gb, std::size_t s, const AnalyzeOptions& opt) {
+  int zmax = 1;
+  for (int g : gb.shafts()[s].gears)
+    zmax = std::max(zmax, gb.gears()[static_cast<std::size_t>(g)].spec.teeth);
+  const double top = opt.gear_metrics.mesh_harmonics * zmax + opt.gear_metrics.ser_sidebands;
+  return static_cast<int>(
+      std::clamp<std::size_t>(pow2_at_least(kOrderOversampling * top), 64, kMaxSamplesPerRev));
+}
+
+AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
+  const diag::Recording& rec = ctx.rec;
+  const diag::Gearbox* gb = ctx.gb;
+  const AnalyzeOptions& opt = ctx.opt;
+  const ShaftKinematics& kin = ctx.kin;
+  AngularRecords a;
+  if (!gb) return a;
+  // One angle plan per shaft for every channel of the common rate and length (resample.hpp: its
+  // taps are computed once; applied per channel it gives the same bytes as the one-call form). A
+  // channel of another rate or length, or a plan that cannot be built (too few revolutions: the
+  // one-call form then says why in the channel's notes), resamples on its own.
+  for (const diag::Signal& sig : rec.signals) {
+    if (sig.role == diag::Role::kVibration) {
+      a.plan_fs = sig.fs_hz;
+      a.plan_n = sig.samples.size();
+      break;
+    }
+  }
+  // The order spectrum's angular sampling: 2.8 x the highest order of interest; in the order
+  // domain at least the record's own samples per revolution at the mean speed, so that the
+  // resampled record keeps the band the recording has (fs / 2 at the mean speed).
+  double orders = kOrderOversampling * ctx.max_input_order;
+  if (ctx.order_domain && a.plan_fs > 0) orders = std::max(orders, a.plan_fs / ctx.input_hz);
+  a.order_ro.samples_per_rev =
+      static_cast<int>(std::clamp<std::size_t>(pow2_at_least(orders), 64, kMaxSamplesPerRev));
+  // In the order domain a tacho's pulse times are smoothed first (kinematics.hpp): each pulse of
+  // an ideal edge is uncertain by up to half a sampling period (tacho.hpp), i.e. 2.5e-3 rev at
+  // 3000 rpm and 10 kHz, a phase noise of 0.85 rad on the 54th order, which the cubic angle
+  // between pulses spreads into skirts around every mesh line that the sideband vote takes for
+  // shaft-rate sidebands. Measured on the healthy two-stage run-up 500 -> 3000 rpm
+  // (analyze_run_up_test.cpp): raw pulses: mesh z1_z2 "pointed" at the input in 21 of 28
+  // channels; +-4 revolutions: at the counter in 15 of 28; +-10 and +-20: no channel count
+  // passes. The TSA and the locator keep the raw pulses (they average the jitter out).
+  // The speed from the vibration has no such jitter (its angle is the mesh line's phase).
+  constexpr int kTachoSmoothingHalfWindow = 10;
+  const auto& input_pulses = kin.pulses_s[static_cast<std::size_t>(ctx.input)];
+  a.order_pulses = ctx.order_domain && kin.speed.source == "tacho"
+                       ? smoothed_pulses(input_pulses, kTachoSmoothingHalfWindow)
+                       : input_pulses;
+  std::vector<std::optional<AnglePlan>> tsa_plans(gb->shafts().size());
+  if (a.plan_n > 0) {
+    try {
+      a.order_plan.emplace(make_angle_plan(a.order_pulses, a.plan_fs, a.plan_n, a.order_ro));
+    } catch (const diag::InputError&) {
+    }
+    for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
+      const auto& pulses = kin.pulses_s[s];
+      const int revs = pulses.size() > 1 ? static_cast<int>(pulses.size()) - 1 : 0;
+      if (gb->shafts()[s].gears.empty() || revs < opt.tsa_min_revolutions) continue;
+      try {
+        TsaOptions to;
+        to.samples_per_rev = tsa_samples_per_rev(*gb, s, opt);
+        to.min_revolutions = opt.tsa_min_revolutions;
+        tsa_plans[s].emplace(make_angle_plan(pulses, a.plan_fs, a.plan_n, to.resample_options()));
+      } catch (const diag::InputError&) {
+      }
+    }
+  }
+
+  // Every sharing channel through each plan in one call (the kernel taps of an output sample are
+  // computed once for all channels: the cost of resampling); the plans in parallel.
+  const std::size_t nsig = rec.signals.size();
+  auto through = [&](const AnglePlan& plan) {
+    std::vector<std::span<const double>> xs;
+    std::vector<std::size_t> which;
+    for (std::size_t i = 0; i < nsig; ++i) {
+      const diag::Signal& sig = rec.signals[i];
+      const bool spectra = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
+                           sig.role == diag::Role::kDisplacement;
+      if (spectra && a.shares_plans(sig) && sig.samples.size() >= 64) {
+        xs.push_back(sig.samples);
+        which.push_back(i);
+      }
+    }
+    std::vector<std::optional<AngleResampled>> out(nsig);
+    std::vector<AngleResampled> ar = resample_by_angle(xs, plan);
+    for (std::size_t k = 0; k < which.size(); ++k) out[which[k]] = std::move(ar[k]);
+    return out;
+  };
+  a.tsa_resampled.resize(tsa_plans.size());
+  std::vector<std::function<void()>> jobs;
+  if (a.order_plan) jobs.emplace_back([&] { a.order_resampled = through(*a.order_plan); });
+  for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
+    if (tsa_plans[s]) jobs.emplace_back([&, s] { a.tsa_resampled[s] = through(*tsa_plans[s]); });
+  }
+  run_parallel(jobs.size(), opt.threads, [&](std::size_t k) { jobs[k](); });
+  return a;
+}
+
+}  // namespace detect::analysis_stages

@@ -1,0 +1,165 @@
+// analyze's comparison with healthy baseline recordings (score_against_baseline, analyze.hpp).
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "detect/baseline/baseline.hpp"
+#include "diag/error.hpp"
+#include "stages.hpp"
+
+namespace detect {
+
+using analysis_stages::fmt;
+using analysis_stages::joined;
+
+void BaselineComparisonOptions::validate() const {
+  features.validate();
+  baseline.validate();
+  if (segments_per_recording < 1 || segments_per_recording > 64)
+    throw diag::InputError("score_against_baseline: segments_per_recording: " +
+                           std::to_string(segments_per_recording) + " is not in [1, 64]");
+}
+
+namespace {
+
+// Samples [k n / parts, (k + 1) n / parts) of a channel, as a signal of its own.
+diag::Signal part_of(const diag::Signal& s, std::size_t k, std::size_t parts) {
+  diag::Signal p;
+  p.name = s.name;
+  p.fs_hz = s.fs_hz;
+  const std::size_t n = s.samples.size();
+  p.samples.assign(s.samples.begin() + static_cast<std::ptrdiff_t>(k * n / parts),
+                   s.samples.begin() + static_cast<std::ptrdiff_t>((k + 1) * n / parts));
+  return p;
+}
+
+}  // namespace
+
+AnalysisBaseline score_against_baseline(const diag::Recording& rec,
+                                        std::span<const diag::Recording> baseline,
+                                        const BaselineComparisonOptions& opt,
+                                        std::span<const std::string> names) {
+  opt.validate();
+  const std::string w = "score_against_baseline";
+  if (baseline.empty()) throw diag::InputError(w + ": baseline: no recording given");
+  if (!names.empty() && names.size() != baseline.size())
+    throw diag::InputError(w + ": names: " + std::to_string(names.size()) + " names for " +
+                           std::to_string(baseline.size()) + " baseline recordings");
+  AnalysisBaseline out;
+  for (std::size_t i = 0; i < baseline.size(); ++i)
+    out.recordings.push_back(names.empty() ? "baseline recording " + std::to_string(i + 1)
+                                           : names[i]);
+
+  // ---- channels: the recording's sensor channels found in every baseline recording ----
+  std::vector<const diag::Signal*> channels;
+  std::vector<std::string> sensor_names;
+  for (std::size_t idx : sensor_channels(rec)) sensor_names.push_back(rec.signals[idx].name);
+  if (sensor_names.empty())
+    throw diag::InputError(w + ": the recording holds no vibration channel to compare");
+  for (std::size_t i = 0; i < baseline.size(); ++i) {
+    bool shared = false;
+    for (const auto& n : sensor_names) shared |= baseline[i].find(n) != nullptr;
+    if (!shared) {
+      std::vector<std::string> theirs;
+      for (const auto& s : baseline[i].signals) theirs.push_back(s.name);
+      throw diag::InputError(out.recordings[i] +
+                             ": no channel in common with the recording "
+                             "(baseline channels: " +
+                             joined(theirs) + "; the recording's: " + joined(sensor_names) + ")");
+    }
+  }
+  for (std::size_t idx : sensor_channels(rec)) {
+    const diag::Signal& s = rec.signals[idx];
+    std::string missing_in;
+    for (std::size_t i = 0; i < baseline.size(); ++i) {
+      const diag::Signal* b = baseline[i].find(s.name);
+      if (b == nullptr) {
+        missing_in += (missing_in.empty() ? "" : ", ") + out.recordings[i];
+        continue;
+      }
+      if (std::abs(b->fs_hz - s.fs_hz) > 1e-9 * s.fs_hz)
+        throw diag::InputError(out.recordings[i] + ": channel " + s.name + ": fs_hz " +
+                               fmt(b->fs_hz, 10) + " differs from the recording's " +
+                               fmt(s.fs_hz, 10) +
+                               " Hz (the features compare bands at fractions of fs: record the "
+                               "baseline at the recording's rate)");
+    }
+    if (!missing_in.empty()) {
+      out.notes.push_back("channel " + s.name + " is not in " + missing_in +
+                          ": left out of the comparison");
+      continue;
+    }
+    channels.push_back(&s);
+  }
+
+  // ---- parts per baseline recording: every part holds 4 nperseg samples of each channel ----
+  const std::size_t min_part = 4 * opt.features.nperseg;
+  std::vector<std::size_t> parts(baseline.size());
+  for (std::size_t i = 0; i < baseline.size(); ++i) {
+    std::size_t shortest = std::numeric_limits<std::size_t>::max();
+    for (const diag::Signal* s : channels)
+      shortest = std::min(shortest, baseline[i].find(s->name)->samples.size());
+    parts[i] = std::clamp<std::size_t>(shortest / min_part, 1,
+                                       static_cast<std::size_t>(opt.segments_per_recording));
+    if (parts[i] < static_cast<std::size_t>(opt.segments_per_recording))
+      out.notes.push_back(out.recordings[i] + ": " + std::to_string(shortest) +
+                          " samples, cut into " + std::to_string(parts[i]) + " part" +
+                          (parts[i] == 1 ? "" : "s") + " instead of " +
+                          std::to_string(opt.segments_per_recording) + " (a part needs " +
+                          std::to_string(min_part) + ")");
+  }
+
+  // ---- features; a channel whose features fail anywhere is left out ----
+  std::vector<FeatureSet> healthy(std::accumulate(parts.begin(), parts.end(), std::size_t{0}));
+  FeatureSet scored;
+  std::vector<std::string> reasons;
+  for (const diag::Signal* s : channels) {
+    try {
+      FeatureSet whole = prefixed(s->name, baseline_features(*s, opt.features));
+      std::vector<FeatureSet> per_part;
+      for (std::size_t i = 0; i < baseline.size(); ++i) {
+        const diag::Signal& b = *baseline[i].find(s->name);
+        for (std::size_t k = 0; k < parts[i]; ++k) {
+          try {
+            per_part.push_back(
+                prefixed(s->name, baseline_features(part_of(b, k, parts[i]), opt.features)));
+          } catch (const diag::InputError& e) {
+            throw diag::InputError(out.recordings[i] + ": " + e.what());
+          }
+        }
+      }
+      scored.merge(whole);
+      for (std::size_t j = 0; j < healthy.size(); ++j) healthy[j].merge(per_part[j]);
+      out.channels.push_back(s->name);
+    } catch (const diag::InputError& e) {
+      reasons.push_back(e.what());
+      out.notes.push_back("channel " + s->name + " left out of the comparison: " + e.what());
+    }
+  }
+  if (out.channels.empty())
+    throw diag::InputError(w + ": no channel left to compare with the baseline (" +
+                           joined(out.notes) + ")");
+  if (healthy.size() < opt.baseline.min_samples)
+    throw diag::InputError(
+        w + ": baseline: " + std::to_string(baseline.size()) + " recordings give " +
+        std::to_string(healthy.size()) + " samples, fewer than min_samples = " +
+        std::to_string(opt.baseline.min_samples) + ": give more or longer baseline recordings");
+  out.samples = healthy.size();
+
+  // ---- fit and score ----
+  const Baseline fitted = Baseline::fit(healthy, opt.baseline);
+  const Baseline::Score score = fitted.score(scored);
+  out.anomaly_score = score.anomaly_score;
+  out.threshold = score.threshold;
+  out.alarm = score.alarm;
+  for (const auto& [name, st] : fitted.features())
+    out.deviations.push_back(
+        {name, scored.at(name), st.centre, st.spread, score.deviation.at(name)});
+  std::stable_sort(out.deviations.begin(), out.deviations.end(),
+                   [](const AnalysisBaselineDeviation& a, const AnalysisBaselineDeviation& b) {
+                     return std::abs(a.z) > std::abs(b.z);
+                   });
+  return out;
+}
+
+}  // namespace detect

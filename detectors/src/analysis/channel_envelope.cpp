@@ -1,0 +1,162 @@
+// analyze's per-channel stages: the envelope spectrum in the kurtogram's band and the bearings
+// (fault bands, band metrics, diagnose_bearings) (stages.hpp).
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/gear/bearing_faults.hpp"
+#include "detect/gear/fault_bands.hpp"
+#include "detect/spectral/envelope.hpp"
+#include "detect/spectral/kurtogram.hpp"
+#include "diag/error.hpp"
+#include "stages.hpp"
+
+namespace detect::analysis_stages {
+
+namespace {
+
+// The kurtogram's deepest level for n samples: log2(n) - 7 (a level-L band needs 2^(L+7)).
+int kurtogram_level_for(std::size_t n, int max_level) {
+  return std::min(max_level, static_cast<int>(std::floor(std::log2(static_cast<double>(n)))) - 7);
+}
+
+}  // namespace
+
+Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
+                        const SpectralRecord& rec, ChannelAnalysis& c) {
+  const AnalyzeOptions& opt = ctx.opt;
+  const diag::Signal& sig = *rec.time;
+  const diag::Signal& spectral = *rec.spectral();
+  const std::span<const double> xt(sig.samples);
+  // The demodulation band is chosen and applied in time (in the order domain too: a resonance
+  // is fixed in Hz).
+  EnvelopeSpectrumOptions eo;
+  eo.fs_hz = sig.fs_hz;
+  const double nyq_t = 0.5 * sig.fs_hz;
+  const int level = kurtogram_level_for(xt.size(), opt.kurtogram_max_level);
+  if (level >= 1) {
+    KurtogramOptions ko;
+    ko.fs_hz = sig.fs_hz;
+    ko.max_level = level;
+    const Kurtogram kg = fast_kurtogram(xt, ko);
+    c.kurtogram_level = kg.level;
+    c.kurtogram_kurtosis = kg.kurtosis;
+    eo.band_low_hz = std::max(0.0, kg.low_hz());
+    eo.band_high_hz = std::min(nyq_t, kg.high_hz());
+  } else {
+    c.notes.push_back("record too short for the kurtogram: envelope of the whole band");
+  }
+  c.envelope_low_hz = eo.band_low_hz;
+  c.envelope_high_hz = eo.band_high_hz == 0 ? nyq_t : eo.band_high_hz;
+  Spectrum env;
+  if (rec.order_domain) {
+    // The envelope in time, resampled like the channel, its spectrum read at the mean speed
+    // (the envelope order spectrum).
+    const std::vector<double> env_t =
+        band_envelope(xt, {sig.fs_hz, eo.band_low_hz, eo.band_high_hz});
+    const AngleResampled env_a =
+        ang.order_plan && ang.shares_plans(sig)
+            ? resample_by_angle(env_t, *ang.order_plan)
+            : resample_by_angle(env_t, sig.fs_hz, ang.order_pulses, ang.order_ro);
+    SpectrumOptions es;
+    es.fs_hz = spectral.fs_hz;
+    es.window = eo.window;
+    es.scaling = eo.scaling;
+    es.remove_mean = true;
+    env = amplitude_spectrum(env_a.samples, es);
+  } else {
+    env = envelope_spectrum(xt, eo);
+  }
+  // Kept for plotting up to 5 x the highest bearing fault line (else 1 kHz), at most Nyquist.
+  double env_max = opt.envelope_plot_max_hz;
+  const diag::Gearbox* gb = ctx.gb;
+  if (env_max == 0) {
+    env_max = 1000.0;
+    if (gb && !gb->bearings().empty()) {
+      double top = 0;
+      for (const auto& b : gb->bearings()) {
+        const int s = gb->shaft_index(b.shaft);
+        if (s < 0) continue;
+        const auto f = bearing_frequencies(b, ctx.kin.speeds[static_cast<std::size_t>(s)].speed_hz);
+        top = std::max({top, f.bpfi_hz, f.bpfo_hz, f.ball_fault_hz});
+      }
+      if (top > 0) env_max = 5 * top;
+    }
+  }
+  env_max = std::min(env_max, 0.5 * spectral.fs_hz);
+  c.envelope_peaks = largest_peaks(env, opt.peaks_reported, env_max);
+  c.envelope = slice_for_plot(env.frequency_hz, env.amplitude, 0, env_max, ctx.plot_points);
+  return env;
+}
+
+void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, const Spectrum& env,
+                   ChannelAnalysis& c) {
+  const diag::Gearbox* gb = ctx.gb;
+  if (!gb || !c.sensor || gb->bearings().empty()) return;
+  const AnalyzeOptions& opt = ctx.opt;
+  const auto& speeds = ctx.kin.speeds;
+  // diagnose_bearings once per shaft, on the bearings this channel sees: those at its location,
+  // and those no sensor channel sits at.
+  std::map<int, std::vector<diag::BearingSpec>> by_shaft;
+  for (std::size_t b = 0; b < ctx.located.size(); ++b) {
+    const diag::BearingSpec& spec = gb->bearings()[b];
+    const int s = gb->shaft_index(spec.shaft);
+    if (s >= 0 && (!ctx.located[b] || c.location == spec.name)) by_shaft[s].push_back(spec);
+  }
+  std::map<std::string, std::pair<const BearingStatus*, const BearingDiagnosis*>> status;
+  std::vector<BearingDiagnosis> diagnoses;
+  diagnoses.reserve(by_shaft.size());
+  BearingDiagnosisOptions bo = opt.bearing;
+  const std::size_t n = spectral.samples.size();
+  bo.kurtogram_max_level = kurtogram_level_for(n, bo.kurtogram_max_level);
+  for (const auto& [s, specs] : by_shaft) {
+    std::string names;
+    for (const auto& b : specs) names += (names.empty() ? "" : ", ") + b.name;
+    if (bo.kurtogram_max_level < 1) {
+      c.notes.push_back("bearing diagnosis (" + names + ") skipped: " + std::to_string(n) +
+                        " samples, fewer than 2^8");
+      continue;
+    }
+    try {
+      diagnoses.push_back(
+          diagnose_bearings(spectral, speeds[static_cast<std::size_t>(s)].speed_hz, specs, bo));
+    } catch (const diag::InputError& e) {
+      c.notes.push_back("bearing diagnosis (" + names + ") skipped: " + e.what());
+      continue;
+    }
+    for (const BearingStatus& st : diagnoses.back().bearings)
+      status[st.bearing] = {&st, &diagnoses.back()};
+  }
+  const SpectrumView ev{env.frequency_hz, env.amplitude};
+  for (const auto& [s, specs] : by_shaft) {
+    for (const auto& spec : specs) {
+      BearingAnalysis ba;
+      ba.bearing = spec.name;
+      ba.shaft = spec.shaft;
+      ba.frequencies = bearing_frequencies(spec, speeds[static_cast<std::size_t>(s)].speed_hz);
+      ba.bands = bearing_fault_bands(ba.frequencies, opt.fault_bands);
+      ba.metrics = fault_band_metrics(ev, ba.bands, SpectrumScale::kAmplitude);
+      if (const auto it = status.find(spec.name); it != status.end()) {
+        ba.diagnosed = true;
+        ba.diagnosis = *it->second.first;
+        ba.band_centre_hz = it->second.second->band_centre_hz;
+        ba.band_width_hz = it->second.second->band_width_hz;
+      }
+      c.bearings.push_back(std::move(ba));
+    }
+  }
+  // The description's order, whatever the shaft grouping.
+  auto order = [&](const std::string& name) {
+    const auto& all = gb->bearings();
+    return std::find_if(all.begin(), all.end(),
+                        [&](const diag::BearingSpec& b) { return b.name == name; }) -
+           all.begin();
+  };
+  std::stable_sort(c.bearings.begin(), c.bearings.end(),
+                   [&](const BearingAnalysis& a, const BearingAnalysis& b) {
+                     return order(a.bearing) < order(b.bearing);
+                   });
+}
+
+}  // namespace detect::analysis_stages

@@ -1,0 +1,127 @@
+// analyze's per-channel stages: time-domain indicators, the spectral record (the channel or its
+// order-domain form), amplitude spectrum, Welch PSD and order spectrum (stages.hpp).
+#include <algorithm>
+
+#include "detect/angular/order_spectrum.hpp"
+#include "detect/indicators/indicators.hpp"
+#include "detect/spectral/welch.hpp"
+#include "diag/error.hpp"
+#include "stages.hpp"
+
+namespace detect::analysis_stages {
+
+std::vector<SpectralPeak> largest_peaks(const Spectrum& s, int count, double max_hz) {
+  std::vector<SpectralPeak> c;
+  const auto& a = s.amplitude;
+  for (std::size_t k = 1; k + 1 < a.size(); ++k) {
+    if (s.frequency_hz[k] > max_hz) break;
+    if (a[k] > a[k - 1] && a[k] >= a[k + 1]) c.push_back({s.frequency_hz[k], a[k]});
+  }
+  const std::size_t n = std::min<std::size_t>(c.size(), static_cast<std::size_t>(count));
+  std::partial_sort(
+      c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n), c.end(),
+      [](const SpectralPeak& l, const SpectralPeak& r) { return l.amplitude > r.amplitude; });
+  c.resize(n);
+  return c;
+}
+
+PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,
+                         double hi, std::size_t max_points) {
+  auto b = std::lower_bound(x.begin(), x.end(), lo);
+  auto e = std::upper_bound(x.begin(), x.end(), hi);
+  const auto i0 = static_cast<std::size_t>(b - x.begin());
+  const auto n = static_cast<std::size_t>(e - b);
+  return decimate_for_plot(std::span<const double>(x).subspan(i0, n),
+                           std::span<const double>(y).subspan(i0, n), max_points, Decimation::kMax);
+}
+
+void time_stage(const diag::Signal& sig, bool sensor, ChannelAnalysis& c) {
+  c.name = sig.name;
+  c.unit = sig.unit;
+  c.location = sig.location;
+  c.direction = sig.direction;
+  c.fs_hz = sig.fs_hz;
+  c.samples = sig.samples.size();
+  c.role = sig.role;
+  c.shaft = sig.shaft;
+  c.mesh = sig.mesh;
+  // Spectra for what vibrates (sensors, and the simulator's mesh force and deflection); the
+  // time indicators only for angles, speeds and other quantities.
+  c.vibration = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
+                sig.role == diag::Role::kDisplacement;
+  c.sensor = sensor;
+  const Moments mo = moments(sig.samples);
+  c.time = {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
+}
+
+void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
+                     SpectralRecord& out, ChannelAnalysis& c) {
+  const diag::Signal& sig = ctx.rec.signals[ci];
+  out.time = &sig;
+  out.order_domain = ctx.order_domain;
+  if (!ctx.gb) return;
+  try {
+    if (!ang.order_resampled.empty() && ang.order_resampled[ci]) {
+      out.angular = &*ang.order_resampled[ci];
+    } else {
+      out.own = resample_by_angle(sig.samples, sig.fs_hz, ang.order_pulses, ang.order_ro);
+      out.angular = &*out.own;
+    }
+  } catch (const diag::InputError& e) {
+    out.angular_error = e.what();
+    if (ctx.order_domain) c.notes.push_back("order-domain spectra skipped: " + out.angular_error);
+  }
+  if (!ctx.order_domain || !out.angular) return;
+  diag::Signal& a = out.angle_signal;
+  a.name = sig.name;
+  a.unit = sig.unit;
+  a.direction = sig.direction;
+  a.location = sig.location;
+  a.role = sig.role;
+  a.shaft = sig.shaft;
+  a.mesh = sig.mesh;
+  a.fs_hz = out.angular->samples_per_rev * ctx.input_hz;
+  a.samples = out.angular->samples;
+}
+
+Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
+                       ChannelAnalysis& c) {
+  const AnalyzeOptions& opt = ctx.opt;
+  const std::span<const double> x(spectral.samples);
+  const double fs = spectral.fs_hz;
+  SpectrumOptions so;
+  so.fs_hz = fs;
+  so.window = opt.spectrum_window;
+  so.remove_mean = true;
+  Spectrum sp = amplitude_spectrum(x, so);
+  c.spectrum_resolution_hz = sp.resolution_hz;
+  c.spectrum_enbw_hz = sp.enbw_hz;
+  c.spectrum_peaks = largest_peaks(sp, opt.peaks_reported, 0.5 * fs);
+  c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, ctx.plot_points, Decimation::kMax);
+  WelchOptions wo;
+  wo.fs_hz = fs;
+  wo.nperseg = std::min(opt.welch_nperseg, pow2_at_most(x.size()));
+  const Psd psd = welch(x, wo);
+  c.psd = decimate_for_plot(psd.frequency_hz, psd.value, ctx.plot_points, Decimation::kMax);
+  c.psd_resolution_hz = psd.resolution_hz;
+  c.psd_segments = psd.segments;
+  return sp;
+}
+
+void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
+                          ChannelAnalysis& c) {
+  if (!rec.angular) {
+    if (!rec.order_domain) c.notes.push_back("order spectrum skipped: " + rec.angular_error);
+    return;
+  }
+  try {
+    const OrderSpectrum os = order_spectrum(*rec.angular);
+    c.order_spectrum =
+        slice_for_plot(os.order, os.amplitude, 0,
+                       std::min(1.2 * ctx.max_input_order, os.order.back()), ctx.plot_points);
+  } catch (const diag::InputError& e) {
+    c.notes.push_back(std::string("order spectrum skipped: ") + e.what());
+  }
+}
+
+}  // namespace detect::analysis_stages

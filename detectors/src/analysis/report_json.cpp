@@ -1,0 +1,293 @@
+// analyze's JSON report writer (to_json, analyze.hpp; the keys are the README's).
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/gear/gear_damage.hpp"
+#include "stages.hpp"
+
+namespace detect {
+
+using analysis_stages::fmt;
+using analysis_stages::joined;
+
+namespace {
+
+// Points of the speed trace in the JSON (a tacho gives one estimate per revolution).
+constexpr std::size_t kSpeedTracePoints = 200;
+
+// One fault vocabulary in the report: the findings' names ("rolling_element", not "ball"), and
+// "none".
+std::string fault_name(BearingFault f) {
+  return f == BearingFault::kNone ? "none" : finding_name(f);
+}
+
+nlohmann::json peaks_json(const std::vector<SpectralPeak>& p) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& k : p)
+    a.push_back({{"frequency_hz", k.frequency_hz}, {"amplitude", k.amplitude}});
+  return a;
+}
+
+const char* to_string(SidebandStatus s) {
+  switch (s) {
+    case SidebandStatus::kNoSidebands:
+      return "no_sidebands";
+    case SidebandStatus::kPointed:
+      return "pointed";
+    case SidebandStatus::kAmbiguous:
+      return "ambiguous";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+nlohmann::json to_json(const AnalysisResult& r) {
+  using nlohmann::json;
+  json j;
+  j["format"] = "geardiag-analysis";
+  j["format_version"] = 1;
+  j["gearbox"] = r.gearbox_name.empty() ? json(nullptr) : json(r.gearbox_name);
+  j["input_shaft"] = r.input_shaft.empty() ? json(nullptr) : json(r.input_shaft);
+  j["duration_s"] = r.duration_s;
+  if (!r.timing_s.empty()) j["timing_s"] = r.timing_s;
+  if (!r.speed.source.empty()) {
+    j["speed"] = {{"source", r.speed.source},
+                  {"reference_shaft", r.speed.reference_shaft},
+                  {"line", r.speed.line},
+                  {"nominal_rpm", r.speed.nominal_rpm},
+                  {"mean_rpm", r.speed.mean_rpm},
+                  {"min_rpm", r.speed.min_rpm},
+                  {"max_rpm", r.speed.max_rpm},
+                  {"stationary", r.speed.stationary},
+                  {"spectra_domain", r.speed.spectra_domain}};
+    // The speed over time, at most kSpeedTracePoints points (means over equal runs of the
+    // estimates: a tacho gives one per revolution).
+    const std::size_t n = r.speed.time_s.size();
+    if (n > 0) {
+      const std::size_t buckets = std::min(n, kSpeedTracePoints);
+      json t = json::array(), v = json::array();
+      for (std::size_t b = 0; b < buckets; ++b) {
+        const std::size_t i0 = b * n / buckets, i1 = (b + 1) * n / buckets;
+        double st = 0, sv = 0;
+        for (std::size_t i = i0; i < i1; ++i) st += r.speed.time_s[i], sv += r.speed.speed_rpm[i];
+        t.push_back(st / static_cast<double>(i1 - i0));
+        v.push_back(sv / static_cast<double>(i1 - i0));
+      }
+      j["speed"]["time_s"] = std::move(t);
+      j["speed"]["rpm"] = std::move(v);
+    }
+  }
+  j["shafts"] = json::array();
+  for (const auto& s : r.shafts) {
+    j["shafts"].push_back({{"shaft", s.shaft},
+                           {"speed_hz", s.speed_hz},
+                           {"speed_rpm", s.speed_hz * 60},
+                           {"source", s.source},
+                           {"tacho_repairs", s.tacho_repairs}});
+  }
+  j["meshes"] = json::array();
+  for (const auto& m : r.meshes) {
+    j["meshes"].push_back({{"mesh", m.name},
+                           {"driver", m.driver},
+                           {"driven", m.driven},
+                           {"frequency_hz", m.frequency_hz}});
+  }
+  j["channels"] = json::array();
+  for (const auto& c : r.channels) {
+    json cj{{"name", c.name},
+            {"unit", c.unit},
+            {"direction", std::string(diag::to_string(c.direction))},
+            {"location", c.location},
+            {"role", std::string(diag::to_string(c.role))},
+            {"shaft", c.shaft},
+            {"mesh", c.mesh},
+            {"fs_hz", c.fs_hz},
+            {"samples", c.samples},
+            {"vibration", c.vibration},
+            {"sensor", c.sensor},
+            {"indicators",
+             {{"rms", c.time.rms},
+              {"peak", c.time.peak},
+              {"crest_factor", c.time.crest_factor},
+              {"kurtosis", c.time.kurtosis},
+              {"skewness", c.time.skewness}}}};
+    if (c.vibration && !c.spectrum.x.empty()) {
+      cj["spectrum"] = {{"resolution_hz", c.spectrum_resolution_hz},
+                        {"enbw_hz", c.spectrum_enbw_hz},
+                        {"peaks", peaks_json(c.spectrum_peaks)}};
+      cj["psd"] = {{"resolution_hz", c.psd_resolution_hz}, {"segments", c.psd_segments}};
+      cj["envelope"] = {{"band_low_hz", c.envelope_low_hz},
+                        {"band_high_hz", c.envelope_high_hz},
+                        {"kurtogram_level", c.kurtogram_level},
+                        {"kurtogram_kurtosis", c.kurtogram_kurtosis},
+                        {"peaks", peaks_json(c.envelope_peaks)}};
+    }
+    json meshes = json::array();
+    for (const auto& m : c.meshes) {
+      json h = json::array();
+      int k = 1;
+      for (const auto& l : m.sidebands.mesh) {
+        h.push_back({{"harmonic", k++},
+                     {"frequency_hz", l.frequency_hz},
+                     {"amplitude", l.amplitude},
+                     {"prominence_db", l.prominence_db},
+                     {"valid", l.valid}});
+      }
+      json shafts = json::array();
+      for (const auto& s : m.sidebands.shafts) {
+        shafts.push_back({{"shaft", s.name},
+                          {"frequency_hz", s.frequency_hz},
+                          {"detected", s.detected},
+                          {"score_db", s.score_db},
+                          {"passes", s.passes}});
+      }
+      const bool pointed = m.sidebands.status == SidebandStatus::kPointed;
+      meshes.push_back(
+          {{"mesh", m.name},
+           {"frequency_hz", m.mesh_hz},
+           {"harmonics", h},
+           {"sidebands",
+            {{"status", to_string(m.sidebands.status)},
+             {"pointed_shaft",
+              pointed ? json(m.sidebands.shafts[static_cast<std::size_t>(m.sidebands.pointed)].name)
+                      : json(nullptr)},
+             {"shafts", shafts}}}});
+    }
+    cj["meshes"] = meshes;
+    json tsa = json::array();
+    for (const auto& t : c.tsa) {
+      json gears = json::array();
+      for (const auto& g : t.gears) {
+        const GearIndicators& i = g.indicators;
+        gears.push_back({{"gear", g.gear},
+                         {"teeth", g.teeth},
+                         {"rms", i.rms},
+                         {"peak", i.peak},
+                         {"crest_factor", i.crest_factor},
+                         {"kurtosis", i.kurtosis},
+                         {"fm0", i.fm0},
+                         {"fm4", i.fm4},
+                         {"m6a", i.m6a},
+                         {"m8a", i.m8a},
+                         {"na4", i.na4},
+                         {"er", i.er},
+                         {"ser", i.ser},
+                         {"slf", i.slf},
+                         {"si", i.si}});
+      }
+      tsa.push_back({{"shaft", t.shaft},
+                     {"computed", t.computed},
+                     {"note", t.note},
+                     {"revolutions", t.revolutions},
+                     {"samples_per_rev", t.samples_per_rev},
+                     {"gears", gears}});
+    }
+    cj["tsa"] = tsa;
+    json bearings = json::array();
+    for (const auto& b : c.bearings) {
+      const BearingFrequencies& f = b.frequencies;
+      json bands = json::array();
+      for (std::size_t k = 0; k < b.bands.size(); ++k) {
+        const BandMetrics& m = b.metrics.bands[k];
+        bands.push_back({{"label", b.bands[k].label},
+                         {"centre_hz", b.bands[k].centre_hz},
+                         {"low_hz", b.bands[k].low_hz},
+                         {"high_hz", b.bands[k].high_hz},
+                         {"peak", m.peak_value},
+                         {"peak_frequency_hz", m.peak_frequency_hz},
+                         {"energy", m.energy},
+                         {"energy_fraction", m.energy_fraction}});
+      }
+      auto families = [](const BearingDecision& d) {
+        json fams = json::array();
+        for (const auto& fam : d.families) {
+          fams.push_back({{"fault", fault_name(fam.fault)},
+                          {"fundamental_hz", fam.fundamental_hz},
+                          {"detected", fam.detected},
+                          {"score_db", fam.score_db},
+                          {"passes", fam.passes}});
+        }
+        return fams;
+      };
+      bearings.push_back({{"bearing", b.bearing},
+                          {"shaft", b.shaft},
+                          {"frequencies",
+                           {{"shaft_hz", f.shaft_hz},
+                            {"ftf_hz", f.ftf_hz},
+                            {"bpfo_hz", f.bpfo_hz},
+                            {"bpfi_hz", f.bpfi_hz},
+                            {"bsf_hz", f.bsf_hz},
+                            {"ball_fault_hz", f.ball_fault_hz}}},
+                          {"bands", bands},
+                          {"decision",
+                           {{"diagnosed", b.diagnosed},
+                            {"status", to_string(b.diagnosis.status)},
+                            {"fault", fault_name(b.diagnosis.fault)},
+                            {"band_centre_hz", b.band_centre_hz},
+                            {"band_width_hz", b.band_width_hz},
+                            {"families", families(b.diagnosis.band_decision)},
+                            {"whole_band_families", families(b.diagnosis.whole_decision)}}}});
+    }
+    cj["bearings"] = bearings;
+    cj["notes"] = c.notes;
+    j["channels"].push_back(std::move(cj));
+  }
+  j["two_direction"] = json::array();
+  for (const auto& t : r.two_direction) {
+    json h = json::array();
+    for (const auto& e : t.comparison.harmonics) {
+      h.push_back({{"harmonic", e.harmonic},
+                   {"frequency_hz", e.frequency_hz},
+                   {"along", e.along},
+                   {"normal", e.normal},
+                   {"valid", e.valid}});
+    }
+    j["two_direction"].push_back({{"location", t.location},
+                                  {"along_channel", t.along_channel},
+                                  {"normal_channel", t.normal_channel},
+                                  {"mesh", t.mesh},
+                                  {"mesh_hz", t.comparison.mesh_hz},
+                                  {"along_energy", t.comparison.along_energy},
+                                  {"normal_energy", t.comparison.normal_energy},
+                                  {"normal_to_along_db", t.comparison.normal_to_along_db},
+                                  {"harmonics", h}});
+  }
+  if (r.gear_damage) {
+    j["gear_damage"] = to_json(*r.gear_damage);
+    j["gear_damage"]["angles"] = r.gear_damage_angles;
+  }
+  j["findings"] = json::array();
+  for (const auto& f : r.findings) {
+    json fj{{"kind", f.kind}, {"confidence", f.confidence}, {"note", f.note}};
+    if (!f.shaft.empty()) fj["shaft"] = f.shaft;
+    if (!f.gears.empty()) fj["gears"] = f.gears;
+    if (!f.bearing.empty()) fj["bearing"] = f.bearing;
+    if (!f.fault.empty()) fj["fault"] = f.fault;
+    if (std::isfinite(f.frequency_hz)) fj["frequency_hz"] = f.frequency_hz;
+    if (!f.channel.empty()) fj["channel"] = f.channel;
+    j["findings"].push_back(std::move(fj));
+  }
+  if (r.baseline) {
+    j["anomaly_score"] = r.baseline->anomaly_score;
+    j["alarm"] = r.baseline->alarm;
+    j["anomaly_threshold"] = r.baseline->threshold;
+    j["baseline_deviations"] = json::array();
+    for (const auto& d : r.baseline->deviations) {
+      j["baseline_deviations"].push_back({{"feature", d.feature},
+                                          {"value", d.value},
+                                          {"baseline_centre", d.baseline_centre},
+                                          {"baseline_spread", d.baseline_spread},
+                                          {"z", d.z}});
+    }
+    j["baseline"] = {{"recordings", r.baseline->recordings},
+                     {"samples", r.baseline->samples},
+                     {"channels", r.baseline->channels},
+                     {"notes", r.baseline->notes}};
+  }
+  j["notes"] = r.notes;
+  return j;
+}
+
+}  // namespace detect

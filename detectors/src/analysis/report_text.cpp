@@ -1,0 +1,92 @@
+// analyze's text summary writer (format_summary, analyze.hpp).
+#include <algorithm>
+#include <sstream>
+
+#include "stages.hpp"
+
+namespace detect {
+
+using analysis_stages::fmt;
+using analysis_stages::joined;
+
+std::string format_summary(const AnalysisResult& r) {
+  std::ostringstream o;
+  o << "recording: " << r.channels.size() << " channels, " << fmt(r.duration_s, 6) << " s";
+  if (!r.gearbox_name.empty()) o << ", gearbox " << r.gearbox_name;
+  o << "\n";
+  if (!r.speed.source.empty()) {
+    o << "  speed of " << r.speed.reference_shaft << " from the " << r.speed.source
+      << (r.speed.line.empty() ? "" : " (" + r.speed.line + ")") << ": " << fmt(r.speed.mean_rpm, 6)
+      << " rpm";
+    if (!r.speed.stationary) {
+      o << ", varying " << fmt(r.speed.min_rpm, 5) << " .. " << fmt(r.speed.max_rpm, 5) << " rpm";
+    }
+    o << " (nominal " << fmt(r.speed.nominal_rpm, 6) << " rpm)\n";
+  }
+  for (const auto& s : r.shafts) {
+    o << "  shaft " << s.shaft << ": " << fmt(s.speed_hz * 60, 6) << " rpm (" << s.source << ")\n";
+  }
+  for (const auto& m : r.meshes) {
+    o << "  mesh " << m.name << ": " << fmt(m.frequency_hz, 6) << " Hz\n";
+  }
+  o << "channels:\n";
+  for (const auto& c : r.channels) {
+    o << "  " << c.name << " [" << (c.unit.empty() ? "-" : c.unit) << "] rms " << fmt(c.time.rms)
+      << " peak " << fmt(c.time.peak) << " crest " << fmt(c.time.crest_factor) << " kurtosis "
+      << fmt(c.time.kurtosis);
+    if (c.vibration && !c.spectrum_peaks.empty()) {
+      o << "; top line " << fmt(c.spectrum_peaks.front().frequency_hz, 6) << " Hz";
+    }
+    o << "\n";
+  }
+  if (!r.two_direction.empty()) {
+    o << "two directions (normal / along at the mesh harmonics):\n";
+    for (const auto& t : r.two_direction) {
+      o << "  " << t.location << " mesh " << t.mesh << ": " << fmt(t.comparison.normal_to_along_db)
+        << " dB\n";
+    }
+  }
+  if (r.gear_damage) {
+    o << "damaged-shaft location (TSA per shaft, angles from the " << r.gear_damage_angles
+      << "): " << r.gear_damage->status << "\n";
+    for (const auto& s : r.gear_damage->shafts) {
+      o << "  " << s.shaft << ": ";
+      if (s.revolutions == 0) {
+        o << "skipped\n";
+        continue;
+      }
+      o << "score " << fmt(s.score) << ", SNR " << fmt(s.snr) << ", level " << fmt(s.level)
+        << " on " << s.channel << " (" << s.revolutions << " revolutions)"
+        << (s.damaged     ? ": DAMAGED"
+            : s.uncertain ? ": uncertain"
+                          : "")
+        << "\n";
+    }
+  }
+  o << "findings:";
+  if (r.findings.empty()) o << " none";
+  o << "\n";
+  for (const auto& f : r.findings) {
+    o << "  [" << fmt(f.confidence, 2) << "] " << f.kind << ": "
+      << (f.bearing.empty() ? f.shaft : f.bearing + " " + f.fault) << " - " << f.note << "\n";
+  }
+  if (r.baseline) {
+    o << "anomaly score " << fmt(r.baseline->anomaly_score) << " (threshold "
+      << fmt(r.baseline->threshold) << "): " << (r.baseline->alarm ? "ALARM" : "normal") << "\n";
+    const auto& ch = r.baseline->channels;
+    o << "  against " << r.baseline->recordings.size() << " baseline recordings ("
+      << r.baseline->samples << " samples), "
+      << (ch.size() <= 6 ? "channels " + joined(ch) : std::to_string(ch.size()) + " channels")
+      << "\n";
+    for (std::size_t k = 0; k < std::min<std::size_t>(3, r.baseline->deviations.size()); ++k) {
+      const auto& d = r.baseline->deviations[k];
+      o << "  " << d.feature << ": z " << fmt(d.z) << " (" << fmt(d.value) << " against "
+        << fmt(d.baseline_centre) << " +- " << fmt(d.baseline_spread) << ")\n";
+    }
+    for (const auto& n : r.baseline->notes) o << "  note: " << n << "\n";
+  }
+  for (const auto& n : r.notes) o << "note: " << n << "\n";
+  return o.str();
+}
+
+}  // namespace detect

@@ -1,0 +1,169 @@
+// analyze's stages (internal to detectors/src/analysis), in the order analyze_recording runs them:
+//   kinematics (kinematics.hpp)   shaft angles and speeds, the speed report
+//   angle plans (angle_plans.cpp) one angle plan per shaft, every channel resampled through it
+//   per channel, in parallel (channel_*.cpp), each filling its part of ChannelAnalysis:
+//     time_stage          time-domain indicators
+//     spectra_stage       amplitude spectrum, Welch PSD (of the channel's spectral record: the
+//                         record itself, or at varying speed its order-domain form)
+//     order_spectrum_stage
+//     envelope_stage      kurtogram band, envelope spectrum (demodulated in time)
+//     bearing_stage       fault bands and diagnose_bearings per bearing the channel sees
+//     sideband_stage      mesh harmonics and sideband families per mesh
+//     tsa_stage           TSA per shaft and the gear metrics
+//   two_direction_stage (two_direction_stage.cpp)
+//   gear_damage_stage, fuse_findings (findings.cpp): the locator, the votes, one finding list
+//   report writers: to_json (report_json.cpp), format_summary (report_text.cpp); the baseline
+//   comparison (baseline_compare.cpp) and features() (features.cpp) read the result.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <functional>
+#include <iomanip>
+#include <limits>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "detect/analysis/analyze.hpp"
+#include "detect/angular/resample.hpp"
+#include "detect/spectral/spectrum.hpp"
+#include "kinematics.hpp"
+
+namespace detect::analysis_stages {
+
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+// TSA and order spectra keep orders up to 0.72 x the Nyquist order unattenuated (tsa.hpp): the
+// angular sampling is at least 2.8 x the highest order of interest.
+inline constexpr double kOrderOversampling = 2.8;
+inline constexpr int kMaxSamplesPerRev = 1 << 14;
+
+inline std::string fmt(double v, int prec = 3) {
+  std::ostringstream o;
+  o << std::setprecision(prec) << v;
+  return o.str();
+}
+
+inline std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s.empty() ? "none" : s;
+}
+
+inline std::size_t pow2_at_least(double v) {
+  std::size_t p = 1;
+  while (static_cast<double>(p) < v) p <<= 1;
+  return p;
+}
+
+inline std::size_t pow2_at_most(std::size_t v) {
+  std::size_t p = 1;
+  while (p * 2 <= v) p <<= 1;
+  return p;
+}
+
+// Runs fn(0) .. fn(n - 1) on up to `threads` threads (0: one per hardware thread); rethrows the
+// first failure in index order, so the outcome does not depend on the thread count.
+void run_parallel(std::size_t n, int threads, const std::function<void(std::size_t)>& fn);
+
+// What every stage after the kinematics reads.
+struct AnalysisContext {
+  const diag::Recording& rec;
+  const diag::Gearbox* gb;  // null: no gearbox (the channel stages that need one are skipped)
+  const AnalyzeOptions& opt;
+  const ShaftKinematics& kin;
+  const std::vector<AnalysisMesh>& meshes;  // the result's, at the measured mean speed
+  int input = -1;                           // the input shaft
+  double input_hz = 0;                      // its mean speed [Hz]
+  double max_input_order = 0;               // highest order of interest, input-shaft orders
+  bool order_domain = false;                // varying speed: spectra in the order domain
+  std::size_t plot_points = 0;
+  std::vector<bool> sensor;   // per signal: a sensor channel (votes in findings)
+  std::vector<bool> located;  // per bearing: some sensor channel sits at it
+};
+
+// The angle-plans stage: one plan per shaft for every channel of the common rate and length
+// (resample.hpp: its taps are computed once per output sample for all channels), the channels
+// resampled through each plan.
+struct AngularRecords {
+  double plan_fs = 0;  // the rate and length of the channels that share the plans
+  std::size_t plan_n = 0;
+  ResampleOptions order_ro;          // the order spectrum's (and order domain's) sampling
+  std::vector<double> order_pulses;  // input-shaft revolutions for the order domain
+  std::optional<AnglePlan> order_plan;
+  std::vector<std::optional<AngleResampled>> order_resampled;             // per signal
+  std::vector<std::vector<std::optional<AngleResampled>>> tsa_resampled;  // per shaft, signal
+
+  bool shares_plans(const diag::Signal& s) const {
+    return s.fs_hz == plan_fs && s.samples.size() == plan_n;
+  }
+};
+AngularRecords angle_plans_stage(const AnalysisContext& ctx);
+
+// TSA angular resolution of shaft s: 2.8 x the highest order its gear metrics examine.
+int tsa_samples_per_rev(const diag::Gearbox& gb, std::size_t s, const AnalyzeOptions& opt);
+
+// The largest local maxima of a spectrum up to max_hz, descending amplitude.
+std::vector<SpectralPeak> largest_peaks(const Spectrum& s, int count, double max_hz);
+// The part of a curve in [lo, hi], peak-hold decimated for plotting.
+PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,
+                         double hi, std::size_t max_points);
+
+// ---- per-channel stages ----
+// The channel's identity and time-domain indicators.
+void time_stage(const diag::Signal& sig, bool sensor, ChannelAnalysis& c);
+
+// The record a channel's spectra are taken of: the channel itself, or at varying speed the
+// channel at uniform input-shaft angles read as a record at the mean speed (its rate
+// samples_per_rev x the mean input speed). `angular` is the channel at input-shaft angles (the
+// order spectrum's), null when it could not be resampled (the reason is in the channel's notes;
+// in the order domain the channel then has no spectra: spectral() is null).
+struct SpectralRecord {
+  const diag::Signal* time = nullptr;
+  const AngleResampled* angular = nullptr;
+  std::optional<AngleResampled> own;  // resampled on its own (not sharing the plans)
+  diag::Signal angle_signal;          // the order-domain record
+  bool order_domain = false;
+  std::string angular_error;  // why the channel could not be resampled (steady: said by the
+                              // order spectrum stage, where the note has always been)
+  const diag::Signal* spectral() const {
+    return order_domain ? (angular ? &angle_signal : nullptr) : time;
+  }
+};
+void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
+                     SpectralRecord& out, ChannelAnalysis& c);
+
+// Amplitude spectrum (returned whole: the sidebands and two directions read it) and Welch PSD.
+Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
+                       ChannelAnalysis& c);
+// The order spectrum in input-shaft orders.
+void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
+                          ChannelAnalysis& c);
+// The kurtogram band of the channel in time and its envelope spectrum (in the order domain: the
+// envelope in time resampled like the channel); returned whole for the bearing metrics.
+Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
+                        const SpectralRecord& rec, ChannelAnalysis& c);
+// Fault bands, band metrics and diagnose_bearings for the bearings this channel sees.
+void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, const Spectrum& env,
+                   ChannelAnalysis& c);
+// Mesh harmonics and sideband families of every mesh.
+void sideband_stage(const AnalysisContext& ctx, const Spectrum& sp, ChannelAnalysis& c);
+// TSA per shaft with gears and each gear's metrics (from the shared plans when the channel
+// shares them).
+void tsa_stage(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
+               const diag::Signal& sig, ChannelAnalysis& c);
+
+// ---- recording-level stages ----
+// Along/normal-LOA pairs at one location: mesh-harmonic energies in both directions.
+void two_direction_stage(const AnalysisContext& ctx, const std::vector<Spectrum>& spectra,
+                         AnalysisResult& r);
+// The damaged-shaft locator on the kinematics' angles.
+void gear_damage_stage(const AnalysisContext& ctx, AnalysisResult& r);
+// One finding list: the locator's, the sideband vote per mesh, the bearing vote per bearing;
+// most confident first.
+void fuse_findings(const AnalysisContext& ctx, AnalysisResult& r);
+
+}  // namespace detect::analysis_stages
