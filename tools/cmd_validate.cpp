@@ -9,6 +9,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
 #include "validate/attribution_loop.hpp"
+#include "validate_bearings.hpp"
 
 namespace po = boost::program_options;
 using diag::units::deg_to_rad;
@@ -17,6 +18,8 @@ using diag::units::rad_to_deg;
 namespace geardiag {
 
 int cmd_validate(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)  // --bearings: its own loop and options (validate_bearings.cpp)
+    if (std::string(argv[i]) == "--bearings") return cmd_validate_bearings(argc, argv);
   validate::AttributionLoopOptions opt;
   std::string gearbox;
   double min_deg = rad_to_deg(opt.min_size_output_rad),
@@ -54,7 +57,8 @@ int cmd_validate(int argc, char** argv) {
     return 0;
   }
   po::notify(vm);
-  if (!vm.count("attribution")) throw diag::InputError("say what to validate: --attribution");
+  if (!vm.count("attribution"))
+    throw diag::InputError("say what to validate: --attribution or --bearings");
   if (opt.cases < 1) throw diag::InputError("--cases: must be >= 1");
   if (!(min_deg > 0 && max_deg >= min_deg)) {
     throw diag::InputError("--min-size-deg/--max-size-deg: need 0 < min <= max");

@@ -330,6 +330,18 @@ void measure_sidebands(const SpectrumView& env, FamilyScore& fs, double spacing,
   }
 }
 
+// Whether family a's modulation signature explains family b's lines (see the header).
+bool explains(const FamilyScore& a, const FamilyScore& b) {
+  using F = BearingFault;
+  if (a.fault == F::kBall && b.fault == F::kInnerRace)
+    return a.sidebands_detected >= 2 && a.modulation_lines >= 1 && b.sidebands_detected == 0;
+  if (a.fault == F::kBall && b.fault == F::kOuterRace)
+    return a.sidebands_detected >= 2 && a.modulation_lines >= 2;
+  if (a.fault == F::kInnerRace && b.fault == F::kBall)
+    return a.sidebands_detected >= 2 && b.sidebands_detected == 0;
+  return false;
+}
+
 }  // namespace
 
 double found_fundamental(const FamilyScore& family, double line_threshold_db) {
@@ -382,9 +394,15 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
     d.families.push_back(std::move(fs));
   }
 
+  // A passing family whose lines another passing family's modulation explains is set aside.
+  for (FamilyScore& b : d.families) {
+    if (!b.passes) continue;
+    for (const FamilyScore& a : d.families)
+      if (&a != &b && a.passes && explains(a, b) && !explains(b, a)) b.explained = true;
+  }
   const FamilyScore* best = nullptr;
   for (const FamilyScore& fs : d.families) {
-    if (!fs.passes) continue;
+    if (!fs.passes || fs.explained) continue;
     d.candidates.push_back(fs.fault);
     if (best == nullptr || fs.score_db > best->score_db) best = &fs;
   }
@@ -395,7 +413,7 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
     return d;
   }
   for (const FamilyScore& fs : d.families) {
-    if (&fs != best && fs.passes && best->score_db - fs.score_db < opt.margin_db) {
+    if (&fs != best && fs.passes && !fs.explained && best->score_db - fs.score_db < opt.margin_db) {
       d.status = BearingDecisionStatus::kAmbiguous;
       return d;
     }

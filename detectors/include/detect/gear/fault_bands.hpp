@@ -177,6 +177,15 @@ const char* to_string(BearingDecisionStatus s);
 //    are the modulation of a ball fault and appear with many disturbances of the load; a cage
 //    fault has no impact family of its own to confirm it. The FTF family never competes with the
 //    race and ball families.
+//  - Lines of one family can fall on another's: a ball fault's spectrum holds m BSF + k FTF for
+//    many k (the load zone and the track misses give the cage modulation many harmonics), and
+//    BPFO = n FTF exactly, so a strong ball fault puts lines in the BPFI and BPFO windows; an
+//    inner-race fault's m BPFI + k f_r fall on 2 BSF harmonics in turn. When two families pass,
+//    the one whose own modulation is seen explains the other (FamilyScore::explained; the
+//    explained family does not compete): the ball (>= 2 FTF sidebands and an FTF line) explains
+//    an inner-race family with no shaft sideband, and (>= 2 FTF sidebands and >= 2 FTF lines)
+//    an outer-race family; the inner race (>= 2 shaft sidebands) explains a ball family with no
+//    FTF sideband. Anything else within margin_db stays kAmbiguous.
 struct BearingDecisionOptions {
   int harmonics = 3;              // harmonics per family, 1..20
   int min_harmonics = 2;          // detected harmonics needed to pass, 1..harmonics
@@ -216,6 +225,8 @@ struct FamilyScore {
   int modulation_lines = 0;  // 2 BSF only: detected FTF lines (the cage-rate modulation)
   bool passes = false;       // names its part: lines_pass, and for 2 BSF also the modulation
                              // (sidebands_detected + modulation_lines >= 1); never for FTF
+  bool explained = false;    // passes, but another passing family's modulation explains its
+                             // lines (see above): not a candidate
 };
 
 struct BearingDecision {
