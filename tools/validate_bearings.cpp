@@ -53,7 +53,7 @@ int cmd_validate_bearings(int argc, char** argv) {
   desc.add_options()("help,h", "this help")("bearings", "validate the bearing diagnosis")(
       "speeds", po::value(&speeds)->default_value(speeds), "shaft speeds [Hz], comma-separated")(
       "sizes", po::value(&sizes)->default_value(sizes),
-      "impact amplitudes (fault sizes, interference at 2x), comma-separated")(
+      "impact amplitudes (fault sizes; shaft and mesh interference at 2), comma-separated")(
       "snr", po::value(&snrs)->default_value(snrs), "fault-over-noise power [dB], comma-separated")(
       "cases", po::value(&opt.seeds)->default_value(opt.seeds), "seeds per grid point")(
       "seed", po::value(&opt.first_seed)->default_value(opt.first_seed), "first seed")(

@@ -334,7 +334,7 @@ void measure_sidebands(const SpectrumView& env, FamilyScore& fs, double spacing,
 bool explains(const FamilyScore& a, const FamilyScore& b) {
   using F = BearingFault;
   if (a.fault == F::kBall && b.fault == F::kInnerRace)
-    return a.sidebands_detected >= 2 && a.modulation_lines >= 1 && b.sidebands_detected == 0;
+    return a.sidebands_detected >= 2 && a.modulation_lines >= 1 && b.sidebands_detected <= 1;
   if (a.fault == F::kBall && b.fault == F::kOuterRace)
     return a.sidebands_detected >= 2 && a.modulation_lines >= 2;
   if (a.fault == F::kInnerRace && b.fault == F::kBall)

@@ -12,8 +12,10 @@
 // below the kinematic one, within the detector's 1 % window), interval jitter uniform in
 // [0.2, 1 %], resonance uniform in [2, 4.5] kHz with damping uniform in [3, 8 %], the defect's
 // load-zone phase; ball faults also inner-strike gain uniform in [0.3, 0.8] and a track
-// probability uniform in [0.6, 1]. Every case carries shaft orders (amplitude 2 A) and a gear
-// mesh at 27.3 x the shaft rate (amplitude 2 A): interference that prewhitening has to remove.
+// probability uniform in [0.6, 1]. Every case carries shaft orders 1..5 (amplitude 2 / h) and a
+// gear mesh at 27.3 x the shaft rate (amplitude 2, harmonics 1..3), in the unit of the impact
+// amplitude A: interference that prewhitening has to remove, 6 dB over the impacts' peak at size
+// 1 and 3.5 dB under it at size 3.
 #pragma once
 
 #include <cstdint>
@@ -34,10 +36,10 @@ struct BearingLoopOptions {
   std::vector<double> sizes = {1.0, 3.0};                    // impact amplitudes A [unit], each > 0
   std::vector<double> snr_db = {-20.0, -15.0, -10.0, -5.0};  // fault power / noise power [dB]
   int seeds = 2;                                             // seeds per grid point, >= 1
-  std::uint64_t first_seed = 1;  // seeds first_seed .. first_seed + seeds - 1 (tune on one
-                                 // range, report on another)
-  double fs_hz = 12000.0;        // sampling rate [Hz] (CWRU's fault records)
-  double duration_s = 4.0;       // record length [s], > 0
+  std::uint64_t first_seed = 101;  // seeds first_seed .. first_seed + seeds - 1; the decision
+                                   // was tuned on seeds 1-3, 101 on is the report set
+  double fs_hz = 12000.0;          // sampling rate [Hz] (CWRU's fault records)
+  double duration_s = 4.0;         // record length [s], > 0
   detect::BearingDiagnosisOptions detector;
 
   void validate() const;  // throws diag::InputError naming the field

@@ -60,7 +60,7 @@ struct BearingDiagnosisOptions {
   double min_band_low_factor = 1.0;   // band low edge >= factor * f_max, [0, 100]: keeps
                                       // the fault and shaft lines themselves out of the band
   bool whole_band_check = true;       // also decide on the whole band and combine (see above)
-  double single_view_score_db = 15;   // a fault named by one view alone (comb support in the
+  double single_view_score_db = 10;   // a fault named by one view alone (comb support in the
                                       // other) needs every harmonic detected and this score
                                       // [dB], > 0. Why 15: the CWRU ball-fault record passes the
                                       // outer-race family in the kurtogram band's view at 9 dB

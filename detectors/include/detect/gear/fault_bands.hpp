@@ -183,7 +183,9 @@ const char* to_string(BearingDecisionStatus s);
 //    inner-race fault's m BPFI + k f_r fall on 2 BSF harmonics in turn. When two families pass,
 //    the one whose own modulation is seen explains the other (FamilyScore::explained; the
 //    explained family does not compete): the ball (>= 2 FTF sidebands and an FTF line) explains
-//    an inner-race family with no shaft sideband, and (>= 2 FTF sidebands and >= 2 FTF lines)
+//    an inner-race family with at most one shaft sideband (one may be a coincidence: for the
+//    SKF 6205, 2 BPFI - f_r = 9.830 f_r and 2 (2 BSF) + FTF = 9.825 f_r share a bin), and
+//    (>= 2 FTF sidebands and >= 2 FTF lines)
 //    an outer-race family; the inner race (>= 2 shaft sidebands) explains a ball family with no
 //    FTF sideband. Anything else within margin_db stays kAmbiguous.
 struct BearingDecisionOptions {
