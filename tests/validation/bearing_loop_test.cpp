@@ -44,13 +44,15 @@ TEST(BearingLoop, NamesNoWrongPartAndFindsMostFaultsAtWorkingSnrs) {
     EXPECT_EQ(c.total(), kCasesPerClass);
     EXPECT_EQ(c.wrong, 0);
   }
-  // Measured on this grid (see docs/notes/bearings.md for the full table): right >= the floor.
+  // Measured on this grid (right of 24: healthy 24, outer 21, inner 21, rolling element 23,
+  // cage 24; docs/notes/bearings.md has the full table): the floors are one case under, so that a
+  // last-bit difference of the FFT library on another machine does not fail the test.
   struct Floor {
     K kind;
     int right;
   };
   for (const Floor f : {Floor{K::kNone, 24}, Floor{K::kOuterRace, 20}, Floor{K::kInnerRace, 20},
-                        Floor{K::kRollingElement, 20}, Floor{K::kCage, 20}}) {
+                        Floor{K::kRollingElement, 22}, Floor{K::kCage, 23}}) {
     const int i = index_of(r, f.kind);
     ASSERT_GE(i, 0);
     EXPECT_GE(r.by_class[static_cast<std::size_t>(i)].right, f.right) << sim::to_string(f.kind);

@@ -1201,11 +1201,19 @@ nlohmann::json to_json(const AnalysisResult& r) {
       auto families = [](const BearingDecision& d) {
         json fams = json::array();
         for (const auto& fam : d.families) {
+          // -- bearing evidence (h/bearings): lines, sidebands and modulation per family --
+          json line_db = json::array();
+          for (const auto& m : fam.lines) line_db.push_back(m.valid ? m.prominence_db : 0.0);
           fams.push_back({{"fault", to_string(fam.fault)},
                           {"fundamental_hz", fam.fundamental_hz},
                           {"detected", fam.detected},
+                          {"line_db", line_db},
+                          {"sidebands_detected", fam.sidebands_detected},
+                          {"modulation_lines", fam.modulation_lines},
+                          {"explained", fam.explained},
                           {"score_db", fam.score_db},
                           {"passes", fam.passes}});
+          // -- end bearing evidence --
         }
         return fams;
       };
@@ -1223,6 +1231,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
                            {{"diagnosed", b.diagnosed},
                             {"status", to_string(b.diagnosis.status)},
                             {"fault", to_string(b.diagnosis.fault)},
+                            {"note", b.diagnosis.note},  // h/bearings: "cage" note or ""
                             {"band_centre_hz", b.band_centre_hz},
                             {"band_width_hz", b.band_width_hz},
                             {"families", families(b.diagnosis.band_decision)},

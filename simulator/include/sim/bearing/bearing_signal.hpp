@@ -77,7 +77,7 @@ enum class BearingFaultKind {
 const char* to_string(BearingFaultKind k);
 
 // The contact rates of the model above [Hz], derived from the geometry independently of the
-// detectors' bearing_frequencies (the closed loop compares the two).
+// detectors' bearing_frequencies (tests/simulator/bearing_signal_test.cpp compares the two).
 struct BearingRates {
   double shaft_hz = 0;       // f_r
   double cage_hz = 0;        // f_c (FTF)
