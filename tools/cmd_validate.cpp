@@ -1,7 +1,7 @@
-// geardiag validate --attribution (--gear-damage: validate_gear_damage.hpp): the closed simulate ->
-// attribute loop on the user's gearbox, with the user's rig (runout, noise, encoder); prints the
-// confusion table and the smallest defect that is reliably attributed. Exit 1 when the loop misses
-// its targets.
+// geardiag validate --attribution: the closed simulate -> attribute loop on the user's gearbox,
+// with the user's rig (runout, noise, encoder); prints the confusion table and the smallest defect
+// that is reliably attributed. Exit 1 when the loop misses its targets. --gear-damage and
+// --bearings run their own loops (validate_gear_damage.hpp, validate_bearings.hpp).
 #include <boost/program_options.hpp>
 #include <iostream>
 #include <string>
@@ -11,6 +11,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
 #include "validate/attribution_loop.hpp"
+#include "validate_bearings.hpp"
 #include "validate_gear_damage.hpp"
 
 namespace po = boost::program_options;
@@ -20,8 +21,11 @@ using diag::units::rad_to_deg;
 namespace geardiag {
 
 int cmd_validate(int argc, char** argv) {
+  // --gear-damage and --bearings: their own loops and options (validate_gear_damage.cpp,
+  // validate_bearings.cpp).
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--gear-damage") return validate_gear_damage(argc, argv);
+    if (std::string(argv[i]) == "--bearings") return cmd_validate_bearings(argc, argv);
   }
   validate::AttributionLoopOptions opt;
   std::string gearbox;
@@ -61,7 +65,7 @@ int cmd_validate(int argc, char** argv) {
   }
   po::notify(vm);
   if (!vm.count("attribution"))
-    throw diag::InputError("say what to validate: --attribution or --gear-damage");
+    throw diag::InputError("say what to validate: --attribution, --gear-damage or --bearings");
   if (opt.cases < 1) throw diag::InputError("--cases: must be >= 1");
   if (!(min_deg > 0 && max_deg >= min_deg)) {
     throw diag::InputError("--min-size-deg/--max-size-deg: need 0 < min <= max");

@@ -245,16 +245,91 @@ TEST(DiagnoseBearing, NamesAnOuterRaceComb) {
   }
 }
 
-// Inner race (with its shaft-rate sidebands) and ball (at 2 BSF) combs are named as such.
+// Inner race (with its shaft-rate sidebands) and ball (at 2 BSF, with the cage-rate sidebands a
+// ball's passage through the load zone gives) combs are named as such.
 TEST(DiagnoseBearing, NamesInnerRaceAndBallCombs) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
   const auto inner =
       detect::diagnose_bearing({f, envelope_spectrum(f, 3, {{bf.bpfi_hz, 10.0, bf.shaft_hz}})}, bf);
   EXPECT_EQ(inner.fault, BearingFault::kInnerRace);
-  const auto ball =
-      detect::diagnose_bearing({f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 10.0, 0.0}})}, bf);
+  // Sidebands at a third of the carrier: 30 x median / 3 = 20 dB over the floor.
+  const auto ball = detect::diagnose_bearing(
+      {f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 30.0, bf.ftf_hz}})}, bf);
   EXPECT_EQ(ball.fault, BearingFault::kBall);
+  EXPECT_GE(ball.families[3].sidebands_detected, 2);
+}
+
+// The 2 BSF lines without any cage-rate modulation (no FTF sideband, no FTF line) are not a ball
+// fault's signature: nothing is named, and the decision says why.
+TEST(DiagnoseBearing, CallsBallLinesWithoutCageModulationAmbiguous) {
+  const auto f = grid();
+  const auto bf = cwru_at_1797_rpm();
+  const auto d =
+      detect::diagnose_bearing({f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 10.0, 0.0}})}, bf);
+  EXPECT_EQ(d.status, BearingDecisionStatus::kAmbiguous);
+  EXPECT_EQ(d.fault, BearingFault::kNone);
+  EXPECT_TRUE(d.unmodulated_ball);
+  EXPECT_TRUE(d.candidates.empty());
+}
+
+// FTF lines alone are at most a cage note, never a finding (a ball fault modulates at FTF; a cage
+// has no impact family of its own to confirm it).
+TEST(DiagnoseBearing, GivesACageNoteNotAFindingForFtfLinesAlone) {
+  const auto f = grid();
+  const auto bf = cwru_at_1797_rpm();
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    const auto d =
+        detect::diagnose_bearing({f, envelope_spectrum(f, seed, {{bf.ftf_hz, 10.0, 0.0}})}, bf);
+    EXPECT_EQ(d.status, BearingDecisionStatus::kNoFault) << "seed " << seed;
+    EXPECT_EQ(d.fault, BearingFault::kNone);
+    EXPECT_TRUE(d.cage_note) << "seed " << seed;
+    EXPECT_TRUE(d.families[0].lines_pass);
+    EXPECT_FALSE(d.families[0].passes);
+  }
+}
+
+// A ball fault's strong cage modulation also puts lines in the BPFI windows (m BSF + k FTF for
+// large k); the inner-race family then passes without a single shaft sideband while the ball
+// family carries its FTF sidebands and FTF lines: the ball explains the inner-race lines.
+TEST(DiagnoseBearing, BallModulationExplainsCoincidentInnerRaceLines) {
+  const auto f = grid();
+  const auto bf = cwru_at_1797_rpm();
+  const auto a = envelope_spectrum(
+      f, 12,
+      {{bf.ball_fault_hz, 30.0, bf.ftf_hz}, {bf.bpfi_hz, 12.0, 0.0}, {bf.ftf_hz, 10.0, 0.0}});
+  const auto d = detect::diagnose_bearing({f, a}, bf);
+  EXPECT_EQ(d.fault, BearingFault::kBall);
+  EXPECT_TRUE(d.families[2].passes);
+  EXPECT_TRUE(d.families[2].explained);
+  // With shaft sidebands of its own the inner-race family is not explained away: a tie, nothing.
+  const auto b = envelope_spectrum(f, 12,
+                                   {{bf.ball_fault_hz, 30.0, bf.ftf_hz},
+                                    {bf.bpfi_hz, 30.0, bf.shaft_hz},
+                                    {bf.ftf_hz, 10.0, 0.0}});
+  EXPECT_EQ(detect::diagnose_bearing({f, b}, bf).status, BearingDecisionStatus::kAmbiguous);
+}
+
+// Comb support: 8 harmonics of BPFO at 2 x the noise median (6 dB, under every line threshold)
+// stand above the 39 detuned combs on most seeds; noise alone does so with probability
+// 1 / 40 = 2.5 % by construction (rank test), so on 100 seeds at most a handful: 8 allows for the
+// binomial spread (mean 2.5, P(> 8) ~ 1e-3) and fails a test that has lost its null.
+TEST(CombSupport, FindsAWeakFamilyAndRarelyNoise) {
+  const auto f = grid();
+  const auto bf = cwru_at_1797_rpm();
+  const double median = std::sqrt(2 * std::log(2.0));
+  const double df = f[1] - f[0];
+  int found = 0, noise = 0;
+  for (std::uint64_t seed = 1; seed <= 100; ++seed) {
+    auto a = envelope_spectrum(f, 500 + seed, {});
+    EXPECT_TRUE(detect::comb_support({f, a}, bf.bpfo_hz).harmonics >= 2);
+    if (detect::comb_support({f, a}, bf.bpfo_hz).supported) ++noise;
+    for (int h = 1; h <= 8; ++h)
+      a[static_cast<std::size_t>(std::lround(h * bf.bpfo_hz / df))] += 2.0 * median;
+    if (detect::comb_support({f, a}, bf.bpfo_hz).supported) ++found;
+  }
+  EXPECT_LE(noise, 8);
+  EXPECT_GE(found, 80);
 }
 
 // Noise alone: nothing is named on any of 200 seeds. The thresholds' rationale (fault_bands.hpp)

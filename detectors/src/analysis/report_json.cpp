@@ -203,9 +203,17 @@ nlohmann::json to_json(const AnalysisResult& r) {
       auto families = [](const BearingDecision& d) {
         json fams = json::array();
         for (const auto& fam : d.families) {
+          // The evidence per family: each harmonic's prominence (0 where not measurable), the
+          // sidebands and modulation lines seen, and whether another family explains it.
+          json line_db = json::array();
+          for (const auto& m : fam.lines) line_db.push_back(m.valid ? m.prominence_db : 0.0);
           fams.push_back({{"fault", fault_name(fam.fault)},
                           {"fundamental_hz", fam.fundamental_hz},
                           {"detected", fam.detected},
+                          {"line_db", line_db},
+                          {"sidebands_detected", fam.sidebands_detected},
+                          {"modulation_lines", fam.modulation_lines},
+                          {"explained", fam.explained},
                           {"score_db", fam.score_db},
                           {"passes", fam.passes}});
         }
@@ -225,6 +233,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
                            {{"diagnosed", b.diagnosed},
                             {"status", to_string(b.diagnosis.status)},
                             {"fault", fault_name(b.diagnosis.fault)},
+                            {"note", b.diagnosis.note},
                             {"band_centre_hz", b.band_centre_hz},
                             {"band_width_hz", b.band_width_hz},
                             {"families", families(b.diagnosis.band_decision)},

@@ -63,12 +63,36 @@ Spectrum squared_envelope_spectrum(std::span<const double> x, double fs_hz, doub
   return amplitude_spectrum(e, so);
 }
 
-// Combined decision: see the header.
-void combine(BearingStatus& s, bool whole_checked) {
+const FamilyScore* family(const BearingDecision& d, BearingFault f) {
+  for (const FamilyScore& s : d.families)
+    if (s.fault == f) return &s;
+  return nullptr;
+}
+
+const char* family_label(BearingFault f) {
+  switch (f) {
+    case BearingFault::kOuterRace:
+      return "BPFO";
+    case BearingFault::kInnerRace:
+      return "BPFI";
+    case BearingFault::kBall:
+      return "2xBSF";
+    case BearingFault::kCage:
+      return "FTF";
+    default:
+      return "";
+  }
+}
+
+// Combined decision (see the header). `band` and `whole` are the two views' spectra.
+void combine(BearingStatus& s, bool whole_checked, const SpectrumView& band,
+             const SpectrumView& whole, const BearingDiagnosisOptions& options) {
+  const BearingDecisionOptions& opt = options.decision;
   const BearingDecision& a = s.band_decision;
   if (!whole_checked) {
     s.status = a.status;
     s.fault = a.fault;
+    if (a.cage_note) s.note = "cage";
     return;
   }
   const BearingDecision& b = s.whole_decision;
@@ -78,26 +102,85 @@ void combine(BearingStatus& s, bool whole_checked) {
     s.fault = a.fault;
   } else if (a.status == St::kNoFault && b.status == St::kNoFault) {
     s.status = St::kNoFault;
+    if (a.cage_note && b.cage_note) s.note = "cage";
+  } else if ((a.status == St::kFault && b.status == St::kNoFault) ||
+             (a.status == St::kNoFault && b.status == St::kFault)) {
+    // One view names F, the other nothing: F's comb must stand in the other view.
+    const bool band_names = a.status == St::kFault;
+    const BearingDecision& naming = band_names ? a : b;
+    const FamilyScore* fam = family(naming, naming.fault);
+    s.status = St::kAmbiguous;
+    if (fam->detected == static_cast<int>(fam->lines.size()) &&
+        fam->score_db >= options.single_view_score_db) {
+      const double f0 = found_fundamental(*fam, opt.line_threshold_db);
+      s.support = comb_support(band_names ? whole : band, f0, opt);
+      if (s.support.supported) {
+        s.status = St::kFault;
+        s.fault = naming.fault;
+      }
+    }
   } else {
-    s.status = St::kAmbiguous;  // evidence in one view only, conflicting names, or a tie
+    s.status = St::kAmbiguous;  // conflicting names, a tie, or unmodulated ball lines
   }
 }
 
-const FamilyScore* family(const BearingDecision& d, BearingFault f) {
-  for (const FamilyScore& s : d.families)
-    if (s.fault == f) return &s;
-  return nullptr;
+BearingEvidence evidence(const BearingStatus& s) {
+  using St = BearingDecisionStatus;
+  BearingEvidence e;
+  e.family = family_label(s.fault);
+  const bool band_names = s.band_decision.status == St::kFault;
+  const BearingDecision& naming = band_names ? s.band_decision : s.whole_decision;
+  const BearingDecision& other = band_names ? s.whole_decision : s.band_decision;
+  const bool both = s.band_decision.status == St::kFault && s.whole_decision.status == St::kFault;
+  e.basis = both ? "both_views" : band_names ? "band_view_comb_support" : "whole_view_comb_support";
+  if (const FamilyScore* f = family(naming, s.fault)) {
+    e.harmonics_seen = f->detected;
+    e.harmonics_scored = static_cast<int>(f->lines.size());
+    for (const LineMeasurement& m : f->lines) e.line_db.push_back(m.valid ? m.prominence_db : 0.0);
+    e.sideband_hz = f->sideband_hz;
+    e.sidebands_seen = f->sidebands_detected;
+    e.ftf_lines_seen = f->modulation_lines;
+  }
+  if (const FamilyScore* f = family(other, s.fault)) e.other_view_score_db = f->score_db;
+  if (!both) {
+    e.support_db = s.support.statistic_db;
+    e.support_null_db = s.support.null_max_db;
+  }
+  return e;
 }
 
 nlohmann::json families_json(const BearingDecision& d) {
   nlohmann::json a = nlohmann::json::array();
-  for (const FamilyScore& f : d.families)
+  for (const FamilyScore& f : d.families) {
+    nlohmann::json lines = nlohmann::json::array();
+    for (const LineMeasurement& m : f.lines) lines.push_back(m.valid ? m.prominence_db : 0.0);
     a.push_back({{"fault", finding_name(f.fault)},
+                 {"family", family_label(f.fault)},
                  {"fundamental_hz", f.fundamental_hz},
                  {"score_db", f.score_db},
                  {"detected", f.detected},
+                 {"line_db", lines},
+                 {"sideband_hz", f.sideband_hz},
+                 {"sidebands_detected", f.sidebands_detected},
+                 {"modulation_lines", f.modulation_lines},
+                 {"lines_pass", f.lines_pass},
                  {"passes", f.passes}});
+  }
   return a;
+}
+
+nlohmann::json evidence_json(const BearingEvidence& e) {
+  return {{"family", e.family},
+          {"basis", e.basis},
+          {"harmonics_seen", e.harmonics_seen},
+          {"harmonics_scored", e.harmonics_scored},
+          {"line_db", e.line_db},
+          {"sideband_hz", e.sideband_hz},
+          {"sidebands_seen", e.sidebands_seen},
+          {"ftf_lines_seen", e.ftf_lines_seen},
+          {"other_view_score_db", e.other_view_score_db},
+          {"support_db", e.support_db},
+          {"support_null_db", e.support_null_db}};
 }
 
 }  // namespace
@@ -109,6 +192,8 @@ void BearingDiagnosisOptions::validate() const {
     fail("min_bandwidth_factor", std::to_string(min_bandwidth_factor) + " is not in [0, 10]");
   if (!(min_band_low_factor >= 0 && min_band_low_factor <= 100))
     fail("min_band_low_factor", std::to_string(min_band_low_factor) + " is not in [0, 100]");
+  if (!(single_view_score_db > 0))
+    fail("single_view_score_db", std::to_string(single_view_score_db) + " is not > 0");
   decision.validate();
 }
 
@@ -184,13 +269,13 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
   Spectrum whole_ses;
   if (options.whole_band_check) whole_ses = squared_envelope_spectrum(x, fs, 0.0, 0.5 * fs);
 
+  const SpectrumView band_view{band_ses.frequency_hz, band_ses.amplitude};
+  const SpectrumView whole_view{whole_ses.frequency_hz, whole_ses.amplitude};
   for (BearingStatus& s : out.bearings) {
-    s.band_decision = diagnose_bearing({band_ses.frequency_hz, band_ses.amplitude}, s.frequencies,
-                                       options.decision);
+    s.band_decision = diagnose_bearing(band_view, s.frequencies, options.decision);
     if (options.whole_band_check)
-      s.whole_decision = diagnose_bearing({whole_ses.frequency_hz, whole_ses.amplitude},
-                                          s.frequencies, options.decision);
-    combine(s, options.whole_band_check);
+      s.whole_decision = diagnose_bearing(whole_view, s.frequencies, options.decision);
+    combine(s, options.whole_band_check, band_view, whole_view, options);
     if (s.status != BearingDecisionStatus::kFault) continue;
     BearingFinding f;
     f.bearing = s.bearing;
@@ -202,6 +287,7 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
     f.frequency_hz = fam != nullptr ? fam->fundamental_hz : 0.0;
     f.score_db =
         std::max(fam != nullptr ? fam->score_db : 0.0, whole != nullptr ? whole->score_db : 0.0);
+    f.evidence = evidence(s);
     out.findings.push_back(std::move(f));
   }
   return out;
@@ -220,16 +306,23 @@ nlohmann::json to_json(const BearingDiagnosis& d) {
                         {"fault", f.fault},
                         {"frequency_hz", f.frequency_hz},
                         {"channel", f.channel},
-                        {"score_db", f.score_db}});
+                        {"score_db", f.score_db},
+                        {"evidence", evidence_json(f.evidence)}});
   j["findings"] = findings;
   nlohmann::json bearings = nlohmann::json::array();
   for (const BearingStatus& s : d.bearings) {
     nlohmann::json b = {{"bearing", s.bearing},
                         {"status", to_string(s.status)},
                         {"fault", finding_name(s.fault)},
+                        {"note", s.note},
                         {"families", families_json(s.band_decision)}};
     if (!s.whole_decision.families.empty())
       b["whole_band_families"] = families_json(s.whole_decision);
+    if (s.support.harmonics > 0)
+      b["comb_support"] = {
+          {"fundamental_hz", s.support.fundamental_hz}, {"harmonics", s.support.harmonics},
+          {"statistic_db", s.support.statistic_db},     {"null_max_db", s.support.null_max_db},
+          {"null_median_db", s.support.null_median_db}, {"supported", s.support.supported}};
     bearings.push_back(b);
   }
   j["bearings"] = bearings;

@@ -267,16 +267,99 @@ void BearingDecisionOptions::validate() const {
   if (!(line_threshold_db > 0)) fail(w, "line_threshold_db", line_threshold_db, "> 0");
   if (!(score_threshold_db > 0)) fail(w, "score_threshold_db", score_threshold_db, "> 0");
   if (!(margin_db >= 0)) fail(w, "margin_db", margin_db, ">= 0");
+  if (!(sideband_threshold_db > 0)) fail(w, "sideband_threshold_db", sideband_threshold_db, "> 0");
   if (!(dynamic_range_db > line_threshold_db && dynamic_range_db <= kMaxProminenceDb))
     fail(w, "dynamic_range_db", dynamic_range_db, "(line_threshold_db, 300]");
+  if (support_harmonics < 2 || support_harmonics > 50)
+    fail(w, "support_harmonics", support_harmonics, "2..50");
+  if (support_surrogates < 9 || support_surrogates > 500)
+    fail(w, "support_surrogates", support_surrogates, "9..500");
+  if (!(support_max_detune > 0 && support_max_detune <= 0.5))
+    fail(w, "support_max_detune", support_max_detune, "(0, 0.5]");
+}
+
+namespace {
+
+double bin_spacing(const SpectrumView& env) {
+  const auto& fr = env.frequency_hz;
+  return (fr.back() - fr.front()) / static_cast<double>(fr.size() - 1);
+}
+
+// The lines of one family (see the header's scoring).
+FamilyScore score_family(const SpectrumView& env, BearingFault fault, double f0, double df,
+                         double min_floor, const BearingDecisionOptions& opt) {
+  FamilyScore fs;
+  fs.fault = fault;
+  fs.fundamental_hz = f0;
+  double sum_db = 0;
+  for (int h = 1; h <= opt.harmonics; ++h) {
+    const double centre = h * f0;
+    const double search = std::max(opt.search_bins * df, opt.slip_fraction * centre);
+    const LineMeasurement m =
+        measure_line(env, centre, search, search + opt.floor_bins * df, min_floor);
+    if (m.valid && m.prominence_db >= opt.line_threshold_db) {
+      ++fs.detected;
+      sum_db += m.prominence_db;
+    }
+    fs.lines.push_back(m);
+  }
+  fs.score_db = sum_db / opt.harmonics;
+  fs.lines_pass = fs.detected >= opt.min_harmonics && fs.score_db >= opt.score_threshold_db;
+  return fs;
+}
+
+// Sidebands at +-spacing around every detected line of `fs`, searched within +-search_bins bins
+// of the found line's frequency +- spacing (the spacing is a rate of its own, not slipped with
+// the carrier's harmonic number).
+void measure_sidebands(const SpectrumView& env, FamilyScore& fs, double spacing, double df,
+                       double min_floor, const BearingDecisionOptions& opt) {
+  fs.sideband_hz = spacing;
+  if (!(spacing > 0)) return;
+  const double search = std::max(1, opt.search_bins) * df;
+  // Keep the sideband's floor window off the carrier: at most half the spacing wide each side.
+  const double floor_hw =
+      std::max(search + 3 * df, std::min(search + opt.floor_bins * df, spacing - search));
+  for (const LineMeasurement& line : fs.lines) {
+    if (!(line.valid && line.prominence_db >= opt.line_threshold_db)) continue;
+    for (int side : {-1, 1}) {
+      const LineMeasurement m =
+          measure_line(env, line.frequency_hz + side * spacing, search, floor_hw, min_floor);
+      if (m.valid && m.prominence_db >= opt.sideband_threshold_db) ++fs.sidebands_detected;
+      fs.sidebands.push_back(m);
+    }
+  }
+}
+
+// Whether family a's modulation signature explains family b's lines (see the header).
+bool explains(const FamilyScore& a, const FamilyScore& b) {
+  using F = BearingFault;
+  if (a.fault == F::kBall && b.fault == F::kInnerRace)
+    return a.sidebands_detected >= 2 && a.modulation_lines >= 1 && b.sidebands_detected <= 1;
+  if (a.fault == F::kBall && b.fault == F::kOuterRace)
+    return a.sidebands_detected >= 2 && a.modulation_lines >= 2;
+  if (a.fault == F::kInnerRace && b.fault == F::kBall)
+    return a.sidebands_detected >= 2 && b.sidebands_detected == 0;
+  return false;
+}
+
+}  // namespace
+
+double found_fundamental(const FamilyScore& family, double line_threshold_db) {
+  double num = 0, den = 0;
+  for (std::size_t i = 0; i < family.lines.size(); ++i) {
+    const LineMeasurement& m = family.lines[i];
+    if (!(m.valid && m.prominence_db >= line_threshold_db)) continue;
+    num += m.frequency_hz;
+    den += static_cast<double>(i + 1);
+  }
+  return den > 0 ? num / den : family.fundamental_hz;
 }
 
 BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequencies& f,
                                  const BearingDecisionOptions& opt) {
   opt.validate();
   env.validate("diagnose_bearing");
-  const auto& fr = env.frequency_hz;
-  const double df = (fr.back() - fr.front()) / static_cast<double>(fr.size() - 1);
+  const double df = bin_spacing(env);
   const double min_floor = precision_floor(env, opt.dynamic_range_db);
 
   BearingDecision d;
@@ -284,37 +367,53 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
                                                   {BearingFault::kOuterRace, f.bpfo_hz},
                                                   {BearingFault::kInnerRace, f.bpfi_hz},
                                                   {BearingFault::kBall, f.ball_fault_hz}};
+  int ftf_detected = 0;
+  bool ftf_lines_pass = false;
   for (const auto& [fault, f0] : fams) {
     if (fault == BearingFault::kCage && !opt.include_cage) continue;
-    FamilyScore fs;
-    fs.fault = fault;
-    fs.fundamental_hz = f0;
-    double sum_db = 0;
-    for (int h = 1; h <= opt.harmonics; ++h) {
-      const double centre = h * f0;
-      const double search = std::max(opt.search_bins * df, opt.slip_fraction * centre);
-      const LineMeasurement m =
-          measure_line(env, centre, search, search + opt.floor_bins * df, min_floor);
-      if (m.valid && m.prominence_db >= opt.line_threshold_db) {
-        ++fs.detected;
-        sum_db += m.prominence_db;
-      }
-      fs.lines.push_back(m);
+    FamilyScore fs = score_family(env, fault, f0, df, min_floor, opt);
+    switch (fault) {
+      case BearingFault::kCage:
+        ftf_detected = fs.detected;
+        ftf_lines_pass = fs.lines_pass;
+        fs.passes = false;  // never a finding on its own
+        break;
+      case BearingFault::kInnerRace:
+        measure_sidebands(env, fs, f.shaft_hz, df, min_floor, opt);
+        fs.passes = fs.lines_pass;
+        break;
+      case BearingFault::kBall:
+        measure_sidebands(env, fs, f.ftf_hz, df, min_floor, opt);
+        fs.modulation_lines = ftf_detected;
+        fs.passes = fs.lines_pass && fs.sidebands_detected + fs.modulation_lines >= 1;
+        d.unmodulated_ball = fs.lines_pass && !fs.passes;
+        break;
+      default:
+        fs.passes = fs.lines_pass;
     }
-    fs.score_db = sum_db / opt.harmonics;
-    fs.passes = fs.detected >= opt.min_harmonics && fs.score_db >= opt.score_threshold_db;
     d.families.push_back(std::move(fs));
   }
 
+  // A passing family whose lines another passing family's modulation explains is set aside.
+  for (FamilyScore& b : d.families) {
+    if (!b.passes) continue;
+    for (const FamilyScore& a : d.families)
+      if (&a != &b && a.passes && explains(a, b) && !explains(b, a)) b.explained = true;
+  }
   const FamilyScore* best = nullptr;
   for (const FamilyScore& fs : d.families) {
-    if (!fs.passes) continue;
+    if (!fs.passes || fs.explained) continue;
     d.candidates.push_back(fs.fault);
     if (best == nullptr || fs.score_db > best->score_db) best = &fs;
   }
-  if (best == nullptr) return d;  // kNoFault
+  if (best == nullptr) {
+    // Ball lines without their modulation: evidence of something, of no part we can name.
+    if (d.unmodulated_ball) d.status = BearingDecisionStatus::kAmbiguous;
+    d.cage_note = ftf_lines_pass && !d.unmodulated_ball;
+    return d;
+  }
   for (const FamilyScore& fs : d.families) {
-    if (&fs != best && fs.passes && best->score_db - fs.score_db < opt.margin_db) {
+    if (&fs != best && fs.passes && !fs.explained && best->score_db - fs.score_db < opt.margin_db) {
       d.status = BearingDecisionStatus::kAmbiguous;
       return d;
     }
@@ -322,6 +421,55 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
   d.status = BearingDecisionStatus::kFault;
   d.fault = best->fault;
   return d;
+}
+
+namespace {
+
+// Mean over h = 1..K of the clipped prominence at h f0 (see comb_support); K reduced to the
+// harmonics whose windows fit in the spectrum.
+double comb_statistic(const SpectrumView& s, double f0, int k_max, double df, double min_floor,
+                      int floor_bins, int* used) {
+  constexpr double kClipDb = 20.0;  // one foreign line cannot carry the comb
+  double sum = 0;
+  int n = 0;
+  for (int h = 1; h <= k_max; ++h) {
+    const double search = df * (1.0 + 0.25 * h);
+    const LineMeasurement m = measure_line(s, h * f0, search, search + floor_bins * df, min_floor);
+    if (!m.valid) break;
+    sum += std::clamp(m.prominence_db, -kClipDb, kClipDb);
+    ++n;
+  }
+  if (used != nullptr) *used = n;
+  return n > 0 ? sum / n : 0.0;
+}
+
+}  // namespace
+
+CombSupport comb_support(const SpectrumView& s, double f0, const BearingDecisionOptions& opt) {
+  opt.validate();
+  s.validate("comb_support");
+  if (!(f0 > 0) || !std::isfinite(f0)) fail("comb_support", "fundamental_hz", f0, "> 0");
+  const double df = bin_spacing(s);
+  const double min_floor = precision_floor(s, opt.dynamic_range_db);
+  CombSupport c;
+  c.fundamental_hz = f0;
+  c.statistic_db =
+      comb_statistic(s, f0, opt.support_harmonics, df, min_floor, opt.floor_bins, &c.harmonics);
+  if (c.harmonics < 2) return c;
+  std::vector<double> null;
+  const int m = opt.support_surrogates;
+  const double d_min = opt.support_max_detune / 5;
+  for (int i = 0; i < m; ++i) {
+    // Alternate below and above f0, detunings spread evenly over [d_min, d_max].
+    const double d = d_min + (opt.support_max_detune - d_min) * (i / 2) / std::max(1, (m - 1) / 2);
+    const double fs = f0 * (i % 2 == 0 ? 1 - d : 1 + d);
+    null.push_back(comb_statistic(s, fs, c.harmonics, df, min_floor, opt.floor_bins, nullptr));
+  }
+  c.null_max_db = *std::max_element(null.begin(), null.end());
+  std::nth_element(null.begin(), null.begin() + m / 2, null.end());
+  c.null_median_db = null[static_cast<std::size_t>(m / 2)];
+  c.supported = c.statistic_db > c.null_max_db && c.statistic_db > 0;
+  return c;
 }
 
 }  // namespace detect

@@ -19,13 +19,24 @@
 //     squared envelope puts the fault rate's harmonics above the noise better than |z|).
 //  4. diagnose_bearing (fault_bands.hpp) on the SES, for each bearing.
 //  Steps 3-4 are repeated on the whole band of x_w (Smith & Randall's "CPW + SES" benchmark
-//  method, which needs no band selection). The two decisions are combined conservatively: a
-//  fault is reported only when BOTH name it; both finding nothing is kNoFault; anything else
-//  (a family passing in one view only, different names, a tie) is kAmbiguous and reports
-//  nothing. Two demodulations of different bands must agree: a chance alignment of noise lines
-//  with a fault comb in one spectrum is not enough (on the CWRU ball-fault record, one view alone
-//  would pass the outer-race family at 9 dB, just above the 8 dB threshold), and a real defect
-//  comb shows in both (CWRU inner and outer race: 24-31 dB in each). Never the wrong fault.
+//  method, which needs no band selection). The two decisions are combined conservatively:
+//   - both name the same fault: kFault ("both_views");
+//   - one names a fault F clearly (every scored harmonic detected, score >= single_view_score_db)
+//     and the other names nothing (kNoFault), and F's comb is supported in
+//     the other view (comb_support in fault_bands.hpp: its lines at the fundamental found in the
+//     first view, up to support_harmonics of them, stand above every detuned comb of the same
+//     spectrum): kFault ("band_view_comb_support" or "whole_view_comb_support"). This is the
+//     weak-family case: a defect whose comb stands 3-7 dB over the floor of the whole band's
+//     SES, under the line threshold, while the kurtogram band's SES shows it clearly (Smith &
+//     Randall 2015 find such records among the outer-race faults);
+//   - both name nothing: kNoFault;
+//   - anything else (a family in one view only without comb support, different names, a tie, the
+//     ball lines without their cage-rate modulation) is kAmbiguous and names nothing.
+//  A chance alignment of noise lines with a fault comb in one spectrum is not enough (on the CWRU
+//  ball-fault record one view alone passes the outer-race family at 9 dB), and a real defect comb
+//  shows in both (CWRU inner and outer race: 24-31 dB in each). Never the wrong fault: a wrong
+//  claim costs more than a silence.
+//  FTF lines alone give a cage note (BearingStatus::note), never a finding (fault_bands.hpp).
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -49,17 +60,41 @@ struct BearingDiagnosisOptions {
   double min_band_low_factor = 1.0;   // band low edge >= factor * f_max, [0, 100]: keeps
                                       // the fault and shaft lines themselves out of the band
   bool whole_band_check = true;       // also decide on the whole band and combine (see above)
+  double single_view_score_db = 10;   // a fault named by one view alone (comb support in the
+                                      // other) needs every harmonic detected and this score
+                                      // [dB], > 0. Why 15: the CWRU ball-fault record passes the
+                                      // outer-race family in the kurtogram band's view at 9 dB
+                                      // (2 of 3 harmonics) with a comb in the whole band's view;
+                                      // the defect combs this path is for stand 15-30 dB there
   BearingDecisionOptions decision;    // the per-bearing decision (harmonics, thresholds, ...)
 
   void validate() const;  // throws diag::InputError "diagnose_bearings: <field>: ..."
 };
 
+// The evidence behind a finding, from the view(s) that name it.
+struct BearingEvidence {
+  std::string family;              // "BPFO" | "BPFI" | "2xBSF"
+  std::string basis;               // "both_views" | "band_view_comb_support" |
+                                   // "whole_view_comb_support"
+  int harmonics_seen = 0;          // detected harmonics in the naming view (the band view when
+                                   // both name it)
+  int harmonics_scored = 0;        // harmonics looked at
+  std::vector<double> line_db;     // prominence of each harmonic there [dB]
+  double sideband_hz = 0;          // f_r (BPFI), FTF (2 BSF), 0 (BPFO)
+  int sidebands_seen = 0;          // around the detected harmonics, in the naming view
+  int ftf_lines_seen = 0;          // 2 BSF: detected FTF lines in the naming view
+  double other_view_score_db = 0;  // the family's score in the other view [dB]
+  double support_db = 0;           // comb statistic in the other view (comb-support basis) [dB]
+  double support_null_db = 0;      // the largest detuned comb there [dB]
+};
+
 struct BearingFinding {
   std::string bearing;      // BearingSpec::name
-  std::string fault;        // "outer_race" | "inner_race" | "rolling_element" | "cage"
-  double frequency_hz = 0;  // the family's fundamental (BPFO, BPFI, 2 BSF or FTF) [Hz]
+  std::string fault;        // "outer_race" | "inner_race" | "rolling_element"
+  double frequency_hz = 0;  // the family's nominal fundamental (BPFO, BPFI or 2 BSF) [Hz]
   std::string channel;      // the channel's name
-  double score_db = 0;      // the family's score in the band-selected SES [dB]
+  double score_db = 0;      // the family's score in the naming view(s), the larger [dB]
+  BearingEvidence evidence;
 };
 
 struct BearingStatus {
@@ -71,6 +106,10 @@ struct BearingStatus {
   BearingFrequencies frequencies;
   BearingDecision band_decision;   // on the SES of the kurtogram band
   BearingDecision whole_decision;  // on the SES of the whole band (empty when not checked)
+  CombSupport support;  // of the one view's fault in the other view, when one view alone names
+                        // it (see the combination above); empty otherwise
+  std::string note;     // "cage": FTF lines pass (in both views) and no fault is named, a
+                        // weak note of a load modulated at the cage rate; "" otherwise
 };
 
 struct BearingDiagnosis {
@@ -96,9 +135,12 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
                                    const BearingDiagnosisOptions& options = {});
 
 // {"channel", "band": {"centre_hz", "bandwidth_hz", "level", "kurtosis"},
-//  "findings": [{"bearing", "fault", "frequency_hz", "channel", "score_db"}],
-//  "bearings": [{"bearing", "status", "fault", "families": [{"fault", "fundamental_hz",
-//  "score_db", "detected", "passes"}], "whole_band_families": [...]}]}
+//  "findings": [{"bearing", "fault", "frequency_hz", "channel", "score_db", "evidence": {"family",
+//  "basis", "harmonics_seen", "harmonics_scored", "line_db", "sideband_hz", "sidebands_seen",
+//  "ftf_lines_seen", "other_view_score_db", "support_db", "support_null_db"}}],
+//  "bearings": [{"bearing", "status", "fault", "note", "families": [{"fault", "fundamental_hz",
+//  "score_db", "detected", "line_db", "sidebands_detected", "modulation_lines", "passes"}],
+//  "whole_band_families": [...], "comb_support": {...} (when used)}]}
 nlohmann::json to_json(const BearingDiagnosis& diagnosis);
 
 }  // namespace detect

@@ -138,9 +138,10 @@ enum class BearingFault { kNone, kCage, kOuterRace, kInnerRace, kBall };
 const char* to_string(BearingFault f);
 
 enum class BearingDecisionStatus {
-  kNoFault,    // no family passes the thresholds
+  kNoFault,    // no fault family passes (a cage note may still be given)
   kFault,      // one family passes and beats every other passing family by margin_db
-  kAmbiguous,  // two or more families pass within margin_db of each other: no fault is named
+  kAmbiguous,  // two or more families pass within margin_db of each other, or the ball family
+               // passes without the cage-rate modulation a ball fault carries: nothing named
 };
 // "no_fault", "fault", "ambiguous".
 const char* to_string(BearingDecisionStatus s);
@@ -152,7 +153,7 @@ const char* to_string(BearingDecisionStatus s);
 // dynamic_range_db). A harmonic is
 // detected when its prominence reaches line_threshold_db. The family's score is the sum of the
 // detected harmonics' prominences divided by `harmonics` (undetected ones count 0) [dB].
-// A family passes when at least min_harmonics harmonics are detected and score >=
+// A family's lines pass when at least min_harmonics harmonics are detected and score >=
 // score_threshold_db.
 //
 // Why these defaults: the bins of a noise-only (envelope) amplitude spectrum are close to Rayleigh
@@ -161,6 +162,32 @@ const char* to_string(BearingDecisionStatus s);
 // probability about w 1e-3 (w ~ 10: 1 %), and two detected harmonics of three with about
 // 3 (w 1e-3)^2 = 3e-4. A defect comb that the eye sees in an envelope spectrum sits 15-30 dB over
 // the floor. Report nothing rather than the wrong fault: a near tie is kAmbiguous.
+//
+// Which part the lines name (the physics of each class; Randall & Antoni 2011, sec. 2.1; Smith &
+// Randall 2015, sec. 5):
+//  - BPFO family: outer race. BPFI family: inner race (its shaft-rate sidebands are measured and
+//    reported as evidence, not required: a defect in a load zone wider than the circle shows
+//    none).
+//  - 2 BSF family: a rolling element only when the cage-rate modulation a ball fault carries is
+//    seen too: a sideband at +-FTF around a detected 2 BSF harmonic, or a detected FTF line. The
+//    spalled ball goes in and out of the load zone with the cage, so its impacts are amplitude-
+//    modulated at FTF (and a wandering spin axis drops whole passages, which adds to it). The
+//    2 BSF lines without that modulation are not a ball's signature: kAmbiguous, nothing named.
+//  - FTF family alone: a cage note (BearingDecision::cage_note), never a finding. FTF lines
+//    are the modulation of a ball fault and appear with many disturbances of the load; a cage
+//    fault has no impact family of its own to confirm it. The FTF family never competes with the
+//    race and ball families.
+//  - Lines of one family can fall on another's: a ball fault's spectrum holds m BSF + k FTF for
+//    many k (the load zone and the track misses give the cage modulation many harmonics), and
+//    BPFO = n FTF exactly, so a strong ball fault puts lines in the BPFI and BPFO windows; an
+//    inner-race fault's m BPFI + k f_r fall on 2 BSF harmonics in turn. When two families pass,
+//    the one whose own modulation is seen explains the other (FamilyScore::explained; the
+//    explained family does not compete): the ball (>= 2 FTF sidebands and an FTF line) explains
+//    an inner-race family with at most one shaft sideband (one may be a coincidence: for the
+//    SKF 6205, 2 BPFI - f_r = 9.830 f_r and 2 (2 BSF) + FTF = 9.825 f_r share a bin), and
+//    (>= 2 FTF sidebands and >= 2 FTF lines)
+//    an outer-race family; the inner race (>= 2 shaft sidebands) explains a ball family with no
+//    FTF sideband. Anything else within margin_db stays kAmbiguous.
 struct BearingDecisionOptions {
   int harmonics = 3;              // harmonics per family, 1..20
   int min_harmonics = 2;          // detected harmonics needed to pass, 1..harmonics
@@ -170,11 +197,20 @@ struct BearingDecisionOptions {
   double line_threshold_db = 10;  // a harmonic is detected at this prominence [dB], > 0
   double score_threshold_db = 8;  // family score needed to pass [dB], > 0
   double margin_db = 6;           // winner's score over any other passing family's [dB], >= 0
-  bool include_cage = true;       // score the FTF family too
+  bool include_cage = true;       // score the FTF family too (needed for the ball's modulation
+                                  // and the cage note)
+  double sideband_threshold_db = 10;  // a sideband is seen at this prominence [dB], > 0; searched
+                                      // within +-search_bins bins of (found line +- spacing)
   double dynamic_range_db = kDefaultDynamicRangeDb;  // floors no lower than the spectrum's
                                                      // largest value over this [dB],
                                                      // (line_threshold_db, 300]
-  void validate() const;                             // throws diag::InputError naming the field
+  // Comb support (comb_support below), used to confirm in a second spectrum a family found in a
+  // first one.
+  int support_harmonics = 8;         // harmonics compared, 2..50
+  int support_surrogates = 39;       // detuned combs forming the null, 9..500
+  double support_max_detune = 0.15;  // surrogate fundamentals f0 (1 +- d), d spread evenly over
+                                     // [support_max_detune / 5, support_max_detune], (0, 0.5]
+  void validate() const;             // throws diag::InputError naming the field
 };
 
 struct FamilyScore {
@@ -183,7 +219,16 @@ struct FamilyScore {
   std::vector<LineMeasurement> lines;  // h = 1..harmonics
   int detected = 0;                    // lines at or above line_threshold_db
   double score_db = 0;
-  bool passes = false;
+  bool lines_pass = false;                 // detected >= min_harmonics and score >= threshold
+  double sideband_hz = 0;                  // spacing measured (f_r around BPFI, FTF around 2 BSF;
+                                           // 0: none)
+  std::vector<LineMeasurement> sidebands;  // per detected harmonic: lower, upper
+  int sidebands_detected = 0;              // at or above sideband_threshold_db
+  int modulation_lines = 0;  // 2 BSF only: detected FTF lines (the cage-rate modulation)
+  bool passes = false;       // names its part: lines_pass, and for 2 BSF also the modulation
+                             // (sidebands_detected + modulation_lines >= 1); never for FTF
+  bool explained = false;    // passes, but another passing family's modulation explains its
+                             // lines (see above): not a candidate
 };
 
 struct BearingDecision {
@@ -191,11 +236,42 @@ struct BearingDecision {
   BearingFault fault = BearingFault::kNone;  // set only when status == kFault
   std::vector<FamilyScore> families;         // every scored family, in FTF, BPFO, BPFI, BALL order
   std::vector<BearingFault> candidates;      // the passing families (two or more when ambiguous)
+  bool cage_note = false;  // the FTF family's lines pass and no fault is named: a weak note that
+                           // the load is modulated at the cage rate, not a finding
+  bool unmodulated_ball = false;  // the 2 BSF lines pass without FTF modulation (kAmbiguous)
 };
 
 // `envelope` is an amplitude envelope spectrum (the bearing's impacts show at the fault rate and
 // its harmonics). Throws diag::InputError for a malformed spectrum or options.
 BearingDecision diagnose_bearing(const SpectrumView& envelope, const BearingFrequencies& f,
                                  const BearingDecisionOptions& opt = {});
+
+// The fundamental the detected lines of a family point to: sum of found frequencies over sum of
+// harmonic numbers, over the detected lines (f0 nominal when none is detected).
+double found_fundamental(const FamilyScore& family, double line_threshold_db);
+
+// ---- Comb support: a family at a known fundamental, weak, in a second spectrum ------------------
+//
+// A family found in one spectrum (the kurtogram band's squared envelope, say) may sit only 3-7 dB
+// over the floor in another (the whole band's), under the line threshold, though its lines are all
+// there. A rank test decides whether they are: the comb statistic at f0 is the mean over
+// h = 1..K of the prominences (each clipped to [-20, 20] dB so that one strong foreign line does
+// not carry it) of the line at h f0, searched within +-(1 + h/4) bins (f0 known to a fraction of
+// a bin from the first spectrum) against the local median floor. The same statistic at M detuned
+// fundamentals f0 (1 +- d_m), none within the slip window, is its null, measured on the same
+// spectrum (so shaft harmonics, the floor's shape and the bins' statistics are all in it). The
+// family is supported when its statistic exceeds every surrogate's and is > 0 dB: by chance with
+// probability 1 / (M + 1) (M = 39: 2.5 %). A surrogate comb that meets another real family only
+// raises the null: the test errs toward no support.
+struct CombSupport {
+  double fundamental_hz = 0;
+  int harmonics = 0;          // K used (harmonics above the spectrum's end are left out)
+  double statistic_db = 0;    // at f0
+  double null_max_db = 0;     // largest over the surrogates
+  double null_median_db = 0;  // their median
+  bool supported = false;
+};
+CombSupport comb_support(const SpectrumView& spectrum, double fundamental_hz,
+                         const BearingDecisionOptions& opt = {});
 
 }  // namespace detect

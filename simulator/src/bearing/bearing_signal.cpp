@@ -1,0 +1,261 @@
+#include "sim/bearing/bearing_signal.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "diag/error.hpp"
+#include "diag/units.hpp"
+
+namespace sim {
+
+using diag::units::kTwoPi;
+
+namespace {
+
+constexpr const char* kWhere = "bearing signal";
+
+void require(bool ok, const std::string& field, const std::string& reason) {
+  diag::require(ok, kWhere, field, reason);
+}
+
+// Stribeck's load distribution, normalised to 1 at theta = 0 (see the header).
+double load(double theta_rad, double eps) {
+  const double b = 1.0 - (1.0 - std::cos(theta_rad)) / (2.0 * eps);
+  return b > 0 ? std::pow(b, 1.5) : 0.0;
+}
+
+// Adds a * h(t - t0) to x, h the resonance's impulse response, from t0 until its envelope has
+// decayed by 60 dB.
+void add_ring(std::vector<double>& x, double fs, double t0, double a, double wn, double zeta) {
+  if (a == 0) return;
+  const double wd = wn * std::sqrt(1 - zeta * zeta);
+  const double t_end = t0 + std::log(1000.0) / (zeta * wn);
+  const auto j0 = static_cast<std::size_t>(std::max(0.0, std::ceil(t0 * fs)));
+  const auto j1 = std::min(x.size(), static_cast<std::size_t>(std::ceil(t_end * fs)));
+  for (std::size_t j = j0; j < j1; ++j) {
+    const double t = static_cast<double>(j) / fs - t0;
+    x[j] += a * std::exp(-zeta * wn * t) * std::sin(wd * t);
+  }
+}
+
+// Impact times at mean rate rate_hz (already slipped) with cumulative interval jitter, starting
+// at a random phase within the first interval.
+std::vector<double> impact_times(double rate_hz, double jitter, double duration_s,
+                                 std::mt19937_64& rng) {
+  std::normal_distribution<double> g(0.0, 1.0);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const double period = 1.0 / rate_hz;
+  std::vector<double> t;
+  for (double tk = u(rng) * period; tk < duration_s;
+       tk += period * std::max(0.1, 1 + jitter * g(rng)))
+    t.push_back(tk);
+  return t;
+}
+
+}  // namespace
+
+const char* to_string(BearingFaultKind k) {
+  switch (k) {
+    case BearingFaultKind::kNone:
+      return "none";
+    case BearingFaultKind::kOuterRace:
+      return "outer_race";
+    case BearingFaultKind::kInnerRace:
+      return "inner_race";
+    case BearingFaultKind::kRollingElement:
+      return "rolling_element";
+    case BearingFaultKind::kCage:
+      return "cage";
+  }
+  return "?";
+}
+
+BearingRates bearing_rates(const diag::BearingSpec& b, double shaft_hz) {
+  require(b.rolling_elements >= 3, "rolling_elements", "must be >= 3");
+  require(b.pitch_diameter_m > 0 && std::isfinite(b.pitch_diameter_m), "pitch_diameter_m",
+          "must be finite and > 0");
+  require(b.element_diameter_m > 0 && b.element_diameter_m < b.pitch_diameter_m,
+          "element_diameter_m", "must be in (0, pitch_diameter_m)");
+  require(b.contact_angle_rad >= 0 && b.contact_angle_rad < kTwoPi / 4, "contact_angle_rad",
+          "must be in [0, pi/2)");
+  require(shaft_hz > 0 && std::isfinite(shaft_hz), "shaft_hz", "must be finite and > 0");
+  // Rolling without sliding: the ball's centre moves at the mean of the race surface speeds at
+  // the contacts (outer 0, inner w_r (P_d - B_d cos phi) / 2), so the cage turns at
+  // f_r (1 - rho) / 2; the ball's surface speed at the inner contact equals the inner race's
+  // speed relative to the cage, which gives its spin f_s.
+  const double rho = b.element_diameter_m / b.pitch_diameter_m * std::cos(b.contact_angle_rad);
+  BearingRates r;
+  r.shaft_hz = shaft_hz;
+  r.cage_hz = 0.5 * shaft_hz * (1 - rho);
+  r.bpfo_hz = b.rolling_elements * r.cage_hz;
+  r.bpfi_hz = b.rolling_elements * (shaft_hz - r.cage_hz);
+  const double inner_relative_hz = shaft_hz - r.cage_hz;  // inner race seen from the cage
+  const double inner_radius_over_ball =
+      (b.pitch_diameter_m - b.element_diameter_m * std::cos(b.contact_angle_rad)) /
+      b.element_diameter_m;
+  r.spin_hz = inner_relative_hz * inner_radius_over_ball;
+  r.ball_fault_hz = 2 * r.spin_hz;
+  return r;
+}
+
+void BearingSignalOptions::validate() const {
+  require(std::isfinite(fs_hz) && fs_hz > 0, "fs_hz", "must be finite and > 0");
+  require(duration_s > 0 && duration_s <= 600, "duration_s", "must be in (0, 600]");
+  require(std::isfinite(shaft_hz) && shaft_hz > 0, "shaft_hz", "must be finite and > 0");
+  require(impact_amplitude > 0 && std::isfinite(impact_amplitude), "impact_amplitude",
+          "must be finite and > 0");
+  require(snr_db >= -60 && snr_db <= 60, "snr_db", "must be in [-60, 60]");
+  require(resonance_hz > 0 && resonance_hz < 0.45 * fs_hz, "resonance_hz",
+          "must be in (0, 0.45 fs_hz)");
+  require(damping_ratio > 0 && damping_ratio <= 0.5, "damping_ratio", "must be in (0, 0.5]");
+  require(mean_slip >= -0.05 && mean_slip <= 0.05, "mean_slip", "must be in [-0.05, 0.05]");
+  require(jitter >= 0 && jitter <= 0.1, "jitter", "must be in [0, 0.1]");
+  require(load_zone_factor > 0 && load_zone_factor <= 1, "load_zone_factor", "must be in (0, 1]");
+  require(std::isfinite(defect_angle_rad), "defect_angle_rad", "must be finite");
+  require(inner_strike_gain >= 0 && inner_strike_gain <= 1, "inner_strike_gain",
+          "must be in [0, 1]");
+  require(ball_track_probability >= 0 && ball_track_probability <= 1, "ball_track_probability",
+          "must be in [0, 1]");
+  require(shaft_amplitude >= 0 && std::isfinite(shaft_amplitude), "shaft_amplitude",
+          "must be finite and >= 0");
+  require(mesh_hz >= 0 && mesh_hz < 0.5 * fs_hz, "mesh_hz", "must be in [0, fs_hz / 2)");
+  require(mesh_amplitude >= 0 && std::isfinite(mesh_amplitude), "mesh_amplitude",
+          "must be finite and >= 0");
+}
+
+BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
+                                      const BearingSignalOptions& opt) {
+  opt.validate();
+  BearingSignal out;
+  out.rates = bearing_rates(bearing, opt.shaft_hz);
+  const BearingRates& r = out.rates;
+  const double fs = opt.fs_hz;
+  const auto n = static_cast<std::size_t>(std::llround(opt.duration_s * fs));
+  require(n >= 16, "duration_s", "gives fewer than 16 samples");
+  const double wn = kTwoPi * opt.resonance_hz, zeta = opt.damping_ratio;
+  const double slip = 1 - opt.mean_slip;
+  const double eps = opt.load_zone_factor, a = opt.impact_amplitude;
+
+  // Independent streams per purpose, so that changing e.g. the noise does not move the impacts.
+  std::mt19937_64 rng_impacts(opt.seed * 4 + 0), rng_phase(opt.seed * 4 + 1),
+      rng_noise(opt.seed * 4 + 2), rng_track(opt.seed * 4 + 3);
+  std::uniform_real_distribution<double> uphase(0.0, kTwoPi);
+  const double phi0 = uphase(rng_phase);  // defect's angle at t = 0 (inner race, ball, cage)
+
+  std::vector<double> fault(n, 0.0);
+  switch (opt.fault) {
+    case BearingFaultKind::kNone:
+      break;
+    case BearingFaultKind::kOuterRace: {
+      const double q = load(opt.defect_angle_rad, eps);
+      for (double t : impact_times(r.bpfo_hz * slip, opt.jitter, opt.duration_s, rng_impacts)) {
+        add_ring(fault, fs, t, a * q, wn, zeta);
+        ++out.impacts;
+      }
+      break;
+    }
+    case BearingFaultKind::kInnerRace: {
+      const double fr = r.shaft_hz;  // the inner race turns with the shaft: no slip
+      for (double t : impact_times(r.bpfi_hz * slip, opt.jitter, opt.duration_s, rng_impacts)) {
+        add_ring(fault, fs, t, a * load(kTwoPi * fr * t + phi0, eps), wn, zeta);
+        ++out.impacts;
+      }
+      break;
+    }
+    case BearingFaultKind::kRollingElement: {
+      const double fc = r.cage_hz * slip;
+      std::bernoulli_distribution in_track(opt.ball_track_probability);
+      std::vector<char> track;  // per cage revolution
+      const auto revs = static_cast<std::size_t>(std::ceil(opt.duration_s * fc)) + 2;
+      for (std::size_t k = 0; k < revs; ++k) track.push_back(in_track(rng_track) ? 1 : 0);
+      const double phase_rev = phi0 / kTwoPi;
+      int strike = 0;  // even: outer race, odd: inner race
+      for (double t :
+           impact_times(r.ball_fault_hz * slip, opt.jitter, opt.duration_s, rng_impacts)) {
+        // The ball enters the load zone (theta = -pi) once per cage revolution.
+        const double rev = fc * t + phase_rev + 0.5;
+        const auto k = static_cast<std::size_t>(std::max(0.0, std::floor(rev)));
+        const double g = (strike++ % 2 == 0) ? 1.0 : opt.inner_strike_gain;
+        if (!track[std::min(k, track.size() - 1)]) continue;
+        add_ring(fault, fs, t, a * g * load(kTwoPi * fc * t + phi0, eps), wn, zeta);
+        ++out.impacts;
+      }
+      break;
+    }
+    case BearingFaultKind::kCage: {
+      // Noise-driven resonance: an impact of random amplitude at every sample (a discretised
+      // white-noise force), modulated by the pocket's load. Equivalent to filtering modulated
+      // white noise through h; done as a recursive two-pole resonator for speed.
+      std::normal_distribution<double> g(0.0, 1.0);
+      const double fc = r.cage_hz * slip;
+      const double rr = std::exp(-zeta * wn / fs);
+      const double wd = wn * std::sqrt(1 - zeta * zeta) / fs;
+      const double c1 = 2 * rr * std::cos(wd), c2 = -rr * rr;
+      double y1 = 0, y2 = 0;
+      for (std::size_t j = 0; j < n; ++j) {
+        const double t = static_cast<double>(j) / fs;
+        const double u = a * load(kTwoPi * fc * t + phi0, eps) * g(rng_impacts);
+        const double y = c1 * y1 + c2 * y2 + u * std::sin(wd);
+        y2 = y1;
+        y1 = y;
+        fault[j] = y;
+      }
+      break;
+    }
+  }
+
+  double p_fault = 0;
+  for (double v : fault) p_fault += v * v;
+  p_fault /= static_cast<double>(n);
+  out.fault_rms = std::sqrt(p_fault);
+  const double p_ref =
+      opt.fault == BearingFaultKind::kNone ? a * a * r.bpfo_hz * slip / (4 * zeta * wn) : p_fault;
+  out.noise_rms = std::sqrt(p_ref / std::pow(10.0, opt.snr_db / 10));
+
+  std::normal_distribution<double> noise(0.0, out.noise_rms);
+  const double ph_shaft = uphase(rng_phase), ph_mesh = uphase(rng_phase);
+  std::vector<double> x(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    const double t = static_cast<double>(j) / fs;
+    double v = fault[j] + noise(rng_noise);
+    if (opt.shaft_amplitude > 0)
+      for (int h = 1; h <= 5; ++h)
+        v += opt.shaft_amplitude / h * std::sin(kTwoPi * h * r.shaft_hz * t + h * ph_shaft);
+    if (opt.mesh_amplitude > 0 && opt.mesh_hz > 0) {
+      const double am = 1 + 0.3 * std::cos(kTwoPi * r.shaft_hz * t);
+      for (int h = 1; h <= 3 && h * opt.mesh_hz < 0.5 * fs; ++h)
+        v += opt.mesh_amplitude / h * am * std::sin(kTwoPi * h * opt.mesh_hz * t + h * ph_mesh);
+    }
+    x[j] = v;
+  }
+
+  out.signal.name = "acc";
+  out.signal.fs_hz = fs;
+  out.signal.unit = "m/s^2";
+  out.signal.location = bearing.name;
+  out.signal.samples = std::move(x);
+  out.truth = {{"fault", to_string(opt.fault)},
+               {"bearing", bearing.name},
+               {"rates",
+                {{"shaft_hz", r.shaft_hz},
+                 {"cage_hz", r.cage_hz},
+                 {"bpfo_hz", r.bpfo_hz},
+                 {"bpfi_hz", r.bpfi_hz},
+                 {"spin_hz", r.spin_hz},
+                 {"ball_fault_hz", r.ball_fault_hz}}},
+               {"impacts", out.impacts},
+               {"fault_rms", out.fault_rms},
+               {"noise_rms", out.noise_rms},
+               {"snr_db", opt.snr_db},
+               {"impact_amplitude", a},
+               {"mean_slip", opt.mean_slip},
+               {"jitter", opt.jitter},
+               {"resonance_hz", opt.resonance_hz},
+               {"seed", opt.seed}};
+  return out;
+}
+
+}  // namespace sim
