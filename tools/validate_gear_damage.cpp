@@ -19,11 +19,11 @@ int validate_gear_damage(int argc, char** argv) {
   double min_runout_um = opt.min_runout_m * 1e6, max_runout_um = opt.max_runout_m * 1e6;
   po::options_description desc(
       "geardiag validate --gear-damage --gearbox GB.json [--gearbox GB2.json ...] [options]\n\n"
-      "Simulates random tooth faults (root crack, chip, missing tooth, spall) and healthy cases "
-      "on\n"
-      "your gearbox(es), with ISO 1328 pitch errors of a random grade and random runout on every\n"
-      "gear, locates the damaged shaft and compares with the truth. Prints right / silent / wrong\n"
-      "shaft per fault kind and size, false alarms, and the ROC as the score threshold moves.\n\n"
+      "Simulates random tooth faults (root crack, chip, missing tooth, spall) and healthy\n"
+      "cases on your gearbox(es), with ISO 1328 pitch errors of a random grade and random\n"
+      "runout on every gear, locates the damaged shaft and compares with the truth. Prints\n"
+      "right / silent / wrong shaft per fault kind and size, false alarms, and the ROC as the\n"
+      "score threshold moves.\n\n"
       "options");
   desc.add_options()("help,h", "this help")("gear-damage", "validate the damaged-shaft locator")(
       "gearbox", po::value(&files)->required(), "gearbox description (JSON), repeatable")(
