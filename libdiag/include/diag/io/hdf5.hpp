@@ -86,6 +86,9 @@ class RecordingReader {
   void read_block(const std::string& name, std::uint64_t offset, std::span<double> out) const;
 
  private:
+  void open_channels();
+  void read_samples(const std::string& what, std::uint64_t offset, std::span<double> out) const;
+
   std::filesystem::path path_;
   std::int64_t file_ = -1;  // hid_t
   std::vector<ChannelInfo> channels_;
