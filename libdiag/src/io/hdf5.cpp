@@ -620,6 +620,9 @@ void write_recording(const std::filesystem::path& path, const Recording& rec,
 
 bool is_hdf5_file(const std::filesystem::path& path) {
   static constexpr char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  // Only a regular file is opened: opening a FIFO would wait for a writer.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   char head[8] = {};
   if (!in.read(head, sizeof head)) return false;

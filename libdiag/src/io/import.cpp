@@ -132,8 +132,9 @@ class LineReader {
     int code = Z_OK;
     const char* message = gzerror(file_, &code);
     if (n < 0 || (code != Z_OK && code != Z_STREAM_END)) {
-      throw InputError(format_error(where_, "after line " + std::to_string(line_number_),
-                                    std::string("corrupt or truncated gzip data: ") + message));
+      throw InputError(format_error(
+          where_, line_number_ == 0 ? std::string() : "after line " + std::to_string(line_number_),
+          std::string("corrupt or truncated gzip data: ") + message));
     }
     if (!checked_gzip_ && n > 0) {
       checked_gzip_ = true;

@@ -54,8 +54,8 @@ std::uint64_t check_input_file(const std::filesystem::path& path, const std::str
   return static_cast<std::uint64_t>(st.st_size);
 }
 
-std::string read_input_file(const std::filesystem::path& path, const std::string& what,
-                            std::uint64_t max_bytes) {
+std::string read_input_bytes(const std::filesystem::path& path, const std::string& what,
+                             std::uint64_t max_bytes) {
   const std::string where = where_of(path, what);
   check_input_file(path, what, max_bytes);
   // O_NONBLOCK: should the path have become a FIFO since the check, open returns at once.
@@ -91,6 +91,16 @@ std::string read_input_file(const std::filesystem::path& path, const std::string
     throw;
   }
   ::close(fd);
+  return text;
+}
+
+std::string read_input_file(const std::filesystem::path& path, const std::string& what,
+                            std::uint64_t max_bytes) {
+  std::string text = read_input_bytes(path, what, max_bytes);
+  if (const auto nul = text.find('\0'); nul != std::string::npos) {
+    throw InputError(format_error(where_of(path, what), "byte " + std::to_string(nul),
+                                  "a NUL byte: binary data, not text"));
+  }
   return text;
 }
 

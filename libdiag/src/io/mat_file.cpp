@@ -364,7 +364,7 @@ bool is_mat73(const std::filesystem::path& path) {
 
 std::vector<Variable> read_numeric_variables(const std::filesystem::path& path,
                                              const std::string& where, std::uint64_t file_size) {
-  const std::string text = read_input_file(path, "", file_size);
+  const std::string text = read_input_bytes(path, "", file_size);
   const std::vector<unsigned char> data(text.begin(), text.end());
   if (data.size() >= 128) {
     const bool little = data[126] == 'I' && data[127] == 'M';

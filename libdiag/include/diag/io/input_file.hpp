@@ -24,8 +24,13 @@ std::uint64_t check_input_file(const std::filesystem::path& path, const std::str
                                std::uint64_t max_bytes = kMaxInputBytes);
 
 // Reads a whole text input (JSON descriptions, channel maps) after check_input_file with
-// `max_bytes`; refuses a file that changes size while read.
+// `max_bytes`; refuses a file that changes size while read, and one holding a NUL byte (no
+// text has one; a C-string parser would stop there and take the rest for absent).
 std::string read_input_file(const std::filesystem::path& path, const std::string& what = {},
                             std::uint64_t max_bytes = std::uint64_t{64} << 20);
+
+// The same for binary inputs (NUL bytes allowed).
+std::string read_input_bytes(const std::filesystem::path& path, const std::string& what = {},
+                             std::uint64_t max_bytes = std::uint64_t{64} << 20);
 
 }  // namespace diag
