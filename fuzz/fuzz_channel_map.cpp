@@ -1,6 +1,7 @@
 // libFuzzer target: channel map JSON (diag::load_channel_map).
 #include <cstddef>
 #include <cstdint>
+
 #include "diag/io/channels.hpp"
 #include "fuzz_input.hpp"
 

@@ -1,6 +1,7 @@
 // libFuzzer target: CSV import (diag::import_recording on a .csv file).
 #include <cstddef>
 #include <cstdint>
+
 #include "diag/io/import.hpp"
 #include "fuzz_input.hpp"
 

@@ -1,6 +1,7 @@
 // libFuzzer target: gzip-compressed CSV import (.csv.gz: zlib, then the CSV reader).
 #include <cstddef>
 #include <cstdint>
+
 #include "diag/io/import.hpp"
 #include "fuzz_input.hpp"
 

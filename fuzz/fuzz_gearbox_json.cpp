@@ -1,6 +1,7 @@
 // libFuzzer target: gearbox description JSON (diag::load_gearbox).
 #include <cstddef>
 #include <cstdint>
+
 #include "diag/gearbox/gearbox.hpp"
 #include "fuzz_input.hpp"
 

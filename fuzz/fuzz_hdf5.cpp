@@ -1,6 +1,8 @@
-// libFuzzer target: geardiag HDF5 recording reader (RecordingReader, read_recording; the forked survey contains crashes inside the HDF5 library).
+// libFuzzer target: geardiag HDF5 recording reader (RecordingReader, read_recording; the forked
+// survey contains crashes inside the HDF5 library).
 #include <cstddef>
 #include <cstdint>
+
 #include "diag/io/hdf5.hpp"
 #include "fuzz_input.hpp"
 

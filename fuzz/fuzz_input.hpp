@@ -21,9 +21,9 @@ namespace fuzz {
 
 inline std::filesystem::path input_file(const char* extension, const std::uint8_t* data,
                                         std::size_t size) {
-  static const std::filesystem::path dir =
-      std::filesystem::is_directory("/dev/shm") ? std::filesystem::path("/dev/shm")
-                                                : std::filesystem::temp_directory_path();
+  static const std::filesystem::path dir = std::filesystem::is_directory("/dev/shm")
+                                               ? std::filesystem::path("/dev/shm")
+                                               : std::filesystem::temp_directory_path();
   const std::filesystem::path path =
       dir / ("geardiag-fuzz-" + std::to_string(::getpid()) + extension);
   std::ofstream(path, std::ios::binary | std::ios::trunc)

@@ -1,6 +1,7 @@
 // libFuzzer target: MATLAB .mat import (level 4 and 5 decoder, mat_file.cpp).
 #include <cstddef>
 #include <cstdint>
+
 #include "diag/io/import.hpp"
 #include "fuzz_input.hpp"
 

@@ -1,8 +1,9 @@
 // libFuzzer target: simulation scenario JSON (sim::load_scenario).
 #include <cstddef>
 #include <cstdint>
-#include "sim/dynamics/scenario.hpp"
+
 #include "fuzz_input.hpp"
+#include "sim/dynamics/scenario.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto path = fuzz::input_file(".json", data, size);

@@ -1,6 +1,7 @@
 // libFuzzer target: WAV import (RIFF chunk check, then libsndfile).
 #include <cstddef>
 #include <cstdint>
+
 #include "diag/io/import.hpp"
 #include "fuzz_input.hpp"
 
