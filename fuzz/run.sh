@@ -24,6 +24,7 @@ mkdir -p "$build/artifacts"
 summary="$build/fuzz-summary.txt"
 : >"$summary"
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
+export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 status=0
 for target in csv csv_gz wav mat hdf5 gearbox_json scenario_json channel_map; do
@@ -31,7 +32,10 @@ for target in csv csv_gz wav mat hdf5 gearbox_json scenario_json channel_map; do
   mkdir -p "$corpus"
   log="$build/fuzz-$target.log"
   # -timeout: one input may take this long (the HDF5 reader's survey child gives up after 30 s).
-  if "$build/fuzz/fuzz_$target" "$corpus" "$seeds/$target" -max_total_time="$seconds" \
+  # Inputs that once failed (fuzz/regressions/<target>) run first, as seeds.
+  regressions=()
+  if [ -d "fuzz/regressions/$target" ]; then regressions=("fuzz/regressions/$target"); fi
+  if "$build/fuzz/fuzz_$target" "$corpus" "$seeds/$target" "${regressions[@]}" -max_total_time="$seconds" \
       -timeout=45 -rss_limit_mb=2560 -max_len=1048576 -print_final_stats=1 \
       -artifact_prefix="$build/artifacts/$target-" >"$log" 2>&1; then
     result=ok
