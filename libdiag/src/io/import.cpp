@@ -269,16 +269,19 @@ Recording import_csv(const std::filesystem::path& path, const std::string& where
     }
     for (std::size_t c = 0; c < n_columns; ++c) {
       double value = 0;
-      const std::string field_name = "line " + std::to_string(line_number) + ", column " +
-                                     std::to_string(c + 1) + " ('" + names[c] + "')";
+      // Built only for a message: once per value it was most of the time of a large import.
+      const auto field_name = [&] {
+        return "line " + std::to_string(line_number) + ", column " + std::to_string(c + 1) +
+               " ('" + names[c] + "')";
+      };
       if (!parse_number(fields[c], value)) {
-        throw InputError(format_error(where, field_name,
+        throw InputError(format_error(where, field_name(),
                                       fields[c].empty()
                                           ? std::string("empty field")
                                           : "'" + std::string(fields[c]) + "' is not a number"));
       }
       if (!std::isfinite(value))
-        throw InputError(format_error(where, field_name, finite_error(value)));
+        throw InputError(format_error(where, field_name(), finite_error(value)));
       if (static_cast<int>(c) == time_column) {
         time_resolution = std::min(time_resolution, print_resolution(fields[c]));
       }
