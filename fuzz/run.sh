@@ -13,8 +13,12 @@ seconds=${2:?usage: fuzz/run.sh BUILD_DIR SECONDS [GEARDIAG_BINARY]}
 geardiag=${3:-}
 jobs=$(nproc 2>/dev/null || echo 2)
 
-CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEARDIAG_FUZZ=ON \
-  -DGEARDIAG_BUILD_TESTS=OFF ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER} >/dev/null
+# Configured once: cmake --build reconfigures by itself when a CMakeLists.txt changes.
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEARDIAG_FUZZ=ON \
+    -DGEARDIAG_BUILD_TESTS=OFF \
+    ${CMAKE_CXX_COMPILER_LAUNCHER:+-DCMAKE_CXX_COMPILER_LAUNCHER=$CMAKE_CXX_COMPILER_LAUNCHER} >/dev/null
+fi
 cmake --build "$build" -j "$jobs" --target fuzzers
 
 seeds="$build/seeds"
@@ -43,7 +47,8 @@ for target in csv csv_gz wav mat hdf5 gearbox_json scenario_json channel_map; do
     result=FAILED
     status=1
   fi
-  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo '?')
+  # The last figures are the run's (the HDF5 reader's survey child can print its own on a crash).
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | tail -1 | grep -o '[0-9]*$' || echo '?')
   cov=$(grep -E '^#[0-9]+' "$log" | tail -1 | grep -o 'cov: [0-9]*' | grep -o '[0-9]*' || echo '?')
   ft=$(grep -E '^#[0-9]+' "$log" | tail -1 | grep -o 'ft: [0-9]*' | grep -o '[0-9]*' || echo '?')
   inputs=$(find "$corpus" -type f | wc -l)

@@ -364,6 +364,14 @@ def generate(c):
     c.all_readers("h5_raw_inf_sample", p("raw_inf.h5"), ["raw_inf.h5", "sample 1", "infinite"],
                   info=False)
 
+    # A mutated recording on which the system HDF5 (1.10) itself crashes (SIGSEGV; found by
+    # fuzz_hdf5, ASan: memcpy-param-overlap inside libhdf5): the reader's survey child takes the
+    # crash and the file is refused.
+    crasher = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))),
+                           "fuzz", "regressions", "hdf5", "libhdf5_memcpy_overlap.h5")
+    shutil.copy(crasher, p("libhdf5_crash.h5"))
+    c.all_readers("h5_libhdf5_crash", p("libhdf5_crash.h5"), ["libhdf5_crash.h5", "corrupted file"])
+
     # ---- special files --------------------------------------------------------------------
     fifo = p("fifo.csv")
     if os.path.exists(fifo):

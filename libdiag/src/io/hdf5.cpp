@@ -517,6 +517,7 @@ constexpr double kMinFsHz = 1e-3, kMaxFsHz = 1e9;
 constexpr int kSurveySeconds = 30;
 constexpr std::uint64_t kSurveySampleBytes = std::uint64_t{16} << 20;
 bool in_survey_child = false;
+constexpr int kSurveyFoundAnError = 97;  // the child's exit code for an exception it caught
 
 void survey_in_child(const std::filesystem::path& path, const std::string& where) {
   if (in_survey_child) return;
@@ -543,7 +544,7 @@ void survey_in_child(const std::filesystem::path& path, const std::string& where
         }
       }
     } catch (...) {
-      code = 1;
+      code = kSurveyFoundAnError;
     }
     ::_exit(code);
   }
@@ -566,10 +567,16 @@ void survey_in_child(const std::filesystem::path& path, const std::string& where
     std::this_thread::sleep_for(pause);
     pause = std::min(pause * 2, std::chrono::microseconds(20000));
   }
+  // Any other end (a signal, or a sanitizer's exit code) is a crash.
   if (WIFSIGNALED(status)) {
     throw InputError(format_error(where, "",
                                   "corrupted file: the HDF5 library crashed reading it (signal " +
                                       std::to_string(WTERMSIG(status)) + "); refused"));
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != kSurveyFoundAnError) {
+    throw InputError(format_error(where, "",
+                                  "corrupted file: reading it failed in the HDF5 library (exit " +
+                                      std::to_string(WEXITSTATUS(status)) + "); refused"));
   }
 }
 
