@@ -271,8 +271,8 @@ Recording import_csv(const std::filesystem::path& path, const std::string& where
       double value = 0;
       // Built only for a message: once per value it was most of the time of a large import.
       const auto field_name = [&] {
-        return "line " + std::to_string(line_number) + ", column " + std::to_string(c + 1) +
-               " ('" + names[c] + "')";
+        return "line " + std::to_string(line_number) + ", column " + std::to_string(c + 1) + " ('" +
+               names[c] + "')";
       };
       if (!parse_number(fields[c], value)) {
         throw InputError(format_error(where, field_name(),
