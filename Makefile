@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build demo test bench sanitize clean
+.PHONY: all deps configure build demo test bench sanitize fuzz fuzz-ci clean
 
 all: build
 
@@ -28,10 +28,21 @@ sanitize: deps
 	cmake --build $(BUILD_DIR)-asan -j $(JOBS)
 	cd $(BUILD_DIR)-asan && ctest --output-on-failure -j $(JOBS)
 
+# libFuzzer on every reader and parser (clang, ASan + UBSan): FUZZ_SECONDS per target, seeds from
+# testdata/, fuzz/make_seeds.py and the bad-input corpus. Results: $(BUILD_DIR)-fuzz/fuzz-summary.txt
+# (FUZZING.md); a crashing input is saved in $(BUILD_DIR)-fuzz/artifacts/.
+FUZZ_SECONDS ?= 600
+fuzz: build
+	bash fuzz/run.sh $(BUILD_DIR)-fuzz $(FUZZ_SECONDS) $(BUILD_DIR)/geardiag
+
+# The short run CI makes (45 s per target).
+fuzz-ci: build
+	bash fuzz/run.sh $(BUILD_DIR)-fuzz 45 $(BUILD_DIR)/geardiag
+
 bench: deps
 	cmake -S . -B $(BUILD_DIR)-bench -DCMAKE_BUILD_TYPE=Release -DGEARDIAG_BUILD_BENCH=ON -DGEARDIAG_BUILD_TESTS=OFF
 	cmake --build $(BUILD_DIR)-bench -j $(JOBS)
 	bash bench/run.sh $(BUILD_DIR)-bench
 
 clean:
-	rm -rf $(BUILD_DIR) $(BUILD_DIR)-asan $(BUILD_DIR)-bench
+	rm -rf $(BUILD_DIR) $(BUILD_DIR)-asan $(BUILD_DIR)-bench $(BUILD_DIR)-fuzz

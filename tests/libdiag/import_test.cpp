@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 #include <matio.h>
 #include <sndfile.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <zlib.h>
 
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -285,6 +287,81 @@ TEST_F(Import, MatVectorsBecomeChannelsAndScalarsMetadata) {
   EXPECT_EQ(rec.signals[1].samples, (std::vector<double>{1, -2, 3}));
   EXPECT_EQ(rec.metadata.at("X001RPM"), "1796.25");
   EXPECT_EQ(rec.metadata.count("image"), 0u);
+}
+
+// ---- damaged files (issue 13): refused naming the file and the damage, never read as data ----
+
+TEST_F(Import, CsvNulByteIsRefusedNotGluedToTheNextRow) {
+  // A C-string reader stopped at the NUL and read "3" + "5,6" as a = 35.
+  const fs::path path = write_text("nul.csv", std::string("a,b\n1,2\n3\0,4\n5,6\n", 17));
+  const std::string message = input_error_of([&] { diag::import_recording(path, with_fs(10)); });
+  EXPECT_CONTAINS(message, path.string());
+  EXPECT_CONTAINS(message, "line 3");
+  EXPECT_CONTAINS(message, "NUL byte");
+}
+
+TEST_F(Import, PlainTextNamedGzIsRefused) {
+  const fs::path path = write_text("plain.csv.gz", csv_with_time(10, 100.0));
+  EXPECT_CONTAINS(input_error_of([&] { diag::import_recording(path); }), "not gzip");
+}
+
+TEST_F(Import, WavShorterThanItsHeaderSaysIsRefused) {
+  const fs::path path = dir_ / "cut.wav";
+  SF_INFO info{};
+  info.samplerate = 8000;
+  info.channels = 1;
+  info.format = SF_FORMAT_WAV | SF_FORMAT_PCM_16;
+  SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
+  ASSERT_NE(file, nullptr) << sf_strerror(nullptr);
+  const std::vector<double> frames(4000, 0.25);
+  ASSERT_EQ(sf_writef_double(file, frames.data(), 4000), 4000);
+  sf_close(file);
+  fs::resize_file(path, fs::file_size(path) - 3000);  // 1500 of 4000 frames cut off
+  const std::string message = input_error_of([&] { diag::import_recording(path); });
+  EXPECT_CONTAINS(message, path.string());
+  EXPECT_CONTAINS(message, "truncated");
+}
+
+TEST_F(Import, MatTruncatedOrWithLyingDimensionsIsRefused) {
+  const fs::path path = dir_ / "v.mat";
+  mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT5);
+  ASSERT_NE(mat, nullptr);
+  std::vector<double> x(1000, -0.757);
+  size_t dims[2] = {1000, 1};
+  for (const char* name : {"first", "second"}) {
+    matvar_t* var = Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, x.data(), 0);
+    ASSERT_EQ(Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE), 0);
+    Mat_VarFree(var);
+  }
+  Mat_Close(mat);
+  EXPECT_EQ(diag::import_recording(path, with_fs(100)).signals.size(), 2u);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+
+  // The second variable cut short: refused, not dropped nor padded with zeros.
+  const fs::path cut = write_text("cut.mat", bytes.substr(0, bytes.size() - 100));
+  const std::string message = input_error_of([&] { diag::import_recording(cut, with_fs(100)); });
+  EXPECT_CONTAINS(message, cut.string());
+  EXPECT_CONTAINS(message, "variable 2");
+  EXPECT_CONTAINS(message, "truncated");
+
+  // The first variable's dimensions claim 10^8 rows (at byte 128 + 8 + 16 + 8).
+  std::string lie = bytes;
+  const std::int32_t rows = 100000000;
+  std::memcpy(lie.data() + 160, &rows, sizeof rows);
+  const fs::path lying = write_text("lie.mat", lie);
+  EXPECT_CONTAINS(input_error_of([&] { diag::import_recording(lying, with_fs(100)); }), "'first'");
+}
+
+TEST_F(Import, FifoAndDeviceAreRefusedWithoutWaiting) {
+  // Opening a FIFO without a writer would block forever; /dev/zero never ends.
+  const fs::path fifo = dir_ / "pipe.csv";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  EXPECT_CONTAINS(input_error_of([&] { diag::import_recording(fifo); }), "FIFO");
+  const fs::path zero = dir_ / "zero.csv";
+  fs::create_symlink("/dev/zero", zero);
+  EXPECT_CONTAINS(input_error_of([&] { diag::import_recording(zero); }), "device");
+  EXPECT_CONTAINS(input_error_of([&] { diag::read_recording(zero); }), "device");
 }
 
 TEST_F(Import, Hdf5RecordingImportsAsItIsAndRefusesAnotherRate) {

@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/io/input_file.hpp"
 #include "diag/io/json_fields.hpp"
 
 namespace diag {
@@ -238,13 +238,10 @@ ChannelMap parse_channel_map(const nlohmann::json& j, const std::string& where) 
 
 ChannelMap load_channel_map(const std::filesystem::path& path) {
   const std::string where = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(format_error(where, "", "cannot open the file"));
-  std::ostringstream text;
-  text << in.rdbuf();
+  const std::string text = read_input_file(path);
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text.str());
+    j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(format_error(where, "", std::string("not valid JSON: ") + e.what()));
   }

@@ -1,25 +1,32 @@
 #include "diag/io/hdf5.hpp"
 
 #include <hdf5.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
 #include <system_error>
+#include <thread>
 #include <utility>
 #include <vector>
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/io/input_file.hpp"
 #include "diag/io/output_file.hpp"
 
 namespace diag {
@@ -287,30 +294,46 @@ void validate_for_write(const std::string& where, const Recording& rec,
 
 // ---- reading -------------------------------------------------------------------------------
 
+// An attribute that exists but cannot be read is damage, not absence: InputError naming it.
+[[noreturn]] void unreadable(const std::string& where, const std::string& what) {
+  const std::string detail = hdf5_error_detail();
+  throw InputError(format_error(
+      where, what, "cannot be read (corrupted file?)" + (detail.empty() ? "" : ": " + detail)));
+}
+
 // Reads a scalar (or one-element) attribute or dataset as text: strings (variable or fixed
 // length) as they are, integers and floats printed (floats with round-trip precision).
-// Returns nullopt for other types and shapes. `read(mem_type, buffer)` performs the H5?read.
-std::optional<std::string> read_as_text(hid_t file_type, hid_t space,
+// Returns nullopt for other types and shapes; throws InputError when the value cannot be read or a
+// fixed-length string is longer than kMaxStringBytes. `read(mem_type, buffer)` performs the
+// H5?read.
+constexpr std::size_t kMaxStringBytes = std::size_t{64} << 20;
+
+std::optional<std::string> read_as_text(hid_t file_type, hid_t space, const std::string& where,
+                                        const std::string& what,
                                         const std::function<herr_t(hid_t, void*)>& read) {
   if (H5Sget_simple_extent_npoints(space) != 1) return std::nullopt;
   switch (H5Tget_class(file_type)) {
     case H5T_STRING: {
       Hid mem_type(H5Tcopy(H5T_C_S1), H5Tclose);
-      if (!mem_type.valid()) return std::nullopt;
+      if (!mem_type.valid()) unreadable(where, what);
       H5Tset_cset(mem_type.get(), H5Tget_cset(file_type));
       if (H5Tis_variable_str(file_type) > 0) {
         H5Tset_size(mem_type.get(), H5T_VARIABLE);
         char* text = nullptr;
-        if (read(mem_type.get(), &text) < 0) return std::nullopt;
+        if (read(mem_type.get(), &text) < 0) unreadable(where, what);
         std::string out = text != nullptr ? text : "";
         H5free_memory(text);
         return out;
       }
       const std::size_t size = H5Tget_size(file_type);
+      if (size == 0 || size > kMaxStringBytes) {
+        throw InputError(format_error(
+            where, what, "string of " + std::to_string(size) + " bytes (corrupted file?)"));
+      }
       H5Tset_size(mem_type.get(), size + 1);
       H5Tset_strpad(mem_type.get(), H5T_STR_NULLTERM);
       std::vector<char> buffer(size + 1, '\0');
-      if (read(mem_type.get(), buffer.data()) < 0) return std::nullopt;
+      if (read(mem_type.get(), buffer.data()) < 0) unreadable(where, what);
       std::string out(buffer.data());
       if (H5Tget_strpad(file_type) == H5T_STR_SPACEPAD) {
         out.erase(out.find_last_not_of(' ') + 1);
@@ -320,16 +343,16 @@ std::optional<std::string> read_as_text(hid_t file_type, hid_t space,
     case H5T_INTEGER: {
       if (H5Tget_sign(file_type) == H5T_SGN_NONE) {
         unsigned long long value = 0;
-        if (read(H5T_NATIVE_ULLONG, &value) < 0) return std::nullopt;
+        if (read(H5T_NATIVE_ULLONG, &value) < 0) unreadable(where, what);
         return std::to_string(value);
       }
       long long value = 0;
-      if (read(H5T_NATIVE_LLONG, &value) < 0) return std::nullopt;
+      if (read(H5T_NATIVE_LLONG, &value) < 0) unreadable(where, what);
       return std::to_string(value);
     }
     case H5T_FLOAT: {
       double value = 0;
-      if (read(H5T_NATIVE_DOUBLE, &value) < 0) return std::nullopt;
+      if (read(H5T_NATIVE_DOUBLE, &value) < 0) unreadable(where, what);
       char text[32];
       std::snprintf(text, sizeof text, "%.17g", value);
       return std::string(text);
@@ -339,44 +362,79 @@ std::optional<std::string> read_as_text(hid_t file_type, hid_t space,
   }
 }
 
-std::optional<std::string> attribute_text(hid_t obj, const char* name) {
-  if (H5Aexists(obj, name) <= 0) return std::nullopt;
+// Opens attribute `name` of `obj`; an invalid Hid when it does not exist.
+Hid open_attribute(hid_t obj, const char* name, const std::string& where, const std::string& what) {
+  const htri_t exists = H5Aexists(obj, name);
+  if (exists < 0) unreadable(where, what);
+  if (exists == 0) return Hid(-1, H5Aclose);
   Hid attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+  if (!attr.valid()) unreadable(where, what);
+  return attr;
+}
+
+std::optional<std::string> attribute_text(hid_t obj, const char* name, const std::string& where,
+                                          const std::string& what) {
+  const std::string field = what + ": attribute " + name;
+  Hid attr = open_attribute(obj, name, where, field);
   if (!attr.valid()) return std::nullopt;
   Hid type(H5Aget_type(attr.get()), H5Tclose);
   Hid space(H5Aget_space(attr.get()), H5Sclose);
-  if (!type.valid() || !space.valid()) return std::nullopt;
-  return read_as_text(type.get(), space.get(), [&](hid_t mem_type, void* buffer) {
+  if (!type.valid() || !space.valid()) unreadable(where, field);
+  return read_as_text(type.get(), space.get(), where, field, [&](hid_t mem_type, void* buffer) {
     return H5Aread(attr.get(), mem_type, buffer);
   });
 }
 
-std::optional<double> attribute_double(hid_t obj, const char* name) {
-  if (H5Aexists(obj, name) <= 0) return std::nullopt;
-  Hid attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
+std::optional<double> attribute_double(hid_t obj, const char* name, const std::string& where,
+                                       const std::string& what) {
+  const std::string field = what + ": attribute " + name;
+  Hid attr = open_attribute(obj, name, where, field);
   if (!attr.valid()) return std::nullopt;
   Hid type(H5Aget_type(attr.get()), H5Tclose);
   Hid space(H5Aget_space(attr.get()), H5Sclose);
-  const H5T_class_t cls = type.valid() ? H5Tget_class(type.get()) : H5T_NO_CLASS;
+  if (!type.valid() || !space.valid()) unreadable(where, field);
+  const H5T_class_t cls = H5Tget_class(type.get());
   if ((cls != H5T_FLOAT && cls != H5T_INTEGER) || H5Sget_simple_extent_npoints(space.get()) != 1) {
     return std::nullopt;
   }
   double value = 0;
-  if (H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &value) < 0) return std::nullopt;
+  if (H5Aread(attr.get(), H5T_NATIVE_DOUBLE, &value) < 0) unreadable(where, field);
   return value;
 }
 
-bool is_group(hid_t file, const char* path) {
-  if (H5Lexists(file, path, H5P_DEFAULT) <= 0) return false;
+// True when `parent` has a hard link `name`; false when it has none. Soft links (which can loop)
+// and external links (which name other files, /dev/zero included) are refused: a recording holds
+// its objects itself.
+bool hard_link_exists(hid_t parent, const char* name, const std::string& where,
+                      const std::string& what) {
+  const htri_t exists = H5Lexists(parent, name, H5P_DEFAULT);
+  if (exists < 0) unreadable(where, what);
+  if (exists == 0) return false;
+  H5L_info_t info;
+  if (H5Lget_info(parent, name, &info, H5P_DEFAULT) < 0) unreadable(where, what);
+  if (info.type != H5L_TYPE_HARD) {
+    const char* kind = info.type == H5L_TYPE_SOFT       ? "a soft link"
+                       : info.type == H5L_TYPE_EXTERNAL ? "an external link"
+                                                        : "a user-defined link";
+    throw InputError(format_error(
+        where, what,
+        std::string("is ") + kind + "; a recording holds its groups and channels itself"));
+  }
+  return true;
+}
+
+bool is_group(hid_t file, const char* path, const std::string& where) {
+  if (!hard_link_exists(file, path, where, path)) return false;
   Hid obj(H5Oopen(file, path, H5P_DEFAULT), H5Oclose);
-  return obj.valid() && H5Iget_type(obj.get()) == H5I_GROUP;
+  if (!obj.valid()) unreadable(where, path);
+  return H5Iget_type(obj.get()) == H5I_GROUP;
 }
 
 // Link names of a group in creation order when the group tracks it, else in name order.
 std::vector<std::string> link_names(hid_t group, const std::string& where,
                                     const std::string& what) {
   H5G_info_t info;
-  check(H5Gget_info(group, &info), where, what);
+  if (H5Gget_info(group, &info) < 0) unreadable(where, what);
   H5_index_t index = H5_INDEX_NAME;
   {
     Hid gcpl(H5Gget_create_plist(group), H5Pclose);
@@ -390,11 +448,11 @@ std::vector<std::string> link_names(hid_t group, const std::string& where,
   for (hsize_t i = 0; i < info.nlinks; ++i) {
     const ssize_t size =
         H5Lget_name_by_idx(group, ".", index, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
-    if (size < 0) throw_hdf5(where, what);
+    if (size < 0 || static_cast<std::size_t>(size) > kMaxStringBytes) unreadable(where, what);
     std::string name(static_cast<std::size_t>(size) + 1, '\0');
     if (H5Lget_name_by_idx(group, ".", index, H5_ITER_INC, i, name.data(), name.size(),
                            H5P_DEFAULT) < 0) {
-      throw_hdf5(where, what);
+      unreadable(where, what);
     }
     name.resize(static_cast<std::size_t>(size));
     names.push_back(std::move(name));
@@ -402,22 +460,141 @@ std::vector<std::string> link_names(hid_t group, const std::string& where,
   return names;
 }
 
-std::optional<std::string> string_dataset(hid_t file, const char* path, const std::string& where) {
-  if (H5Lexists(file, path, H5P_DEFAULT) <= 0) return std::nullopt;
+// A scalar string dataset that holds JSON (/gearbox, /truth); nullopt when absent. Text that is
+// not JSON is refused here, before anything copies it into another file.
+std::optional<std::string> json_dataset(hid_t file, const char* path, const std::string& where) {
+  if (!hard_link_exists(file, path, where, path)) return std::nullopt;
   Hid ds(H5Dopen2(file, path, H5P_DEFAULT), H5Dclose);
   if (!ds.valid()) {
     throw InputError(format_error(where, path, "is not a dataset"));
   }
   Hid type(H5Dget_type(ds.get()), H5Tclose);
   Hid space(H5Dget_space(ds.get()), H5Sclose);
-  if (!type.valid() || !space.valid()) throw_hdf5(where, path);
-  auto text = read_as_text(type.get(), space.get(), [&](hid_t mem_type, void* buffer) {
-    return H5Dread(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer);
-  });
-  if (!text || H5Tget_class(type.get()) != H5T_STRING) {
+  if (!type.valid() || !space.valid()) unreadable(where, path);
+  if (H5Tget_class(type.get()) != H5T_STRING) {
     throw InputError(format_error(where, path, "expected a scalar string dataset"));
   }
+  auto text = read_as_text(type.get(), space.get(), where, path, [&](hid_t mem_type, void* buffer) {
+    return H5Dread(ds.get(), mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buffer);
+  });
+  if (!text) throw InputError(format_error(where, path, "expected a scalar string dataset"));
+  if (!nlohmann::json::accept(*text)) {
+    throw InputError(format_error(where, path, "is not valid JSON (corrupted file?)"));
+  }
   return text;
+}
+
+// The bytes a channel's samples occupy in the file are checked against its declared length
+// before anything is allocated: a corrupted dataspace cannot declare 10^18 samples. Unfiltered
+// data must be all there; deflated data can expand at most 1032:1 (RFC 1951).
+void check_storage(hid_t ds, hsize_t length, std::size_t element_size, const std::string& where,
+                   const std::string& what) {
+  constexpr hsize_t kMaxInflateRatio = 1032;
+  const hsize_t stored = H5Dget_storage_size(ds);
+  Hid dcpl(H5Dget_create_plist(ds), H5Pclose);
+  if (!dcpl.valid()) unreadable(where, what);
+  const int filters = H5Pget_nfilters(dcpl.get());
+  if (filters < 0) unreadable(where, what);
+  const hsize_t max_length =
+      filters == 0 ? stored / element_size : stored / element_size * kMaxInflateRatio + 1;
+  if (stored == 0 || length > max_length) {
+    throw InputError(format_error(where, what,
+                                  "declares " + std::to_string(length) + " samples but stores " +
+                                      std::to_string(stored) +
+                                      " bytes (truncated or corrupted file)"));
+  }
+}
+
+// Sampling rates a recording may state [Hz].
+constexpr double kMinFsHz = 1e-3, kMaxFsHz = 1e9;
+
+// The HDF5 library (1.10) can crash or loop on a corrupted file, e.g. on a global-heap entry
+// behind a variable-length string attribute; no check of ours can come before its own reads.
+// So every file is first read by a child process: everything RecordingReader and read_recording
+// read (the samples too when they are at most kSurveySampleBytes). A child killed by a signal, or
+// not done within kSurveySeconds, means the file would crash or hang this process: refused. A
+// child that merely finds an error lets the parent read on and report that error itself.
+constexpr int kSurveySeconds = 30;
+constexpr std::uint64_t kSurveySampleBytes = std::uint64_t{16} << 20;
+bool in_survey_child = false;
+constexpr int kSurveyFoundAnError = 97;  // the child's exit code for an exception it caught
+
+void survey_in_child(const std::filesystem::path& path, const std::string& where) {
+  if (in_survey_child) return;
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) return;  // no child: read without the guard
+  if (pid == 0) {
+    in_survey_child = true;
+    int code = 0;
+    try {
+      RecordingReader reader(path);
+      (void)reader.metadata();
+      (void)reader.format_attributes();
+      (void)reader.gearbox_json();
+      (void)reader.truth_json();
+      (void)reader.speed_rpm();
+      (void)reader.roles_stated();
+      std::uint64_t total = 0;
+      for (const ChannelInfo& c : reader.channels()) total += c.length * sizeof(double);
+      if (total <= kSurveySampleBytes) {
+        for (const ChannelInfo& c : reader.channels()) {
+          std::vector<double> samples(static_cast<std::size_t>(c.length));
+          reader.read_block(c.group + "/" + c.name, 0, samples);
+        }
+      }
+    } catch (...) {
+      code = kSurveyFoundAnError;
+    }
+    ::_exit(code);
+  }
+  int status = 0;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(kSurveySeconds);
+  auto pause = std::chrono::microseconds(200);
+  while (true) {
+    const pid_t done = ::waitpid(pid, &status, WNOHANG);
+    if (done == pid) break;
+    if (done < 0 && errno != EINTR) return;
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(pid, SIGKILL);
+      while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+      }
+      throw InputError(format_error(where, "",
+                                    "the HDF5 library did not finish reading the file within " +
+                                        std::to_string(kSurveySeconds) +
+                                        " s (corrupted file?); refused"));
+    }
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, std::chrono::microseconds(20000));
+  }
+  // Any other end (a signal, or a sanitizer's exit code) is a crash.
+  if (WIFSIGNALED(status)) {
+    throw InputError(format_error(where, "",
+                                  "corrupted file: the HDF5 library crashed reading it (signal " +
+                                      std::to_string(WTERMSIG(status)) + "); refused"));
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != kSurveyFoundAnError) {
+    throw InputError(format_error(where, "",
+                                  "corrupted file: reading it failed in the HDF5 library (exit " +
+                                      std::to_string(WEXITSTATUS(status)) + "); refused"));
+  }
+}
+
+// Runs a read of the file: an error that escapes as anything but InputError (an HDF5 call
+// reported by check/checked, a length a corrupted field made impossible) is reported as damage
+// to the file, exit 2, never as an internal error.
+template <typename F>
+auto reading(const std::string& where, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw InputError(format_error(where, "", "sizes too large to read (corrupted file?)"));
+  } catch (const std::exception& e) {
+    throw InputError(
+        format_error(where, "", std::string("cannot read (corrupted file?): ") + e.what()));
+  }
 }
 
 void check_finite(std::span<const double> values, std::uint64_t offset, const std::string& where,
@@ -450,6 +627,9 @@ void write_recording(const std::filesystem::path& path, const Recording& rec,
 
 bool is_hdf5_file(const std::filesystem::path& path) {
   static constexpr char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  // Only a regular file is opened: opening a FIFO would wait for a writer.
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
   std::ifstream in(path, std::ios::binary);
   char head[8] = {};
   if (!in.read(head, sizeof head)) return false;
@@ -459,16 +639,11 @@ bool is_hdf5_file(const std::filesystem::path& path) {
 RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path) {
   silence_hdf5();
   const std::string where = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) {
-    throw InputError(format_error(where, "", "no such file"));
-  }
-  if (std::filesystem::is_directory(path, ec)) {
-    throw InputError(format_error(where, "", "is a directory, not a recording"));
-  }
+  check_input_file(path);  // a FIFO, a device, a directory: refused before HDF5 opens it
   if (!is_hdf5_file(path)) {
     throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
   }
+  survey_in_child(path, where);
   {
     Hid fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, where, "file properties");
     check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), where, "file properties");
@@ -478,108 +653,123 @@ RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path
     throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
   }
   try {
-    if (!is_group(file_, "/signals")) {
-      throw InputError(format_error(where, "",
-                                    "not a geardiag recording (HDF5 file without a /signals "
-                                    "group)"));
-    }
-    {
-      Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
-      const auto version = attribute_double(root.get(), "format_version");
-      if (version && *version > kFormatVersion) {
-        throw InputError(format_error(where, "format_version",
-                                      std::to_string(static_cast<long long>(*version)) +
-                                          " is newer than this geardiag reads (" +
-                                          std::to_string(kFormatVersion) + ")"));
-      }
-      if (version && !(*version >= 1)) {
-        throw InputError(format_error(where, "format_version",
-                                      std::to_string(*version) + " is not a format version"));
-      }
-      format_version_ = version ? static_cast<int>(*version) : 1;
-    }
-    for (const char* group_name : {"signals", "tacho"}) {
-      const std::string group_path = std::string("/") + group_name;
-      if (!is_group(file_, group_path.c_str())) continue;
-      Hid group =
-          checked(H5Gopen2(file_, group_path.c_str(), H5P_DEFAULT), H5Gclose, where, group_path);
-      for (const std::string& name : link_names(group.get(), where, group_path)) {
-        const std::string what = group_path + "/" + name;
-        Hid obj(H5Oopen(group.get(), name.c_str(), H5P_DEFAULT), H5Oclose);
-        if (!obj.valid() || H5Iget_type(obj.get()) != H5I_DATASET) continue;  // not a channel
-        Hid type(H5Dget_type(obj.get()), H5Tclose);
-        Hid space(H5Dget_space(obj.get()), H5Sclose);
-        if (!type.valid() || !space.valid()) throw_hdf5(where, what);
-        const H5T_class_t cls = H5Tget_class(type.get());
-        if (cls != H5T_FLOAT && cls != H5T_INTEGER) {
-          throw InputError(format_error(where, what, "expected a numeric dataset"));
-        }
-        const int rank = H5Sget_simple_extent_ndims(space.get());
-        if (rank != 1) {
-          throw InputError(format_error(
-              where, what, "expected a 1-D dataset, found rank " + std::to_string(rank)));
-        }
-        hsize_t length = 0;
-        H5Sget_simple_extent_dims(space.get(), &length, nullptr);
-
-        ChannelInfo info;
-        info.name = name;
-        info.group = group_name;
-        info.length = length;
-        const auto fs_hz = attribute_double(obj.get(), "fs_hz");
-        if (!fs_hz) {
-          throw InputError(format_error(where, what + ": fs_hz", "missing numeric attribute"));
-        }
-        if (!(*fs_hz > 0.0) || !std::isfinite(*fs_hz)) {
-          throw InputError(format_error(where, what + ": fs_hz",
-                                        std::to_string(*fs_hz) + " is not a finite rate > 0"));
-        }
-        info.fs_hz = *fs_hz;
-        info.unit = attribute_text(obj.get(), "unit").value_or("");
-        info.location = attribute_text(obj.get(), "location").value_or("");
-        const std::string direction = attribute_text(obj.get(), "direction").value_or("");
-        try {
-          info.direction = direction_from_string(direction);
-        } catch (const InputError&) {
-          throw InputError(format_error(where, what + ": direction",
-                                        "unknown value '" + direction +
-                                            "'; expected \"\", along_loa, normal_loa, "
-                                            "horizontal, vertical, angle or tacho"));
-        }
-        if (format_version_ >= 2) {
-          const std::string role = attribute_text(obj.get(), "role").value_or("");
-          try {
-            info.role = role_from_string(role);
-          } catch (const InputError&) {
-            throw InputError(format_error(where, what + ": role",
-                                          "unknown value '" + role +
-                                              "'; expected vibration, tacho, angle, speed, force, "
-                                              "displacement or other"));
-          }
-          info.shaft = attribute_text(obj.get(), "shaft").value_or("");
-          info.mesh = attribute_text(obj.get(), "mesh").value_or("");
-          const double ppr = attribute_double(obj.get(), "ppr").value_or(0.0);
-          if (!(ppr >= 0 && ppr <= 1e6) || ppr != std::floor(ppr)) {
-            throw InputError(format_error(where, what + ": ppr",
-                                          std::to_string(ppr) + " is not an integer in [0, 1e6]"));
-          }
-          info.ppr = static_cast<int>(ppr);
-          if (info.group == "tacho" && (info.role != Role::kTacho || info.ppr < 1)) {
-            throw InputError(
-                format_error(where, what, "a /tacho channel must have role tacho and ppr >= 1"));
-          }
-        } else if (info.group == "tacho") {
-          info.role = Role::kTacho;
-          info.shaft = info.location;
-          info.ppr = 1;
-        }
-        channels_.push_back(std::move(info));
-      }
-    }
+    reading(where, [&] { open_channels(); });
   } catch (...) {
     H5Fclose(file_);
     file_ = -1;
     throw;
+  }
+}
+
+void RecordingReader::open_channels() {
+  const std::string where = path_.string();
+  if (!is_group(file_, "/signals", where)) {
+    throw InputError(format_error(where, "",
+                                  "not a geardiag recording (HDF5 file without a /signals "
+                                  "group)"));
+  }
+  {
+    Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
+    const auto version = attribute_double(root.get(), "format_version", where, "/");
+    if (version && *version > kFormatVersion) {
+      throw InputError(format_error(where, "format_version",
+                                    std::to_string(static_cast<long long>(*version)) +
+                                        " is newer than this geardiag reads (" +
+                                        std::to_string(kFormatVersion) + ")"));
+    }
+    if (version && !(*version >= 1)) {
+      throw InputError(format_error(where, "format_version",
+                                    std::to_string(*version) + " is not a format version"));
+    }
+    format_version_ = version ? static_cast<int>(*version) : 1;
+  }
+  for (const char* group_name : {"signals", "tacho"}) {
+    const std::string group_path = std::string("/") + group_name;
+    if (!is_group(file_, group_path.c_str(), where)) continue;
+    Hid group =
+        checked(H5Gopen2(file_, group_path.c_str(), H5P_DEFAULT), H5Gclose, where, group_path);
+    for (const std::string& name : link_names(group.get(), where, group_path)) {
+      const std::string what = group_path + "/" + name;
+      if (!hard_link_exists(group.get(), name.c_str(), where, what)) unreadable(where, what);
+      Hid obj(H5Oopen(group.get(), name.c_str(), H5P_DEFAULT), H5Oclose);
+      if (!obj.valid()) unreadable(where, what);
+      if (H5Iget_type(obj.get()) != H5I_DATASET) continue;  // not a channel
+      Hid type(H5Dget_type(obj.get()), H5Tclose);
+      Hid space(H5Dget_space(obj.get()), H5Sclose);
+      if (!type.valid() || !space.valid()) unreadable(where, what);
+      const H5T_class_t cls = H5Tget_class(type.get());
+      const std::size_t element_size = H5Tget_size(type.get());
+      if ((cls != H5T_FLOAT && cls != H5T_INTEGER) || element_size < 1 || element_size > 16) {
+        throw InputError(format_error(where, what, "expected a numeric dataset"));
+      }
+      const int rank = H5Sget_simple_extent_ndims(space.get());
+      if (rank != 1) {
+        throw InputError(format_error(
+            where, what, "expected a 1-D dataset, found rank " + std::to_string(rank)));
+      }
+      hsize_t length = 0;
+      if (H5Sget_simple_extent_dims(space.get(), &length, nullptr) < 0) unreadable(where, what);
+      if (length == 0) throw InputError(format_error(where, what, "has no samples"));
+      check_storage(obj.get(), length, element_size, where, what);
+
+      ChannelInfo info;
+      info.name = name;
+      info.group = group_name;
+      info.length = length;
+      const auto fs_hz = attribute_double(obj.get(), "fs_hz", where, what);
+      if (!fs_hz) {
+        throw InputError(format_error(where, what + ": fs_hz", "missing numeric attribute"));
+      }
+      if (!(*fs_hz >= kMinFsHz && *fs_hz <= kMaxFsHz)) {
+        throw InputError(format_error(where, what + ": fs_hz",
+                                      std::to_string(*fs_hz) + " is not a rate in [1e-3, 1e9] Hz"));
+      }
+      info.fs_hz = *fs_hz;
+      info.unit = attribute_text(obj.get(), "unit", where, what).value_or("");
+      info.location = attribute_text(obj.get(), "location", where, what).value_or("");
+      const std::string direction =
+          attribute_text(obj.get(), "direction", where, what).value_or("");
+      try {
+        info.direction = direction_from_string(direction);
+      } catch (const InputError&) {
+        throw InputError(format_error(where, what + ": direction",
+                                      "unknown value '" + direction +
+                                          "'; expected \"\", along_loa, normal_loa, "
+                                          "horizontal, vertical, angle or tacho"));
+      }
+      if (format_version_ >= 2) {
+        const std::string role = attribute_text(obj.get(), "role", where, what).value_or("");
+        try {
+          info.role = role_from_string(role);
+        } catch (const InputError&) {
+          throw InputError(format_error(where, what + ": role",
+                                        "unknown value '" + role +
+                                            "'; expected vibration, tacho, angle, speed, force, "
+                                            "displacement or other"));
+        }
+        info.shaft = attribute_text(obj.get(), "shaft", where, what).value_or("");
+        info.mesh = attribute_text(obj.get(), "mesh", where, what).value_or("");
+        const double ppr = attribute_double(obj.get(), "ppr", where, what).value_or(0.0);
+        if (!(ppr >= 0 && ppr <= 1e6) || ppr != std::floor(ppr)) {
+          throw InputError(format_error(where, what + ": ppr",
+                                        std::to_string(ppr) + " is not an integer in [0, 1e6]"));
+        }
+        info.ppr = static_cast<int>(ppr);
+        if (info.group == "tacho" && (info.role != Role::kTacho || info.ppr < 1)) {
+          throw InputError(
+              format_error(where, what, "a /tacho channel must have role tacho and ppr >= 1"));
+        }
+      } else if (info.group == "tacho") {
+        info.role = Role::kTacho;
+        info.shaft = info.location;
+        info.ppr = 1;
+      }
+      channels_.push_back(std::move(info));
+    }
+  }
+  if (std::none_of(channels_.begin(), channels_.end(),
+                   [](const ChannelInfo& c) { return c.group == "signals"; })) {
+    throw InputError(format_error(where, "/signals", "holds no channels (an empty recording)"));
   }
 }
 
@@ -609,58 +799,73 @@ const ChannelInfo& RecordingReader::channel(const std::string& name) const {
 }
 
 std::string RecordingReader::gearbox_json() const {
-  return string_dataset(file_, "/gearbox", path_.string()).value_or("");
+  const std::string where = path_.string();
+  return reading(where, [&] { return json_dataset(file_, "/gearbox", where).value_or(""); });
 }
 
 std::string RecordingReader::truth_json() const {
-  return string_dataset(file_, "/truth", path_.string()).value_or("");
+  const std::string where = path_.string();
+  return reading(where, [&] { return json_dataset(file_, "/truth", where).value_or(""); });
 }
 
 std::map<std::string, std::string> RecordingReader::metadata() const {
   const std::string where = path_.string();
-  Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
-  std::vector<std::string> names;
-  check(H5Aiterate2(
-            root.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
-            [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-              static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-              return 0;
-            },
-            &names),
-        where, "/ attributes");
-  std::map<std::string, std::string> out;
-  for (const std::string& name : names) {
-    if (std::find_if(kReservedAttributes.begin(), kReservedAttributes.end(),
-                     [&](const char* r) { return name == r; }) != kReservedAttributes.end()) {
-      continue;
+  return reading(where, [&] {
+    Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
+    std::vector<std::string> names;
+    check(H5Aiterate2(
+              root.get(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
+              [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+                static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+                return 0;
+              },
+              &names),
+          where, "/ attributes");
+    std::map<std::string, std::string> out;
+    for (const std::string& name : names) {
+      if (std::find_if(kReservedAttributes.begin(), kReservedAttributes.end(),
+                       [&](const char* r) { return name == r; }) != kReservedAttributes.end()) {
+        continue;
+      }
+      if (auto text = attribute_text(root.get(), name.c_str(), where, "/")) {
+        out[name] = std::move(*text);
+      }
     }
-    if (auto text = attribute_text(root.get(), name.c_str())) out[name] = std::move(*text);
-  }
-  return out;
+    return out;
+  });
 }
 
 bool RecordingReader::roles_stated() const {
-  Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, path_.string(), "/");
-  return attribute_double(root.get(), "roles_stated").value_or(1.0) != 0.0;
+  const std::string where = path_.string();
+  return reading(where, [&] {
+    Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
+    return attribute_double(root.get(), "roles_stated", where, "/").value_or(1.0) != 0.0;
+  });
 }
 
 double RecordingReader::speed_rpm() const {
-  Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, path_.string(), "/");
-  const double rpm = attribute_double(root.get(), "input_speed_rpm").value_or(0.0);
+  const std::string where = path_.string();
+  const double rpm = reading(where, [&] {
+    Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
+    return attribute_double(root.get(), "input_speed_rpm", where, "/").value_or(0.0);
+  });
   if (!(rpm >= 0) || !std::isfinite(rpm)) {
-    throw InputError(format_error(path_.string(), "input_speed_rpm",
+    throw InputError(format_error(where, "input_speed_rpm",
                                   std::to_string(rpm) + " is not a finite speed >= 0"));
   }
   return rpm;
 }
 
 std::map<std::string, std::string> RecordingReader::format_attributes() const {
-  Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, path_.string(), "/");
-  std::map<std::string, std::string> out;
-  for (const char* name : kReservedAttributes) {
-    if (auto text = attribute_text(root.get(), name)) out[name] = std::move(*text);
-  }
-  return out;
+  const std::string where = path_.string();
+  return reading(where, [&] {
+    Hid root = checked(H5Gopen2(file_, "/", H5P_DEFAULT), H5Gclose, where, "/");
+    std::map<std::string, std::string> out;
+    for (const char* name : kReservedAttributes) {
+      if (auto text = attribute_text(root.get(), name, where, "/")) out[name] = std::move(*text);
+    }
+    return out;
+  });
 }
 
 void RecordingReader::read_block(const std::string& name, std::uint64_t offset,
@@ -675,6 +880,13 @@ void RecordingReader::read_block(const std::string& name, std::uint64_t offset,
             ") are past the end (length " + std::to_string(c.length) + ")"));
   }
   if (out.empty()) return;
+  reading(where, [&] { read_samples(what, offset, out); });
+  check_finite(out, offset, where, what);
+}
+
+void RecordingReader::read_samples(const std::string& what, std::uint64_t offset,
+                                   std::span<double> out) const {
+  const std::string where = path_.string();
   Hid ds = checked(H5Dopen2(file_, what.c_str(), H5P_DEFAULT), H5Dclose, where, what);
   Hid file_space = checked(H5Dget_space(ds.get()), H5Sclose, where, what);
   const hsize_t start = offset;
@@ -689,11 +901,11 @@ void RecordingReader::read_block(const std::string& name, std::uint64_t offset,
         where, what,
         "cannot read samples (corrupted file?)" + (detail.empty() ? "" : ": " + detail)));
   }
-  check_finite(out, offset, where, what);
 }
 
-Recording read_recording(const std::filesystem::path& path) {
-  RecordingReader reader(path);
+namespace {
+
+Recording read_all(const RecordingReader& reader) {
   Recording rec;
   for (const ChannelInfo& c : reader.channels()) {
     Signal& s = (c.group == "signals" ? rec.signals : rec.tachos).emplace_back();
@@ -719,6 +931,13 @@ Recording read_recording(const std::filesystem::path& path) {
     rec.roles_stated = reader.roles_stated();
   }
   return rec;
+}
+
+}  // namespace
+
+Recording read_recording(const std::filesystem::path& path) {
+  RecordingReader reader(path);
+  return reading(path.string(), [&] { return read_all(reader); });
 }
 
 }  // namespace diag

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <limits>
 #include <mutex>
 #include <set>
@@ -21,6 +22,8 @@
 
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
+#include "diag/io/input_file.hpp"
+#include "mat_file.hpp"
 
 namespace diag {
 
@@ -66,16 +69,23 @@ bool rates_agree(double a, double b) { return std::abs(a - b) <= kRateRelTol * s
 
 // ---- CSV -----------------------------------------------------------------------------------
 
-// Reads lines from a plain or gzip-compressed file (zlib reads both).
+// Reads lines from a plain or gzip-compressed file (zlib reads both). Bytes are taken as they
+// are (a line may hold any byte but NUL, which no text file has: it is refused, never taken as
+// the end of a line); a line longer than kMaxLineBytes, a file named .gz that is not gzip data, and
+// a corrupt or truncated gzip stream are refused naming the line.
 class LineReader {
  public:
-  LineReader(const std::string& path, const std::string& where) : where_(where) {
+  static constexpr std::size_t kMaxLineBytes = std::size_t{1} << 24;
+
+  LineReader(const std::string& path, const std::string& where, bool gzip_name)
+      : where_(where), gzip_name_(gzip_name) {
     file_ = gzopen(path.c_str(), "rb");
     if (file_ == nullptr) {
       throw InputError(
           format_error(where, "", std::string("cannot open: ") + std::strerror(errno)));
     }
     gzbuffer(file_, 1 << 18);
+    buffer_.resize(1 << 18);
   }
   ~LineReader() { gzclose_r(file_); }
   LineReader(const LineReader&) = delete;
@@ -84,29 +94,66 @@ class LineReader {
   // Next line without its end-of-line characters; false at the end of the file.
   bool next(std::string& line) {
     line.clear();
-    char buffer[8192];
-    while (gzgets(file_, buffer, sizeof buffer) != nullptr) {
-      line.append(buffer);
-      if (!line.empty() && line.back() == '\n') break;
-    }
-    if (line.empty()) {
-      int code = Z_OK;
-      const char* message = gzerror(file_, &code);
-      if (code != Z_OK && code != Z_STREAM_END) {
-        throw InputError(
-            format_error(where_, "", std::string("corrupt or truncated gzip data: ") + message));
+    bool any = false;
+    while (true) {
+      if (pos_ == end_ && !fill()) break;
+      any = true;
+      const char* begin = buffer_.data() + pos_;
+      const auto* nl = static_cast<const char*>(std::memchr(begin, '\n', end_ - pos_));
+      const std::size_t n = nl != nullptr ? static_cast<std::size_t>(nl - begin) : end_ - pos_;
+      if (std::memchr(begin, '\0', n) != nullptr) {
+        throw InputError(format_error(where_, "line " + std::to_string(line_number_ + 1),
+                                      "contains a NUL byte: binary data, not text"));
       }
-      return false;
+      if (line.size() + n > kMaxLineBytes) {
+        throw InputError(
+            format_error(where_, "line " + std::to_string(line_number_ + 1),
+                         "longer than " + std::to_string(kMaxLineBytes) + " bytes: not a CSV row"));
+      }
+      line.append(begin, n);
+      pos_ += n;
+      if (nl != nullptr) {
+        ++pos_;
+        break;
+      }
     }
+    if (!any) return false;
     ++line_number_;
-    while (!line.empty() && (line.back() == '\n' || line.back() == '\r')) line.pop_back();
+    while (!line.empty() && line.back() == '\r') line.pop_back();
     return true;
   }
   std::size_t line_number() const { return line_number_; }
 
  private:
+  // Refills the buffer; false at the end of the data. Throws on a zlib error.
+  bool fill() {
+    if (eof_) return false;
+    const int n = gzread(file_, buffer_.data(), static_cast<unsigned>(buffer_.size()));
+    int code = Z_OK;
+    const char* message = gzerror(file_, &code);
+    if (n < 0 || (code != Z_OK && code != Z_STREAM_END)) {
+      throw InputError(format_error(
+          where_, line_number_ == 0 ? std::string() : "after line " + std::to_string(line_number_),
+          std::string("corrupt or truncated gzip data: ") + message));
+    }
+    if (!checked_gzip_ && n > 0) {
+      checked_gzip_ = true;
+      if (gzip_name_ && gzdirect(file_) != 0) {
+        throw InputError(format_error(where_, "", "named .gz but not gzip-compressed data"));
+      }
+    }
+    pos_ = 0;
+    end_ = static_cast<std::size_t>(n);
+    if (n == 0) eof_ = true;
+    return n > 0;
+  }
+
   std::string where_;
+  bool gzip_name_;
   gzFile file_ = nullptr;
+  std::vector<char> buffer_;
+  std::size_t pos_ = 0, end_ = 0;
+  bool eof_ = false, checked_gzip_ = false;
   std::size_t line_number_ = 0;
 };
 
@@ -166,7 +213,7 @@ bool is_time_column(std::string_view name) {
 
 Recording import_csv(const std::filesystem::path& path, const std::string& where,
                      const ImportOptions& options) {
-  LineReader reader(path.string(), where);
+  LineReader reader(path.string(), where, ends_with(lower(path.filename().string()), ".gz"));
   std::string line;
   bool have_line = false;
   while ((have_line = reader.next(line)) && blank(line)) {
@@ -222,16 +269,19 @@ Recording import_csv(const std::filesystem::path& path, const std::string& where
     }
     for (std::size_t c = 0; c < n_columns; ++c) {
       double value = 0;
-      const std::string field_name = "line " + std::to_string(line_number) + ", column " +
-                                     std::to_string(c + 1) + " ('" + names[c] + "')";
+      // Built only for a message: once per value it was most of the time of a large import.
+      const auto field_name = [&] {
+        return "line " + std::to_string(line_number) + ", column " + std::to_string(c + 1) + " ('" +
+               names[c] + "')";
+      };
       if (!parse_number(fields[c], value)) {
-        throw InputError(format_error(where, field_name,
+        throw InputError(format_error(where, field_name(),
                                       fields[c].empty()
                                           ? std::string("empty field")
                                           : "'" + std::string(fields[c]) + "' is not a number"));
       }
       if (!std::isfinite(value))
-        throw InputError(format_error(where, field_name, finite_error(value)));
+        throw InputError(format_error(where, field_name(), finite_error(value)));
       if (static_cast<int>(c) == time_column) {
         time_resolution = std::min(time_resolution, print_resolution(fields[c]));
       }
@@ -301,8 +351,45 @@ Recording import_csv(const std::filesystem::path& path, const std::string& where
 
 // ---- libsndfile ----------------------------------------------------------------------------
 
+std::uint32_t little_u32(const unsigned char* p) {
+  return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
+         std::uint32_t{p[3]} << 24;
+}
+
+// A RIFF/WAVE file whose "data" chunk declares more bytes than the file holds is refused:
+// libsndfile would read the samples present and report that many frames, taking a cut file for
+// a short recording. The sizes 0 and 0xFFFFFFFF mean "unknown length" (written while streaming)
+// and are left to libsndfile. Other formats are not inspected.
+void check_wav_chunks(const std::filesystem::path& path, const std::string& where,
+                      std::uint64_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char head[12] = {};
+  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return;
+  if (std::memcmp(head, "RIFF", 4) != 0 || std::memcmp(head + 8, "WAVE", 4) != 0) return;
+  std::uint64_t offset = 12;
+  // Each chunk advances by at least 8 bytes: at most file_size / 8 iterations.
+  while (offset + 8 <= file_size) {
+    unsigned char chunk[8];
+    in.seekg(static_cast<std::streamoff>(offset));
+    if (!in.read(reinterpret_cast<char*>(chunk), sizeof chunk)) return;
+    const std::uint64_t size = little_u32(chunk + 4);
+    const std::uint64_t body = offset + 8;
+    if (std::memcmp(chunk, "data", 4) == 0) {
+      if (size != 0 && size != 0xFFFFFFFFu && body + size > file_size) {
+        throw InputError(format_error(where, "data chunk",
+                                      "truncated: the header declares " + std::to_string(size) +
+                                          " bytes of samples, the file holds " +
+                                          std::to_string(file_size - body)));
+      }
+      return;
+    }
+    offset = body + size + (size & 1);  // chunks are padded to an even length
+  }
+}
+
 Recording import_sound(const std::filesystem::path& path, const std::string& where,
-                       const ImportOptions& options) {
+                       const ImportOptions& options, std::uint64_t file_size) {
+  check_wav_chunks(path, where, file_size);
   SF_INFO info{};
   SNDFILE* file = sf_open(path.string().c_str(), SFM_READ, &info);
   if (file == nullptr) {
@@ -312,7 +399,17 @@ Recording import_sound(const std::filesystem::path& path, const std::string& whe
                                       sf_strerror(nullptr)));
   }
   const auto frames = static_cast<std::size_t>(std::max<sf_count_t>(info.frames, 0));
-  const auto channels = static_cast<std::size_t>(info.channels);
+  const auto channels = static_cast<std::size_t>(std::max(info.channels, 0));
+  // A header's frame count is believed only as far as the file could hold it: 1024 samples per
+  // byte bounds even a lossless coder on silence (FLAC's constant subframes), so a corrupted
+  // count cannot make this allocate without limit.
+  if (channels == 0 || frames > file_size * 1024 / channels) {
+    sf_close(file);
+    throw InputError(format_error(where, "",
+                                  "the header declares " + std::to_string(frames) + " frames of " +
+                                      std::to_string(channels) + " channels, more than the " +
+                                      std::to_string(file_size) + "-byte file can hold"));
+  }
   std::vector<double> interleaved(frames * channels);
   const sf_count_t read = sf_readf_double(file, interleaved.data(), info.frames);
   sf_close(file);
@@ -364,6 +461,7 @@ bool numeric_values(const matvar_t* var, std::vector<double>& out) {
   if (var->data_size != static_cast<int>(Mat_SizeOfClass(var->class_type))) return false;
   std::size_t n = 1;
   for (int d = 0; d < var->rank; ++d) n *= var->dims[d];
+  if (var->nbytes != n * static_cast<std::size_t>(var->data_size)) return false;
   switch (var->class_type) {
     case MAT_C_DOUBLE:
       append_as_double<double>(var->data, n, out);
@@ -400,68 +498,77 @@ bool numeric_values(const matvar_t* var, std::vector<double>& out) {
   }
 }
 
-// Integer classes print exactly; floating ones with the shortest round-trip text.
-std::string scalar_text(const matvar_t* var, double value) {
-  const bool integer_class = var->class_type != MAT_C_DOUBLE && var->class_type != MAT_C_SINGLE;
-  if (integer_class) {
-    switch (var->class_type) {
-      case MAT_C_INT64:
-        return std::to_string(*static_cast<const std::int64_t*>(var->data));
-      case MAT_C_UINT64:
-        return std::to_string(*static_cast<const std::uint64_t*>(var->data));
-      default:
-        return std::to_string(static_cast<long long>(value));
-    }
-  }
-  return number_text(value);
-}
-
-Recording import_mat(const std::filesystem::path& path, const std::string& where,
-                     const ImportOptions& options) {
+// MATLAB 7.3 files are HDF5: read through matio (its HDF5 back end). Levels 4 and 5 are decoded
+// by mat_file.hpp, which checks every declared size against the bytes present.
+std::vector<mat::Variable> matio_variables(const std::filesystem::path& path,
+                                           const std::string& where) {
   silence_matio();
   mat_t* mat = Mat_Open(path.string().c_str(), MAT_ACC_RDONLY);
   if (mat == nullptr) {
     throw InputError(format_error(where, "", "not a MATLAB .mat file matio can read"));
   }
-  Recording rec;
-  std::vector<std::pair<std::string, double>> rpm_values;
-  try {
-    while (matvar_t* var = Mat_VarReadNext(mat)) {
-      struct Free {
-        matvar_t* v;
-        ~Free() { Mat_VarFree(v); }
-      } free_var{var};
-      if (var->name == nullptr || var->rank != 2) continue;
-      const std::size_t rows = var->dims[0], cols = var->dims[1];
-      if (rows != 1 && cols != 1) continue;  // matrices and empty arrays are not channels
-      std::vector<double> values;
-      if (!numeric_values(var, values) || values.empty()) continue;
-      if (values.size() == 1) {
-        rec.metadata[var->name] = scalar_text(var, values[0]);
-        const std::string lname = lower(var->name);
-        // A speed stored with the data (CWRU: X097RPM, X105RPM, ...): the input shaft's speed.
-        if (ends_with(lname, "rpm") && values[0] > 0 && values[0] < 1e6) {
-          rpm_values.emplace_back(var->name, values[0]);
-        }
-        continue;
-      }
-      for (std::size_t i = 0; i < values.size(); ++i) {
-        if (!std::isfinite(values[i])) {
-          throw InputError(format_error(
-              where, std::string("variable ") + var->name + ", sample " + std::to_string(i),
-              finite_error(values[i])));
-        }
-      }
-      Signal s;
-      s.name = var->name;
-      s.samples = std::move(values);
-      rec.signals.push_back(std::move(s));
+  std::vector<mat::Variable> vars;
+  while (matvar_t* var = Mat_VarReadNext(mat)) {
+    struct Free {
+      matvar_t* v;
+      ~Free() { Mat_VarFree(v); }
+    } free_var{var};
+    mat::Variable v;
+    if (var->name == nullptr || !numeric_values(var, v.values)) continue;
+    v.name = var->name;
+    v.dims.assign(var->dims, var->dims + var->rank);
+    v.integer_class = var->class_type != MAT_C_DOUBLE && var->class_type != MAT_C_SINGLE;
+    if (v.values.size() == 1 && var->class_type == MAT_C_INT64) {
+      v.exact_text = std::to_string(*static_cast<const std::int64_t*>(var->data));
     }
-  } catch (...) {
-    Mat_Close(mat);
-    throw;
+    if (v.values.size() == 1 && var->class_type == MAT_C_UINT64) {
+      v.exact_text = std::to_string(*static_cast<const std::uint64_t*>(var->data));
+    }
+    vars.push_back(std::move(v));
   }
   Mat_Close(mat);
+  return vars;
+}
+
+// Integer classes print exactly; floating ones with the shortest round-trip text.
+std::string scalar_text(const mat::Variable& v) {
+  if (!v.exact_text.empty()) return v.exact_text;
+  if (v.integer_class) return std::to_string(static_cast<long long>(v.values[0]));
+  return number_text(v.values[0]);
+}
+
+Recording import_mat(const std::filesystem::path& path, const std::string& where,
+                     const ImportOptions& options, std::uint64_t file_size) {
+  std::vector<mat::Variable> vars = mat::is_mat73(path)
+                                        ? matio_variables(path, where)
+                                        : mat::read_numeric_variables(path, where, file_size);
+  Recording rec;
+  std::vector<std::pair<std::string, double>> rpm_values;
+  for (mat::Variable& var : vars) {
+    if (var.dims.size() != 2) continue;
+    if (var.dims[0] != 1 && var.dims[1] != 1) continue;  // matrices are not channels
+    if (var.values.empty()) continue;
+    if (var.values.size() == 1) {
+      rec.metadata[var.name] = scalar_text(var);
+      const std::string lname = lower(var.name);
+      // A speed stored with the data (CWRU: X097RPM, X105RPM, ...): the input shaft's speed.
+      if (ends_with(lname, "rpm") && var.values[0] > 0 && var.values[0] < 1e6) {
+        rpm_values.emplace_back(var.name, var.values[0]);
+      }
+      continue;
+    }
+    for (std::size_t i = 0; i < var.values.size(); ++i) {
+      if (!std::isfinite(var.values[i])) {
+        throw InputError(format_error(where,
+                                      "variable " + var.name + ", sample " + std::to_string(i),
+                                      finite_error(var.values[i])));
+      }
+    }
+    Signal s;
+    s.name = var.name;
+    s.samples = std::move(var.values);
+    rec.signals.push_back(std::move(s));
+  }
   if (rec.signals.empty()) {
     throw InputError(format_error(where, "", "no numeric vector variables (channels) found"));
   }
@@ -512,19 +619,14 @@ Recording import_hdf5(const std::filesystem::path& path, const std::string& wher
 
 Recording import_recording(const std::filesystem::path& path, const ImportOptions& options) {
   const std::string where = path.string();
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(format_error(where, "", "no such file"));
-  if (std::filesystem::is_directory(path, ec)) {
-    throw InputError(format_error(where, "", "is a directory, not a file"));
-  }
-  if (std::filesystem::file_size(path, ec) == 0 && !ec) {
-    throw InputError(format_error(where, "", "empty file"));
-  }
+  // A FIFO, a device (/dev/zero, also through a link), a directory: refused before any reader
+  // opens them, so that none can wait or read without end.
+  const std::uint64_t file_size = check_input_file(path);
   const std::string name = lower(path.filename().string());
 
   Recording rec;
   if (ends_with(name, ".mat")) {
-    rec = import_mat(path, where, options);
+    rec = import_mat(path, where, options, file_size);
   } else if (is_hdf5_file(path)) {
     rec = import_hdf5(path, where, options);
   } else if (ends_with(name, ".csv") || ends_with(name, ".csv.gz") || ends_with(name, ".tsv") ||
@@ -533,7 +635,7 @@ Recording import_recording(const std::filesystem::path& path, const ImportOption
   } else if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) {
     throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
   } else {
-    rec = import_sound(path, where, options);
+    rec = import_sound(path, where, options, file_size);
   }
   rec.metadata.try_emplace("source", path.filename().string());
   if (!is_hdf5_file(path)) {

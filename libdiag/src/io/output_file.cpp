@@ -6,10 +6,11 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <iostream>
+#include <mutex>
 #include <system_error>
 #include <vector>
 
@@ -70,22 +71,102 @@ bool write_all(int fd, const char* data, std::size_t size) {
   return true;
 }
 
-// Removes a temporary file when it goes out of scope, unless released.
+// Closes a file descriptor (when >= 0) at the end of its scope.
+class Descriptor {
+ public:
+  explicit Descriptor(int fd) : fd_(fd) {}
+  ~Descriptor() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  Descriptor(const Descriptor&) = delete;
+  Descriptor& operator=(const Descriptor&) = delete;
+
+ private:
+  int fd_;
+};
+
+// Named temporary files removed by SIGINT, SIGTERM and SIGHUP: the handler unlinks every
+// registered name (unlink is async-signal-safe), restores the default action and re-raises, so
+// the process still dies of the signal. Installed only where the program left the default
+// action. SIGKILL cannot be caught: that is why named temporaries are the fallback only
+// (write_output_file) or live for the write alone.
+constexpr int kCleanupSlots = 16;
+constexpr std::size_t kCleanupPathBytes = 4096;
+
+struct CleanupSlot {
+  std::atomic<bool> claimed{false};
+  std::atomic<bool> armed{false};
+  char path[kCleanupPathBytes];
+};
+CleanupSlot cleanup_slots[kCleanupSlots];
+
+extern "C" void remove_temporaries_and_die(int sig) {
+  for (CleanupSlot& slot : cleanup_slots) {
+    if (slot.armed.load()) ::unlink(slot.path);
+  }
+  ::signal(sig, SIG_DFL);
+  ::raise(sig);
+}
+
+void install_cleanup_handlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    for (const int sig : {SIGINT, SIGTERM, SIGHUP}) {
+      struct sigaction old {};
+      if (::sigaction(sig, nullptr, &old) != 0 || old.sa_handler != SIG_DFL) continue;
+      struct sigaction sa {};
+      sa.sa_handler = remove_temporaries_and_die;
+      sigemptyset(&sa.sa_mask);
+      ::sigaction(sig, &sa, nullptr);
+    }
+  });
+}
+
+// Registers `path` for removal on a signal; -1 when every slot is taken or the path too long.
+int arm_cleanup(const fs::path& path) {
+  install_cleanup_handlers();
+  const std::string& text = path.native();
+  if (text.size() >= kCleanupPathBytes) return -1;
+  for (int i = 0; i < kCleanupSlots; ++i) {
+    CleanupSlot& slot = cleanup_slots[i];
+    if (slot.claimed.exchange(true)) continue;
+    std::memcpy(slot.path, text.c_str(), text.size() + 1);
+    slot.armed.store(true);
+    return i;
+  }
+  return -1;
+}
+
+void disarm_cleanup(int slot) {
+  if (slot < 0) return;
+  cleanup_slots[slot].armed.store(false);
+  cleanup_slots[slot].claimed.store(false);
+}
+
+// Removes a temporary file when it goes out of scope, unless released; removed on SIGINT and
+// SIGTERM too.
 class TempFile {
  public:
-  explicit TempFile(fs::path path) : path_(std::move(path)) {}
+  explicit TempFile(fs::path path) : path_(std::move(path)), slot_(arm_cleanup(path_)) {}
   ~TempFile() {
-    if (path_.empty()) return;
-    std::error_code ignored;
-    fs::remove(path_, ignored);
+    if (!path_.empty()) {
+      std::error_code ignored;
+      fs::remove(path_, ignored);
+    }
+    disarm_cleanup(slot_);
   }
   TempFile(const TempFile&) = delete;
   TempFile& operator=(const TempFile&) = delete;
   const fs::path& path() const { return path_; }
-  void release() { path_.clear(); }
+  void release() {
+    path_.clear();
+    disarm_cleanup(slot_);
+    slot_ = -1;
+  }
 
  private:
   fs::path path_;
+  int slot_;
 };
 
 fs::path temp_beside(const fs::path& target) {
@@ -136,6 +217,64 @@ int open_stream(const OutputTarget& t, const std::string& what) {
 void close_stream(int fd, const OutputTarget& t, const std::string& what) {
   if (fd == STDOUT_FILENO) return;
   if (::close(fd) != 0) fail_output(t.path, what, "write failed: " + errno_text());
+}
+
+// Makes a regular file as an anonymous file (O_TMPFILE) in the target's directory, filled by
+// `fill(fd)`, and only then gives it a name: linkat straight to the target when there is none,
+// else to "<target>.tmp-<pid>" renamed over the target at once. A run killed while writing
+// leaves nothing: the kernel frees an anonymous file with its last descriptor. False, with
+// nothing done, where the file system or kernel has no O_TMPFILE or no /proc: the caller then
+// writes a named temporary file.
+bool write_anonymous(const OutputTarget& t, const std::string& what, int mode,
+                     const std::function<void(int fd)>& fill) {
+  fs::path dir = t.target.parent_path();
+  if (dir.empty()) dir = ".";
+  const int fd = ::open(dir.c_str(), O_TMPFILE | O_RDWR | O_CLOEXEC, 0666);
+  if (fd < 0) return false;
+  const Descriptor closer(fd);
+  const std::string self = "/proc/self/fd/" + std::to_string(fd);
+  if (::access(self.c_str(), F_OK) != 0) return false;  // no /proc: linkat could not name it
+  fill(fd);
+  if (mode >= 0 && ::fchmod(fd, static_cast<mode_t>(mode)) != 0) {
+    fail_output(t.path, what, "cannot set the permissions: " + errno_text());
+  }
+  if (mode < 0) {
+    if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, t.target.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+      return true;
+    }
+    if (errno != EEXIST) {
+      fail_output(t.path, what, "cannot create the file: " + errno_text());
+    }
+  }
+  TempFile tmp(temp_beside(t.target));
+  if (::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, tmp.path().c_str(), AT_SYMLINK_FOLLOW) != 0) {
+    const int err = errno;
+    tmp.release();  // not created here (or, for EEXIST, not ours)
+    fail_output(t.path, what, "cannot create " + tmp.path().string() + ": " + std::strerror(err));
+  }
+  rename_into_place(tmp, t, what, -1);
+  tmp.release();
+  return true;
+}
+
+// Removes "<target>.tmp-<pid>" files left beside `target` by runs that were killed (SIGKILL cannot
+// be caught) while writing a file through a name (write_output_file_via): those whose process no
+// longer exists. A running writer's file is left alone.
+void remove_stale_temporaries(const fs::path& target) {
+  const std::string prefix = target.filename().string() + ".tmp-";
+  fs::path dir = target.parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    const auto pid = static_cast<pid_t>(std::stol(digits));
+    if (pid == ::getpid() || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    std::error_code ignored;
+    if (it->is_regular_file(ignored)) fs::remove(it->path(), ignored);
+  }
 }
 
 }  // namespace
@@ -223,6 +362,12 @@ void write_output_file(const fs::path& path, std::string_view bytes, const std::
     return;
   }
   const int mode = existing_mode(t.target);
+  const bool anonymous = write_anonymous(t, what, mode, [&](int fd) {
+    if (!write_all(fd, bytes.data(), bytes.size())) {
+      fail_output(path, what, "write failed: " + errno_text());
+    }
+  });
+  if (anonymous) return;
   TempFile tmp(temp_beside(t.target));
   // O_NOFOLLOW: never write through a link someone placed at the temporary name.
   const int fd =
@@ -248,6 +393,7 @@ void write_output_file_via(const fs::path& path,
   const OutputTarget t = check_output_path(path, what);
   if (t.kind == OutputKind::kRegular) {
     const int mode = existing_mode(t.target);
+    remove_stale_temporaries(t.target);
     TempFile tmp(temp_beside(t.target));
     write_file(tmp.path());
     rename_into_place(tmp, t, what, mode);
@@ -257,28 +403,30 @@ void write_output_file_via(const fs::path& path,
   // A FIFO, a device or stdout cannot be renamed onto, and writers such as HDF5 seek: the file is
   // made in the temporary directory, then streamed.
   static std::atomic<unsigned> counter{0};
-  const TempFile tmp(fs::temp_directory_path() / ("geardiag-" + std::to_string(::getpid()) + "-" +
-                                                  std::to_string(counter++) + ".tmp"));
-  write_file(tmp.path());
-  std::ifstream in(tmp.path(), std::ios::binary);
-  if (!in) fail_output(path, what, "cannot read back " + tmp.path().string());
+  const TempFile named(fs::temp_directory_path() / ("geardiag-" + std::to_string(::getpid()) + "-" +
+                                                    std::to_string(counter++) + ".tmp"));
+  write_file(named.path());
+  const int src = ::open(named.path().c_str(), O_RDONLY | O_CLOEXEC);
+  if (src < 0) fail_output(path, what, "cannot read back " + named.path().string());
+  const Descriptor source(src);
   const int fd = open_stream(t, what);
   std::vector<char> buf(1 << 16);
-  bool ok = true;
   std::string reason;
-  while (ok && in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    const auto n = static_cast<std::size_t>(in.gcount());
-    if (n > 0 && !write_all(fd, buf.data(), n)) {
-      ok = false;
-      reason = errno_text();
+  for (off_t offset = 0;;) {
+    const ssize_t n = ::pread(src, buf.data(), buf.size(), offset);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      reason = "cannot read back the temporary file: " + errno_text();
+      break;
     }
+    if (n == 0) break;
+    if (!write_all(fd, buf.data(), static_cast<std::size_t>(n))) {
+      reason = errno_text();
+      break;
+    }
+    offset += n;
   }
-  if (ok && in.bad()) {
-    ok = false;
-    reason = "cannot read back " + tmp.path().string();
-  }
-  if (!ok) {
+  if (!reason.empty()) {
     if (fd != STDOUT_FILENO) ::close(fd);
     fail_output(path, what, "write failed: " + reason);
   }

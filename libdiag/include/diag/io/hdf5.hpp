@@ -19,8 +19,17 @@
 //
 // Writing goes through diag/io/output_file.hpp: a regular file is written to "<path>.tmp-<pid>"
 // and renamed into place on success, so a failed write never leaves a half-written file under the
-// requested name; a symbolic link is written through, a FIFO, device or "-" (stdout) receives the
-// bytes of a finished file.
+// requested name (the temporary file is removed on errors and on SIGINT/SIGTERM; HDF5 needs a
+// name, so no anonymous file: /proc/self/fd/N fails HDF5's real-path lookup, and 1.10's
+// H5Fget_file_image gives a wrong superblock-v2 checksum); a symbolic link is written through, a
+// FIFO, device or "-" (stdout) receives the bytes of a finished file.
+//
+// Reading treats every file as untrusted: FIFOs and devices are refused before HDF5 opens them;
+// soft and external links, zero-length or non-1-D channels, a declared length the stored bytes
+// cannot hold, a /gearbox or /truth that is not JSON, an empty /signals and any HDF5 error on the
+// read path are InputErrors naming the file and object (exit 2). A forked child reads the file
+// first, so a crash or endless loop inside the HDF5 library refuses the file instead of killing or
+// hanging the program (hdf5.cpp, survey_in_child).
 #pragma once
 
 #include <cstdint>
@@ -86,6 +95,9 @@ class RecordingReader {
   void read_block(const std::string& name, std::uint64_t offset, std::span<double> out) const;
 
  private:
+  void open_channels();
+  void read_samples(const std::string& what, std::uint64_t offset, std::span<double> out) const;
+
   std::filesystem::path path_;
   std::int64_t file_ = -1;  // hid_t
   std::vector<ChannelInfo> channels_;

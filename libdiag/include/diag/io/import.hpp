@@ -9,6 +9,12 @@
 // after the variable; scalar numeric variables go to the recording's metadata (e.g. X097RPM).
 // The sampling rate is not stored in .mat files: options.fs_hz is required.
 // WAV: one channel per audio channel, named ch0, ch1, ...; fs from the file unless overridden.
+//
+// Damage is refused, never read as data (docs/notes/reliability.md): a path that is not a regular
+// file (FIFO, device, directory) before any reader opens it; CSV lines holding a NUL byte; a
+// corrupt or truncated gzip stream, or a ".gz" that is not gzip; a WAV "data" chunk shorter than
+// its header says; a .mat file whose declared sizes (dimensions, byte counts, compressed sizes) the
+// bytes present do not bear out (levels 4 and 5 are decoded by mat_file.cpp, level 7.3 by matio).
 #pragma once
 
 #include <filesystem>
@@ -24,7 +30,7 @@ struct ImportOptions {
 
 // Dispatches on the content (HDF5 signature) and the file name ending. Throws InputError naming
 // the file and the reason: empty file, ragged CSV rows, non-numeric fields, NaN/Inf samples,
-// missing or non-positive sampling rate, unreadable format.
+// missing or non-positive sampling rate, unreadable format, and the damage above.
 Recording import_recording(const std::filesystem::path& path, const ImportOptions& options = {});
 
 }  // namespace diag

@@ -5,9 +5,15 @@
 // What a path may name, after following symbolic links (a link stays a link; its final target is
 // written):
 //   "-", /dev/stdout        standard output (also /dev/fd/1, /proc/self/fd/1)
-//   a regular file or none  written to "<target>.tmp-<pid>" beside the target, then renamed over
-//                           it (an existing file's permission bits are kept); the temporary file
-//                           is removed on any failure
+//   a regular file or none  write_output_file: written as an anonymous file (O_TMPFILE) in the
+//                           target's directory, then linked to the target (or to
+//                           "<target>.tmp-<pid>" renamed over an existing target), so a killed
+//                           run leaves nothing; falls back to a named "<target>.tmp-<pid>" where
+//                           O_TMPFILE or /proc is missing. write_output_file_via (HDF5, which
+//                           opens files by name): the named temporary file, removed on any error
+//                           and on SIGINT/SIGTERM/SIGHUP; one left by a run killed with SIGKILL is
+//                           removed by the next write to the same target. An existing file's
+//                           permission bits are kept.
 //   a FIFO or a device      opened and written in place: no temporary file, no rename (a FIFO's
 //                           open waits for a reader); so is an open file named through /proc
 //                           (/dev/stderr, /dev/fd/N)

@@ -1,0 +1,46 @@
+// Shared by the libFuzzer targets (fuzz/README in FUZZING.md): the readers take file names, so
+// each input is written to a file in /dev/shm (or the temporary directory) with the extension
+// the reader dispatches on. An InputError is the expected answer to a bad input; any other
+// exception is a finding (the CLI would exit 3) and aborts, as do crashes, leaks and undefined
+// behaviour (AddressSanitizer, UndefinedBehaviorSanitizer).
+#pragma once
+
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "diag/error.hpp"
+
+namespace fuzz {
+
+inline std::filesystem::path input_file(const char* extension, const std::uint8_t* data,
+                                        std::size_t size) {
+  static const std::filesystem::path dir = std::filesystem::is_directory("/dev/shm")
+                                               ? std::filesystem::path("/dev/shm")
+                                               : std::filesystem::temp_directory_path();
+  const std::filesystem::path path =
+      dir / ("geardiag-fuzz-" + std::to_string(::getpid()) + extension);
+  std::ofstream(path, std::ios::binary | std::ios::trunc)
+      .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  return path;
+}
+
+template <typename F>
+void expect_input_error_only(F&& f) {
+  try {
+    f();
+  } catch (const diag::InputError&) {
+    // the expected refusal
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "fuzz: not an InputError (the CLI would exit 3): %s\n", e.what());
+    std::abort();
+  }
+}
+
+}  // namespace fuzz
