@@ -156,6 +156,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   if (gb) {
     r.gearbox_name = gb->name();
     kin = shaft_kinematics(rec, *gb, r.duration_s, opt, r.notes);
+    refine_tsa_pulses(rec, *gb, opt, kin, r.notes);
     r.shafts = kin.speeds;
     r.speed = kin.speed;
     // At varying speed every spectrum of a channel is an order spectrum: the channel resampled

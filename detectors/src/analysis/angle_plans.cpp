@@ -78,7 +78,8 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   // shaft-rate sidebands. Measured on the healthy two-stage run-up 500 -> 3000 rpm
   // (analyze_run_up_test.cpp): raw pulses: mesh z1_z2 "pointed" at the input in 21 of 28
   // channels; +-4 revolutions: at the counter in 15 of 28; +-10 and +-20: no channel count
-  // passes. The TSA and the locator keep the raw pulses (they average the jitter out).
+  // passes. The TSA and the locator use the pulses corrected once (refine_tsa_pulses,
+  // kinematics.hpp): a polynomial fit over the record and a mesh line's phase.
   // The speed from the vibration has no such jitter (its angle is the mesh line's phase).
   constexpr int kTachoSmoothingHalfWindow = 10;
   const auto& input_pulses = kin.pulses_s[static_cast<std::size_t>(ctx.input)];
@@ -92,7 +93,7 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
     } catch (const diag::InputError&) {
     }
     for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
-      const auto& pulses = kin.pulses_s[s];
+      const auto& pulses = kin.tsa_pulses_s[s];
       const int revs = pulses.size() > 1 ? static_cast<int>(pulses.size()) - 1 : 0;
       if (gb->shafts()[s].gears.empty() || revs < opt.tsa_min_revolutions) continue;
       try {

@@ -21,7 +21,7 @@ void tsa_stage(const AnalysisContext& ctx, const AngularRecords& ang, std::size_
     std::vector<int> orders;
     for (int g : shaft.gears) orders.push_back(gb.gears()[static_cast<std::size_t>(g)].spec.teeth);
     const int spr = tsa_samples_per_rev(gb, s, opt);
-    const auto& pulses = ctx.kin.pulses_s[s];
+    const auto& pulses = ctx.kin.tsa_pulses_s[s];  // corrected once (kinematics.hpp)
     const int revs = pulses.size() > 1 ? static_cast<int>(pulses.size()) - 1 : 0;
     if (revs < opt.tsa_min_revolutions) {
       ta.note = std::to_string(revs) + " revolutions in the record, fewer than " +

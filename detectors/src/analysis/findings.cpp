@@ -179,11 +179,14 @@ void gear_damage_stage(const AnalysisContext& ctx, AnalysisResult& r) {
   bool has_gear_shaft = false;
   for (const diag::Shaft& sh : ctx.gb->shafts()) has_gear_shaft |= !sh.gears.empty();
   if (has_gear_shaft) {
-    const int ref = ctx.kin.reference_shaft >= 0 ? ctx.kin.reference_shaft : ctx.input;
+    // The revolutions are the ones analyze's TSA used, corrected once (refine_tsa_pulses): the
+    // locator does not smooth or correct them again.
+    GearDamageOptions o = ctx.opt.gear_damage;
+    o.pulse_fit_degree = 0;
+    o.refine_speed = false;
     try {
-      r.gear_damage =
-          locate_gear_damage(ctx.rec, *ctx.gb, ctx.gb->shafts()[static_cast<std::size_t>(ref)].name,
-                             ctx.kin.pulses_s[static_cast<std::size_t>(ref)], ctx.opt.gear_damage);
+      r.gear_damage = locate_gear_damage(ctx.rec, *ctx.gb, ctx.kin.tsa_reference,
+                                         ctx.kin.tsa_reference_pulses, o);
       r.gear_damage_angles = ctx.kin.speed.source;
     } catch (const diag::InputError& e) {
       r.notes.push_back(std::string("damaged-shaft location skipped: ") + e.what());

@@ -5,6 +5,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "detect/angular/pulse_refine.hpp"
+#include "detect/angular/resample.hpp"
 #include "detect/angular/speed_estimate.hpp"
 #include "detect/angular/tacho.hpp"
 #include "diag/error.hpp"
@@ -212,6 +214,36 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
   k.speed.mean_rpm = k.speed.min_rpm = k.speed.max_rpm = gb.shaft_speed_rpm(input);
   k.speed.stationary = true;
   return k;
+}
+
+void refine_tsa_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
+                       const AnalyzeOptions& opt, ShaftKinematics& k,
+                       std::vector<std::string>& notes) {
+  k.tsa_pulses_s = k.pulses_s;
+  const int ref = k.reference_shaft >= 0 ? k.reference_shaft : gb.input_shaft();
+  k.tsa_reference = gb.shafts()[static_cast<std::size_t>(ref)].name;
+  k.tsa_reference_pulses = k.pulses_s[static_cast<std::size_t>(ref)];
+  const GearDamageOptions& g = opt.gear_damage;
+  PulseRefineOptions pro;
+  pro.pulse_fit_degree = g.pulse_fit_degree;
+  pro.phase_correction = g.refine_speed;
+  pro.band_fraction = g.band_fraction;
+  pro.samples_per_rev = g.samples_per_rev;
+  pro.min_revolutions = g.min_revolutions;
+  pro.channels = g.channels;
+  try {
+    const RefinedPulses rp = refine_pulses(rec, gb, k.tsa_reference, k.tsa_reference_pulses, pro);
+    const double base =
+        std::abs(gb.shafts()[static_cast<std::size_t>(gb.shaft_index(rp.shaft))].speed_ratio);
+    for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
+      k.tsa_pulses_s[s] = scale_pulses(rp.pulses, std::abs(gb.shafts()[s].speed_ratio) / base);
+    }
+    k.tsa_reference = rp.shaft;
+    k.tsa_reference_pulses = rp.pulses;
+    if (!rp.note.empty()) notes.push_back("TSA revolutions: " + rp.note);
+  } catch (const diag::InputError& e) {
+    notes.push_back(std::string("TSA revolutions not corrected (pulses as measured): ") + e.what());
+  }
 }
 
 }  // namespace detect
