@@ -91,6 +91,7 @@ int cmd_attribute(int argc, char** argv) {
     }
     return diag::parse_gearbox_text(rec.gearbox_json, recording + ": /gearbox");
   }();
+  print_warnings(gb.warnings(), "attribute");
   detect::AttributionResult r;
   try {
     r = detect::attribute_defects(in.samples, out.samples, gb, opt);
@@ -110,7 +111,11 @@ int cmd_attribute(int argc, char** argv) {
       }
     }
   }
-  if (!json_out.empty()) write_output(json_out, detect::to_json(r).dump(2) + "\n", "--json");
+  if (!json_out.empty()) {
+    nlohmann::json j = detect::to_json(r);
+    j["warnings"] = gb.warnings();
+    write_output(json_out, j.dump(2) + "\n", "--json");
+  }
   return r.multiplicity ? 1 : 0;
 }
 

@@ -16,6 +16,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
+#include "output.hpp"
 
 namespace geardiag {
 
@@ -192,6 +193,7 @@ int cmd_info(int argc, char** argv) {
   if (!gearbox.empty()) {
     if (!file.empty()) throw po::error("give either FILE or --gearbox, not both");
     const diag::Gearbox gb = diag::load_gearbox(gearbox);
+    print_warnings(gb.warnings(), "info");
     if (json) {
       std::cout << diag::summary_json(gb).dump(2) << "\n";
     } else {
