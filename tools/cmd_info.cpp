@@ -16,6 +16,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
+#include "diag/io/json_fields.hpp"
 #include "output.hpp"
 
 namespace geardiag {
@@ -84,8 +85,12 @@ std::optional<diag::Gearbox> gearbox_of(const Description& d) {
 
 nlohmann::json truth_of(const Description& d) {
   if (d.truth_json.empty()) return nullptr;
-  auto truth = nlohmann::json::parse(d.truth_json, nullptr, /*allow_exceptions=*/false);
-  return truth.is_discarded() ? nlohmann::json(d.truth_json) : truth;
+  // Shown as text when it is not JSON within the limits (depth, size): never parsed unbounded.
+  try {
+    return diag::parse_json_text(d.truth_json, d.file + ": /truth");
+  } catch (const diag::InputError&) {
+    return nlohmann::json(d.truth_json);
+  }
 }
 
 void print_text(const Description& d) {

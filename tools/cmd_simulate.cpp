@@ -129,7 +129,14 @@ int cmd_simulate(int argc, char** argv) {
   if (!scenario.empty()) sc = sim::load_scenario(scenario);
   if (vm.count("duration")) sc.run.duration_s = duration_s;
   if (vm.count("fs")) sc.run.fs_hz = fs_hz;
-  if (vm.count("rpm")) sc.dynamics.speed = sim::SpeedProfile::constant(rpm);
+  if (vm.count("rpm")) {
+    // 0 would mean "the description's speed" inside the options: refused here, not ignored.
+    if (!(rpm > 0) || !std::isfinite(rpm) || rpm > diag::kMaxSpeedRpm) {
+      throw diag::InputError("--rpm: " + std::to_string(rpm) + " is not a speed in (0, " +
+                             std::to_string(static_cast<long>(diag::kMaxSpeedRpm)) + "] rpm");
+    }
+    sc.dynamics.speed = sim::SpeedProfile::constant(rpm);
+  }
   if (vm.count("torque")) {
     if (!(torque >= 0)) throw diag::InputError("--torque: must be >= 0");
     sc.dynamics.input_torque_nm = torque;

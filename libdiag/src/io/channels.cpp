@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -237,18 +236,7 @@ ChannelMap parse_channel_map(const nlohmann::json& j, const std::string& where) 
 }
 
 ChannelMap load_channel_map(const std::filesystem::path& path) {
-  const std::string where = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(format_error(where, "", "cannot open the file"));
-  std::ostringstream text;
-  text << in.rdbuf();
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(format_error(where, "", std::string("not valid JSON: ") + e.what()));
-  }
-  return parse_channel_map(j, where);
+  return parse_channel_map(load_json_file(path), path.string());
 }
 
 ChannelMapEntry parse_tacho_option(const std::string& text, const std::string& option) {

@@ -18,6 +18,14 @@
 
 namespace diag {
 
+// Documented upper bounds of a description (README "Limits"); beyond them parse_gearbox refuses
+// with the field named, before any derived quantity is computed.
+inline constexpr int kMaxTeeth = 1000;
+inline constexpr double kMinModuleMm = 0.05, kMaxModuleMm = 100.0;
+inline constexpr double kMaxSpeedRpm = 1e5;           // input shaft [rpm]
+inline constexpr double kMaxTorqueNm = 1e7;           // input torque [N m]
+inline constexpr std::size_t kMaxGearboxItems = 256;  // shafts, gears, meshes, bearings, defects
+
 struct GearEntry {
   std::string name;
   std::string shaft;
