@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
 #include "diag/io/channels.hpp"
 
 namespace po = boost::program_options;
@@ -28,8 +29,15 @@ void ChannelOptions::add_to(po::options_description& desc, bool with_rpm) {
       "tacho", po::value(&tachos)->value_name("CHANNEL=SHAFT[:PPR]")->composing(),
       "CHANNEL is the tacho of SHAFT with PPR pulses per revolution (default 1); repeatable");
   if (with_rpm) {
-    desc.add_options()("rpm", po::value(&rpm)->value_name("RPM"),
-                       "input shaft speed [rpm]: overrides the description's and the file's");
+    // Checked when given: 0 is "not given" inside the struct, so --rpm 0 must not pass silently.
+    desc.add_options()("rpm", po::value(&rpm)->value_name("RPM")->notifier([](double v) {
+      if (!(v > 0) || !std::isfinite(v) || v > diag::kMaxSpeedRpm) {
+        throw diag::InputError("--rpm: " + fmt(v) + " is not a speed in (0, " +
+                               fmt(diag::kMaxSpeedRpm) + "] rpm");
+      }
+    }),
+                       "input shaft speed [rpm], (0, 1e5]: overrides the description's and the "
+                       "file's");
   }
 }
 

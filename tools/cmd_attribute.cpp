@@ -14,6 +14,8 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
+#include "diag/io/json_fields.hpp"
+#include "diag/units.hpp"
 #include "output.hpp"
 
 namespace po = boost::program_options;
@@ -35,6 +37,36 @@ bool csv_has_time_column(const std::filesystem::path& p) {
     if (f == "time" || f == "t" || f == "time_s" || f == "time_sec") return true;
   }
   return false;
+}
+
+}  // namespace
+
+namespace {
+
+// The simulated truth stored with a recording, read defensively: a /truth that is not JSON or
+// whose defects have other types is an InputError naming the recording, never a crash.
+void print_truth(const std::string& text, const std::string& recording) {
+  const nlohmann::json truth = diag::parse_json_text(text, recording + ": /truth");
+  if (!truth.is_object() || !truth.contains("defects")) return;
+  const nlohmann::json& defects = truth["defects"];
+  if (!defects.is_array()) {
+    throw diag::InputError(recording + ": /truth: defects: must be an array");
+  }
+  std::cout << "truth (simulated recording):\n";
+  for (std::size_t i = 0; i < defects.size(); ++i) {
+    const nlohmann::json& d = defects[i];
+    const std::string path = "defects[" + std::to_string(i) + "]";
+    auto field = [&](const char* key, bool text) -> const nlohmann::json& {
+      if (!d.is_object() || !d.contains(key) || (text ? !d[key].is_string() : !d[key].is_number()))
+        throw diag::InputError(diag::format_error(recording + ": /truth", path + "." + key,
+                                                  text ? "must be a string" : "must be a number"));
+      return d[key];
+    };
+    std::cout << "  " << field("gear", true).get<std::string>() << " on "
+              << field("shaft", true).get<std::string>() << ": period "
+              << field("period_input_rev", false).get<double>() << " input rev, size at output "
+              << diag::units::rad_to_deg(field("size_output_rad", false).get<double>()) << " deg\n";
+  }
 }
 
 }  // namespace
@@ -91,6 +123,7 @@ int cmd_attribute(int argc, char** argv) {
     }
     return diag::parse_gearbox_text(rec.gearbox_json, recording + ": /gearbox");
   }();
+  print_warnings(gb.warnings(), "attribute");
   detect::AttributionResult r;
   try {
     r = detect::attribute_defects(in.samples, out.samples, gb, opt);
@@ -98,19 +131,12 @@ int cmd_attribute(int argc, char** argv) {
     throw diag::InputError(recording + ": " + e.what());
   }
   std::cout << detect::format_table(r);
-  if (!rec.truth_json.empty()) {
-    const auto truth = nlohmann::json::parse(rec.truth_json);
-    if (truth.contains("defects")) {
-      std::cout << "truth (simulated recording):\n";
-      for (const auto& d : truth["defects"]) {
-        std::cout << "  " << d["gear"].get<std::string>() << " on " << d["shaft"].get<std::string>()
-                  << ": period " << d["period_input_rev"].get<double>()
-                  << " input rev, size at output "
-                  << d["size_output_rad"].get<double>() * 57.29577951308232 << " deg\n";
-      }
-    }
+  if (!rec.truth_json.empty()) print_truth(rec.truth_json, recording);
+  if (!json_out.empty()) {
+    nlohmann::json j = detect::to_json(r);
+    j["warnings"] = gb.warnings();
+    write_output(json_out, j.dump(2) + "\n", "--json");
   }
-  if (!json_out.empty()) write_output(json_out, detect::to_json(r).dump(2) + "\n", "--json");
   return r.multiplicity ? 1 : 0;
 }
 

@@ -53,10 +53,19 @@ int cmd_import(int argc, char** argv) {
        "sampling rate [Hz], > 0: required for .mat and for CSV without a time column; checked "
        "against a CSV time column (0.1 %); replaces a sound file's rate")  //
       ("chunk-samples",
-       po::value<std::size_t>(&write_options.chunk_samples)
-           ->default_value(write_defaults.chunk_samples)
-           ->value_name("N"),
-       "HDF5 chunk length [samples], >= 1")  //
+       // Read signed and checked: an unsigned option would take -1 as 2^64 - 1.
+       po::value<long long>()
+           ->default_value(static_cast<long long>(write_defaults.chunk_samples))
+           ->value_name("N")
+           ->notifier([&](long long v) {
+             constexpr long long kMaxChunk = 1LL << 24;
+             if (v < 1 || v > kMaxChunk) {
+               throw diag::InputError("--chunk-samples: " + std::to_string(v) + " is not in [1, " +
+                                      std::to_string(kMaxChunk) + "]");
+             }
+             write_options.chunk_samples = static_cast<std::size_t>(v);
+           }),
+       "HDF5 chunk length [samples], 1 ... 16777216")  //
       ("deflate",
        po::value<int>(&write_options.deflate_level)
            ->default_value(write_defaults.deflate_level)

@@ -16,6 +16,8 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
+#include "diag/io/json_fields.hpp"
+#include "output.hpp"
 
 namespace geardiag {
 
@@ -83,8 +85,12 @@ std::optional<diag::Gearbox> gearbox_of(const Description& d) {
 
 nlohmann::json truth_of(const Description& d) {
   if (d.truth_json.empty()) return nullptr;
-  auto truth = nlohmann::json::parse(d.truth_json, nullptr, /*allow_exceptions=*/false);
-  return truth.is_discarded() ? nlohmann::json(d.truth_json) : truth;
+  // Shown as text when it is not JSON within the limits (depth, size): never parsed unbounded.
+  try {
+    return diag::parse_json_text(d.truth_json, d.file + ": /truth");
+  } catch (const diag::InputError&) {
+    return nlohmann::json(d.truth_json);
+  }
 }
 
 void print_text(const Description& d) {
@@ -192,6 +198,7 @@ int cmd_info(int argc, char** argv) {
   if (!gearbox.empty()) {
     if (!file.empty()) throw po::error("give either FILE or --gearbox, not both");
     const diag::Gearbox gb = diag::load_gearbox(gearbox);
+    print_warnings(gb.warnings(), "info");
     if (json) {
       std::cout << diag::summary_json(gb).dump(2) << "\n";
     } else {

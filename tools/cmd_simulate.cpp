@@ -44,6 +44,7 @@ int simulate_kinematic_mode(const std::string& gearbox, const std::string& outpu
   k.mesh_te_output_rad = diag::units::deg_to_rad(te_deg);
   k.noise_output_rad = diag::units::deg_to_rad(noise_deg);
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
+  print_warnings(gb.warnings(), "simulate");
   const sim::KinematicResult r = sim::simulate_kinematic(gb, k);
   if (std::filesystem::path(output).extension() == ".csv") {
     write_angles_csv(output, r);
@@ -123,11 +124,19 @@ int cmd_simulate(int argc, char** argv) {
                            "': the dynamic mode writes an HDF5 recording (.h5)");
   }
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
+  print_warnings(gb.warnings(), "simulate");
   sim::Scenario sc;
   if (!scenario.empty()) sc = sim::load_scenario(scenario);
   if (vm.count("duration")) sc.run.duration_s = duration_s;
   if (vm.count("fs")) sc.run.fs_hz = fs_hz;
-  if (vm.count("rpm")) sc.dynamics.speed = sim::SpeedProfile::constant(rpm);
+  if (vm.count("rpm")) {
+    // 0 would mean "the description's speed" inside the options: refused here, not ignored.
+    if (!(rpm > 0) || !std::isfinite(rpm) || rpm > diag::kMaxSpeedRpm) {
+      throw diag::InputError("--rpm: " + std::to_string(rpm) + " is not a speed in (0, " +
+                             std::to_string(static_cast<long>(diag::kMaxSpeedRpm)) + "] rpm");
+    }
+    sc.dynamics.speed = sim::SpeedProfile::constant(rpm);
+  }
   if (vm.count("torque")) {
     if (!(torque >= 0)) throw diag::InputError("--torque: must be >= 0");
     sc.dynamics.input_torque_nm = torque;
@@ -136,7 +145,7 @@ int cmd_simulate(int argc, char** argv) {
   if (vm.count("oil-temp")) sc.dynamics.friction.oil_temperature_c = oil_c;
   if (vm.count("seed")) sc.dynamics.seed = sc.run.seed = k.seed;
   const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
-  for (const std::string& w : r.warnings) std::cerr << "geardiag simulate: warning: " << w << "\n";
+  print_warnings(r.warnings, "simulate");
   diag::write_recording(output, sim::to_recording(gb, r));
   std::cout << "simulated " << sc.run.duration_s << " s at " << sc.run.fs_hz << " Hz ("
             << r.channels.size() << " channels, " << r.tachos.size() << " tachometers; RK step "

@@ -14,4 +14,9 @@ void write_text_atomic(const std::filesystem::path& path, const std::string& tex
   diag::write_output_file(path, text);
 }
 
+void print_warnings(const std::vector<std::string>& warnings, const std::string& command) {
+  for (const std::string& w : warnings)
+    std::cerr << "geardiag " << command << ": warning: " << w << "\n";
+}
+
 }  // namespace geardiag

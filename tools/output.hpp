@@ -6,6 +6,7 @@
 #include <iostream>
 #include <streambuf>
 #include <string>
+#include <vector>
 
 #include "diag/io/output_file.hpp"
 
@@ -22,6 +23,9 @@ void write_output(const std::string& path, const std::string& text, const std::s
 
 // The former name, kept for callers on other branches.
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
+
+// Prints each warning as "geardiag <command>: warning: <text>" to stderr.
+void print_warnings(const std::vector<std::string>& warnings, const std::string& command);
 
 // While alive (and `active`), std::cout prints to stderr, so that a report sent to stdout ("-")
 // is not mixed with the readable summary.

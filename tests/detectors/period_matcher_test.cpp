@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "diag/error.hpp"
@@ -109,6 +110,62 @@ TEST(PeriodMatcher, EventsThatNoPeriodExplainsGiveMultiplicity) {
   EXPECT_TRUE(a.findings.empty());
   EXPECT_TRUE(a.multiplicity);
   EXPECT_GE(a.unexplained.size(), 7u);  // 24 / 3 trains
+  EXPECT_EQ(a.status, detect::AttributionStatus::kMultiplicity);
+}
+
+// Issue 12: a 14-tooth (undercut) input pinion driving 35 teeth: the countershaft turns once per
+// 2.5 input revolutions, so with the counter defect's first event placed 0.3 deg after an input
+// event, every second counter event falls inside an input pulse and leaves no event of its own.
+// Both defects must be found and sized from their clear events, with no multiplicity.
+diag::Gearbox overlap_gearbox(const json& defects) {
+  json j = json::parse(R"({"shafts": [{"name": "input"}, {"name": "counter"}, {"name": "output"}],
+   "gears": [{"name": "z1", "shaft": "input",   "teeth": 14, "module_mm": 3.0},
+             {"name": "z2", "shaft": "counter", "teeth": 35, "module_mm": 3.0},
+             {"name": "z3", "shaft": "counter", "teeth": 23, "module_mm": 3.0},
+             {"name": "z4", "shaft": "output",  "teeth": 61, "module_mm": 3.0}],
+   "meshes": [{"driver": "z1", "driven": "z2"}, {"driver": "z3", "driven": "z4"}],
+   "input": {"shaft": "input", "speed_rpm": 30.0, "torque_nm": 50.0}})");
+  j["defects"] = defects;
+  return diag::parse_gearbox(j, "gb");
+}
+
+json overlapping_pair() {
+  // Counter phase so that its first event is at input angle 360.3 deg: phase = 360.3 / 2.5.
+  return {{{"gear", "z1"}, {"size_deg", 3.0}, {"phase_deg", 0.0}},
+          {{"gear", "z2"}, {"size_deg", 0.6}, {"phase_deg", 360.3 / 2.5}}};
+}
+
+TEST(PeriodMatcher, SizesTwoOverlappingDefectsFromTheirClearEventsWithoutMultiplicity) {
+  const auto gb = overlap_gearbox(overlapping_pair());
+  EXPECT_FALSE(gb.warnings().empty());  // the undercut pinion is accepted with a warning
+  const auto r = sim::simulate_kinematic(gb, rig());
+  const auto a = detect::attribute_defects(r.input_angle_rad, r.output_angle_rad, gb, {});
+  EXPECT_FALSE(a.multiplicity) << detect::format_table(a);
+  ASSERT_EQ(a.findings.size(), 2u) << detect::format_table(a);
+  std::map<std::string, const detect::Finding*> by_shaft;
+  for (const auto& f : a.findings) by_shaft[f.shaft] = &f;
+  ASSERT_TRUE(by_shaft.count("input") && by_shaft.count("counter"));
+  EXPECT_NEAR(by_shaft["input"]->size_gear_rad / deg_to_rad(3.0), 1.0, kSizeTol);
+  EXPECT_NEAR(by_shaft["counter"]->size_gear_rad / deg_to_rad(0.6), 1.0, kSizeTol);
+  EXPECT_GT(by_shaft["input"]->coincident_events, 0);
+}
+
+// The overlap handling must not swallow a real further defect: the same pair plus a train every
+// 3 input revolutions (no shaft of this gearbox has that period) still raises multiplicity.
+TEST(PeriodMatcher, AThirdUnmatchedTrainBesideAnOverlappingPairStillRaisesMultiplicity) {
+  const auto gb = overlap_gearbox(overlapping_pair());
+  auto r = sim::simulate_kinematic(gb, rig());
+  const double p = 3 * 2 * M_PI, h = deg_to_rad(0.1);
+  for (std::size_t i = 0; i < r.output_angle_rad.size(); ++i) {
+    const double y = std::fmod(r.input_angle_rad[i] + 2.0, p);
+    if (y < 0.05)
+      r.output_angle_rad[i] -= h * y / 0.05;
+    else if (y < 0.1)
+      r.output_angle_rad[i] -= h * (0.1 - y) / 0.05;
+  }
+  const auto a = detect::attribute_defects(r.input_angle_rad, r.output_angle_rad, gb, {});
+  EXPECT_TRUE(a.multiplicity) << detect::format_table(a);
+  EXPECT_GE(a.unexplained.size(), 5u) << detect::format_table(a);
   EXPECT_EQ(a.status, detect::AttributionStatus::kMultiplicity);
 }
 

@@ -132,6 +132,112 @@ TEST(Gear, UndercutIsDetectedBelowSeventeenTeethAtZeroShift) {
   EXPECT_NEAR(Gear(spur(14, 2)).min_profile_shift_without_undercut(), 0.18116, 1e-5);
 }
 
+// The usable involute of a rack-cut gear starts at the limit point of the generating line of
+// action while there is no undercut: rho_Ff = r sin(alpha) - (h_a* - x) m / sin(alpha). By hand
+// for z = 30, m = 2, x = 0: r = 30, rho = 30 sin20 - 2 / sin20 = 10.26060 - 5.84761 = 4.41300 mm,
+// r_b = 28.19078 mm, r_Ff = hypot(28.19078, 4.41300) = 28.53409 mm.
+TEST(Gear, FormRadiusWithoutUndercutIsTheLimitPoint) {
+  EXPECT_NEAR(Gear(spur(30, 2)).form_radius_m() * 1e3, 28.53409, 1e-4);
+}
+
+// Undercut: the corner's trochoid cuts the involute, so the usable involute starts above the base
+// circle; the cut grows as z or x fall and vanishes continuously at x_min (where the limit point
+// reaches the base circle).
+TEST(Gear, UndercutRaisesTheFormRadiusAndVanishesAtTheMinimumShift) {
+  // Roll distance of the form circle on the involute, sqrt(r_Ff^2 - r_b^2): the length of flank
+  // the undercut takes from the path of contact.
+  auto rho_form = [](const Gear& g) {
+    return std::sqrt(std::pow(g.form_radius_m(), 2) - std::pow(g.base_radius_m(), 2));
+  };
+  const Gear z10(spur(10, 2)), z14(spur(14, 2)), z17(spur(17, 2));
+  EXPECT_TRUE(z10.undercut() && z14.undercut() && z17.undercut());
+  EXPECT_GT(rho_form(z10), rho_form(z14));
+  EXPECT_GT(rho_form(z14), rho_form(z17));
+  EXPECT_GT(rho_form(z14), 0.1e-3);  // a tenth of a millimetre of a 7.2 mm involute at m = 2
+  const double x_min = z14.min_profile_shift_without_undercut();
+  const Gear below(spur(14, 2, x_min - 1e-3)), above(spur(14, 2, x_min + 1e-3));
+  // Continuity at x_min: on both sides the form circle is within 1e-5 of the base radius (the
+  // limit point moves by 1e-3 m / sin(alpha) = 5.8 um along the line of action per 1e-3 of shift,
+  // i.e. by rho^2 / (2 r_b) ~ 1e-6 mm in radius).
+  EXPECT_NEAR(below.form_radius_m() / below.base_radius_m(), 1.0, 1e-5);
+  EXPECT_NEAR(above.form_radius_m() / above.base_radius_m(), 1.0, 1e-5);
+  const Gear z14_half(spur(14, 2, 0.5 * x_min));
+  EXPECT_LT(z14_half.form_radius_m(), z14.form_radius_m());
+}
+
+// A point on the involute just above r_Ff is never inside the cutter's corner path, one just
+// below is: checked here with the corner's path written independently as the rack's point seen
+// from the gear, (X, Y) = rotation(-phi) (x0 - r phi, y0), and the involute point's polar angle.
+TEST(Gear, FormRadiusSeparatesCutFromIntactInvolute) {
+  const Gear g(spur(12, 1));
+  const double m = 1e-3, alpha = deg_to_rad(20.0), r = g.pitch_radius_m(), rb = g.base_radius_m();
+  const double h = 1.0 * m, half = (M_PI / 2) / 12, x0 = r * half + h * std::tan(alpha);
+  const double y0 = r - h;
+  // Smallest distance (in polar angle) by which the corner's path passes the flank at radius R
+  // inside the tooth; > 0 means the flank there is cut.
+  // Over the whole turn phi in [-1, 1] rad (the implementation scans one pitch either side of
+  // the corner's nearest approach), at the corner's own radius when it is within a band of R.
+  auto cut_depth = [&](double radius) {
+    double deepest = -1;
+    for (int i = 0; i <= 400000; ++i) {
+      const double phi = -1.0 + 2.0 * i / 400000;
+      const double u = x0 - r * phi;
+      const double px = std::cos(phi) * u + std::sin(phi) * y0;
+      const double py = -std::sin(phi) * u + std::cos(phi) * y0;
+      const double rc = std::hypot(px, py);
+      if (std::abs(rc - radius) > 0.2 * (radius - rb) || rc <= rb) continue;
+      const double psi = half + diag::involute(alpha) - diag::involute(std::acos(rb / rc));
+      const double d = std::atan2(py, px) - (M_PI / 2 - psi);
+      if (rc >= radius) deepest = std::max(deepest, d);
+    }
+    return deepest;
+  };
+  const double rf = g.form_radius_m();
+  // Some point between r_Ff - 0.1 (r_Ff - r_b) and r_Ff is cut; nothing above r_Ff + 5 %.
+  EXPECT_GT(cut_depth(rf - 0.1 * (rf - rb)), 0.0);
+  EXPECT_LT(cut_depth(rf + 0.05 * (rf - rb)), 0.0);
+}
+
+// Undercut is no longer refused: a 15-tooth pinion with a 50-tooth wheel (whose tip reaches past
+// T1, interference for an uncut flank) meshes, with contact from the pinion's form circle on.
+TEST(GearPair, UndercutPinionMeshesWithAShorterContact) {
+  const GearPair p(Gear(spur(15, 2)), Gear(spur(50, 2)));
+  EXPECT_LT(p.contact_ratio(), p.uncut_contact_ratio());
+  EXPECT_GT(p.contact_ratio(), 1.0);
+  const double rho_f =
+      std::sqrt(std::pow(p.driver().form_radius_m(), 2) - std::pow(p.driver().base_radius_m(), 2));
+  EXPECT_NEAR(p.s_start_m(), rho_f, 1e-12);
+  // Without undercut nothing changes.
+  const GearPair q(Gear(spur(20, 2)), Gear(spur(50, 2)));
+  EXPECT_DOUBLE_EQ(q.contact_ratio(), q.uncut_contact_ratio());
+}
+
+// Tip thickness, ISO 21771: z = 20, m = 2, x = 0: r_a = 22, r_b = 18.79385, cos(alpha_a) =
+// 0.854266, alpha_a = 31.3213 deg, inv = 0.0618587; s / d = (pi/2) / 20 = 0.0785398,
+// inv(20 deg) = 0.0149044; s_a = 44 (0.0785398 + 0.0149044 - 0.0618587) = 1.3898 mm.
+TEST(Gear, TipThicknessMatchesTheHandComputationAndPointedTeethAreRefused) {
+  EXPECT_NEAR(Gear(spur(20, 2)).tip_thickness_m() * 1e3, 1.3898, 2e-4);
+  // A 10-tooth gear shifted by +1: the flanks cross below the tip circle.
+  EXPECT_LT(Gear::tip_thickness_unchecked(spur(10, 2, 1.0)), 0.0);
+  try {
+    Gear g(spur(10, 2, 1.0));
+    FAIL() << "expected InputError";
+  } catch (const diag::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("pointed"), std::string::npos) << e.what();
+  }
+}
+
+TEST(GearPair, RefusesATipThatReachesTheMatesRoot) {
+  GearSpec a = spur(20, 2), b = spur(40, 2);
+  a.addendum_coefficient = 1.4;  // tip 1.4 m, mate's dedendum 1.25 m
+  try {
+    GearPair p{Gear(a), Gear(b), "meshes[0]"};
+    FAIL() << "expected InputError";
+  } catch (const diag::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("reaches into the root"), std::string::npos) << e.what();
+  }
+}
+
 TEST(GearPair, RefusesGearsOfDifferentModules) {
   try {
     GearPair p(Gear(spur(20, 2)), Gear(spur(40, 3)), "meshes[0]");

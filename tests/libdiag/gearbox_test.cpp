@@ -119,11 +119,30 @@ TEST(Gearbox, RefusesNonPositiveTeethAndModule) {
   EXPECT_NE(error_of(j).find("gears[0].module_mm: must be > 0"), std::string::npos);
 }
 
-TEST(Gearbox, RefusesUndercutGears) {
+// Undercut is a warning with its consequence, not a refusal (issue 12): attribution and the
+// kinematic simulator need only tooth counts.
+TEST(Gearbox, AcceptsAnUndercutPinionWithAWarningNamingItsConsequence) {
   json j = three_shaft();
-  j["gears"][0]["teeth"] = 12;
-  j["gears"][1]["teeth"] = 42;  // keep the centre distance plausible
-  EXPECT_NE(error_of(j).find("gears[0].teeth: undercut"), std::string::npos);
+  j["gears"][0]["teeth"] = 15;
+  j["gears"][1]["teeth"] = 39;  // the same centre distance as 18/36
+  const auto gb = diag::parse_gearbox(j, "gb.json");
+  ASSERT_FALSE(gb.warnings().empty());
+  const std::string w = gb.warnings().front();
+  EXPECT_NE(w.find("gb.json: gears[0]"), std::string::npos) << w;
+  EXPECT_NE(w.find("undercut"), std::string::npos) << w;
+  EXPECT_NE(w.find("stiffness"), std::string::npos) << w;
+  bool contact_warned = false;
+  for (const auto& s : gb.warnings())
+    contact_warned |= s.find("contact ratio") != std::string::npos;
+  EXPECT_TRUE(contact_warned);
+  EXPECT_EQ(diag::summary_json(gb)["warnings"].size(), gb.warnings().size());
+  EXPECT_TRUE(diag::parse_gearbox(three_shaft(), "gb.json").warnings().empty());
+}
+
+TEST(Gearbox, RefusesAPointedTooth) {
+  json j = three_shaft();
+  j["gears"][0]["profile_shift"] = 1.6;
+  EXPECT_NE(error_of(j).find("pointed"), std::string::npos) << error_of(j);
 }
 
 TEST(Gearbox, RefusesAContactRatioBelowOne) {

@@ -18,8 +18,12 @@ struct Run {
   std::string out;  // stdout and stderr together
 };
 
-inline Run run(const std::string& args) {
-  const std::string cmd = std::string(GEARDIAG_BINARY) + " " + args + " 2>&1";
+// With kill_after_s > 0 the binary is killed after that many seconds (`timeout -s KILL`), so that
+// a hang fails the test instead of stopping the test binary.
+inline Run run(const std::string& args, int kill_after_s = 0) {
+  const std::string prefix =
+      kill_after_s > 0 ? "timeout -s KILL " + std::to_string(kill_after_s) + " " : "";
+  const std::string cmd = prefix + std::string(GEARDIAG_BINARY) + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];

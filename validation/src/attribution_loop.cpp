@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "diag/error.hpp"
 #include "diag/units.hpp"
 
 namespace validate {
@@ -30,8 +31,19 @@ struct Case {
   double step_rad = 0;
 };
 
-// Builds one random case on gb: n defects on power-path gears, optionally two on one shaft.
-Case make_case(const diag::Gearbox& base, int n_defects, bool same_shaft,
+// Path gears on `shaft`.
+std::vector<int> path_gears_on(const diag::Gearbox& gb, int shaft) {
+  std::vector<int> out;
+  for (int g : gb.shafts()[shaft].gears) {
+    if (gb.on_power_path(g)) out.push_back(g);
+  }
+  return out;
+}
+
+// Builds one random case on gb: n defects on power-path gears, optionally two on one shaft, or
+// (overlap, two defects) one on the input shaft and one on the next path shaft with one event of
+// the second inside the pulse of one of the first's.
+Case make_case(const diag::Gearbox& base, int n_defects, bool same_shaft, bool overlap,
                const AttributionLoopOptions& opt, std::mt19937_64& rng) {
   std::vector<int> path_gears;
   for (std::size_t g = 0; g < base.gears().size(); ++g) {
@@ -48,12 +60,15 @@ Case make_case(const diag::Gearbox& base, int n_defects, bool same_shaft,
     for (int attempt = 0; attempt < 100; ++attempt) {
       int g = path_gears[rng() % path_gears.size()];
       if (same_shaft && k == 1) {
-        const auto on_shaft = base.gears_sharing_shaft(base.gear_index(c.truth[0].gear));
-        std::vector<int> candidates;
-        for (int o : on_shaft) {
-          if (base.on_power_path(o)) candidates.push_back(o);
-        }
-        g = candidates[rng() % candidates.size()];
+        const auto on_shaft =
+            path_gears_on(base, base.shaft_of_gear(base.gear_index(c.truth[0].gear)));
+        g = on_shaft[rng() % on_shaft.size()];
+      }
+      if (overlap) {
+        const int shaft =
+            k == 0 ? base.input_shaft() : base.shaft_of_gear(base.power_path().front().down_gear);
+        const auto on_shaft = path_gears_on(base, shaft);
+        g = on_shaft[rng() % on_shaft.size()];
       }
       const int shaft = base.shaft_of_gear(g);
       const diag::Gear gear(base.gears()[g].spec);
@@ -61,8 +76,19 @@ Case make_case(const diag::Gearbox& base, int n_defects, bool same_shaft,
       double size_out = std::exp(log_lo + (log_hi - log_lo) * uniform(rng));
       // The model needs the loss within half a pitch of the gear.
       size_out = std::min(size_out, 0.45 * gear.angular_pitch_rad() / u_i);
-      const double phase = kTwoPi * uniform(rng);
+      double phase = kTwoPi * uniform(rng);
       const double period = base.recurrence_period_input_rev(g);
+      if (overlap && k == 1) {
+        // A pulse spans 2 size_out u_total of input angle (hold and recovery). Put this defect's
+        // event at the first defect's recurrence 1..4 plus an offset within the shorter pulse.
+        const TruthDefect& a = c.truth[0];
+        const double width = 2.0 * u_total * std::min(size_out, a.size_output_rad);
+        const double target = a.first_event_input_rad +
+                              static_cast<double>(1 + rng() % 4) * kTwoPi * a.period_input_rev +
+                              (2.0 * uniform(rng) - 1.0) * width;
+        const double p = kTwoPi * period;
+        phase = (target - std::floor(target / p) * p) / period;
+      }
       const double first = phase * period;
       // Two defects on one shaft must be apart by more than their pulses and the matcher's
       // position tolerance, else they are one event by construction.
@@ -91,27 +117,64 @@ Case make_case(const diag::Gearbox& base, int n_defects, bool same_shaft,
   return c;
 }
 
+// Defects of which fewer than three recurrences within the record are clear of every other
+// defect's pulse (2 size_out u_total of input angle, plus `margin`): in the seed's model an event
+// inside another's pulse leaves no trace of its own (the output stays stopped while either gap
+// is taken up), so such a defect cannot be seen, e.g. a counter-shaft period that is a whole
+// multiple of the input's with the events placed together.
+int hidden_defects(const Case& c, double record_rad, double margin) {
+  const double u_total = c.gb.total_ratio();
+  auto pulses = [&](const TruthDefect& t) {
+    std::vector<std::pair<double, double>> out;
+    const double p = kTwoPi * t.period_input_rev, w = 2.0 * t.size_output_rad * u_total;
+    for (double q = t.first_event_input_rad; q <= record_rad; q += p) out.emplace_back(q, q + w);
+    return out;
+  };
+  int hidden = 0;
+  for (std::size_t i = 0; i < c.truth.size(); ++i) {
+    int clear = 0;
+    for (const auto& [a, b] : pulses(c.truth[i])) {
+      bool overlaps = false;
+      for (std::size_t j = 0; j < c.truth.size(); ++j) {
+        if (j == i) continue;
+        for (const auto& [qa, qb] : pulses(c.truth[j]))
+          overlaps |= qa <= b + margin && qb >= a - margin;
+      }
+      clear += !overlaps;
+    }
+    hidden += clear < 3;
+  }
+  return hidden;
+}
+
 }  // namespace
 
-diag::Gearbox random_three_shaft(std::mt19937_64& rng) {
+diag::Gearbox random_three_shaft(std::mt19937_64& rng, bool undercut_pinion) {
   auto teeth = [&](int lo, int hi) { return lo + static_cast<int>(rng() % (hi - lo + 1)); };
   // A 1:1 mesh would give two shafts the same period, which no recurrence analysis can tell
   // apart (the finding then names both shafts); such boxes are left out of the random set.
-  const int z1 = teeth(18, 40), z3 = teeth(18, 40);
-  int z2 = z1, z4 = z3;
-  while (z2 == z1) z2 = teeth(18, 60);
-  while (z4 == z3) z4 = teeth(18, 60);
-  json d = {
-      {"name", "random-three-shaft"},
-      {"shafts", {{{"name", "input"}}, {{"name", "counter"}}, {{"name", "output"}}}},
-      {"gears",
-       {{{"name", "z1"}, {"shaft", "input"}, {"teeth", z1}, {"module_mm", 3.0}},
-        {{"name", "z2"}, {"shaft", "counter"}, {"teeth", z2}, {"module_mm", 3.0}},
-        {{"name", "z3"}, {"shaft", "counter"}, {"teeth", z3}, {"module_mm", 3.0}},
-        {{"name", "z4"}, {"shaft", "output"}, {"teeth", z4}, {"module_mm", 3.0}}}},
-      {"meshes", {{{"driver", "z1"}, {"driven", "z2"}}, {{"driver", "z3"}, {"driven", "z4"}}}},
-      {"input", {{"shaft", "input"}, {"speed_rpm", 30.0}, {"torque_nm", 50.0}}}};
-  return diag::parse_gearbox(d, "random three-shaft gearbox");
+  for (int attempt = 0;; ++attempt) {
+    const int z1 = undercut_pinion ? teeth(14, 17) : teeth(18, 40), z3 = teeth(18, 40);
+    int z2 = z1, z4 = z3;
+    while (z2 == z1) z2 = teeth(18, 60);
+    while (z4 == z3) z4 = teeth(18, 60);
+    json d = {
+        {"name", "random-three-shaft"},
+        {"shafts", {{{"name", "input"}}, {{"name", "counter"}}, {{"name", "output"}}}},
+        {"gears",
+         {{{"name", "z1"}, {"shaft", "input"}, {"teeth", z1}, {"module_mm", 3.0}},
+          {{"name", "z2"}, {"shaft", "counter"}, {"teeth", z2}, {"module_mm", 3.0}},
+          {{"name", "z3"}, {"shaft", "counter"}, {"teeth", z3}, {"module_mm", 3.0}},
+          {{"name", "z4"}, {"shaft", "output"}, {"teeth", z4}, {"module_mm", 3.0}}}},
+        {"meshes", {{{"driver", "z1"}, {"driven", "z2"}}, {{"driver", "z3"}, {"driven", "z4"}}}},
+        {"input", {{"shaft", "input"}, {"speed_rpm", 30.0}, {"torque_nm", 50.0}}}};
+    try {
+      return diag::parse_gearbox(d, "random three-shaft gearbox");
+    } catch (const diag::InputError&) {
+      // An undercut pinion whose contact ratio falls below 1 with this wheel: draw again.
+      if (attempt > 100) throw;
+    }
+  }
 }
 
 LoopReport run_attribution_loop(const diag::Gearbox& gb_in, const AttributionLoopOptions& opt) {
@@ -119,12 +182,24 @@ LoopReport run_attribution_loop(const diag::Gearbox& gb_in, const AttributionLoo
   LoopReport rep;
   const double wsum = opt.weight[0] + opt.weight[1] + opt.weight[2] + opt.weight[3];
   for (int i = 0; i < opt.cases; ++i) {
-    const diag::Gearbox base = opt.random_gearbox ? random_three_shaft(rng) : gb_in;
+    const bool undercut = opt.random_gearbox && uniform(rng) < opt.undercut_share;
+    const diag::Gearbox base = opt.random_gearbox ? random_three_shaft(rng, undercut) : gb_in;
     double w = uniform(rng) * wsum;
     int n_def = 0;
     while (n_def < 3 && w >= opt.weight[n_def]) w -= opt.weight[n_def++];
     const bool same_shaft = n_def >= 2 && uniform(rng) < opt.same_shaft_share;
-    const Case c = make_case(base, n_def, same_shaft, opt, rng);
+    const bool overlap =
+        n_def == 2 && !same_shaft && !base.power_path().empty() && uniform(rng) < opt.overlap_share;
+    const Case c = make_case(base, n_def, same_shaft, overlap, opt, rng);
+    bool has_undercut = false;
+    for (const auto& g : base.gears()) has_undercut |= diag::Gear(g.spec).undercut();
+    static const char* const kDefectClass[] = {"healthy", "one defect", "two defects",
+                                               "three defects"};
+    std::string cls = overlap ? "two overlapping" : kDefectClass[n_def];
+    if (has_undercut) cls += ", undercut pinion";
+    ClassReport& cr = rep.classes[cls];
+    ++cr.cases;
+    cr.defects += n_def;
 
     sim::KinematicOptions so;
     so.step_rad = c.step_rad;
@@ -154,8 +229,13 @@ LoopReport run_attribution_loop(const diag::Gearbox& gb_in, const AttributionLoo
         ++matched;
         const double err = std::abs(fd.size_output_rad - t.size_output_rad) / t.size_output_rad;
         ++rep.sizes_checked;
-        if (err <= opt.size_tolerance) ++rep.sizes_within_tolerance;
+        ++cr.sizes_checked;
+        if (err <= opt.size_tolerance) {
+          ++rep.sizes_within_tolerance;
+          ++cr.sizes_within_tolerance;
+        }
         rep.worst_size_error = std::max(rep.worst_size_error, err);
+        cr.worst_size_error = std::max(cr.worst_size_error, err);
         break;
       }
     }
@@ -164,8 +244,17 @@ LoopReport run_attribution_loop(const diag::Gearbox& gb_in, const AttributionLoo
     for (const auto& fd : a.findings) {
       bool ok = false;
       for (const auto& s : truth_shafts) ok |= fd.shaft.find(s) != std::string::npos;
-      if (!ok) ++rep.wrong_findings;
+      if (!ok) {
+        ++rep.wrong_findings;
+        ++cr.wrong_findings;
+      }
     }
+    cr.attributed += matched;
+    const int hidden =
+        hidden_defects(c, r.input_angle_rad.back() - r.input_angle_rad.front(), pos_tol);
+    cr.hidden += hidden;
+    if (n_def == 2) rep.two_defects_hidden += hidden;
+    if (a.multiplicity) ++cr.multiplicity_flagged;
 
     switch (n_def) {
       case 0:
@@ -226,7 +315,8 @@ std::string format_report(const LoopReport& r) {
   o << "  single defects on the right shaft:    " << r.single_correct << "/" << r.single_total
     << " (" << pct(r.single_correct, r.single_total) << " %)\n";
   o << "  defects attributed, two-defect cases: " << r.two_defects_attributed << "/"
-    << r.two_defects_total << " (" << pct(r.two_defects_attributed, r.two_defects_total) << " %)\n";
+    << r.two_defects_total << " (" << pct(r.two_defects_attributed, r.two_defects_total) << " %; "
+    << r.two_defects_hidden << " hidden inside the other's pulses)\n";
   o << "  defects attributed, three-defect cases: " << r.three_defects_attributed << "/"
     << r.three_defects_total << " (" << pct(r.three_defects_attributed, r.three_defects_total)
     << " %), multiplicity flagged in " << r.three_multiplicity_flagged << " case(s)\n";
@@ -235,6 +325,17 @@ std::string format_report(const LoopReport& r) {
   o << "  sizes within tolerance:               " << r.sizes_within_tolerance << "/"
     << r.sizes_checked << " (worst error " << 100.0 * r.worst_size_error << " %)\n";
   o << "  findings on a shaft without a defect: " << r.wrong_findings << "\n";
+  o << "by class:\n";
+  o << "  class                              cases  attributed  hidden    sizes ok   worst size  "
+       "multiplicity  wrong\n";
+  for (const auto& [name, c] : r.classes) {
+    o << "  " << std::left << std::setw(33) << name << std::right << std::setw(7) << c.cases
+      << std::setw(8) << c.attributed << "/" << std::left << std::setw(4) << c.defects << std::right
+      << std::setw(6) << c.hidden << std::setw(10) << c.sizes_within_tolerance << "/" << std::left
+      << std::setw(4) << c.sizes_checked << std::right << std::setw(10)
+      << 100.0 * c.worst_size_error << " %" << std::setw(14) << c.multiplicity_flagged
+      << std::setw(7) << c.wrong_findings << "\n";
+  }
   return o.str();
 }
 

@@ -99,6 +99,8 @@ double robust_sigma(const std::vector<double>& e) {
 struct Event {
   double onset = 0;   // input angle from the record's start [rad]
   double height = 0;  // [rad at the output]
+  double start = 0;   // input angle where the run rose above half the threshold [rad]
+  double end = 0;     // input angle where it fell below it again [rad]
 };
 
 // Runs of e above thr/2 that reach thr. Also marks them (dilated by their own length) in mask.
@@ -131,7 +133,7 @@ std::vector<Event> find_events(const std::vector<double>& x, const std::vector<d
       const double t = (0.5 * h - e[k - 1]) / (e[k] - e[k - 1]);
       x_half = x[k - 1] + std::clamp(t, 0.0, 1.0) * (x[k] - x[k - 1]);
     }
-    events.push_back({std::max(0.0, 2.0 * x_half - x[pk]), h});
+    events.push_back({std::max(0.0, 2.0 * x_half - x[pk]), h, x[start], x[end - 1]});
     if (mask) {
       const std::size_t len = end - start;
       const std::size_t a = start > len ? start - len : 0;
@@ -147,8 +149,10 @@ struct Train {
   std::vector<std::pair<int, int>> hits;  // (recurrence index, event index)
   int expected = 0;
   double measured_period_rad = 0;
+  double phase_rad = 0;  // anchor: recurrence k is expected at phase_rad + k period_rad
   double first_onset = 0;
   std::vector<int> size_events;  // events that size the defect; empty: all hits
+  int coincident = 0;            // hits that coincide with another train's recurrence
   std::string note;              // why the reading may be ambiguous
   bool ambiguous = false;        // another decomposition explains the same events
 };
@@ -344,16 +348,45 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     return best;
   };
 
-  // Builds the train of period p anchored at phase phi: every recurrence within the record.
+  struct Accepted {
+    Train train;
+    std::vector<int> shafts;
+    double pulse_width = 0;  // median width of its events [rad of input]
+  };
+  std::vector<Accepted> accepted;
+  auto accept = [&](const Train& t, const std::vector<int>& shafts) {
+    std::vector<double> w;
+    for (auto [k, ev] : t.hits) w.push_back(events[ev].end - events[ev].start);
+    accepted.push_back({t, shafts, median_of(w)});
+  };
+  // The accepted trains other than `self` that pass during [lo, hi] of input angle: an expected
+  // onset q whose pulse [q, q + width] meets it, within the position tolerance.
+  constexpr std::size_t kNoTrain = static_cast<std::size_t>(-1);
+  auto trains_passing = [&](std::size_t self, double lo, double hi) {
+    std::vector<std::size_t> out;
+    for (std::size_t b = 0; b < accepted.size(); ++b) {
+      if (b == self) continue;
+      const Train& t = accepted[b].train;
+      const double from = lo - tau - accepted[b].pulse_width;
+      const double q = t.phase_rad + std::ceil((from - t.phase_rad) / t.period_rad) * t.period_rad;
+      if (q <= hi + tau) out.push_back(b);
+    }
+    return out;
+  };
+
+  // Builds the train of period p anchored at phase phi: every recurrence within the record. A
+  // recurrence without an event where an accepted train passes is not expected to show: the
+  // other defect's pulse hides it (the output stays stopped while either gap is taken up).
   auto build_train = [&](double p, double phi) {
     Train t;
     t.period_rad = p;
+    t.phase_rad = phi;
     for (long k = static_cast<long>(std::floor(-phi / p)); phi + k * p <= x_end; ++k) {
       const double pos = phi + k * p;
       if (pos < -tau) continue;
       const bool interior = pos >= 0 && pos <= x_end - 2 * tau;
       const int ev = nearest_event(pos);
-      if (interior) ++t.expected;
+      if (interior && (ev >= 0 || trains_passing(kNoTrain, pos, pos).empty())) ++t.expected;
       if (ev >= 0) t.hits.emplace_back(static_cast<int>(k), ev);
     }
     return t;
@@ -374,11 +407,6 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
   };
 
   std::vector<char> assigned(events.size(), 0);
-  struct Accepted {
-    Train train;
-    std::vector<int> shafts;
-  };
-  std::vector<Accepted> accepted;
 
   for (auto it = period_shafts.begin(); it != period_shafts.end(); ++it) {
     const double p = it->first;
@@ -464,13 +492,51 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
           sub.note = alt;
           sub.ambiguous = true;
           for (auto [k, ev] : sub.hits) assigned[ev] = 1;
-          accepted.push_back({sub, jt->second});
+          accept(sub, jt->second);
         }
         break;
       }
       for (auto [k, ev] : t.hits) assigned[ev] = 1;
-      accepted.push_back({t, it->second});
+      accept(t, it->second);
     }
+  }
+
+  // 4b. Coincidences (issue 12). Where another train passes during an event, the event is the
+  // overlap of two defects (the output stays stopped while either gap is taken up, and the hold
+  // of one delays the other's onset): its height and onset belong to neither defect alone. Such
+  // hits are left out of a train's size and period fit when it has at least two others, and an
+  // event no train claimed but during which a train passes is explained by the trains passing
+  // there (a pulse split by the overlap) instead of being called unexplained.
+  for (std::size_t a = 0; a < accepted.size(); ++a) {
+    Train& t = accepted[a].train;
+    Train clean = t;
+    clean.hits.clear();
+    for (auto [k, ev] : t.hits) {
+      if (trains_passing(a, events[ev].start, events[ev].end).empty()) {
+        clean.hits.emplace_back(k, ev);
+      }
+    }
+    if (clean.hits.size() == t.hits.size() || clean.hits.size() < 2) continue;
+    t.coincident = static_cast<int>(t.hits.size() - clean.hits.size());
+    fit_period(clean);
+    t.measured_period_rad = clean.measured_period_rad;
+    t.first_onset = clean.first_onset -
+                    (clean.hits.front().first - t.hits.front().first) * t.measured_period_rad;
+    std::vector<int> sizing;
+    for (auto [k, ev] : clean.hits) {
+      if (t.size_events.empty() ||
+          std::find(t.size_events.begin(), t.size_events.end(), ev) != t.size_events.end()) {
+        sizing.push_back(ev);
+      }
+    }
+    if (sizing.size() >= 2) t.size_events = sizing;
+  }
+  for (std::size_t k = 0; k < events.size(); ++k) {
+    if (assigned[k]) continue;
+    const auto passing = trains_passing(kNoTrain, events[k].start, events[k].end);
+    if (passing.empty()) continue;
+    assigned[k] = 1;
+    for (std::size_t b : passing) ++accepted[b].train.coincident;
   }
 
   // 5. Findings.
@@ -498,6 +564,7 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     f.size_gear_rad = f.size_output_rad * std::abs(gb.shafts()[a.shafts.front()].speed_ratio /
                                                    gb.shafts()[gb.output_shaft()].speed_ratio);
     f.first_event_input_rad = a.train.first_onset;
+    f.coincident_events = a.train.coincident;
     f.events = static_cast<int>(a.train.hits.size());
     f.expected_events = std::max(a.train.expected, f.events);
     std::vector<double> dev;
@@ -551,6 +618,7 @@ nlohmann::json to_json(const AttributionResult& r) {
                              {"confidence", f.confidence},
                              {"events", f.events},
                              {"expected_events", f.expected_events},
+                             {"coincident_events", f.coincident_events},
                              {"note", f.note}});
   }
   j["multiplicity"] = r.multiplicity;
@@ -589,6 +657,10 @@ std::string format_table(const AttributionResult& r) {
         << std::setw(5) << f.expected_events << std::right << std::setprecision(2) << std::setw(10)
         << f.confidence << "\n";
       if (!f.note.empty()) o << "      note: " << f.note << "\n";
+      if (f.coincident_events > 0) {
+        o << "      " << f.coincident_events
+          << " event(s) coincide with another train's: not used for the size\n";
+      }
     }
   }
   if (r.multiplicity) {

@@ -77,9 +77,10 @@ double Gearbox::ratio_to_output(int gear) const {
 }
 
 Gearbox Gearbox::with_input_speed_rpm(double speed_rpm) const {
-  if (!(speed_rpm > 0) || !std::isfinite(speed_rpm) || speed_rpm > 1e6) {
-    throw InputError(
-        format_error(name_, "input speed", std::to_string(speed_rpm) + " rpm is not in (0, 1e6]"));
+  if (!(speed_rpm > 0) || !std::isfinite(speed_rpm) || speed_rpm > kMaxSpeedRpm) {
+    throw InputError(format_error(
+        name_, "input speed",
+        Fields::fmt(speed_rpm) + " rpm is not in (0, " + Fields::fmt(kMaxSpeedRpm) + "]"));
   }
   Gearbox g = *this;
   g.input_.speed_rpm = speed_rpm;
@@ -129,15 +130,22 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
   Fields top(
       j, where, "",
       {"name", "shafts", "gears", "meshes", "input", "output", "bearings", "sensors", "defects"});
-  gb.name_ = top.str("name", "gearbox");
+  gb.name_ = top.has("name") ? top.label("name") : "gearbox";
 
   // Shafts.
   const json& shafts = array_field(j, "shafts", where, true);
   if (shafts.empty()) throw InputError(format_error(where, "shafts", "needs at least one shaft"));
+  for (const char* key : {"shafts", "gears", "meshes", "bearings", "defects"}) {
+    if (j.contains(key) && j[key].is_array() && j[key].size() > kMaxGearboxItems) {
+      throw InputError(format_error(where, key,
+                                    std::to_string(j[key].size()) + " entries; at most " +
+                                        std::to_string(kMaxGearboxItems) + " are supported"));
+    }
+  }
   for (std::size_t i = 0; i < shafts.size(); ++i) {
     Fields f(shafts[i], where, indexed("shafts", i), {"name"});
     Shaft s;
-    s.name = f.str("name");
+    s.name = f.name("name");
     if (gb.shaft_index(s.name) >= 0) f.fail("name", "duplicate shaft name '" + s.name + "'");
     gb.shafts_.push_back(s);
   }
@@ -150,7 +158,7 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
              {"name", "shaft", "teeth", "module_mm", "pressure_angle_deg", "face_width_mm",
               "profile_shift", "addendum_coefficient", "clearance_coefficient", "material"});
     GearEntry g;
-    g.name = f.str("name");
+    g.name = f.name("name");
     if (gb.gear_index(g.name) >= 0) f.fail("name", "duplicate gear name '" + g.name + "'");
     g.shaft = f.str("shaft");
     const int shaft = gb.shaft_index(g.shaft);
@@ -159,7 +167,17 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     if (g.spec.teeth <= 0)
       f.fail("teeth", "must be a positive integer (got " + std::to_string(g.spec.teeth) + ")");
     if (g.spec.teeth < 5) f.fail("teeth", "must be >= 5 for an involute spur gear");
-    g.spec.module_m = units::mm_to_m(f.positive("module_mm"));
+    if (g.spec.teeth > kMaxTeeth) {
+      f.fail("teeth", "must be <= " + std::to_string(kMaxTeeth) + " (got " +
+                          std::to_string(g.spec.teeth) + ")");
+    }
+    const double module_mm = f.positive("module_mm");
+    if (module_mm < kMinModuleMm || module_mm > kMaxModuleMm) {
+      f.fail("module_mm", "must be in [" + Fields::fmt(kMinModuleMm) + ", " +
+                              Fields::fmt(kMaxModuleMm) + "] mm (got " + Fields::fmt(module_mm) +
+                              ")");
+    }
+    g.spec.module_m = units::mm_to_m(module_mm);
     g.spec.pressure_angle_rad = units::deg_to_rad(f.positive("pressure_angle_deg", 20.0));
     // Face width defaults to 10 modules, a common proportion, when the description omits it.
     g.spec.face_width_m =
@@ -173,10 +191,25 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     const Gear gear(g.spec);
     if (gear.undercut()) {
       std::ostringstream m;
-      m << "undercut: z = " << g.spec.teeth << " with profile_shift " << g.spec.profile_shift
-        << " is cut below the base circle by the rack; use profile_shift >= "
-        << gear.min_profile_shift_without_undercut();
-      f.fail("teeth", m.str());
+      m << "gear '" << g.name << "' (z = " << g.spec.teeth << ", profile_shift "
+        << g.spec.profile_shift << ") is undercut (no undercut from profile_shift >= "
+        << Fields::fmt(gear.min_profile_shift_without_undercut())
+        << "): its involute starts at diameter "
+        << Fields::fmt(2 * units::m_to_mm(gear.form_radius_m()))
+        << " mm instead of the base circle ("
+        << Fields::fmt(2 * units::m_to_mm(gear.base_radius_m()))
+        << " mm), which shortens the contact of its meshes, and its root is thinner, so its "
+           "stiffness is lower than the involute tooth model's; tooth counts, ratios and periods "
+           "(attribute, kinematic simulation) are unaffected";
+      gb.warnings_.push_back(format_error(where, path, m.str()));
+    }
+    // Tip land thinner than 0.2 m: the usual design guideline against tip chipping and through-
+    // hardening of the tip (s_a >= 0.2 m to 0.4 m); a warning, the geometry is still valid.
+    if (gear.tip_thickness_m() < 0.2 * g.spec.module_m) {
+      gb.warnings_.push_back(format_error(where, path,
+                                          "gear '" + g.name + "' has a thin tip land: " +
+                                              Fields::fmt(units::m_to_mm(gear.tip_thickness_m())) +
+                                              " mm < 0.2 modules"));
     }
     gb.shafts_[shaft].gears.push_back(static_cast<int>(gb.gears_.size()));
     gb.gears_.push_back(g);
@@ -203,6 +236,14 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     const std::string pair_where = format_error(where, path, "");
     GearPair pair(Gear(gb.gears_[d].spec), Gear(gb.gears_[n].spec), pair_where.c_str(),
                   spec.centre_distance_m);
+    if (pair.contact_ratio() < pair.uncut_contact_ratio() * (1 - 1e-9)) {
+      gb.warnings_.push_back(
+          format_error(where, path,
+                       "'" + spec.driver + "' -> '" + spec.driven + "': contact ratio " +
+                           Fields::fmt(pair.contact_ratio()) + " instead of " +
+                           Fields::fmt(pair.uncut_contact_ratio()) +
+                           " because of the undercut (contact is lost below the form circle)"));
+    }
     gb.meshes_.push_back(Mesh{d, n, spec, pair});
   }
 
@@ -214,7 +255,14 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     gb.input_shaft_ = gb.shaft_index(gb.input_.shaft);
     if (gb.input_shaft_ < 0) f.fail("shaft", "unknown shaft '" + gb.input_.shaft + "'");
     gb.input_.speed_rpm = f.positive("speed_rpm");
+    if (gb.input_.speed_rpm > kMaxSpeedRpm) {
+      f.fail("speed_rpm", "must be <= " + Fields::fmt(kMaxSpeedRpm) + " rpm (got " +
+                              Fields::fmt(gb.input_.speed_rpm) + ")");
+    }
     gb.input_.torque_nm = f.non_negative("torque_nm", 0.0);
+    if (gb.input_.torque_nm > kMaxTorqueNm) {
+      f.fail("torque_nm", "must be <= " + Fields::fmt(kMaxTorqueNm) + " N m");
+    }
   }
 
   // Shaft speeds: propagate omega_driven = -omega_driver z_driver / z_driven through the meshes
@@ -302,7 +350,7 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
              {"name", "shaft", "rolling_elements", "pitch_diameter_mm", "element_diameter_mm",
               "contact_angle_deg"});
     BearingSpec b;
-    b.name = f.str("name");
+    b.name = f.name("name");
     for (const auto& other : gb.bearings_) {
       if (other.name == b.name) f.fail("name", "duplicate bearing name '" + b.name + "'");
     }
@@ -367,22 +415,11 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
 }
 
 Gearbox parse_gearbox_text(const std::string& text, const std::string& where) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::parse_error& e) {
-    throw InputError(format_error(where, "", std::string("not valid JSON: ") + e.what()));
-  }
-  return parse_gearbox(j, where);
+  return parse_gearbox(parse_json_text(text, where), where);
 }
 
 Gearbox load_gearbox(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(format_error(path.string(), "", "cannot open the file"));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (text.str().empty()) throw InputError(format_error(path.string(), "", "the file is empty"));
-  return parse_gearbox_text(text.str(), path.string());
+  return parse_gearbox(load_json_file(path), path.string());
 }
 
 json summary_json(const Gearbox& gb) {
@@ -441,6 +478,7 @@ json summary_json(const Gearbox& gb) {
                                {"element_diameter_mm", units::m_to_mm(b.element_diameter_m)},
                                {"contact_angle_deg", units::rad_to_deg(b.contact_angle_rad)}});
   }
+  out["warnings"] = gb.warnings();
   out["defects"] = json::array();
   for (const auto& d : gb.defects()) {
     out["defects"].push_back({{"gear", d.gear},

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/geometry/gear_pair.hpp"
 #include "diag/units.hpp"
 
 namespace diag {
@@ -45,6 +46,15 @@ void validate(const GearSpec& s, const std::string& where) {
   const double rf = s.module_m * (0.5 * s.teeth - s.addendum_coefficient - s.clearance_coefficient +
                                   s.profile_shift);
   require(rf > 0, where, "teeth", s.teeth, "large enough for a positive root radius");
+  // A pointed tooth (no tip land) cannot be made: the flanks cross below the tip circle.
+  const double sa = Gear::tip_thickness_unchecked(s);
+  if (!(sa > 0)) {
+    std::ostringstream msg;
+    msg << "gives a pointed tooth: the thickness on the tip circle is " << units::m_to_mm(sa)
+        << " mm (must be > 0; lower profile_shift (" << s.profile_shift
+        << ") or addendum_coefficient (" << s.addendum_coefficient << "))";
+    throw InputError(format_error(where, "profile_shift", msg.str()));
+  }
 }
 
 Gear::Gear(const GearSpec& spec) : spec_(spec) { validate(spec_, "gear"); }
@@ -73,6 +83,52 @@ bool Gear::undercut() const {
   // through round-off.
   constexpr double kShiftTol = 1e-9;
   return spec_.profile_shift < min_profile_shift_without_undercut() - kShiftTol;
+}
+
+double Gear::tip_thickness_unchecked(const GearSpec& s) {
+  const double r = 0.5 * s.module_m * s.teeth;
+  const double rb = r * std::cos(s.pressure_angle_rad);
+  const double ra = s.module_m * (0.5 * s.teeth + s.addendum_coefficient + s.profile_shift);
+  if (!(ra > rb)) return 0.0;  // the whole tooth would lie inside the base circle
+  const double s_over_d =
+      (0.5 * units::kPi + 2.0 * s.profile_shift * std::tan(s.pressure_angle_rad)) / s.teeth;
+  return 2.0 * ra * (s_over_d + involute(s.pressure_angle_rad) - involute(std::acos(rb / ra)));
+}
+
+double Gear::tip_thickness_m() const { return tip_thickness_unchecked(spec_); }
+
+double Gear::form_radius_m() const {
+  const double m = spec_.module_m, alpha = spec_.pressure_angle_rad, x = spec_.profile_shift;
+  const double r = pitch_radius_m(), rb = base_radius_m(), ra = tip_radius_m();
+  const double h = (spec_.addendum_coefficient - x) * m;  // corner below the rolling line
+  const double sin_a = std::sin(alpha), tan_a = std::tan(alpha);
+  const double rho_limit = r * sin_a - h / sin_a;
+  if (rho_limit >= 0) return std::hypot(rb, rho_limit);
+  // Gear frame: tooth centred on +y, rolling line y = r touching the pitch circle at (0, r) when
+  // the gear angle phi = 0. The gear turns by phi (counter-clockwise), the rack moves by -r phi;
+  // the corner of the cutter tooth right of the gear tooth starts at (x0, y0) and is seen from
+  // the gear at R(-phi) (x0 - r phi, y0). The gear tooth's right flank at radius R lies at polar
+  // angle pi/2 - psi(R), psi(R) = s / d + inv(alpha) - inv(alpha_R) its half angle.
+  const double half_pitch_angle = (0.5 * units::kPi + 2.0 * x * tan_a) / spec_.teeth;
+  const double x0 = r * half_pitch_angle + h * tan_a, y0 = r - h;
+  const double inv_alpha = involute(alpha);
+  // The corner is nearest the centre at phi = x0 / r; it passes the tooth's flank within a
+  // pitch of that. 20000 steps resolve r_Ff to ~1e-4 of the pitch radius.
+  const double phi_lo = x0 / r - angular_pitch_rad(), phi_hi = x0 / r + angular_pitch_rad();
+  constexpr int kSteps = 20000;
+  double r_form = rb;
+  for (int i = 0; i <= kSteps; ++i) {
+    const double phi = phi_lo + (phi_hi - phi_lo) * i / kSteps;
+    const double u = x0 - r * phi;
+    const double gx = std::cos(phi) * u + std::sin(phi) * y0;
+    const double gy = -std::sin(phi) * u + std::cos(phi) * y0;
+    const double radius = std::hypot(gx, gy);
+    if (radius <= rb || radius >= ra || radius <= r_form) continue;
+    const double psi = half_pitch_angle + inv_alpha - involute(std::acos(rb / radius));
+    const double theta = std::atan2(gy, gx);
+    if (theta > 0.5 * units::kPi - psi && theta < 0.5 * units::kPi + psi) r_form = radius;
+  }
+  return r_form;
 }
 
 double Gear::disc_mass_kg() const {

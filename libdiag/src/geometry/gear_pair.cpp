@@ -8,6 +8,10 @@
 
 namespace diag {
 
+namespace {
+double sq(double v) { return v * v; }
+}  // namespace
+
 double involute(double a) { return std::tan(a) - a; }
 
 double inverse_involute(double inv) {
@@ -73,17 +77,47 @@ GearPair::GearPair(const Gear& driver, const Gear& driven, const char* where,
   }
   const double rb1 = g1_.base_radius_m(), rb2 = g2_.base_radius_m();
   const double ra1 = g1_.tip_radius_m(), ra2 = g2_.tip_radius_m();
+  const double L = loa_length_m();
+  s_start_ = L - std::sqrt(ra2 * ra2 - rb2 * rb2);
   s_end_ = std::sqrt(ra1 * ra1 - rb1 * rb1);
-  s_start_ = loa_length_m() - std::sqrt(ra2 * ra2 - rb2 * rb2);
-  if (s_start_ < 0 || s_end_ > loa_length_m()) {
+  uncut_contact_ratio_ = (s_end_ - s_start_) / base_pitch_m();
+  // A tip reaching past the mate's base-circle tangency point meets the mate below its involute.
+  // On a gear that is not undercut that is the fillet: interference, the pair cannot turn. On an
+  // undercut gear the rack has cut that material away (the purpose of generating cutting), so the
+  // tip passes through the undercut without contact, and contact starts only where the mate's
+  // usable involute begins (its form radius).
+  const bool cut1 = g1_.undercut(), cut2 = g2_.undercut();
+  if ((s_start_ < 0 && !cut1) || (s_end_ > L && !cut2)) {
     throw InputError(format_error(
         where, "teeth",
         "tip interference: a tip reaches past the other gear's base-circle tangency point "
         "(use a profile shift or fewer addendum)"));
   }
+  if (cut1) s_start_ = std::max(s_start_, std::sqrt(sq(g1_.form_radius_m()) - rb1 * rb1));
+  if (cut2) s_end_ = std::min(s_end_, L - std::sqrt(sq(g2_.form_radius_m()) - rb2 * rb2));
+  // A tip that reaches the mate's root circle digs into it: the radial clearance must stay >= 0.
+  constexpr double kClearanceTol = 1e-9;  // [m], round-off of the centre distance
+  for (int side = 0; side < 2; ++side) {
+    const Gear& tip_gear = side == 0 ? g1_ : g2_;
+    const Gear& root_gear = side == 0 ? g2_ : g1_;
+    const double clearance = a_w_ - tip_gear.tip_radius_m() - root_gear.root_radius_m();
+    if (clearance < -kClearanceTol) {
+      std::ostringstream m;
+      m << "the tip of the " << (side == 0 ? "driver" : "driven")
+        << " reaches into the root of the " << (side == 0 ? "driven" : "driver")
+        << " (radial clearance " << units::m_to_mm(clearance)
+        << " mm): lower its addendum_coefficient or profile_shift, or give a larger "
+           "centre_distance_mm";
+      throw InputError(format_error(where, "teeth", m.str()));
+    }
+  }
   if (contact_ratio() < 1.0) {
     std::ostringstream m;
     m << "contact ratio " << contact_ratio() << " < 1: the pair cannot transmit motion smoothly";
+    if (cut1 || cut2) {
+      m << " (undercut " << (cut1 ? "driver" : "driven") << ": " << uncut_contact_ratio_
+        << " with involute flanks down to the base circle; a profile shift removes the undercut)";
+    }
     throw InputError(format_error(where, "contact_ratio", m.str()));
   }
 }

@@ -237,15 +237,7 @@ ChannelMap parse_channel_map(const nlohmann::json& j, const std::string& where) 
 }
 
 ChannelMap load_channel_map(const std::filesystem::path& path) {
-  const std::string where = path.string();
-  const std::string text = read_input_file(path);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(text);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(format_error(where, "", std::string("not valid JSON: ") + e.what()));
-  }
-  return parse_channel_map(j, where);
+  return parse_channel_map(load_json_file(path), path.string());
 }
 
 ChannelMapEntry parse_tacho_option(const std::string& text, const std::string& option) {

@@ -242,15 +242,7 @@ Scenario parse_scenario(const json& j, const std::string& where) {
 }
 
 Scenario load_scenario(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  if (!in) throw diag::InputError(path.string() + ": cannot open the scenario file");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw diag::InputError(path.string() + ": not valid JSON: " + e.what());
-  }
-  return parse_scenario(j, path.string());
+  return parse_scenario(diag::load_json_file(path), path.string());
 }
 
 }  // namespace sim

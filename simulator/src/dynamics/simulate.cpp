@@ -2,6 +2,7 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_odeiv2.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include "diag/dsp/fir.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/io/json_fields.hpp"
 #include "sim/dynamics/rk4.hpp"
 
 namespace sim {
@@ -78,6 +80,19 @@ void RunOptions::validate() const {
   };
   positive(duration_s, "duration_s");
   positive(fs_hz, "fs_hz");
+  auto at_most = [&](double v, double limit, const char* field, const char* unit) {
+    if (v > limit) {
+      throw diag::InputError(diag::format_error(
+          where, field,
+          diag::Fields::fmt(v) + unit + " exceeds the limit " + diag::Fields::fmt(limit) + unit));
+    }
+  };
+  at_most(duration_s, kMaxDurationS, "duration_s", " s");
+  at_most(fs_hz, kMaxFsHz, "fs_hz", " Hz");
+  at_most(settle_s, kMaxSettleS, "settle_s", " s");
+  at_most(steps_per_period, kMaxStepsPerPeriod, "steps_per_period", "");
+  at_most(steps_per_mesh, kMaxStepsPerPeriod, "steps_per_mesh", "");
+  at_most(contact_substeps, kMaxContactSubsteps, "contact_substeps", "");
   if (!(step_s >= 0.0)) throw diag::InputError(diag::format_error(where, "step_s", "must be >= 0"));
   if (steps_per_period < 8)
     throw diag::InputError(diag::format_error(where, "steps_per_period", "must be >= 8"));
@@ -139,7 +154,17 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   }
   const double h_needed =
       std::min(1.0 / (f_max * run.steps_per_period), 1.0 / (f_mesh_max * run.steps_per_mesh));
-  int D = std::max(4, static_cast<int>(std::ceil(1.0 / (run.fs_hz * h_needed) - 1e-9)));
+  // Steps per output sample, as a double first: at absurd speeds it is far beyond INT_MAX.
+  const double steps_per_sample = std::ceil(1.0 / (run.fs_hz * h_needed) - 1e-9);
+  if (!(steps_per_sample <= kMaxStepsPerSample)) {
+    std::ostringstream m;
+    m << "the model needs " << steps_per_sample << " integration steps per output sample (highest "
+      << "mesh frequency " << f_mesh_max << " Hz, highest natural frequency " << f_max
+      << " Hz at fs " << run.fs_hz << " Hz); at most " << kMaxStepsPerSample
+      << " are supported: raise fs or lower the speed";
+    throw diag::InputError(diag::format_error("simulate", "fs_hz", m.str()));
+  }
+  int D = std::max(4, static_cast<int>(steps_per_sample));
   if (run.step_s > 0.0) {
     const double stability = run.step_s * 2 * kPi * f_max;
     if (stability > 2.0) {
@@ -149,7 +174,14 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
         << 1.0 / (run.fs_hz * D) << " s";
       result.warnings.push_back(w.str());
     } else {
-      const int d_user = std::max(1, static_cast<int>(std::lround(1.0 / (run.fs_hz * run.step_s))));
+      const double d_wanted = std::round(1.0 / (run.fs_hz * run.step_s));
+      if (!(d_wanted <= kMaxStepsPerSample)) {
+        throw diag::InputError(
+            diag::format_error("simulate", "step_s",
+                               diag::Fields::fmt(d_wanted) + " steps per output sample; at most " +
+                                   diag::Fields::fmt(kMaxStepsPerSample) + " are supported"));
+      }
+      const int d_user = std::max(1, static_cast<int>(d_wanted));
       D = d_user;
       if (std::abs(1.0 / (run.fs_hz * D) - run.step_s) > 1e-9 * run.step_s) {
         std::ostringstream w;
@@ -174,6 +206,19 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   // delay_out (the first delay_out are dropped), which needs delay_out * D more inputs after.
   const long long first_push_step = (settle_out - delay_out) * D;
   const long long total_steps = (settle_out + n_out + delay_out) * D + 1;
+  const double settle_steps = static_cast<double>(settle_out + n_out + delay_out) * D;
+  const long long budget_steps =
+      static_cast<long long>(kMaxRunSteps / std::max(1.0, static_cast<double>(gb.meshes().size())));
+  if (settle_steps > static_cast<double>(budget_steps)) {
+    std::ostringstream m;
+    m << "the request needs " << settle_steps << " integration steps (" << D
+      << " per output sample over " << (settle_out + n_out) / run.fs_hz
+      << " s including the settling time) for " << gb.meshes().size() << " mesh(es); at most "
+      << budget_steps
+      << " are accepted (about an hour of run time): shorten duration_s or settle_s, or lower "
+         "the speed";
+    throw diag::InputError(diag::format_error("simulate", "duration_s", m.str()));
+  }
 
   // ---- channels ----
   std::vector<ChannelPlan> plans;
@@ -279,6 +324,22 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     decimators.emplace_back(p.filtered ? D : 1);
     casings.emplace_back(run.casing_frequency_hz > 0 ? run.casing_frequency_hz : 1.0,
                          run.casing_damping_ratio, run.fs_hz * D);
+  }
+  // Memory: every channel is held at the output rate twice (raw and filtered) before it is
+  // written. Refused beyond the documented limit or half of this machine's memory.
+  {
+    const double channels = static_cast<double>(plans.size() + gb.shafts().size());
+    const double bytes = 2.0 * 8.0 * channels * static_cast<double>(n_out + 2 * delay_out + 2);
+    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+    const double machine = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 1e300;
+    const double limit = std::min(kMaxOutputBytes, machine);
+    if (bytes > limit) {
+      std::ostringstream m;
+      m << "the recording would need " << bytes / (1 << 20) << " MiB (" << n_out << " samples x "
+        << channels << " channels x 8 bytes, twice); at most " << limit / (1 << 20)
+        << " MiB are accepted: shorten duration_s or lower fs_hz";
+      throw diag::InputError(diag::format_error("simulate", "duration_s", m.str()));
+    }
   }
   std::vector<std::vector<double>> raw(plans.size());
   for (auto& r : raw) r.reserve(static_cast<std::size_t>(n_out + 2 * delay_out + 2));
@@ -547,6 +608,10 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
                          {"decimation", D},
                          {"settle_s", static_cast<double>(settle_out) / run.fs_hz}};
   truth["warnings"] = result.warnings;
+  // Provenance: the seeds that drew the pitch errors and runout phases (dynamics) and the sensor
+  // noise (run), so that the recording can be reproduced.
+  truth["seed"] = run.seed;
+  truth["dynamics_seed"] = opt.seed;
   result.truth = truth;
   return result;
 }

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
+#include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
 
 namespace sim {
@@ -65,6 +67,13 @@ void SpeedProfile::validate(const std::string& where) const {
         }
       }
       break;
+  }
+  // Documented bound (README "Limits"): beyond it the step per output sample overflows and the
+  // run would take days.
+  if (max_rpm() > diag::kMaxSpeedRpm) {
+    throw diag::InputError(diag::format_error(
+        where, "rpm",
+        diag::Fields::fmt(max_rpm()) + " rpm exceeds " + diag::Fields::fmt(diag::kMaxSpeedRpm)));
   }
 }
 

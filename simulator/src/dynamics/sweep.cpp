@@ -4,7 +4,9 @@
 #include <cmath>
 
 #include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/io/json_fields.hpp"
 
 namespace sim {
 
@@ -15,10 +17,19 @@ void SweepOptions::validate() const {
   if (!(to_rpm > from_rpm)) {
     throw diag::InputError(diag::format_error(where, "to_rpm", "must be > from_rpm"));
   }
-  if (steps < 2) throw diag::InputError(diag::format_error(where, "steps", "must be >= 2"));
-  if (!(dwell_s >= 0.0))
+  if (to_rpm > diag::kMaxSpeedRpm) {
+    throw diag::InputError(diag::format_error(
+        where, "to_rpm", "must be <= " + diag::Fields::fmt(diag::kMaxSpeedRpm) + " rpm"));
+  }
+  if (steps < 2 || steps > kMaxSweepSteps) {
+    throw diag::InputError(diag::format_error(where, "steps",
+                                              "must be in [2, " + std::to_string(kMaxSweepSteps) +
+                                                  "] (got " + std::to_string(steps) + ")"));
+  }
+  if (!(dwell_s >= 0.0) || !std::isfinite(dwell_s))
     throw diag::InputError(diag::format_error(where, "dwell_s", "must be >= 0"));
-  if (!(fs_hz >= 0.0)) throw diag::InputError(diag::format_error(where, "fs_hz", "must be >= 0"));
+  if (!(fs_hz >= 0.0) || !std::isfinite(fs_hz))
+    throw diag::InputError(diag::format_error(where, "fs_hz", "must be >= 0"));
 }
 
 namespace {

@@ -156,8 +156,17 @@ KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptio
 
   // Six periods of the longest recurrence: five complete ones follow any initial phase.
   const double revs = opt.revolutions > 0 ? opt.revolutions : 6.0 * longest_rev;
-  const auto n = static_cast<std::size_t>(std::ceil(revs * kTwoPi / opt.step_rad)) + 1;
-  require(n <= 500'000'000, "revolutions", "more than 5e8 samples requested");
+  // Three vectors of n doubles are held (input, output, irregularity): bounded before allocation.
+  constexpr double kMaxSamples = 5e7;
+  const double n_wanted = std::ceil(revs * kTwoPi / opt.step_rad) + 1;
+  if (!(n_wanted <= kMaxSamples)) {
+    std::ostringstream m;
+    m << revs << " input revolutions at a step of " << opt.step_rad << " rad need " << n_wanted
+      << " samples (" << 24.0 * n_wanted / (1 << 20) << " MiB); at most " << kMaxSamples
+      << " are accepted: fewer revolutions or a coarser step";
+    require(false, "revolutions", m.str());
+  }
+  const auto n = static_cast<std::size_t>(n_wanted);
 
   out.input_angle_rad.resize(n);
   out.output_angle_rad.resize(n);

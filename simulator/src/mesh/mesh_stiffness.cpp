@@ -269,6 +269,20 @@ MeshStiffness::MeshStiffness(const diag::GearPair& pair, const StiffnessOptions&
                              TabulateOnly)
     : pair_(pair), options_(options) {
   options_.validate();
+  // The potential-energy tooth takes the flank below the base circle as a straight line down to
+  // the root circle (Chen & Shao 2011); an undercut tooth is thinner there (the rack's trochoid),
+  // so the model would overestimate its stiffness by an amount it cannot bound. Refused.
+  for (const diag::Gear* g : {&pair_.driver(), &pair_.driven()}) {
+    if (!g->undercut()) continue;
+    std::ostringstream m;
+    m << "a gear with z = " << g->teeth() << " and profile_shift " << g->spec().profile_shift
+      << " is undercut; the potential-energy stiffness model assumes a tooth without undercut. "
+         "Give it profile_shift >= "
+      << g->min_profile_shift_without_undercut()
+      << " for the dynamic simulation; `attribute` and `simulate --mode kinematic` need only the "
+         "tooth counts and accept it";
+    throw InputError(format_error("mesh stiffness", "profile_shift", m.str()));
+  }
   if (pair_.contact_ratio() >= 4.0) {
     throw InputError(format_error("MeshStiffness", "contact_ratio",
                                   fail_value(pair_.contact_ratio(), "< 4 for a spur pair")));

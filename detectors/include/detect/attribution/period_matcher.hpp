@@ -20,10 +20,16 @@
 //     times its period is a slower path shaft's period, is read as this train plus a defect on
 //     the slower shaft passing at the same time (the seed's Fig. 9); the alternative reading (m
 //     defects on the slower shaft) is named in the finding's note and the confidence is halved.
-//  5. Findings: each train is attributed to the shaft with that period and lists every gear on the
-//     shaft that meshes on the power path; size at the output is the median event height, at the
-//     gear it is that times u_i (seed eq. 4). Events no train explains are reported as
-//     `unexplained` with multiplicity = true instead of a guess.
+//  5. Coincidences: an event during which another train also passes is the overlap of two
+//     defects; its height and onset belong to neither alone (in the seed's model the output
+//     stays stopped while either gap is taken up, so they neither add nor keep their own shape).
+//     Each train is sized and its period fitted from the events that do not coincide with
+//     another train's (when at least two remain), and an event no train claimed but during which
+//     trains pass (a pulse split by the overlap) is explained by those trains, not left over.
+//  6. Findings: each train is attributed to the shaft with that period and lists every gear on the
+//     shaft that meshes on the power path; size at the output is the median height of its sizing
+//     events, at the gear it is that times u_i (seed eq. 4). Events no train explains are
+//     reported as `unexplained` with multiplicity = true instead of a guess.
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -62,7 +68,8 @@ struct Finding {
   double confidence = 0;                 // coverage x period match x height consistency, [0, 1]
   int events = 0;                        // recurrences seen
   int expected_events = 0;               // recurrences the record holds
-  std::string note;  // when another reading fits the same events, it is named here
+  int coincident_events = 0;  // events where another train passes too: not used for the size
+  std::string note;           // when another reading fits the same events, it is named here
 };
 
 struct UnexplainedEvent {

@@ -18,6 +18,14 @@
 
 namespace diag {
 
+// Documented upper bounds of a description (README "Limits"); beyond them parse_gearbox refuses
+// with the field named, before any derived quantity is computed.
+inline constexpr int kMaxTeeth = 1000;
+inline constexpr double kMinModuleMm = 0.05, kMaxModuleMm = 100.0;
+inline constexpr double kMaxSpeedRpm = 1e5;           // input shaft [rpm]
+inline constexpr double kMaxTorqueNm = 1e7;           // input torque [N m]
+inline constexpr std::size_t kMaxGearboxItems = 256;  // shafts, gears, meshes, bearings, defects
+
 struct GearEntry {
   std::string name;
   std::string shaft;
@@ -118,6 +126,11 @@ class Gearbox {
   // place of the description's nominal one). Throws InputError unless finite and > 0.
   Gearbox with_input_speed_rpm(double speed_rpm) const;
 
+  // What the description allows but the user should know (undercut, a shortened contact, a thin
+  // tip land), each naming the source and the field. Tools print them to stderr and put them in
+  // their JSON output.
+  const std::vector<std::string>& warnings() const { return warnings_; }
+
   // The description as given (JSON text), stored with recordings.
   const std::string& description_json() const { return json_text_; }
 
@@ -134,6 +147,7 @@ class Gearbox {
   int input_shaft_ = -1, output_shaft_ = -1;
   std::vector<PathStep> path_;
   std::string json_text_;
+  std::vector<std::string> warnings_;
 };
 
 // Parses and validates a description. `where` names the source (a file path) in error messages.

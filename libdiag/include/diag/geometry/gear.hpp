@@ -43,11 +43,31 @@ class Gear {
   double angular_pitch_rad() const;  // 2 pi / z
   // Smallest profile shift without undercut by the rack: x_min = h_a* - z sin^2(alpha) / 2.
   double min_profile_shift_without_undercut() const;
+  // Undercut (x < x_min) is not an error: the rack cuts into the involute near the base circle,
+  // so the usable involute starts higher (form_radius_m) and a mate's contact there is lost (a
+  // lower contact ratio, see GearPair), and the tooth root is thinner than the involute model's.
   bool undercut() const;
+  // Tooth thickness (arc) on the tip circle (ISO 21771, thickness on any circle, at d_a):
+  //     s_a = d_a (s / d + inv(alpha) - inv(alpha_a)),  s / d = (pi / 2 + 2 x tan(alpha)) / z,
+  // cos(alpha_a) = r_b / r_a. s_a <= 0 is a pointed tooth: validate() refuses it.
+  double tip_thickness_m() const;
+  // Radius where the usable involute begins (the generated root form radius r_Ff) for a gear cut
+  // by its basic rack, modelled with the sharp corner where the cutter's straight flank ends,
+  // (h_a* - x) m below the rolling line (the model behind x_min). Without undercut the corner
+  // runs through the limit point on the generating line of action, at roll distance
+  //     rho_Ff = r sin(alpha) - (h_a* - x) m / sin(alpha)  (>= 0);
+  // with undercut the corner's trochoid cuts the involute, and r_Ff is the largest radius at
+  // which the corner's path enters the tooth (found numerically). CAUTION: a cutter with a
+  // rounded tip cuts slightly deeper than its corner; this model gives the upper bound of the
+  // usable involute.
+  double form_radius_m() const;
   // Disc approximation used by dynamics: mass and polar moment of a solid cylinder of the pitch
   // radius and the face width [kg], [kg m^2].
   double disc_mass_kg() const;
   double disc_inertia_kg_m2() const;
+
+  // tip_thickness_m() of a spec that validate() has not (yet) accepted; 0 when r_a <= r_b.
+  static double tip_thickness_unchecked(const GearSpec& spec);
 
  private:
   GearSpec spec_;

@@ -38,7 +38,9 @@ class GearPair {
  public:
   // Centre distance from the profile shifts (zero-backlash working distance) unless
   // centre_distance_m > 0 is given. Throws InputError naming `where` when the pair cannot mesh
-  // (different modules or pressure angles, contact ratio < 1, tip interference).
+  // (different modules or pressure angles, contact ratio < 1, tip interference with a gear that
+  // is not undercut, a tip reaching the mate's root circle). On an undercut gear (rack-generated)
+  // contact starts at its form radius (Gear::form_radius_m): the path of contact is shortened.
   GearPair(const Gear& driver, const Gear& driven, const char* where = "gear pair",
            double centre_distance_m = 0.0);
 
@@ -53,7 +55,10 @@ class GearPair {
   double s_pitch_m() const;
   double path_of_contact_m() const { return s_end_ - s_start_; }  // g_alpha
   double base_pitch_m() const;
-  double contact_ratio() const;    // epsilon_alpha = g_alpha / p_b
+  double contact_ratio() const;  // epsilon_alpha = g_alpha / p_b
+  // The contact ratio if both flanks were involute down to the base circle: differs from
+  // contact_ratio() only when an undercut gear loses contact below its form radius.
+  double uncut_contact_ratio() const { return uncut_contact_ratio_; }
   double mesh_period_rad() const;  // rotation of gear 1 per tooth: 2 pi / z1
 
   // Kinematics at LOA position s for driver speed omega1 [rad/s] (gear 2 turns at omega1 / u).
@@ -70,7 +75,7 @@ class GearPair {
 
  private:
   Gear g1_, g2_;
-  double alpha_w_ = 0, a_w_ = 0, s_start_ = 0, s_end_ = 0;
+  double alpha_w_ = 0, a_w_ = 0, s_start_ = 0, s_end_ = 0, uncut_contact_ratio_ = 0;
 };
 
 }  // namespace diag

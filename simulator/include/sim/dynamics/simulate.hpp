@@ -24,6 +24,16 @@
 
 namespace sim {
 
+// Documented upper bounds of a dynamic run (README "Limits"), checked before it starts.
+inline constexpr double kMaxDurationS = 3600.0;              // recorded duration [s]
+inline constexpr double kMaxFsHz = 1e6;                      // output sampling rate [Hz]
+inline constexpr double kMaxSettleS = 600.0;                 // discarded transient [s]
+inline constexpr int kMaxStepsPerPeriod = 10000;             // steps_per_period, steps_per_mesh
+inline constexpr int kMaxContactSubsteps = 256;              // contact_substeps
+inline constexpr double kMaxStepsPerSample = 1e6;            // integration steps per output sample
+inline constexpr double kMaxRunSteps = 2e9;                  // integration steps x meshes per run
+inline constexpr double kMaxOutputBytes = 4.0 * (1u << 30);  // samples x channels x 8 bytes
+
 struct RunOptions {
   double duration_s = 1.0;  // recorded duration [s], > 0
   double fs_hz = 20000.0;   // output sampling rate [Hz], > 0

@@ -15,10 +15,12 @@
 
 namespace sim {
 
+inline constexpr int kMaxSweepSteps = 1000;  // windows per run (README "Limits")
+
 struct SweepOptions {
   double from_rpm = 0.0;  // [rpm], > 0
   double to_rpm = 0.0;    // [rpm], > from_rpm
-  int steps = 40;         // windows per run, >= 2
+  int steps = 40;         // windows per run, [2, kMaxSweepSteps]
   bool down = true;       // also run down
   double dwell_s = 0.0;   // time per window [s]; 0: 200 mesh periods of the first mesh at
                           // from_rpm, at least 0.01 s
