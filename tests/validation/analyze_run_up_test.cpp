@@ -148,10 +148,11 @@ TEST(AnalyzeRunUp, AHealthyRunUpWithoutTheTachoHasNoGearFinding) {
 // pitch error modulates each mesh once per revolution of its gears: real shaft-rate sidebands,
 // which the steady analysis reports too (at 1750 rpm, seed 3: mesh z1_z2 pointed at the input in
 // 26 of 28 channels, z3_z4 at the counter in 17 of 28). The damaged-shaft locator flags a healthy
-// grade-6 box in the run-up as at steady speed (input score 5.2 at steady speed, counter 5.5 in the
-// run-up; the locator's robustness to pitch errors is being worked on apart): not tested here.
-// What the order domain must do: read the run-up as the steady record reads (the same sideband
-// findings), and the speed from the vibration must follow the ramp through the errors.
+// grade-6 box no more (its tooth score, gear_damage.hpp: the kurtosis score it replaced flagged
+// the input at steady speed, 5.2, and the counter in the run-up, 5.5): a sideband finding is
+// modulation, a gear_damage finding would be a claim of damage. What the order domain must do:
+// read the run-up as the steady record reads (the same sideband findings), and the speed from
+// the vibration must follow the ramp through the errors.
 constexpr two_stage_case::Errors kGrade6{6, 0.0};
 constexpr two_stage_case::Errors kGrade6Runout{6, 10e-6};
 
@@ -174,12 +175,16 @@ TEST(AnalyzeRunUp, AGrade6RunUpReadsTheSidebandsOfTheSteadyRecord) {
   const auto expected = sideband_findings(steady);
   EXPECT_FALSE(expected.empty());  // the pitch errors' modulation is there to be read
   EXPECT_EQ(sideband_findings(run_up), expected) << detect::to_json(run_up)["findings"].dump(1);
+  // Healthy gears with ordinary manufacturing errors: no damage claimed, steady or run-up.
+  EXPECT_TRUE(of_kind(steady, "gear_damage").empty()) << detect::to_json(steady)["gear_damage"];
+  EXPECT_TRUE(of_kind(run_up, "gear_damage").empty()) << detect::to_json(run_up)["gear_damage"];
 }
 
 TEST(AnalyzeRunUp, TheSpeedFromTheVibrationFollowsAGrade6RunUpWithRunout) {
   const auto& r = analysed({"", kGrade6Runout, false});
   expect_ramp_followed(r, "vibration");
   expect_lines_on_mesh_orders(r);
+  EXPECT_TRUE(of_kind(r, "gear_damage").empty()) << detect::to_json(r)["gear_damage"];
 }
 
 }  // namespace
