@@ -4,6 +4,8 @@
 # geardiag binary is given, and small valid files made by fuzz/make_seeds.py. Fails on the first
 # crash, leak, sanitizer report, timeout or non-InputError exception; the input is saved as
 # BUILD/artifacts/<target>-crash-*. Prints executions and coverage per target (FUZZING.md).
+# The mutation sequence is fixed by FUZZ_SEED (default 1), so a run explores the same inputs each
+# time up to where its time runs out; another seed explores others.
 #
 # usage: fuzz/run.sh BUILD_DIR SECONDS [GEARDIAG_BINARY]
 set -euo pipefail
@@ -40,7 +42,7 @@ for target in csv csv_gz wav mat hdf5 gearbox_json scenario_json channel_map; do
   regressions=()
   if [ -d "fuzz/regressions/$target" ]; then regressions=("fuzz/regressions/$target"); fi
   if "$build/fuzz/fuzz_$target" "$corpus" "$seeds/$target" "${regressions[@]}" -max_total_time="$seconds" \
-      -timeout=45 -rss_limit_mb=2560 -max_len=1048576 -print_final_stats=1 \
+      -seed="${FUZZ_SEED:-1}" -timeout=45 -rss_limit_mb=2560 -max_len=1048576 -print_final_stats=1 \
       -artifact_prefix="$build/artifacts/$target-" >"$log" 2>&1; then
     result=ok
   else

@@ -112,8 +112,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
          "from the "
       << html_escape(r.gear_damage_angles)
       << "), less the shaft order, the mesh harmonics and their first sidebands, and less the "
-         "orders a faster shaft shares. Score: the kurtosis of what is left, corrected for the "
-         "noise (3: nothing localised; damaged above "
+         "orders a faster shaft shares. Score: per gear on the shaft, the largest energy of one "
+         "tooth pitch of what is left over the median of the other teeth (1: no tooth stands "
+         "out; ordinary pitch errors stay below about 15; damaged above "
       << f3(GearDamageOptions{}.damaged_fm4)
       << " with the default options); SNR: its energy over the noise's (1: noise alone); level: "
          "its RMS over the regular signal's.</p>\n<p>Status: <b>"
