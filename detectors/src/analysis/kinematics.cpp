@@ -223,16 +223,9 @@ void refine_tsa_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
   const int ref = k.reference_shaft >= 0 ? k.reference_shaft : gb.input_shaft();
   k.tsa_reference = gb.shafts()[static_cast<std::size_t>(ref)].name;
   k.tsa_reference_pulses = k.pulses_s[static_cast<std::size_t>(ref)];
-  const GearDamageOptions& g = opt.gear_damage;
-  PulseRefineOptions pro;
-  pro.pulse_fit_degree = g.pulse_fit_degree;
-  pro.phase_correction = g.refine_speed;
-  pro.band_fraction = g.band_fraction;
-  pro.samples_per_rev = g.samples_per_rev;
-  pro.min_revolutions = g.min_revolutions;
-  pro.channels = g.channels;
   try {
-    const RefinedPulses rp = refine_pulses(rec, gb, k.tsa_reference, k.tsa_reference_pulses, pro);
+    const RefinedPulses rp = refine_pulses(rec, gb, k.tsa_reference, k.tsa_reference_pulses,
+                                           pulse_refine_options(opt.gear_damage));
     const double base =
         std::abs(gb.shafts()[static_cast<std::size_t>(gb.shaft_index(rp.shaft))].speed_ratio);
     for (std::size_t s = 0; s < gb.shafts().size(); ++s) {

@@ -281,14 +281,8 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
 
   // ---- pulse correction (pulse_refine.hpp): smoothed, then corrected from a mesh line's phase
   // on the fastest shaft; every shaft's revolutions are scaled from the result ----
-  PulseRefineOptions pro;
-  pro.pulse_fit_degree = options.pulse_fit_degree;
-  pro.phase_correction = options.refine_speed;
-  pro.band_fraction = options.band_fraction;
-  pro.samples_per_rev = options.samples_per_rev;
-  pro.min_revolutions = options.min_revolutions;
-  pro.channels = options.channels;
-  const RefinedPulses refined = refine_pulses(rec, gb, ref, pulse_times_s, pro);
+  const RefinedPulses refined =
+      refine_pulses(rec, gb, ref, pulse_times_s, pulse_refine_options(options));
   note << refined.note;
   const std::vector<double>& base = refined.pulses;  // once per revolution of a shaft turning at
   const double base_ratio =                          // |speed_ratio| = base_ratio
@@ -723,6 +717,17 @@ nlohmann::json to_json(const GearDamageResult& r) {
                              {"note", f.note}});
   }
   return j;
+}
+
+PulseRefineOptions pulse_refine_options(const GearDamageOptions& options) {
+  PulseRefineOptions pro;
+  pro.pulse_fit_degree = options.pulse_fit_degree;
+  pro.phase_correction = options.refine_speed;
+  pro.band_fraction = options.band_fraction;
+  pro.samples_per_rev = options.samples_per_rev;
+  pro.min_revolutions = options.min_revolutions;
+  pro.channels = options.channels;
+  return pro;
 }
 
 }  // namespace detect

@@ -79,6 +79,7 @@
 #include <string>
 #include <vector>
 
+#include "detect/angular/pulse_refine.hpp"
 #include "detect/indicators/indicators.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/recording.hpp"
@@ -231,6 +232,11 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
                                     const std::string& reference_shaft,
                                     std::span<const double> pulse_times_s,
                                     const GearDamageOptions& options = {});
+
+// The pulse correction's settings (pulse_refine.hpp) that locate_gear_damage uses: its fit degree,
+// refine_speed, band, resolution, fewest revolutions and channels. analyze corrects its TSA's
+// revolutions with the same.
+PulseRefineOptions pulse_refine_options(const GearDamageOptions& options);
 
 // The healthy baseline of a recording (GearDamageOptions::baseline): every shaft's TSA per
 // channel, with the same pulse processing and resolution as locate_gear_damage (pass the same
