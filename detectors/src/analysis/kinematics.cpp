@@ -228,9 +228,11 @@ void refine_tsa_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
                                            pulse_refine_options(opt.gear_damage));
     const double base =
         std::abs(gb.shafts()[static_cast<std::size_t>(gb.shaft_index(rp.shaft))].speed_ratio);
-    for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
-      k.tsa_pulses_s[s] = scale_pulses(rp.pulses, std::abs(gb.shafts()[s].speed_ratio) / base);
+    std::vector<std::vector<double>> scaled(gb.shafts().size());  // all or nothing
+    for (std::size_t s = 0; s < scaled.size(); ++s) {
+      scaled[s] = scale_pulses(rp.pulses, std::abs(gb.shafts()[s].speed_ratio) / base);
     }
+    k.tsa_pulses_s = std::move(scaled);
     k.tsa_reference = rp.shaft;
     k.tsa_reference_pulses = rp.pulses;
     if (!rp.note.empty()) notes.push_back("TSA revolutions: " + rp.note);
