@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -52,10 +53,12 @@ int cmd_analyze(int argc, char** argv) {
   const detect::BaselineComparisonOptions bo;
   std::string recording, gearbox, json_out, html_out, fail_on;
   std::vector<std::string> baselines;
+  std::string gear_baseline;
   double fs_hz = 0;
   ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
+      "[--gear-baseline FILE] "
       "[--json OUT.json] [--html OUT.html] [--fail-on alarm|finding]\n\n"
       "RECORDING: a geardiag HDF5 recording, or CSV (.csv, .csv.gz), WAV or MAT measurements\n"
       "(imported as by `geardiag import`; --fs for CSV without a time column and for MAT).\n"
@@ -70,13 +73,19 @@ int cmd_analyze(int argc, char** argv) {
       std::to_string(static_cast<int>(bo.baseline.alarm_threshold)) +
       ".\nOutputs are checked before the analysis starts. '-' writes a report to stdout; the\n"
       "summary then goes to stderr. Exit 1 with --fail-on: alarm = the baseline alarm was raised;\n"
-      "finding = any finding or the baseline alarm.\n\noptions");
+      "finding = any finding or the baseline alarm.\n"
+      "--gear-baseline: one healthy recording of the same gears at the same speed and load, with\n"
+      "a tacho; the damaged-shaft locator subtracts its revolution averages (NA4-style) and fuses\n"
+      "that answer with the recording's own (different shafts: ambiguous, both reported).\n\n"
+      "options");
   desc.add_options()("help,h", "this help")("recording", po::value(&recording)->required(),
                                             "recording (.h5, .csv, .csv.gz, .wav, .mat)")(
       "gearbox", po::value(&gearbox), "gearbox description (JSON)")(
       "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT, > 0")(
       "baseline", po::value(&baselines)->multitoken(),
       "healthy recordings to compare with (same channels and sampling rate)")(
+      "gear-baseline", po::value(&gear_baseline),
+      "healthy recording (same gears, speed and load; a tacho) for the damaged-shaft locator")(
       "json", po::value(&json_out), "write the analysis as JSON to this file ('-': stdout)")(
       "html", po::value(&html_out),
       "write a self-contained HTML report to this file ('-': stdout)")(
@@ -140,6 +149,14 @@ int cmd_analyze(int argc, char** argv) {
       throw diag::InputError(std::string("--baseline ") + e.what());
     }
   }
+  std::optional<diag::Recording> gear_healthy;
+  if (!gear_baseline.empty()) {
+    try {
+      gear_healthy = load_recording(gear_baseline, fs);
+    } catch (const diag::InputError& e) {
+      throw diag::InputError(std::string("--gear-baseline ") + e.what());
+    }
+  }
   std::optional<diag::Gearbox> gb;
   if (!gearbox.empty()) {
     gb = diag::load_gearbox(gearbox);
@@ -163,6 +180,20 @@ int cmd_analyze(int argc, char** argv) {
     } catch (const diag::InputError& e) {
       throw diag::InputError("--baseline " + baselines[i] + ": " + e.what());
     }
+  }
+  if (gear_healthy) {
+    if (!gb) {
+      throw diag::InputError(
+          "--gear-baseline: needs a gearbox description (--gearbox or the file's /gearbox)");
+    }
+    try {
+      prepare_channels(*gear_healthy, &*gb, channels);
+      opt.gear_damage.baseline = std::make_shared<const detect::GearDamageBaseline>(
+          detect::gear_damage_baseline(*gear_healthy, *gb, opt.gear_damage));
+    } catch (const diag::InputError& e) {
+      throw diag::InputError("--gear-baseline " + gear_baseline + ": " + e.what());
+    }
+    gear_healthy.reset();
   }
   // A progress line on a terminal only: piped or redirected, stderr stays quiet.
   const bool terminal = ::isatty(STDERR_FILENO) != 0;

@@ -668,11 +668,62 @@ GearDamageBaseline gear_damage_baseline(const diag::Recording& healthy, const di
   return b;
 }
 
+namespace {
+
+// Step 7 of the header: the answer against the baseline (`cmp`) fused with the recording's own
+// (`alone`).
+GearDamageResult fuse_with_alone(GearDamageResult cmp, const GearDamageResult& alone) {
+  for (ShaftDamage& s : cmp.shafts) {
+    for (const ShaftDamage& a : alone.shafts) {
+      if (a.shaft == s.shaft) s.score_alone = a.score;
+    }
+  }
+  const bool cmp_flags = !cmp.findings.empty();
+  const bool alone_flags = !alone.findings.empty();
+  std::string why;
+  if (cmp_flags && alone_flags && cmp.findings.front().shaft != alone.findings.front().shaft) {
+    GearDamageFinding a = cmp.findings.front();
+    GearDamageFinding b = alone.findings.front();
+    a.note = "against the baseline: " + a.note;
+    b.note = "the recording alone: " + b.note;
+    a.confidence = 0.5 * std::min(a.confidence, 1.0);
+    b.confidence = 0.5 * std::min(b.confidence, 1.0);
+    cmp.findings = {a, b};
+    cmp.status = "ambiguous";
+    why = "against the baseline '" + a.shaft + "' is flagged, the recording alone flags '" +
+          b.shaft +
+          "': a fault on one shaft can change the response of another's gears to their own "
+          "pitch errors, which the baseline does not cancel; both are reported. ";
+  } else if (!cmp_flags && alone_flags) {
+    const std::string note = cmp.note;
+    std::vector<ShaftDamage> shafts = std::move(cmp.shafts);
+    cmp = alone;
+    cmp.shafts = std::move(shafts);
+    cmp.note = note;
+    why = "against the baseline no shaft stands out, the recording alone flags '" +
+          alone.findings.front().shaft +
+          "': reported from the recording alone (was the fault in the baseline too?). ";
+  } else if (cmp_flags && alone_flags) {
+    why = "the recording alone flags the same shaft. ";
+  } else if (cmp_flags) {
+    why = "the recording alone flags no shaft (the baseline removes the pitch errors' pattern). ";
+  }
+  cmp.note += why;
+  return cmp;
+}
+
+}  // namespace
+
 GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gearbox& gb,
                                     const std::string& reference_shaft,
                                     std::span<const double> pulse_times_s,
                                     const GearDamageOptions& options) {
-  return locate_impl(rec, gb, reference_shaft, pulse_times_s, options, nullptr);
+  GearDamageResult res = locate_impl(rec, gb, reference_shaft, pulse_times_s, options, nullptr);
+  if (!options.baseline) return res;
+  GearDamageOptions alone_options = options;
+  alone_options.baseline.reset();
+  return fuse_with_alone(
+      std::move(res), locate_impl(rec, gb, reference_shaft, pulse_times_s, alone_options, nullptr));
 }
 
 nlohmann::json to_json(const GearDamageResult& r) {
@@ -696,6 +747,7 @@ nlohmann::json to_json(const GearDamageResult& r) {
                            {"gear", s.gear},
                            {"tooth_angle_deg", num(s.angle_deg)},
                            {"compared_with_baseline", s.compared},
+                           {"score_alone", num(s.score_alone)},
                            {"significant", s.significant},
                            {"damaged", s.damaged},
                            {"uncertain", s.uncertain},

@@ -53,8 +53,17 @@
 // Without a healthy baseline (options.baseline, gear_damage_baseline: the baseline's tooth pattern
 // subtracted, so that pitch errors cancel), a small crack whose stiffness loss changes the
 // transmission error less than the largest pitch deviation of the gear cannot be told from that
-// deviation, and the locator stays silent (validation/gear_damage_loop.hpp reports where). analyze
-// does not pass a baseline yet: in the loop it put 2 of 30 faults on a wrong shaft.
+// deviation, and the locator stays silent (validation/gear_damage_loop.hpp reports where).
+//  7. With a baseline, the recording is judged twice, alone and against the baseline, and the two
+//     answers are fused. The comparison alone put 2 of 30 faults on a wrong shaft in the loop (a
+//     fault on a fast pinion changes the dynamic load on a slower mesh, and with it that gear's
+//     response to its own pitch errors, which the baseline taken without the fault does not
+//     cancel; "the slowest flagged shaft" then names the slower one), while the recording alone
+//     never named a wrong shaft there. So: both flag the same shaft, or only one of them flags
+//     a shaft: that answer (the comparison's scores when it flags; the recording's own when only
+//     it does, e.g. a baseline that already had the fault); they flag different shafts:
+//     "ambiguous", both reported at half confidence, silence on which of the two; neither: healthy.
+//     Each shaft carries both scores (score, score_alone).
 //
 // Channels per shaft: options.channels[shaft] when given; else the recording's signals whose
 // location is a bearing of that shaft ("<shaft>_bearing1", the simulator's names, or a bearing of
@@ -72,6 +81,7 @@
 #pragma once
 
 #include <complex>
+#include <limits>
 #include <map>
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
@@ -190,10 +200,14 @@ struct ShaftDamage {
   double level = 0;            // its synchronous RMS over the regular signal's RMS (options)
   bool compared = false;       // the healthy baseline was subtracted (options.baseline): the
                                // SNR gate is not applied (below) and level is the difference's
-  bool significant = false;    // the gates pass: score compared with the thresholds
-  bool damaged = false;        // snr >= min_snr, exclusive_share >= min_exclusive_share (when
-                               // a faster shaft exists) and score > damaged_fm4
-  bool uncertain = false;      // snr >= min_snr and healthy_fm4 < score <= damaged_fm4
+  double score_alone =
+      std::numeric_limits<double>::quiet_NaN();  // with options.baseline: the
+                                                 // tooth score of the recording alone (no
+                                                 // baseline); NaN without
+  bool significant = false;  // the gates pass: score compared with the thresholds
+  bool damaged = false;      // snr >= min_snr, exclusive_share >= min_exclusive_share (when
+                             // a faster shaft exists) and score > damaged_fm4
+  bool uncertain = false;    // snr >= min_snr and healthy_fm4 < score <= damaged_fm4
 };
 
 struct GearDamageFinding {
