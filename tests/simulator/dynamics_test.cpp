@@ -523,6 +523,19 @@ TEST(Scenario, BadFieldsAreNamed) {
   expect_error(R"({"sensors": {"casing_frequency_hz": 15000}, "fs_hz": 20000})",
                "casing_frequency_hz");
   expect_error(R"({"mesh_damping_ratio": 3})", "mesh_damping_ratio");
+  expect_error(R"({"sensors": {"noise_seed": -1}})", "sensors.noise_seed");
+}
+
+// "seed" draws the gears (pitch errors, runout phases) and, without sensors.noise_seed, the sensor
+// noise; sensors.noise_seed gives the noise its own seed (two measurements of the same gears).
+TEST(Scenario, TheNoiseSeedSeparatesTheSensorNoiseFromTheGears) {
+  const sim::Scenario a = sim::parse_scenario(nlohmann::json::parse(R"({"seed": 4})"), "a.json");
+  EXPECT_EQ(a.dynamics.seed, 4u);
+  EXPECT_EQ(a.run.seed, 4u);
+  const sim::Scenario b = sim::parse_scenario(
+      nlohmann::json::parse(R"({"seed": 4, "sensors": {"noise_seed": 11}})"), "b.json");
+  EXPECT_EQ(b.dynamics.seed, 4u);
+  EXPECT_EQ(b.run.seed, 11u);
 }
 
 TEST(Scenario, AFaultOnAnUnknownGearIsRefused) {

@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "diag/error.hpp"
 #include "diag/io/json_fields.hpp"
@@ -164,14 +165,22 @@ Scenario parse_scenario(const json& j, const std::string& where) {
   }
   if (f.has("accuracy_grade")) d.accuracy_grade = f.integer("accuracy_grade");
   d.runout_m = f.non_negative("runout_um", 0.0) * 1e-6;
+  // sensors.noise_seed: the sensor noise's own seed, so that two records of the same gears (the
+  // same "seed": pitch errors, runout phases) differ in their noise, as two measurements do.
+  std::optional<std::uint64_t> noise_seed;
   if (f.has("sensors")) {
-    diag::Fields s(
-        f.raw("sensors"), where, "sensors",
-        {"noise_m_per_s2", "casing_frequency_hz", "casing_damping_ratio", "mesh_channels"});
+    diag::Fields s(f.raw("sensors"), where, "sensors",
+                   {"noise_m_per_s2", "casing_frequency_hz", "casing_damping_ratio",
+                    "mesh_channels", "noise_seed"});
     r.accel_noise_m_per_s2 = s.non_negative("noise_m_per_s2", r.accel_noise_m_per_s2);
     r.casing_frequency_hz = s.non_negative("casing_frequency_hz", r.casing_frequency_hz);
     r.casing_damping_ratio = s.positive("casing_damping_ratio", r.casing_damping_ratio);
     r.mesh_channels = s.boolean("mesh_channels", r.mesh_channels);
+    if (s.has("noise_seed")) {
+      const int seed = s.integer("noise_seed");
+      if (seed < 0) s.fail("noise_seed", "must be >= 0");
+      noise_seed = static_cast<std::uint64_t>(seed);
+    }
   }
   if (f.has("integrator")) {
     diag::Fields in(f.raw("integrator"), where, "integrator",
@@ -232,6 +241,7 @@ Scenario parse_scenario(const json& j, const std::string& where) {
     if (seed < 0) f.fail("seed", "must be >= 0");
     d.seed = r.seed = static_cast<std::uint64_t>(seed);
   }
+  if (noise_seed) r.seed = *noise_seed;
   d.validate(where);
   try {
     r.validate();
