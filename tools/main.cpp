@@ -7,6 +7,7 @@
 
 #include "commands.hpp"
 #include "diag/error.hpp"
+#include "diag/version.hpp"
 
 namespace {
 
@@ -51,7 +52,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (name == "--version") {
-    std::cout << "geardiag " << GEARDIAG_VERSION << " (" << GEARDIAG_GIT_REVISION << ")\n";
+    std::cout << "geardiag " << diag::version() << " (" << diag::git_revision() << ")\n";
     return 0;
   }
   for (const auto& c : kCommands) {

@@ -28,6 +28,7 @@
 #include "diag/io/channels.hpp"
 #include "diag/io/input_file.hpp"
 #include "diag/io/output_file.hpp"
+#include "diag/version.hpp"
 
 namespace diag {
 
@@ -233,8 +234,8 @@ struct Writer {
       Hid root = checked(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, where, "/");
       string_attribute(root.get(), "format", kFormatName, "/");
       int_attribute(root.get(), "format_version", kFormatVersion, "/");
-      string_attribute(root.get(), "creator", std::string("geardiag ") + GEARDIAG_VERSION, "/");
-      string_attribute(root.get(), "git_revision", GEARDIAG_GIT_REVISION, "/");
+      string_attribute(root.get(), "creator", std::string("geardiag ") + diag::version(), "/");
+      string_attribute(root.get(), "git_revision", diag::git_revision(), "/");
       if (rec.speed_rpm > 0) double_attribute(root.get(), "input_speed_rpm", rec.speed_rpm, "/");
       int_attribute(root.get(), "roles_stated", rec.roles_stated ? 1 : 0, "/");
       for (const auto& [key, value] : rec.metadata) {
