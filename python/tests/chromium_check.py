@@ -17,8 +17,16 @@ MEASURE = """<script>
   for (const d of document.querySelectorAll('details')) d.open = true;
   const W = document.documentElement.clientWidth;
   const over = [];
+  // An element inside a box that scrolls or clips horizontally (a wide table scrolls in its
+  // own box) does not widen the page; every other element must end within it.
+  const clipped = (e) => {
+    for (let p = e.parentElement; p && p !== document.body; p = p.parentElement)
+      if (getComputedStyle(p).overflowX !== 'visible') return true;
+    return false;
+  };
   for (const e of document.body.querySelectorAll('*')) {
     const r = e.getBoundingClientRect();
+    if (r.right > W + 0.5 && clipped(e)) continue;
     if (r.right > W + 0.5) over.push(e.tagName + (e.id ? '#' + e.id : '') + ' ' + r.right);
   }
   const broken = [];
@@ -39,7 +47,7 @@ MEASURE = """<script>
 </script>"""
 
 
-def measure(html_path, width=1280):
+def measure(html_path, width=1280, screenshot=True):
     """Returns the measurements (dict) of the page at `width` CSS px: height as delivered
     (sections folded as the report folds them) and with every <details> opened; overflow and
     links with every section open; and the screenshot's (width, height) in pixels."""
@@ -55,6 +63,8 @@ def measure(html_path, width=1280):
                              capture_output=True, text=True, timeout=120).stdout
         m = re.search(r'<pre id="geardiag-measure">(.*?)</pre>', dom, re.S)
         result = json.loads(m.group(1).replace("&quot;", '"').replace("&amp;", "&"))
+        if not screenshot:
+            return result
         shot = pathlib.Path(d) / "shot.png"
         subprocess.run(common + [f"--screenshot={shot}", pathlib.Path(html_path).resolve().as_uri()],
                        check=True, capture_output=True, timeout=120)
