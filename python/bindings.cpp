@@ -8,6 +8,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
@@ -249,6 +251,18 @@ py::dict time_indicators(std::span<const double> x) {
   d["kurtosis"] = mo.kurtosis();
   d["skewness"] = mo.skewness();
   return d;
+}
+
+// Keyword options by name: each key must be one of `setters`; the setter stores the value.
+using H = const py::handle&;
+void apply_options(const py::dict& options, const std::string& fn,
+                   const std::map<std::string, std::function<void(H)>>& setters) {
+  for (const auto& [k, v] : options) {
+    const std::string key = py::str(k);
+    const auto it = setters.find(key);
+    if (it == setters.end()) throw diag::InputError(fn + ": unknown option '" + key + "'");
+    it->second(v);
+  }
 }
 
 py::dict curves_py(std::vector<diag::DataGroup>&& groups) {
@@ -540,6 +554,19 @@ PYBIND11_MODULE(_geardiag, m) {
       [](const py::object& source, const py::object& gearbox, std::optional<double> fs_hz,
          double rpm, const std::string& channel_map, const std::vector<std::string>& tachos,
          const py::dict& options) {
+        // Options first: a misspelt option is refused before a long read.
+        detect::AnalyzeOptions o;
+        apply_options(
+            options, "analyze",
+            {{"welch_nperseg", [&](H v) { o.welch_nperseg = v.cast<std::size_t>(); }},
+             {"kurtogram_max_level", [&](H v) { o.kurtogram_max_level = v.cast<int>(); }},
+             {"tsa_min_revolutions", [&](H v) { o.tsa_min_revolutions = v.cast<int>(); }},
+             {"peaks_reported", [&](H v) { o.peaks_reported = v.cast<int>(); }},
+             {"threads", [&](H v) { o.threads = v.cast<int>(); }},
+             {"plot_points", [&](H v) { o.plot_points = v.cast<int>(); }},
+             {"envelope_plot_max_hz", [&](H v) { o.envelope_plot_max_hz = v.cast<double>(); }},
+             {"nominal_time_s", [&](H v) { o.nominal_time_s = v.cast<double>(); }},
+             {"speed_from_vibration", [&](H v) { o.speed_from_vibration = v.cast<bool>(); }}});
         diag::Recording rec =
             py::isinstance<py::dict>(source)
                 ? recording_from_py(source.cast<py::dict>())
@@ -558,30 +585,6 @@ PYBIND11_MODULE(_geardiag, m) {
         if (gb) gb = geardiag::gearbox_at_speed(*gb, rec, co, notes);
         for (std::string& n : geardiag::prepare_channels(rec, gb ? &*gb : nullptr, co)) {
           notes.push_back(std::move(n));
-        }
-        detect::AnalyzeOptions o;
-        for (const auto& [k, v] : options) {
-          const std::string key = py::str(k);
-          if (key == "welch_nperseg")
-            o.welch_nperseg = v.cast<std::size_t>();
-          else if (key == "kurtogram_max_level")
-            o.kurtogram_max_level = v.cast<int>();
-          else if (key == "tsa_min_revolutions")
-            o.tsa_min_revolutions = v.cast<int>();
-          else if (key == "peaks_reported")
-            o.peaks_reported = v.cast<int>();
-          else if (key == "threads")
-            o.threads = v.cast<int>();
-          else if (key == "plot_points")
-            o.plot_points = v.cast<int>();
-          else if (key == "envelope_plot_max_hz")
-            o.envelope_plot_max_hz = v.cast<double>();
-          else if (key == "nominal_time_s")
-            o.nominal_time_s = v.cast<double>();
-          else if (key == "speed_from_vibration")
-            o.speed_from_vibration = v.cast<bool>();
-          else
-            throw diag::InputError("analyze: unknown option '" + key + "'");
         }
         detect::AnalysisResult r;
         std::vector<diag::DataGroup> curves;
@@ -661,27 +664,16 @@ PYBIND11_MODULE(_geardiag, m) {
          const py::dict& options) {
         const diag::Gearbox gb = gearbox_from(gearbox);
         detect::AttributionOptions o;
-        for (const auto& [k, v] : options) {
-          const std::string key = py::str(k);
-          if (key == "threshold_sigma")
-            o.threshold_sigma = v.cast<double>();
-          else if (key == "min_event_rad")
-            o.min_event_rad = v.cast<double>();
-          else if (key == "position_tolerance_rad")
-            o.position_tolerance_rad = v.cast<double>();
-          else if (key == "period_tolerance")
-            o.period_tolerance = v.cast<double>();
-          else if (key == "min_coverage")
-            o.min_coverage = v.cast<double>();
-          else if (key == "smooth_harmonics")
-            o.smooth_harmonics = v.cast<int>();
-          else if (key == "mesh_harmonics")
-            o.mesh_harmonics = v.cast<int>();
-          else if (key == "min_recurrences")
-            o.min_recurrences = v.cast<int>();
-          else
-            throw diag::InputError("attribute: unknown option '" + key + "'");
-        }
+        apply_options(
+            options, "attribute",
+            {{"threshold_sigma", [&](H v) { o.threshold_sigma = v.cast<double>(); }},
+             {"min_event_rad", [&](H v) { o.min_event_rad = v.cast<double>(); }},
+             {"position_tolerance_rad", [&](H v) { o.position_tolerance_rad = v.cast<double>(); }},
+             {"period_tolerance", [&](H v) { o.period_tolerance = v.cast<double>(); }},
+             {"min_coverage", [&](H v) { o.min_coverage = v.cast<double>(); }},
+             {"smooth_harmonics", [&](H v) { o.smooth_harmonics = v.cast<int>(); }},
+             {"mesh_harmonics", [&](H v) { o.mesh_harmonics = v.cast<int>(); }},
+             {"min_recurrences", [&](H v) { o.min_recurrences = v.cast<int>(); }}});
         const std::span<const double> in = view(input_angle, "input_angle");
         const std::span<const double> out = view(output_angle, "output_angle");
         detect::AttributionResult r;

@@ -190,12 +190,15 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         << "</td><td>" << f3(s.speed_hz) << "</td><td class=l>" << html_escape(s.source)
         << "</td></tr>";
     }
-    o << "</table>\n<table><tr><th class=l>mesh</th><th>frequency [Hz]</th></tr>";
-    for (const auto& m : r.meshes) {
-      o << "<tr><td class=l>" << html_escape(m.name) << "</td><td>" << f3(m.frequency_hz)
-        << "</td></tr>";
-    }
     o << "</table>\n";
+    if (!r.meshes.empty()) {
+      o << "<table><tr><th class=l>mesh</th><th>frequency [Hz]</th></tr>";
+      for (const auto& m : r.meshes) {
+        o << "<tr><td class=l>" << html_escape(m.name) << "</td><td>" << f3(m.frequency_hz)
+          << "</td></tr>";
+      }
+      o << "</table>\n";
+    }
   } else {
     o << "<p class=note>No gearbox description: only the unit-free indicators and spectra.</p>\n";
   }
@@ -349,7 +352,8 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     if (!c.shaft.empty()) what += ", shaft " + c.shaft;
     o << "<details class=channel id=\"" << anchor("ch-", c.name) << "\"><summary>Channel "
       << html_escape(c.name) << " <span class=note>(" << html_escape(what) << ")</span> "
-      << (shown > 0 ? "<span class=bad>" + std::to_string(shown) + " finding(s)</span>"
+      << (shown > 0 ? "<span class=bad>" + std::to_string(shown) +
+                          (shown == 1 ? " finding" : " findings") + "</span>"
                     : std::string(c.sensor ? "<span class=good>no finding</span>"
                                            : "<span class=note>not a sensor: shown only</span>"))
       << "</summary>\n<p class=note>" << html_escape(unit) << ", fs " << f3(c.fs_hz) << " Hz, "
@@ -430,7 +434,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         const char* fault_of[] = {"", "outer_race", "inner_race", "rolling_element"};
         for (int f = 0; f < 4; ++f) {
           const bool seen = std::string(named) == fault_of[f] && f > 0;
-          for (int h = 1; h <= 3; ++h) {
+          for (int h = 1; h <= (f == 0 ? 1 : 3); ++h) {  // FTF: the fundamental only
             const std::string label = (h == 1 ? "" : std::to_string(h) + "x") + kFamily[f];
             fm.push_back({h * fund[f], c.bearings.size() > 1 ? ba.bearing + " " + label : label,
                           kColors[(f + 2) % 6], !seen});
