@@ -17,11 +17,16 @@ ROOT = pathlib.Path(__file__).resolve().parent
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
         target = pathlib.Path(self.get_ext_fullpath(ext.name)).resolve()
-        build = pathlib.Path(self.build_temp).resolve() / "cmake"
-        subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build),
-                        "-DCMAKE_BUILD_TYPE=Release", "-DGEARDIAG_BUILD_TESTS=OFF",
-                        "-DGEARDIAG_WITH_PYTHON=ON", f"-DPython3_EXECUTABLE={sys.executable}"],
-                       check=True)
+        # GEARDIAG_BUILD_DIR: an existing CMake build of this checkout (e.g. build/, where
+        # `make python` built the module) is reused; else a Release build of its own.
+        given = os.environ.get("GEARDIAG_BUILD_DIR")
+        build = (pathlib.Path(given) if given else
+                 pathlib.Path(self.build_temp) / "cmake").resolve()
+        if not given:
+            subprocess.run(["cmake", "-S", str(ROOT), "-B", str(build),
+                            "-DCMAKE_BUILD_TYPE=Release", "-DGEARDIAG_BUILD_TESTS=OFF",
+                            "-DGEARDIAG_WITH_PYTHON=ON", f"-DPython3_EXECUTABLE={sys.executable}"],
+                           check=True)
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 2))
         subprocess.run(["cmake", "--build", str(build), "--target", "geardiag_py", "-j", jobs],
                        check=True)
