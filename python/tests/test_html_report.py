@@ -12,6 +12,7 @@ from chromium_check import CHROMIUM, measure
 def test_report_renders_with_contents_and_no_overflow(cli_outputs):
     html = cli_outputs["html"].read_text(encoding="utf-8")
     assert "<script" not in html.lower()
+    assert "Kurtogram" in html and "Time waveform" in html and "Difference signal" in html
     assert 'id=summary' in html and 'id=contents' in html and "<details" in html
     # Units written as units: (m/s²)²/Hz, not m/s^2^2/Hz.
     assert "(m/s\u00b2)\u00b2/Hz" in html and "^2^2" not in html

@@ -79,7 +79,8 @@ def test_analyze_equals_cli(sim_file, cli_outputs):
         assert f.attrs["format"] == "geardiag-curves"
         n = 0
         for ch, groups in curves["channels"].items():
-            for gname in ("psd", "spectrum", "envelope_spectrum", "order_spectrum"):
+            for gname in ("psd", "spectrum", "envelope_spectrum", "order_spectrum", "waveform",
+                          "kurtogram"):
                 if gname in groups:
                     g = f["channels"][ch][gname]
                     for col in groups[gname]["units"]:
@@ -92,6 +93,11 @@ def test_analyze_equals_cli(sim_file, cli_outputs):
         for shaft in tsa:
             assert set(tsa[shaft]) == {"angle_rev", "tsa", "regular", "residual", "difference"}
         assert "time_s" in f["speed"] or "speed" not in f
+    # The kurtogram's selected band is the envelope spectrum's demodulation band.
+    ch = next(iter(curves["channels"].values()))
+    assert ch["kurtogram"]["attrs"]["selected_low_hz"] == ch["envelope_spectrum"]["attrs"][
+        "band_low_hz"]
+    assert ch["waveform"]["units"]["value"] == "m/s^2"
 
 
 def test_analyze_psd_curve_against_scipy(sim_recording):

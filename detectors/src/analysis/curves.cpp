@@ -76,6 +76,33 @@ std::vector<diag::DataGroup> analysis_curves(const AnalysisResult& r) {
     if (!c.vibration) continue;
     const std::string p = "channels/" + c.name;
     const std::size_t first = out.size();
+    if (c.waveform.x.size() > 1) {
+      out.push_back(trace_group(p + "/waveform", "time waveform (min/max decimated)", c.waveform,
+                                "time_s", "s", "value", c.unit));
+    }
+    if (!c.kurtogram.empty()) {
+      diag::DataGroup g;
+      g.path = p + "/kurtogram";
+      g.description = "fast kurtogram: one row per band of every level";
+      std::vector<double> level, low, high, kurt;
+      for (const KurtogramLevel& l : c.kurtogram) {
+        for (std::size_t i = 0; i < l.kurtosis.size(); ++i) {
+          level.push_back(l.level);
+          low.push_back(static_cast<double>(i) * l.bandwidth_hz);
+          high.push_back(static_cast<double>(i + 1) * l.bandwidth_hz);
+          kurt.push_back(l.kurtosis[i]);
+        }
+      }
+      g.columns = {{"level", "", std::move(level)},
+                   {"band_low_hz", "Hz", std::move(low)},
+                   {"band_high_hz", "Hz", std::move(high)},
+                   {"kurtosis", "", std::move(kurt)}};
+      g.numbers = {{"selected_level", c.kurtogram_level},
+                   {"selected_kurtosis", c.kurtogram_kurtosis},
+                   {"selected_low_hz", c.envelope_low_hz},
+                   {"selected_high_hz", c.envelope_high_hz}};
+      out.push_back(std::move(g));
+    }
     if (c.spectrum.x.size() > 1) {
       out.push_back(trace_group(p + "/spectrum", "amplitude spectrum (Hann, peak scaling)",
                                 c.spectrum, "frequency_hz", "Hz", "amplitude", c.unit));
@@ -126,8 +153,10 @@ std::vector<diag::DataGroup> analysis_curves(const AnalysisResult& r) {
     }
     for (std::size_t i = first; i < out.size(); ++i) {
       out[i].texts["channel"] = c.name;
-      if (!out[i].path.ends_with("/fault_bands") &&
-          out[i].path.find("/tsa/") == std::string::npos) {
+      // The time-domain groups (waveform, kurtogram) and the TSA are not spectra.
+      const std::string& q = out[i].path;
+      if (!q.ends_with("/fault_bands") && !q.ends_with("/waveform") && !q.ends_with("/kurtogram") &&
+          q.find("/tsa/") == std::string::npos) {
         out[i].texts["domain"] = domain;
       }
     }

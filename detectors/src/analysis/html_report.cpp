@@ -85,6 +85,60 @@ std::string finding_line(const AnalysisFinding& f) {
 
 const char* kColors[] = {"#d62728", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"};
 
+// The fast kurtogram as a map (Antoni 2007, fig. 4): one row per level, one cell per band,
+// shaded by kurtosis from white (0 or less) to dark blue (the largest); the band the envelope
+// used outlined in black. Frequencies from 0 to fs/2 on x.
+std::string kurtogram_svg(const std::vector<KurtogramLevel>& levels, double low_hz, double high_hz,
+                          double selected_level, int width_px) {
+  const int left = 60, right = 20, top = 28, row = 18;
+  const int h = top + row * static_cast<int>(levels.size()) + 40;
+  const double w = width_px - left - right;
+  const double nyq =
+      levels.front().bandwidth_hz * static_cast<double>(levels.front().kurtosis.size());
+  double kmax = 0;
+  for (const auto& l : levels) {
+    for (double k : l.kurtosis) kmax = std::max(kmax, k);
+  }
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_px << "\" height=\"" << h
+    << "\" viewBox=\"0 0 " << width_px << " " << h << "\" font-family=\"sans-serif\" "
+    << "font-size=\"11\"><text x=\"" << width_px / 2 << "\" y=\"16\" text-anchor=\"middle\" "
+    << "font-weight=\"bold\" font-size=\"12\">Kurtogram (largest kurtosis " << f3(kmax)
+    << "; the envelope band " << f3(low_hz) << "-" << f3(high_hz) << " Hz outlined)</text>\n";
+  for (std::size_t r = 0; r < levels.size(); ++r) {
+    const KurtogramLevel& l = levels[r];
+    const double y = top + row * static_cast<double>(r);
+    for (std::size_t i = 0; i < l.kurtosis.size(); ++i) {
+      const double v = kmax > 0 ? std::clamp(l.kurtosis[i] / kmax, 0.0, 1.0) : 0.0;
+      const int shade = static_cast<int>(std::lround(255 * (1 - v)));
+      char fill[16];
+      std::snprintf(fill, sizeof fill, "#%02x%02x%02x", shade, shade,
+                    255 - static_cast<int>(std::lround(115 * v)));
+      const double x0 = left + w * (static_cast<double>(i) * l.bandwidth_hz) / nyq;
+      o << "<rect x=\"" << f3(x0) << "\" y=\"" << y << "\" width=\"" << f3(w * l.bandwidth_hz / nyq)
+        << "\" height=\"" << row << "\" fill=\"" << fill << "\"/>";
+    }
+    o << "<text x=\"" << left - 4 << "\" y=\"" << y + row - 5 << "\" text-anchor=\"end\">"
+      << f3(l.level) << "</text>\n";
+    if (std::abs(l.level - selected_level) < 1e-9) {
+      o << "<rect x=\"" << f3(left + w * low_hz / nyq) << "\" y=\"" << y << "\" width=\""
+        << f3(w * (high_hz - low_hz) / nyq) << "\" height=\"" << row
+        << "\" fill=\"none\" stroke=\"#000\" stroke-width=\"2\"/>\n";
+    }
+  }
+  const double yb = top + row * static_cast<double>(levels.size());
+  for (double t : nice_ticks(0, nyq)) {
+    const double x = left + w * t / nyq;
+    o << "<line x1=\"" << f3(x) << "\" x2=\"" << f3(x) << "\" y1=\"" << yb << "\" y2=\"" << yb + 4
+      << "\" stroke=\"#000\"/><text x=\"" << f3(x) << "\" y=\"" << yb + 15
+      << "\" text-anchor=\"middle\">" << f3(t) << "</text>";
+  }
+  o << "<text x=\"" << left + w / 2 << "\" y=\"" << yb + 32
+    << "\" text-anchor=\"middle\">frequency [Hz]</text><text x=\"12\" y=\"" << top + 10
+    << "\" >level</text></svg>\n";
+  return o.str();
+}
+
 }  // namespace
 
 void HtmlReportOptions::validate() const {
@@ -369,6 +423,24 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
                       (&l == &c.meshes[j].sidebands.mesh.front() ? c.meshes[j].name : ""),
                       kColors[j % 6], true});
       }
+    }
+    if (c.waveform.x.size() > 1 || !c.kurtogram.empty()) {
+      o << "<details><summary>Time waveform" << (c.kurtogram.empty() ? "" : " and kurtogram")
+        << "</summary>\n";
+      if (c.waveform.x.size() > 1) {
+        PlotOptions pw = po;
+        pw.title = "Time waveform";
+        pw.x_label = "time [s]";
+        pw.y_label = amp_unit;
+        pw.height_px = 200;
+        const PlotSeries ws{c.waveform.x, c.waveform.y, "", "#1f77b4"};
+        o << svg_line_plot(std::span(&ws, 1), pw);
+      }
+      if (!c.kurtogram.empty() && !c.kurtogram.front().kurtosis.empty()) {
+        o << kurtogram_svg(c.kurtogram, c.envelope_low_hz, c.envelope_high_hz, c.kurtogram_level,
+                           opt.plot_width_px);
+      }
+      o << "</details>\n";
     }
     o << "<details open><summary>Spectra</summary>\n";
     po.title = orders ? "Amplitude order spectrum" : "Amplitude spectrum";

@@ -7,6 +7,10 @@
 // Groups (<ch>: channel name, <sh>: shaft, <b>: bearing, <m>: mesh):
 //   speed                              time_s [s], speed_rpm [rpm] (the reference shaft's speed;
 //                                      absent when the nominal speed was used)
+//   channels/<ch>/waveform             time_s [s], value [unit] (min/max decimated)
+//   channels/<ch>/kurtogram            level, band_low_hz, band_high_hz [Hz], kurtosis: one row
+//                                      per band of every level; numbers selected_level,
+//                                      selected_kurtosis, selected_low_hz, selected_high_hz
 //   channels/<ch>/spectrum             frequency_hz [Hz], amplitude [unit] (peak scaling, Hann)
 //   channels/<ch>/psd                  frequency_hz [Hz], psd [(unit)^2/Hz] (Welch)
 //   channels/<ch>/envelope_spectrum    frequency_hz [Hz], amplitude [unit]; numbers band_low_hz,

@@ -11,6 +11,7 @@
 //    time), findings, the damaged-shaft table, the two-direction table (only when a location has
 //    both directions), the indicator table, the baseline comparison;
 //  - one folded section (<details>, no scripts) per vibration channel, with folded subsections:
+//    time waveform and the kurtogram map (levels x frequency, the envelope's band outlined);
 //    amplitude spectrum with the mesh harmonics and Welch PSD in (unit)^2/Hz; each mesh's zoom
 //    with its candidate shafts' sideband positions (detected lines solid); envelope spectrum with
 //    each bearing's fault families labelled (FTF, BPFO, BPFI, 2BSF and harmonics 2, 3; the family
