@@ -51,3 +51,8 @@ bench: deps
 
 clean:
 	rm -rf $(BUILD_DIR) $(BUILD_DIR)-asan $(BUILD_DIR)-bench $(BUILD_DIR)-fuzz
+
+# The Python module geardiag (pybind11) into $(BUILD_DIR)/python/: PYTHONPATH=$(BUILD_DIR)/python
+.PHONY: python
+python: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target python

@@ -16,6 +16,7 @@
 #include "channel_options.hpp"
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
+#include "detect/analysis/curves.hpp"
 #include "detect/analysis/html_report.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -51,7 +52,7 @@ diag::Recording load_recording(const std::string& file, std::optional<double> fs
 int cmd_analyze(int argc, char** argv) {
   detect::AnalyzeOptions opt;
   const detect::BaselineComparisonOptions bo;
-  std::string recording, gearbox, json_out, html_out, fail_on;
+  std::string recording, gearbox, json_out, html_out, fail_on, curves_out;
   std::vector<std::string> baselines;
   std::string gear_baseline;
   double fs_hz = 0;
@@ -59,7 +60,7 @@ int cmd_analyze(int argc, char** argv) {
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
       "[--gear-baseline FILE] "
-      "[--json OUT.json] [--html OUT.html] [--fail-on alarm|finding]\n\n"
+      "[--json OUT.json] [--html OUT.html] [--curves OUT.h5] [--fail-on alarm|finding]\n\n"
       "RECORDING: a geardiag HDF5 recording, or CSV (.csv, .csv.gz), WAV or MAT measurements\n"
       "(imported as by `geardiag import`; --fs for CSV without a time column and for MAT).\n"
       "The gearbox description comes from --gearbox, else from the recording's /gearbox; without\n"
@@ -105,6 +106,10 @@ int cmd_analyze(int argc, char** argv) {
       "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
+  desc.add_options()("curves", po::value(&curves_out),
+                     "write every curve the report draws (PSD, spectra, envelope spectra with the "
+                     "fault bands, order spectra, TSA signals, speed) as HDF5 datasets with their "
+                     "axes and units (README \"Curves\")");
   desc.add_options()("timing", po::bool_switch(&opt.timing),
                      "add the wall time of each stage to the JSON (timing_s)")(
       "rpm-at", po::value(&opt.nominal_time_s),
@@ -132,8 +137,9 @@ int cmd_analyze(int argc, char** argv) {
   // Outputs are checked before the (possibly long) analysis.
   const bool json_stdout = !json_out.empty() && check_output(json_out, "--json");
   const bool html_stdout = !html_out.empty() && check_output(html_out, "--html");
-  if (json_stdout && html_stdout) {
-    throw diag::InputError("--json - and --html -: only one report can go to stdout");
+  const bool curves_stdout = !curves_out.empty() && check_output(curves_out, "--curves");
+  if (int(json_stdout) + int(html_stdout) + int(curves_stdout) > 1) {
+    throw diag::InputError("--json, --html, --curves: only one report can go to stdout ('-')");
   }
   const std::optional<double> fs =
       vm.count("fs") ? std::optional<double>(fs_hz) : std::optional<double>();
@@ -219,13 +225,18 @@ int cmd_analyze(int argc, char** argv) {
     }
   }
   // stdout carries nothing but a report sent there, so that it stays valid JSON or HTML.
-  (json_stdout || html_stdout ? std::cerr : std::cout) << detect::format_summary(r);
+  (json_stdout || html_stdout || curves_stdout ? std::cerr : std::cout)
+      << detect::format_summary(r);
   if (!json_out.empty()) write_output(json_out, detect::to_json(r).dump(2) + "\n", "--json");
   if (!html_out.empty()) {
     detect::HtmlReportOptions ho;
     ho.source = path.filename().string();
     ho.title = "geardiag analysis: " + path.filename().string();
     write_output(html_out, detect::render_html_report(r, ho), "--html");
+  }
+  if (!curves_out.empty()) {
+    diag::write_data_groups(curves_out, detect::analysis_curves(r),
+                            {{"source", path.filename().string()}}, "--curves");
   }
   const bool alarm = r.baseline && r.baseline->alarm;
   if (fail_on == "alarm") return alarm ? 1 : 0;

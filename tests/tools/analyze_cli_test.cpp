@@ -242,6 +242,29 @@ TEST(AnalyzeCli, SpectraQuestLeaveOneLoadOutAlarmsOnEveryBrokenToothAndNoHealthy
             << weakest_broken << ", threshold 25\n";
 }
 
+// --curves: checked before the analysis like the other outputs; one report at most on stdout.
+// (The file's contents are read with h5py and compared with the Python module's curves in
+// python/tests/test_recording_analysis.py.)
+TEST(AnalyzeCli, CurvesOutputIsCheckedBeforeTheAnalysis) {
+  const fs::path js = scratch("curves_before.json");
+  const auto a = run("analyze " + simulated().string() + " --json " + js.string() + " --curves " +
+                     (scratch("no_such_folder") / "c.h5").string());
+  EXPECT_EQ(a.code, 2) << a.out;
+  EXPECT_NE(a.out.find("--curves"), std::string::npos) << a.out;
+  EXPECT_EQ(a.out.find("findings:"), std::string::npos) << a.out;  // no analysis was run
+  EXPECT_FALSE(fs::exists(js));
+  const auto b = run("analyze " + simulated().string() + " --json - --curves -");
+  EXPECT_EQ(b.code, 2) << b.out;
+  EXPECT_NE(b.out.find("only one report can go to stdout"), std::string::npos) << b.out;
+  const fs::path h5 = scratch("curves.h5");
+  const auto c = run("analyze " + simulated().string() + " --curves " + h5.string());
+  EXPECT_EQ(c.code, 0) << c.out;
+  std::ifstream in(h5, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  EXPECT_EQ(std::string(sig + 1, 3), "HDF");
+}
+
 TEST(AnalyzeCli, HtmlReportRendersInHeadlessChromium) {
   const char* chromium = "/usr/bin/chromium";
   if (!fs::exists(chromium)) {

@@ -42,10 +42,16 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
     const Kurtogram kg = fast_kurtogram(xt, ko);
     c.kurtogram_level = kg.level;
     c.kurtogram_kurtosis = kg.kurtosis;
+    c.kurtogram = kg.levels;
     eo.band_low_hz = std::max(0.0, kg.low_hz());
     eo.band_high_hz = std::min(nyq_t, kg.high_hz());
   } else {
     c.notes.push_back("record too short for the kurtogram: envelope of the whole band");
+  }
+  {
+    std::vector<double> t(xt.size());
+    for (std::size_t i = 0; i < t.size(); ++i) t[i] = static_cast<double>(i) / sig.fs_hz;
+    c.waveform = decimate_for_plot(t, xt, ctx.plot_points, Decimation::kMinMax);
   }
   c.envelope_low_hz = eo.band_low_hz;
   c.envelope_high_hz = eo.band_high_hz == 0 ? nyq_t : eo.band_high_hz;

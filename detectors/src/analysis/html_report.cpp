@@ -1,9 +1,13 @@
 #include "detect/analysis/html_report.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
+#include <utility>
 
+#include "detect/analysis/curves.hpp"
 #include "detect/analysis/svg_plot.hpp"
 #include "diag/error.hpp"
 
@@ -18,15 +22,122 @@ std::string f3(double v) {
   return b;
 }
 
+// One verdict colour scheme for the whole page: .bad (red: a finding, an ALARM, a damaged
+// shaft), .warn (amber: uncertain, ambiguous), .good (green: nothing found). Healthy is never red.
 const char* kCss = R"(body{font-family:sans-serif;margin:1.5em;color:#222;max-width:1100px}
 h1{font-size:1.5em}h2{font-size:1.2em;border-bottom:1px solid #ccc;margin-top:1.6em}
 h3{font-size:1.05em;margin-top:1.2em}table{border-collapse:collapse;margin:.5em 0;font-size:.9em}
 td,th{border:1px solid #ccc;padding:3px 7px;text-align:right}th{background:#f2f2f2}
-td.l,th.l{text-align:left}.alarm{color:#b00;font-weight:bold}.ok{color:#070}
-.note{color:#666;font-size:.9em}svg{display:block;margin:.4em 0}
+td.l,th.l{text-align:left}.bad{color:#b00;font-weight:bold}.warn{color:#a60;font-weight:bold}
+.good{color:#070}.note{color:#666;font-size:.9em}svg{display:block;margin:.4em 0;max-width:100%;
+height:auto}.verdict{padding:.6em 1em;border-left:6px solid #888;background:#f4f4f4;margin:1em 0}
+.verdict.bad{border-color:#b00;background:#fdecea;color:#222;font-weight:normal}
+.verdict.good{border-color:#070;background:#eaf6ea;color:#222}.verdict h2{margin-top:0;border:0}
+.verdict li{margin:.3em 0}nav.toc ol{columns:2;font-size:.95em}details{margin:.4em 0}
+details>summary{cursor:pointer;font-weight:bold;padding:.3em 0}details.channel>summary{
+font-size:1.15em;border-bottom:1px solid #ccc}details details{margin-left:1em}
+table{max-width:100%;overflow-x:auto;display:block}
 )";
 
+// A unit for display: powers as superscripts ("m/s^2" -> "m/s²"); empty -> "unit unknown".
+std::string pretty_unit(std::string u) {
+  if (u.empty()) return "unit unknown";
+  for (const auto& [from, to] : {std::pair{"^2", "\u00b2"}, std::pair{"^3", "\u00b3"}}) {
+    for (std::size_t i = u.find(from); i != std::string::npos; i = u.find(from, i)) {
+      u.replace(i, 2, to);
+    }
+  }
+  return u;
+}
+
+// "ch-<name>" with every character outside [A-Za-z0-9_-] as "_<hex>": a valid id and fragment.
+std::string anchor(const std::string& prefix, const std::string& name) {
+  std::string a = prefix;
+  for (unsigned char ch : name) {
+    if (std::isalnum(ch) || ch == '-' || ch == '_') {
+      a += static_cast<char>(ch);
+    } else {
+      char b[8];
+      std::snprintf(b, sizeof b, "_%02x", ch);
+      a += b;
+    }
+  }
+  return a;
+}
+
+// One line of evidence for a finding.
+std::string finding_line(const AnalysisFinding& f) {
+  std::string gears;
+  for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
+  std::string what = f.kind == "bearing"       ? "bearing " + f.bearing + ": " + f.fault
+                     : f.kind == "gear_damage" ? "damaged gear on shaft " + f.shaft
+                                               : f.kind + " on shaft " + f.shaft;
+  if (!gears.empty() && f.kind != "bearing") what += " (" + gears + ")";
+  std::string line = "<b>" + html_escape(what) + "</b>, confidence " + f3(f.confidence);
+  if (std::isfinite(f.frequency_hz)) line += ", at " + f3(f.frequency_hz) + " Hz";
+  if (!f.channel.empty()) {
+    line += ", best seen on <a href=\"#" + anchor("ch-", f.channel) + "\">" +
+            html_escape(f.channel) + "</a>";
+  }
+  if (!f.note.empty()) line += ". " + html_escape(f.note);
+  return line;
+}
+
 const char* kColors[] = {"#d62728", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2"};
+
+// The fast kurtogram as a map (Antoni 2007, fig. 4): one row per level, one cell per band,
+// shaded by kurtosis from white (0 or less) to dark blue (the largest); the band the envelope
+// used outlined in black. Frequencies from 0 to fs/2 on x.
+std::string kurtogram_svg(const std::vector<KurtogramLevel>& levels, double low_hz, double high_hz,
+                          double selected_level, int width_px) {
+  const int left = 60, right = 20, top = 28, row = 18;
+  const int h = top + row * static_cast<int>(levels.size()) + 40;
+  const double w = width_px - left - right;
+  const double nyq =
+      levels.front().bandwidth_hz * static_cast<double>(levels.front().kurtosis.size());
+  double kmax = 0;
+  for (const auto& l : levels) {
+    for (double k : l.kurtosis) kmax = std::max(kmax, k);
+  }
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_px << "\" height=\"" << h
+    << "\" viewBox=\"0 0 " << width_px << " " << h << "\" font-family=\"sans-serif\" "
+    << "font-size=\"11\"><text x=\"" << width_px / 2 << "\" y=\"16\" text-anchor=\"middle\" "
+    << "font-weight=\"bold\" font-size=\"12\">Kurtogram (largest kurtosis " << f3(kmax)
+    << "; the envelope band " << f3(low_hz) << "-" << f3(high_hz) << " Hz outlined)</text>\n";
+  for (std::size_t r = 0; r < levels.size(); ++r) {
+    const KurtogramLevel& l = levels[r];
+    const double y = top + row * static_cast<double>(r);
+    for (std::size_t i = 0; i < l.kurtosis.size(); ++i) {
+      const double v = kmax > 0 ? std::clamp(l.kurtosis[i] / kmax, 0.0, 1.0) : 0.0;
+      const int shade = static_cast<int>(std::lround(255 * (1 - v)));
+      char fill[16];
+      std::snprintf(fill, sizeof fill, "#%02x%02x%02x", shade, shade,
+                    255 - static_cast<int>(std::lround(115 * v)));
+      const double x0 = left + w * (static_cast<double>(i) * l.bandwidth_hz) / nyq;
+      o << "<rect x=\"" << f3(x0) << "\" y=\"" << y << "\" width=\"" << f3(w * l.bandwidth_hz / nyq)
+        << "\" height=\"" << row << "\" fill=\"" << fill << "\"/>";
+    }
+    o << "<text x=\"" << left - 4 << "\" y=\"" << y + row - 5 << "\" text-anchor=\"end\">"
+      << f3(l.level) << "</text>\n";
+    if (std::abs(l.level - selected_level) < 1e-9) {
+      o << "<rect x=\"" << f3(left + w * low_hz / nyq) << "\" y=\"" << y << "\" width=\""
+        << f3(w * (high_hz - low_hz) / nyq) << "\" height=\"" << row
+        << "\" fill=\"none\" stroke=\"#000\" stroke-width=\"2\"/>\n";
+    }
+  }
+  const double yb = top + row * static_cast<double>(levels.size());
+  for (double t : nice_ticks(0, nyq)) {
+    const double x = left + w * t / nyq;
+    o << "<line x1=\"" << f3(x) << "\" x2=\"" << f3(x) << "\" y1=\"" << yb << "\" y2=\"" << yb + 4
+      << "\" stroke=\"#000\"/><text x=\"" << f3(x) << "\" y=\"" << yb + 15
+      << "\" text-anchor=\"middle\">" << f3(t) << "</text>";
+  }
+  o << "<text x=\"" << left + w / 2 << "\" y=\"" << yb + 32
+    << "\" text-anchor=\"middle\">frequency [Hz]</text><text x=\"12\" y=\"" << top + 10
+    << "\" >level</text></svg>\n";
+  return o.str();
+}
 
 }  // namespace
 
@@ -42,14 +153,89 @@ void HtmlReportOptions::validate() const {
 
 std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions& opt) {
   opt.validate();
+  // Channels given a section of plots: vibration channels with a spectrum, in order, at most
+  // max_channel_sections; the others link to nothing.
+  std::vector<const ChannelAnalysis*> plotted;
+  for (const auto& c : r.channels) {
+    if (c.vibration && !c.spectrum.x.empty() &&
+        plotted.size() < static_cast<std::size_t>(opt.max_channel_sections)) {
+      plotted.push_back(&c);
+    }
+  }
+  const auto channel_link = [&](const std::string& name) {
+    for (const ChannelAnalysis* c : plotted) {
+      if (c->name == name) {
+        return "<a href=\"#" + anchor("ch-", name) + "\">" + html_escape(name) + "</a>";
+      }
+    }
+    return html_escape(name);
+  };
+  const bool alarm = r.baseline && r.baseline->alarm;
+  bool uncertain = false;
+  if (r.gear_damage) {
+    for (const auto& s : r.gear_damage->shafts) uncertain = uncertain || s.uncertain;
+  }
+
   std::ostringstream o;
-  o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>"
+  o << "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><meta name=\"viewport\" "
+       "content=\"width=device-width\"><title>"
     << html_escape(opt.title) << "</title><style>" << kCss << "</style></head><body>\n";
   o << "<h1>" << html_escape(opt.title) << "</h1>\n<p>";
   if (!opt.source.empty()) o << "Recording <b>" << html_escape(opt.source) << "</b>, ";
   o << r.channels.size() << " channels, " << f3(r.duration_s) << " s";
   if (!r.gearbox_name.empty()) o << ", gearbox <b>" << html_escape(r.gearbox_name) << "</b>";
   o << ".</p>\n";
+
+  // ---- summary: the verdict, every finding with its evidence, the alarm ----
+  const std::size_t n_findings = r.findings.size() + (alarm ? 1 : 0);
+  o << "<section id=summary class=\"verdict "
+    << (n_findings > 0 ? "bad"
+        : uncertain    ? ""
+                       : "good")
+    << "\"><h2>Verdict: "
+    << (n_findings > 0 ? std::to_string(n_findings) + (n_findings == 1 ? " finding" : " findings")
+        : uncertain    ? "no finding, one shaft uncertain"
+                       : "no finding")
+    << "</h2>\n";
+  if (n_findings == 0) {
+    o << "<p>Nothing points at a shaft, gear or bearing"
+      << (r.baseline ? "; the recording is within its baseline" : "") << ".</p>\n";
+  } else {
+    o << "<ol>";
+    if (alarm) {
+      o << "<li><span class=bad>ALARM</span>: anomaly score " << f3(r.baseline->anomaly_score)
+        << " against the baseline, above the threshold " << f3(r.baseline->threshold);
+      if (!r.baseline->deviations.empty()) {
+        const auto& d = r.baseline->deviations.front();
+        o << "; largest deviation " << html_escape(d.feature) << " (z = " << f3(d.z) << ")";
+      }
+      o << " (<a href=\"#baseline\">baseline</a>)</li>";
+    }
+    for (const auto& f : r.findings) o << "<li>" << finding_line(f) << "</li>";
+    o << "</ol>\n";
+  }
+  if (r.baseline && !alarm) {
+    o << "<p>Against the baseline: <span class=good>normal</span> (anomaly score "
+      << f3(r.baseline->anomaly_score) << ", threshold " << f3(r.baseline->threshold) << ").</p>\n";
+  }
+  o << "</section>\n";
+
+  // ---- table of contents ----
+  o << "<nav class=toc><h2 id=contents>Contents</h2><ol>"
+       "<li><a href=\"#summary\">Verdict</a></li><li><a href=\"#machine\">Machine and speed</a>"
+       "</li><li><a href=\"#findings\">Findings</a></li>";
+  if (r.gear_damage) o << "<li><a href=\"#gear-damage\">Damaged-shaft location</a></li>";
+  if (!r.two_direction.empty()) o << "<li><a href=\"#two-direction\">Two directions</a></li>";
+  o << "<li><a href=\"#indicators\">Indicators</a></li>";
+  if (r.baseline) o << "<li><a href=\"#baseline\">Against the baseline</a></li>";
+  for (const ChannelAnalysis* c : plotted) {
+    o << "<li><a href=\"#" << anchor("ch-", c->name) << "\">Channel " << html_escape(c->name)
+      << "</a></li>";
+  }
+  o << "</ol></nav>\n";
+
+  // ---- machine: shafts, meshes, notes, speed over time ----
+  o << "<h2 id=machine>Machine and speed</h2>\n";
   if (!r.shafts.empty()) {
     o << "<table><tr><th class=l>shaft</th><th>speed [rpm]</th><th>speed [Hz]</th>"
          "<th class=l>source</th></tr>";
@@ -58,14 +244,23 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         << "</td><td>" << f3(s.speed_hz) << "</td><td class=l>" << html_escape(s.source)
         << "</td></tr>";
     }
-    o << "</table>\n<table><tr><th class=l>mesh</th><th>frequency [Hz]</th></tr>";
-    for (const auto& m : r.meshes) {
-      o << "<tr><td class=l>" << html_escape(m.name) << "</td><td>" << f3(m.frequency_hz)
-        << "</td></tr>";
-    }
     o << "</table>\n";
+    if (!r.meshes.empty()) {
+      o << "<table><tr><th class=l>mesh</th><th>frequency [Hz]</th></tr>";
+      for (const auto& m : r.meshes) {
+        o << "<tr><td class=l>" << html_escape(m.name) << "</td><td>" << f3(m.frequency_hz)
+          << "</td></tr>";
+      }
+      o << "</table>\n";
+    }
+  } else {
+    o << "<p class=note>No gearbox description: only the unit-free indicators and spectra.</p>\n";
   }
-  for (const auto& n : r.notes) o << "<p class=note>" << html_escape(n) << "</p>\n";
+  if (!r.notes.empty()) {
+    o << "<details><summary>Notes (" << r.notes.size() << ")</summary>\n";
+    for (const auto& n : r.notes) o << "<p class=note>" << html_escape(n) << "</p>\n";
+    o << "</details>\n";
+  }
   // ---- speed over time (from the tacho or the vibration) ----
   if (r.speed.time_s.size() > 1) {
     PlotOptions ps;
@@ -80,14 +275,8 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
 
   // ---- findings ----
   o << "<h2 id=findings>Findings</h2>\n";
-  if (r.baseline) {
-    o << "<p>Anomaly score against the baseline: <b>" << f3(r.baseline->anomaly_score)
-      << "</b> (threshold " << f3(r.baseline->threshold) << "): "
-      << (r.baseline->alarm ? "<span class=alarm>ALARM</span>" : "<span class=ok>normal</span>")
-      << "</p>\n";
-  }
   if (r.findings.empty()) {
-    o << "<p>No finding.</p>\n";
+    o << "<p class=good>No finding.</p>\n";
   } else {
     o << "<table><tr><th class=l>kind</th><th class=l>shaft / gears</th><th class=l>bearing / "
          "fault</th><th>frequency [Hz]</th><th class=l>channel</th><th>confidence</th>"
@@ -95,11 +284,12 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     for (const auto& f : r.findings) {
       std::string gears;
       for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
-      o << "<tr><td class=l>" << html_escape(f.kind) << "</td><td class=l>" << html_escape(f.shaft)
-        << (gears.empty() ? "" : " (" + html_escape(gears) + ")") << "</td><td class=l>"
-        << html_escape(f.bearing) << " " << html_escape(f.fault) << "</td><td>"
-        << f3(f.frequency_hz) << "</td><td class=l>" << html_escape(f.channel) << "</td><td>"
-        << f3(f.confidence) << "</td><td class=l>" << html_escape(f.note) << "</td></tr>";
+      o << "<tr><td class=l><span class=bad>" << html_escape(f.kind) << "</span></td><td class=l>"
+        << html_escape(f.shaft) << (gears.empty() ? "" : " (" + html_escape(gears) + ")")
+        << "</td><td class=l>" << html_escape(f.bearing) << " " << html_escape(f.fault)
+        << "</td><td>" << f3(f.frequency_hz) << "</td><td class=l>" << channel_link(f.channel)
+        << "</td><td>" << f3(f.confidence) << "</td><td class=l>" << html_escape(f.note)
+        << "</td></tr>";
     }
     o << "</table>\n";
   }
@@ -124,13 +314,13 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
          "</th><th class=l>verdict</th></tr>";
     for (const auto& s : g.shafts) {
       o << "<tr><td class=l>" << html_escape(s.shaft) << "</td><td>" << f3(s.frequency_hz)
-        << "</td><td>" << s.revolutions << "</td><td class=l>" << html_escape(s.channel)
+        << "</td><td>" << s.revolutions << "</td><td class=l>" << channel_link(s.channel)
         << "</td><td><b>" << f3(s.score) << "</b></td><td>" << f3(s.snr) << "</td><td>"
         << f3(s.level) << "</td><td>" << f3(s.exclusive_share) << "</td><td class=l>"
         << (s.revolutions == 0 ? "skipped"
-            : s.damaged        ? "<span class=alarm>damaged</span>"
-            : s.uncertain      ? "uncertain"
-                               : "<span class=ok>no localised fault</span>")
+            : s.damaged        ? "<span class=bad>damaged</span>"
+            : s.uncertain      ? "<span class=warn>uncertain</span>"
+                               : "<span class=good>no localised fault</span>")
         << "</td></tr>";
     }
     o << "</table>\n";
@@ -138,12 +328,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
   }
 
   // ---- two directions ----
-  o << "<h2 id=two-direction>Two directions: along and normal to the line of action</h2>\n";
-  if (r.two_direction.empty()) {
-    o << "<p class=note>No location with both an along_loa and a normal_loa channel (or no "
-         "gearbox).</p>\n";
-  } else {
-    o << "<p class=note>Energy (mean square) at the mesh harmonics; normal/along ratio in dB: "
+  if (!r.two_direction.empty()) {
+    o << "<h2 id=two-direction>Two directions: along and normal to the line of action</h2>\n"
+         "<p class=note>Energy (mean square) at the mesh harmonics; normal/along ratio in dB: "
          "friction/surface-condition indicator (higher: more friction-driven vibration).</p>"
          "<table><tr><th class=l>location</th><th class=l>mesh</th><th>mesh [Hz]</th>"
          "<th>along energy</th><th>normal energy</th><th>normal/along [dB]</th>"
@@ -159,14 +346,16 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
   }
 
   // ---- indicators ----
-  o << "<h2 id=indicators>Indicators</h2>\n<table><tr><th class=l>channel</th><th class=l>unit"
+  o << "<h2 id=indicators>Indicators of every channel</h2>\n<table><tr><th class=l>channel</th><th "
+       "class=l>unit"
        "</th><th class=l>direction</th><th>RMS</th><th>peak</th><th>crest</th><th>kurtosis</th>"
        "<th>skewness</th></tr>";
   for (const auto& c : r.channels) {
-    o << "<tr><td class=l>" << html_escape(c.name) << "</td><td class=l>" << html_escape(c.unit)
-      << "</td><td class=l>" << diag::to_string(c.direction) << "</td><td>" << f3(c.time.rms)
-      << "</td><td>" << f3(c.time.peak) << "</td><td>" << f3(c.time.crest_factor) << "</td><td>"
-      << f3(c.time.kurtosis) << "</td><td>" << f3(c.time.skewness) << "</td></tr>";
+    o << "<tr><td class=l>" << channel_link(c.name) << "</td><td class=l>"
+      << html_escape(pretty_unit(c.unit)) << "</td><td class=l>" << diag::to_string(c.direction)
+      << "</td><td>" << f3(c.time.rms) << "</td><td>" << f3(c.time.peak) << "</td><td>"
+      << f3(c.time.crest_factor) << "</td><td>" << f3(c.time.kurtosis) << "</td><td>"
+      << f3(c.time.skewness) << "</td></tr>";
   }
   o << "</table>\n";
   if (r.baseline) {
@@ -174,7 +363,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     o << "<h3 id=baseline>Against the baseline</h3>\n<p>Anomaly score <b>" << f3(b.anomaly_score)
       << "</b> (mean z&sup2; over " << b.deviations.size() << " features; threshold "
       << f3(b.threshold)
-      << "): " << (b.alarm ? "<span class=alarm>ALARM</span>" : "<span class=ok>normal</span>")
+      << "): " << (b.alarm ? "<span class=bad>ALARM</span>" : "<span class=good>normal</span>")
       << ". Baseline: " << b.recordings.size() << " recordings, " << b.samples
       << " samples; channels compared: ";
     for (std::size_t k = 0; k < b.channels.size(); ++k)
@@ -189,25 +378,41 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       const bool big = d.z * d.z > b.threshold;  // alone above the threshold: highlighted
       o << "<tr><td class=l>" << html_escape(d.feature) << "</td><td>" << f3(d.value) << "</td><td>"
         << f3(d.baseline_centre) << "</td><td>" << f3(d.baseline_spread) << "</td><td>"
-        << (big ? "<span class=alarm>" : "") << f3(d.z) << (big ? "</span>" : "") << "</td></tr>";
+        << (big ? "<span class=bad>" : "") << f3(d.z) << (big ? "</span>" : "") << "</td></tr>";
     }
     o << "</table>\n";
   }
 
-  // ---- per channel ----
-  int sections = 0;
-  for (const auto& c : r.channels) {
-    if (!c.vibration || c.spectrum.x.empty()) continue;
-    if (sections++ >= opt.max_channel_sections) {
-      o << "<p class=note>Further channels are listed in the tables only (max_channel_sections = "
-        << opt.max_channel_sections << ").</p>\n";
-      break;
-    }
-    const std::string unit = c.unit.empty() ? "units" : c.unit;
-    o << "<h2 id=\"ch-" << html_escape(c.name) << "\">Channel " << html_escape(c.name) << "</h2>\n"
-      << "<p class=note>" << html_escape(unit) << ", " << diag::to_string(c.direction)
-      << (c.location.empty() ? "" : ", at " + html_escape(c.location)) << ", fs " << f3(c.fs_hz)
-      << " Hz, " << c.samples << " samples</p>\n";
+  // ---- per channel: folded sections ----
+  const bool orders = r.speed.spectra_domain == "order";
+  double input_hz = 0;
+  for (const auto& sh : r.shafts) {
+    if (sh.shaft == r.input_shaft) input_hz = sh.speed_hz;
+  }
+  int skipped = 0;
+  for (const auto& c : r.channels) skipped += c.vibration && !c.spectrum.x.empty() ? 1 : 0;
+  skipped -= static_cast<int>(plotted.size());
+  for (const ChannelAnalysis* cp : plotted) {
+    const ChannelAnalysis& c = *cp;
+    const std::string unit = pretty_unit(c.unit);
+    const std::string amp_unit = c.unit.empty() ? "signal units" : unit;
+    // A channel's own verdict: the findings it shows best.
+    int shown = 0;
+    for (const auto& f : r.findings) shown += f.channel == c.name ? 1 : 0;
+    std::string what = std::string(diag::to_string(c.role));
+    if (c.direction != diag::Direction::kUnspecified)
+      what += ", " + std::string(diag::to_string(c.direction));
+    if (!c.location.empty()) what += ", at " + c.location;
+    if (!c.shaft.empty()) what += ", shaft " + c.shaft;
+    o << "<details class=channel id=\"" << anchor("ch-", c.name) << "\"><summary>Channel "
+      << html_escape(c.name) << " <span class=note>(" << html_escape(what) << ")</span> "
+      << (shown > 0 ? "<span class=bad>" + std::to_string(shown) +
+                          (shown == 1 ? " finding" : " findings") + "</span>"
+                    : std::string(c.sensor ? "<span class=good>no finding</span>"
+                                           : "<span class=note>not a sensor: shown only</span>"))
+      << "</summary>\n<p class=note>" << html_escape(unit) << ", fs " << f3(c.fs_hz) << " Hz, "
+      << c.samples << " samples; RMS " << f3(c.time.rms) << ", kurtosis " << f3(c.time.kurtosis)
+      << ", crest factor " << f3(c.time.crest_factor) << "</p>\n";
     PlotOptions po;
     po.width_px = opt.plot_width_px;
     // Spectrum with the mesh harmonics.
@@ -219,20 +424,48 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
                       kColors[j % 6], true});
       }
     }
-    // At varying speed the spectra are order spectra read at the mean speed (analyze.hpp).
-    const bool orders = r.speed.spectra_domain == "order";
-    double input_hz = 0;
-    for (const auto& sh : r.shafts) {
-      if (sh.shaft == r.input_shaft) input_hz = sh.speed_hz;
+    if (c.waveform.x.size() > 1 || !c.kurtogram.empty()) {
+      o << "<details><summary>Time waveform" << (c.kurtogram.empty() ? "" : " and kurtogram")
+        << "</summary>\n";
+      if (c.waveform.x.size() > 1) {
+        PlotOptions pw = po;
+        pw.title = "Time waveform";
+        pw.x_label = "time [s]";
+        pw.y_label = amp_unit;
+        pw.height_px = 200;
+        const PlotSeries ws{c.waveform.x, c.waveform.y, "", "#1f77b4"};
+        o << svg_line_plot(std::span(&ws, 1), pw);
+      }
+      if (!c.kurtogram.empty() && !c.kurtogram.front().kurtosis.empty()) {
+        o << kurtogram_svg(c.kurtogram, c.envelope_low_hz, c.envelope_high_hz, c.kurtogram_level,
+                           opt.plot_width_px);
+      }
+      o << "</details>\n";
     }
+    o << "<details open><summary>Spectra</summary>\n";
     po.title = orders ? "Amplitude order spectrum" : "Amplitude spectrum";
     po.x_label = orders ? "frequency at the mean speed [Hz] (input order x " + f3(input_hz) + " Hz)"
                         : "frequency [Hz]";
-    po.y_label = "amplitude [" + unit + "]";
+    po.y_label = "amplitude [" + amp_unit + "]";
     po.y_db = true;
     const PlotSeries sp{c.spectrum.x, c.spectrum.y, "", "#1f77b4"};
     o << svg_line_plot(std::span(&sp, 1), po, mk);
+    if (c.psd.x.size() > 1) {
+      PlotOptions pp = po;
+      pp.title = "Welch PSD (" + f3(c.psd_resolution_hz) + " Hz resolution, " +
+                 std::to_string(c.psd_segments) + " segments)";
+      pp.y_label =
+          "PSD [" + (c.unit.empty() ? "units\u00b2" : pretty_unit(squared_unit(c.unit))) + "/Hz]";
+      pp.db_power = true;
+      pp.height_px = 220;
+      const PlotSeries ps{c.psd.x, c.psd.y, "", "#2ca02c"};
+      o << svg_line_plot(std::span(&ps, 1), pp);
+    }
+    o << "</details>\n";
     // Zoom on each mesh with sideband positions.
+    bool any_zoom = false;
+    for (const auto& m : c.meshes) any_zoom = any_zoom || m.zoom.x.size() >= 2;
+    if (any_zoom) o << "<details><summary>Meshes: sidebands</summary>\n";
     for (std::size_t j = 0; j < c.meshes.size(); ++j) {
       const MeshAnalysis& m = c.meshes[j];
       if (m.zoom.x.size() < 2) continue;
@@ -255,75 +488,90 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       const PlotSeries zs{m.zoom.x, m.zoom.y, "", "#1f77b4"};
       o << svg_line_plot(std::span(&zs, 1), pz, sm);
     }
-    // Welch PSD.
-    if (c.psd.x.size() > 1) {
-      PlotOptions pp = po;
-      pp.title = "Welch PSD (" + f3(c.psd_resolution_hz) + " Hz resolution, " +
-                 std::to_string(c.psd_segments) + " segments)";
-      pp.y_label = "PSD [" + unit + "^2/Hz]";
-      pp.db_power = true;
-      pp.height_px = 220;
-      const PlotSeries ps{c.psd.x, c.psd.y, "", "#2ca02c"};
-      o << svg_line_plot(std::span(&ps, 1), pp);
-    }
-    // Envelope with the bearing fault bands.
+    if (any_zoom) o << "</details>\n";
+    // Envelope spectrum with each bearing's fault families labelled.
     if (c.envelope.x.size() > 1) {
+      o << "<details" << (shown > 0 ? " open" : "") << "><summary>Envelope spectrum"
+        << (c.bearings.empty() ? "" : " and bearings") << "</summary>\n";
+      std::vector<PlotMarker> fm;
       std::vector<PlotBand> bands;
+      static const char* kFamily[] = {"FTF", "BPFO", "BPFI", "2BSF"};
       for (std::size_t b = 0; b < c.bearings.size(); ++b) {
-        for (const auto& fb : c.bearings[b].bands) {
-          bands.push_back({fb.low_hz, fb.high_hz, c.bearings[b].bearing + " " + fb.label,
-                           kColors[(fb.family + 2) % 6]});
+        const BearingAnalysis& ba = c.bearings[b];
+        const double fund[] = {ba.frequencies.ftf_hz, ba.frequencies.bpfo_hz,
+                               ba.frequencies.bpfi_hz, ba.frequencies.ball_fault_hz};
+        const char* named = ba.diagnosed && ba.diagnosis.status == BearingDecisionStatus::kFault
+                                ? finding_name(ba.diagnosis.fault)
+                                : "";
+        const char* fault_of[] = {"", "outer_race", "inner_race", "rolling_element"};
+        for (int f = 0; f < 4; ++f) {
+          const bool seen = std::string(named) == fault_of[f] && f > 0;
+          for (int h = 1; h <= (f == 0 ? 1 : 3); ++h) {  // FTF: the fundamental only
+            const std::string label = (h == 1 ? "" : std::to_string(h) + "x") + kFamily[f];
+            fm.push_back({h * fund[f], c.bearings.size() > 1 ? ba.bearing + " " + label : label,
+                          kColors[(f + 2) % 6], !seen});
+          }
+        }
+        for (const auto& fb : ba.bands) {
+          bands.push_back({fb.low_hz, fb.high_hz, "", kColors[(fb.family + 2) % 6]});
         }
       }
       PlotOptions pe = po;
       pe.title = std::string(orders ? "Envelope order spectrum" : "Envelope spectrum") + ", band " +
-                 f3(c.envelope_low_hz) + "-" + f3(c.envelope_high_hz) + " Hz (kurtogram)";
+                 f3(c.envelope_low_hz) + "-" + f3(c.envelope_high_hz) +
+                 " Hz (kurtogram); fault families dashed, the one decided solid";
+      pe.y_label = "amplitude [" + amp_unit + "]";
       pe.y_db = false;
       const PlotSeries es{c.envelope.x, c.envelope.y, "", "#8c564b"};
-      o << svg_line_plot(std::span(&es, 1), pe, {}, bands);
+      o << svg_line_plot(std::span(&es, 1), pe, fm, bands);
       for (const auto& b : c.bearings) {
         o << "<p class=note>Bearing " << html_escape(b.bearing) << ": FTF "
           << f3(b.frequencies.ftf_hz) << ", BPFO " << f3(b.frequencies.bpfo_hz) << ", BPFI "
-          << f3(b.frequencies.bpfi_hz) << ", ball " << f3(b.frequencies.ball_fault_hz)
+          << f3(b.frequencies.bpfi_hz) << ", 2BSF " << f3(b.frequencies.ball_fault_hz)
           << " Hz; decision (prewhitened squared envelope, kurtogram band "
           << f3(b.band_centre_hz - b.band_width_hz / 2) << "-"
           << f3(b.band_centre_hz + b.band_width_hz / 2) << " Hz and whole band): "
           << (!b.diagnosed ? "not run"
               : b.diagnosis.status == BearingDecisionStatus::kFault
-                  ? std::string(finding_name(b.diagnosis.fault))
+                  ? "<span class=bad>" + std::string(finding_name(b.diagnosis.fault)) + "</span>"
               : b.diagnosis.status == BearingDecisionStatus::kAmbiguous
-                  ? "ambiguous (nothing reported)"
-                  : "no fault")
+                  ? "<span class=warn>ambiguous (nothing reported)</span>"
+                  : "<span class=good>no fault</span>")
           << "</p>\n";
       }
+      o << "</details>\n";
     }
-    // Order spectrum.
+    // Order spectrum, up to a little above the third harmonic of the highest mesh order.
     if (c.order_spectrum.x.size() > 1) {
       std::vector<PlotMarker> om;
-      double fin = 0;
-      for (const auto& sh : r.shafts) {
-        if (sh.shaft == r.input_shaft) fin = sh.speed_hz;
-      }
-      if (fin > 0) {
+      double top = 0;
+      if (input_hz > 0) {
         for (std::size_t j = 0; j < r.meshes.size(); ++j) {
           for (int h = 1; h <= 3; ++h) {
-            om.push_back({h * r.meshes[j].frequency_hz / fin, h == 1 ? r.meshes[j].name : "",
+            om.push_back({h * r.meshes[j].frequency_hz / input_hz, h == 1 ? r.meshes[j].name : "",
                           kColors[j % 6], true});
+            top = std::max(top, h * r.meshes[j].frequency_hz / input_hz);
           }
         }
       }
       PlotOptions pr = po;
       pr.title = "Order spectrum (input-shaft orders)";
       pr.x_label = "order [cycles/rev]";
+      pr.y_label = "amplitude [" + amp_unit + "]";
       pr.height_px = 220;
+      if (top > 0 && top * 1.15 < c.order_spectrum.x.back()) {
+        pr.x_min = 0;
+        pr.x_max = top * 1.15;
+      }
       const PlotSeries os{c.order_spectrum.x, c.order_spectrum.y, "", "#9467bd"};
-      o << svg_line_plot(std::span(&os, 1), pr, om);
+      o << "<details><summary>Order spectrum</summary>\n"
+        << svg_line_plot(std::span(&os, 1), pr, om) << "</details>\n";
     }
-    // TSA per shaft.
+    // TSA per shaft: the average and, on its own scale, the difference signal.
     for (const auto& t : c.tsa) {
+      o << "<details><summary>TSA of shaft " << html_escape(t.shaft) << "</summary>\n";
       if (!t.computed) {
-        o << "<p class=note>TSA of shaft " << html_escape(t.shaft) << ": " << html_escape(t.note)
-          << "</p>\n";
+        o << "<p class=note>" << html_escape(t.note) << "</p>\n</details>\n";
         continue;
       }
       std::vector<double> angle(t.tsa.size());
@@ -333,12 +581,16 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       PlotOptions pt = po;
       pt.title = "TSA of shaft " + t.shaft + " (" + std::to_string(t.revolutions) + " revolutions)";
       pt.x_label = "shaft angle [deg]";
-      pt.y_label = unit;
+      pt.y_label = amp_unit;
       pt.y_db = false;
-      pt.height_px = 220;
-      const PlotSeries ts[] = {{angle, t.tsa, "TSA", "#1f77b4"},
-                               {angle, t.difference, "difference", "#d62728"}};
-      o << svg_line_plot(ts, pt);
+      pt.height_px = 200;
+      const PlotSeries ts{angle, t.tsa, "", "#1f77b4"};
+      o << svg_line_plot(std::span(&ts, 1), pt);
+      pt.title = "Difference signal of shaft " + t.shaft +
+                 " (TSA less shaft orders, mesh harmonics and first sidebands)";
+      const PlotSeries td{angle, t.difference, "", "#d62728"};
+      o << svg_line_plot(std::span(&td, 1), pt);
+      if (!t.note.empty()) o << "<p class=note>" << html_escape(t.note) << "</p>\n";
       if (!t.gears.empty()) {
         o << "<table><tr><th class=l>gear</th><th>z</th><th>FM0</th><th>FM4</th><th>M6A</th>"
              "<th>M8A</th><th>NA4</th><th>ER</th><th>SER</th><th>SLF</th><th>SI</th></tr>";
@@ -351,8 +603,19 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         }
         o << "</table>\n";
       }
+      o << "</details>\n";
     }
-    for (const auto& n : c.notes) o << "<p class=note>" << html_escape(n) << "</p>\n";
+    if (!c.notes.empty()) {
+      o << "<details><summary>Notes (" << c.notes.size() << ")</summary>\n";
+      for (const auto& n : c.notes) o << "<p class=note>" << html_escape(n) << "</p>\n";
+      o << "</details>\n";
+    }
+    o << "</details>\n";
+  }
+  if (skipped > 0) {
+    o << "<p class=note>" << skipped
+      << " further channels are listed in the indicator table only (max_channel_sections = "
+      << opt.max_channel_sections << ").</p>\n";
   }
   o << "<p class=note>Generated by geardiag analyze.</p>\n</body></html>\n";
   return o.str();

@@ -67,6 +67,7 @@
 #include "detect/gear/sidebands.hpp"
 #include "detect/gear/two_direction.hpp"
 #include "detect/indicators/indicators.hpp"
+#include "detect/spectral/kurtogram.hpp"
 #include "detect/spectral/window.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/channels.hpp"
@@ -191,6 +192,10 @@ struct ChannelAnalysis {
   std::vector<ShaftTsaAnalysis> tsa;  // one per shaft with gears
   std::vector<BearingAnalysis> bearings;
   std::vector<std::string> notes;  // steps skipped on this channel and why
+  PlotTrace waveform;  // the record as sampled [unit] vs time [s] (min/max decimated), for the
+                       // report's time waveform; filled with the envelope (vibration channels)
+  std::vector<KurtogramLevel> kurtogram;  // the fast kurtogram's map the envelope band came
+                                          // from (empty: not run); the report draws it
 };
 
 struct TwoDirectionRow {

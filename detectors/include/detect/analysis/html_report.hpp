@@ -1,13 +1,25 @@
 // One self-contained HTML report of an analysis (analyze.hpp): inline CSS and inline SVG plots
 // (svg_plot.hpp), no scripts, no external assets; opens in any browser and prints.
 //
-// Sections: summary (recording, shafts, meshes, notes); findings (and the anomaly score against a
-// baseline when the result holds one); the two-direction table; the time-domain indicator table
-// (with baseline deviations when present); then per vibration channel: amplitude spectrum with the
-// mesh harmonics marked, a zoom on each mesh with its candidate shafts' sideband positions
-// marked (detected lines solid), Welch PSD, envelope spectrum with the bearing fault bands shaded,
-// order spectrum with the mesh orders marked, and per shaft the TSA and difference signal with
-// the gear indicator table.
+// Layout (an engineer reads the top and opens what he needs):
+//  - the verdict: the number of findings (a baseline ALARM is one) and each finding's evidence
+//    (what, where, confidence, frequency, the channel that shows it best, linked); green when
+//    nothing was found, red when something was. One colour scheme throughout: red a finding, an
+//    ALARM or a damaged shaft; amber uncertain or ambiguous; green nothing found (healthy is never
+//    red);
+//  - a table of contents (links to ids), the machine (shafts, meshes, notes folded, speed over
+//    time), findings, the damaged-shaft table, the two-direction table (only when a location has
+//    both directions), the indicator table, the baseline comparison;
+//  - one folded section (<details>, no scripts) per vibration channel, with folded subsections:
+//    time waveform and the kurtogram map (levels x frequency, the envelope's band outlined);
+//    amplitude spectrum with the mesh harmonics and Welch PSD in (unit)^2/Hz; each mesh's zoom
+//    with its candidate shafts' sideband positions (detected lines solid); envelope spectrum with
+//    each bearing's fault families labelled (FTF, BPFO, BPFI, 2BSF and harmonics 2, 3; the family
+//    the decision named solid) and the fault bands shaded; order spectrum up to 1.15 x the third
+//    harmonic of the highest mesh order; per shaft the TSA and, on its own scale, the difference
+//    signal, with the gear indicator table.
+// Units are shown with superscripts (m/s^2 -> m/s², PSD (m/s²)²/Hz); SVG plots shrink to the page
+// width. Measured in headless Chromium by python/tests/test_html_report.py.
 #pragma once
 
 #include <string>

@@ -1,0 +1,139 @@
+"""Recordings, gearbox, simulation, analysis and attribution against the C++ command line (the
+same libraries: the results must be identical, tolerance 0) and against the truth."""
+import json
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+import scipy.signal
+
+import geardiag
+from conftest import EXE, SHARED_DATA, SIM_GEARBOX, THREE_SHAFT
+
+
+def test_gearbox_derived_quantities():
+    gb = geardiag.Gearbox.from_json(THREE_SHAFT)
+    assert gb.summary() == geardiag.Gearbox.from_json(json.loads(THREE_SHAFT.read_text())).summary()
+    shafts = {s["name"]: s for s in gb.shafts}
+    # 30 rpm input, 18 -> 36 and 18 -> 36: the counter at 15 rpm, the output at 7.5 rpm.
+    assert shafts["input"]["speed_rpm"] == pytest.approx(30)
+    assert shafts["counter"]["speed_rpm"] == pytest.approx(15)
+    assert shafts["output"]["speed_hz"] == pytest.approx(7.5 / 60)
+    meshes = {m["name"]: m for m in gb.meshes}
+    assert meshes["z1_z2"]["frequency_hz"] == pytest.approx(18 * 0.5)
+    assert meshes["z3_z4"]["frequency_hz"] == pytest.approx(18 * 0.25)
+    # Recurrence period T_i = u_total / u_i input revolutions (seed 003 eq. 5 corrected).
+    periods = {g["name"]: g["recurrence_period_input_rev"] for g in gb.gears}
+    assert periods == pytest.approx({"z1": 1, "z2": 2, "z3": 2, "z4": 4})
+    assert gb.total_ratio == pytest.approx(4)
+
+
+def test_recording_round_trip_and_h5py(sim_recording, sim_file):
+    rec = geardiag.read_recording(sim_file)
+    assert set(rec.signals) == set(sim_recording.signals)
+    for name, s in sim_recording.signals.items():
+        r = rec.signals[name]
+        np.testing.assert_array_equal(r, s)
+        assert (r.fs_hz, r.unit, r.role, r.shaft, r.mesh) == (s.fs_hz, s.unit, s.role, s.shaft,
+                                                              s.mesh)
+    assert rec.truth == sim_recording.truth and rec.truth is not None
+    assert rec.gearbox.summary() == sim_recording.gearbox.summary()
+    with h5py.File(sim_file, "r") as f:
+        name = next(iter(rec.signals))
+        np.testing.assert_array_equal(f["signals"][name][()], rec.signals[name])
+        assert f["signals"][name].attrs["fs_hz"] == rec.signals[name].fs_hz
+    # Zero-copy out: the samples are a view on the C++ buffer.
+    assert not np.asarray(rec.signals[name]).flags.owndata
+
+
+def test_simulation_is_deterministic_and_has_roles(sim_recording):
+    again = geardiag.simulate(SIM_GEARBOX, {"duration_s": 0.2, "fs_hz": 10000.0}, seed=7)
+    once = geardiag.simulate(SIM_GEARBOX, {"duration_s": 0.2, "fs_hz": 10000.0}, seed=7)
+    for n in once.signals:
+        np.testing.assert_array_equal(once.signals[n], again.signals[n])
+    roles = {s.role for s in sim_recording.signals.values()}
+    assert "vibration" in roles and sim_recording.tachos
+    fault = sim_recording.truth["faults"][0]
+    assert (fault["gear"], fault["shaft"], fault["type"]) == ("z2", "counter", "crack")
+    assert sim_recording.truth["input_speed_rpm_min"] == 1500
+
+
+def test_bad_input_names_file_and_field():
+    with pytest.raises(geardiag.InputError, match=r"gears\[0\]\.teeth: must be a positive"):
+        geardiag.Gearbox.from_json({"name": "x", "shafts": [{"name": "a"}],
+                                    "gears": [{"name": "z1", "shaft": "a", "teeth": -3}]})
+    with pytest.raises(geardiag.InputError, match="/nonexistent.h5: no such file"):
+        geardiag.read_recording("/nonexistent.h5")
+    with pytest.raises(geardiag.InputError, match="unknown option 'bogus'"):
+        geardiag.analyze("/nonexistent.h5", bogus=1)
+
+
+def test_analyze_equals_cli(sim_file, cli_outputs):
+    r = geardiag.analyze(sim_file)
+    curves = r.pop("curves")
+    cli = json.loads(cli_outputs["json"].read_text())
+    assert r == cli  # same libraries, same options, deterministic: identical
+    # The curves are those the CLI writes to --curves (h5py reads them), array for array.
+    with h5py.File(cli_outputs["curves"], "r") as f:
+        assert f.attrs["format"] == "geardiag-curves"
+        n = 0
+        for ch, groups in curves["channels"].items():
+            for gname in ("psd", "spectrum", "envelope_spectrum", "order_spectrum", "waveform",
+                          "kurtogram"):
+                if gname in groups:
+                    g = f["channels"][ch][gname]
+                    for col in groups[gname]["units"]:
+                        np.testing.assert_array_equal(g[col][()], groups[gname][col])
+                        assert g[col].attrs["unit"] == groups[gname]["units"][col]
+                        n += 1
+        assert n > 10
+        # TSA signals per shaft with the angle axis.
+        tsa = next(iter(f["channels"].values()))["tsa"]
+        for shaft in tsa:
+            assert set(tsa[shaft]) == {"angle_rev", "tsa", "regular", "residual", "difference"}
+        assert "time_s" in f["speed"] or "speed" not in f
+    # The kurtogram's selected band is the envelope spectrum's demodulation band.
+    ch = next(iter(curves["channels"].values()))
+    assert ch["kurtogram"]["attrs"]["selected_low_hz"] == ch["envelope_spectrum"]["attrs"][
+        "band_low_hz"]
+    assert ch["waveform"]["units"]["value"] == "m/s^2"
+
+
+def test_analyze_psd_curve_against_scipy(sim_recording):
+    # The PSD curve is Welch (nperseg 4096) peak-hold decimated for plotting: its largest value
+    # is scipy's largest (1e-9 relative: round-off).
+    name, sig = next((n, s) for n, s in sim_recording.signals.items() if s.role == "vibration")
+    r = geardiag.analyze(sim_recording)
+    psd = r["curves"]["channels"][name]["psd"]
+    assert psd["units"]["psd"] == "(m/s^2)^2/Hz"
+    f, p = scipy.signal.welch(np.asarray(sig), sig.fs_hz, nperseg=4096)
+    assert psd["psd"].max() == pytest.approx(p.max(), rel=1e-9)
+    assert r["findings"] is not None
+
+
+def test_attribute_finds_the_defect():
+    gb = json.loads(THREE_SHAFT.read_text())
+    gb["defects"] = [{"gear": "z2", "type": "chip", "size_deg": 0.5, "phase_deg": 40}]
+    gearbox = geardiag.Gearbox.from_json(gb)
+    rec = geardiag.simulate_kinematic(gearbox, step_rad=np.deg2rad(0.05),
+                                      noise_output_rad=np.deg2rad(0.001), seed=4)
+    r = geardiag.attribute(rec.signals["input_angle_rad"], rec.signals["output_angle_rad"],
+                           gearbox)
+    truth = rec.truth["defects"][0]
+    assert r["status"] == "attributed"
+    assert [f["shaft"] for f in r["findings"]] == [truth["shaft"]] == ["counter"]
+    assert r["findings"][0]["period_input_rev"] == pytest.approx(truth["period_input_rev"])
+
+
+@pytest.mark.skipif(not (SHARED_DATA / "cwru-bearing" / "IR007_0.mat").exists(),
+                    reason="CWRU data absent")
+def test_analyze_cwru_inner_race():
+    gb = {"name": "cwru", "shafts": [{"name": "input"}],
+          "input": {"shaft": "input", "speed_rpm": 1797},
+          "bearings": [{"name": "drive_end", "shaft": "input", "rolling_elements": 9,
+                        "pitch_diameter_mm": 39.04, "element_diameter_mm": 7.94,
+                        "contact_angle_deg": 0.0}]}
+    r = geardiag.analyze(SHARED_DATA / "cwru-bearing" / "IR007_0.mat", gearbox=gb, fs_hz=12000)
+    faults = [f["fault"] for f in r["findings"] if f["kind"] == "bearing"]
+    assert faults == ["inner_race"]
