@@ -8,6 +8,7 @@
 
 #include "diag/error.hpp"
 #include "diag/io/output_file.hpp"
+#include "diag/version.hpp"
 
 namespace diag {
 
@@ -94,7 +95,7 @@ void write_file(const std::filesystem::path& file, std::span<const DataGroup> gr
     const Group root(H5Gopen2(f.id, "/", H5P_DEFAULT), "/");
     text_attribute(root.id, "format", "geardiag-curves");
     number_attribute(root.id, "format_version", 1);
-    text_attribute(root.id, "creator", std::string("geardiag ") + GEARDIAG_VERSION);
+    text_attribute(root.id, "creator", std::string("geardiag ") + diag::version());
     for (const auto& [k, v] : root_texts) text_attribute(root.id, k, v);
   }
   for (const DataGroup& g : groups) {
