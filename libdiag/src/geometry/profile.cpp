@@ -165,9 +165,10 @@ GeneratedTooth generate_tooth(const Gear& gear, const ProfileOptions& options) {
   GeneratedTooth out;
   out.involute_start_radius_m = std::hypot(rb, std::max(rho_t1, 0.0));
   out.involute_removed_m = std::max(0.0, inv_roll[first_inv] - std::max(rho_t1, 0.0));
-  // Removal by more than the candidates' own spacing there is the undercut.
-  const double spacing = first_inv > 0 ? inv_roll[first_inv] - inv_roll[first_inv - 1] : 0.0;
-  out.undercut = out.involute_removed_m > 1.5 * spacing && first_inv > 0;
+  // Any removal beyond round-off is the undercut (at z = 17, x = 0, just below z_min = 17.1,
+  // it is 0.3 um of roll at m = 3 mm).
+  constexpr double kRemovedTol = 1e-9;  // [m] envelope points are exact to ~1e-15 relative
+  out.undercut = out.involute_removed_m > kRemovedTol;
   Flank& f = out.flank;
   f.base_radius_m = rb;
   f.form_radius_m = inv[first_inv].r;
@@ -219,7 +220,7 @@ Flank apply_normal_depth(const Flank& flank, std::span<const double> roll_m,
     if (r <= rb) continue;
     const double rg = std::sqrt(r * r - rb * rb);
     const double d = interp(roll_m, depth_m, rg);
-    if (!(d != 0)) continue;  // outside (NaN) or zero
+    if (!(std::abs(d) > 0)) continue;  // outside (NaN) or zero
     const std::size_t lo = i > 0 ? i - 1 : i, hi = i + 1 < n ? i + 1 : i;
     const double slope = (flank.half_angle_rad[hi] - flank.half_angle_rad[lo]) /
                          (flank.radius_m[hi] - flank.radius_m[lo]);
@@ -498,16 +499,34 @@ double defect_angular_loss_rad(const GearPair& pair, bool on_driver, const Profi
   const Flank& base = on_driver ? *h1 : *h2;
   auto bad = std::make_shared<const Flank>(apply_defect(base, defect, "profile defect"));
   (on_driver ? mf.driver : mf.driven)[0] = bad;
-  // Pair 0 is centred on the line of centres at phi1 = 0; it is in contact within less than
-  // 1.5 driver pitches either side for contact ratios < 3.
+  // Pair 0 is centred on the line of centres at phi1 = 0; it is in contact within eps / 2 driver
+  // pitches either side, and a lag it opens lasts at most one pitch longer.
   const double tau1 = pair.driver().angular_pitch_rad();
+  const int span =
+      static_cast<int>(std::ceil((0.5 * pair.contact_ratio() + 1.0) * steps_per_pitch));
   std::vector<double> phi;
-  for (int i = -3 * steps_per_pitch; i <= 3 * steps_per_pitch; ++i) {
+  for (int i = -span; i <= span; ++i) {
     phi.push_back(tau1 * i / steps_per_pitch);
   }
   const std::vector<double> te = unloaded_transmission_error(pair, mf, phi);
   const double lag = -*std::min_element(te.begin(), te.end());
   return std::max(0.0, lag) * (on_driver ? pair.ratio() : 1.0);
+}
+
+}  // namespace diag
+
+namespace diag {
+
+double generated_contact_ratio(const GearPair& pair, const ProfileOptions& options) {
+  const Gear &g1 = pair.driver(), &g2 = pair.driven();
+  const double rb1 = g1.base_radius_m(), rb2 = g2.base_radius_m(), L = pair.loa_length_m();
+  const double f1 = generate_tooth(g1, options).flank.form_radius_m;
+  const double f2 = generate_tooth(g2, options).flank.form_radius_m;
+  const double start = std::max(L - std::sqrt(std::pow(g2.tip_radius_m(), 2) - rb2 * rb2),
+                                std::sqrt(f1 * f1 - rb1 * rb1));
+  const double end = std::min(std::sqrt(std::pow(g1.tip_radius_m(), 2) - rb1 * rb1),
+                              L - std::sqrt(f2 * f2 - rb2 * rb2));
+  return (end - start) / pair.base_pitch_m();
 }
 
 }  // namespace diag
