@@ -9,6 +9,7 @@
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/geometry/profile.hpp"
+#include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
 
@@ -17,15 +18,9 @@ namespace {
 using diag::units::deg_to_rad;
 using nlohmann::json;
 
-// Seed 003's gearbox (z1 = z3 = 18, z2 = z4 = 36, m = 3 mm) with one defect.
+// Seed 003's gearbox (testdata: z1 = z3 = 18, z2 = z4 = 36, m = 3 mm) with one defect.
 diag::Gearbox seed_box(const json& defect) {
-  json j = json::parse(R"({"shafts": [{"name": "in"}, {"name": "mid"}, {"name": "out"}],
-   "gears": [{"name": "z1", "shaft": "in", "teeth": 18, "module_mm": 3.0},
-             {"name": "z2", "shaft": "mid", "teeth": 36, "module_mm": 3.0},
-             {"name": "z3", "shaft": "mid", "teeth": 18, "module_mm": 3.0},
-             {"name": "z4", "shaft": "out", "teeth": 36, "module_mm": 3.0}],
-   "meshes": [{"driver": "z1", "driven": "z2"}, {"driver": "z3", "driven": "z4"}],
-   "input": {"shaft": "in", "speed_rpm": 30.0, "torque_nm": 50.0}})");
+  json j = diag::load_json_file(GEARDIAG_TESTDATA_DIR "/gearbox/three_shaft.json");
   j["defects"] = json::array({defect});
   return diag::parse_gearbox(j, "gb.json");
 }
