@@ -11,7 +11,9 @@
 #include "diag/geometry/profile.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
+#include "sim/dynamics/scenario.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
+#include "sim/mesh/profile_fault.hpp"
 
 namespace {
 
@@ -90,6 +92,32 @@ TEST(ProfileDefect, BadProfileDefectsAreRefusedNamingTheField) {
       msg({{"gear", "z2"}, {"profile", {{"kind", "chip"}, {"roll_deg", {5, 90}}, {"depth_um", 5}}}})
           .find("defects[0].profile: roll_deg"),
       std::string::npos);
+}
+
+}  // namespace
+
+namespace {
+
+// The dynamic model takes the deviation as a full-width spall over its part of the path of
+// contact, with the rolled lag as its gap: a 10 um chip over the whole flank of driven tooth 3 is a
+// 10 um gap (within 0.1 %, the rolling's chords) for pairs with that tooth, none for the others.
+TEST(ProfileDefect, DynamicModelTakesTheDeviationAsAGapOnItsTooth) {
+  const diag::GearPair& p = seed_box({{"gear", "z2"}, {"size_deg", 0.1}}).meshes()[0].pair;
+  const sim::ToothFault f = sim::profile_fault(p, false, 3, z2_chip(10.0), "scenario.json");
+  EXPECT_EQ(f.kind, sim::ToothFault::Kind::kSpall);
+  EXPECT_NEAR(f.depth_m, 10e-6, 1e-3 * 10e-6);
+  EXPECT_NEAR(f.s_center_m - 0.5 * f.size_m, p.s_start_m(), 1e-12);
+  EXPECT_NEAR(f.s_center_m + 0.5 * f.size_m, p.s_end_m(), 1e-12);
+  const sim::MeshStiffness k(p, {}, {f});
+  const double s = 0.5 * (p.s_start_m() + p.s_end_m());
+  EXPECT_NEAR(k.pair_gap(s, 0, 3), f.depth_m, 1e-15);
+  EXPECT_EQ(k.pair_gap(s, 0, 4), 0.0);
+  // The scenario form: {"type": "profile", "gear", "tooth", "profile": {...}}.
+  const sim::Scenario sc = sim::parse_scenario(
+      {{"faults", {{{"gear", "z2"}, {"tooth", 3}, {"type", "profile"}, {"profile", z2_chip(10)}}}}},
+      "scenario.json");
+  ASSERT_EQ(sc.dynamics.faults.size(), 1u);
+  EXPECT_FALSE(sc.dynamics.faults[0].profile_json.empty());
 }
 
 }  // namespace
