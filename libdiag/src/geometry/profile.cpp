@@ -358,6 +358,8 @@ ProfileDefect parse_profile_defect(const nlohmann::json& j, const Gear& gear, co
     d.kind = ProfileDefect::Kind::kContour;
     const nlohmann::json& c = f.raw("contour_mm");
     if (!c.is_array()) f.fail("contour_mm", "must be an array of [x, y] points in mm");
+    constexpr std::size_t kMaxContourPoints = 10000;  // rolling cost grows with the points
+    if (c.size() > kMaxContourPoints) f.fail("contour_mm", "has more than 10000 points");
     for (const auto& p : c) {
       if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number()) {
         f.fail("contour_mm", "must be an array of [x, y] points in mm");
