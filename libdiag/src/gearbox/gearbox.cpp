@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/gearbox/profile_defect.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
 
@@ -375,19 +376,25 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
   const json& defects = array_field(j, "defects", where, false);
   for (std::size_t i = 0; i < defects.size(); ++i) {
     Fields f(defects[i], where, indexed("defects", i),
-             {"gear", "type", "size_deg", "size_um", "tooth", "phase_deg"});
+             {"gear", "type", "size_deg", "size_um", "tooth", "phase_deg", "profile"});
     DefectSpec d;
     d.gear = f.str("gear");
     const int g = gb.gear_index(d.gear);
     if (g < 0) f.fail("gear", "unknown gear '" + d.gear + "'");
     d.type = f.str("type", "chip");
     const Gear gear(gb.gears_[g].spec);
-    if (f.has("size_deg") == f.has("size_um")) {
-      f.fail("size_deg", "give exactly one of size_deg (gear rotation) or size_um (along the LOA)");
+    if (f.has("size_deg") + f.has("size_um") + f.has("profile") != 1) {
+      f.fail("size_deg",
+             "give exactly one of size_deg (gear rotation), size_um (along the LOA) or profile "
+             "(a flank deviation)");
     }
     // A loss of size_um along the line of action is a rotation of size / r_b of this gear.
-    d.size_rad = f.has("size_deg") ? units::deg_to_rad(f.positive("size_deg"))
-                                   : units::um_to_m(f.positive("size_um")) / gear.base_radius_m();
+    if (f.has("profile")) {
+      d.size_rad = profile_defect_loss_rad(gb, g, f.raw("profile"), where, f.sub("profile"));
+    } else {
+      d.size_rad = f.has("size_deg") ? units::deg_to_rad(f.positive("size_deg"))
+                                     : units::um_to_m(f.positive("size_um")) / gear.base_radius_m();
+    }
     // The kinematic model rolls the loss in and out within one tooth: size < half a pitch.
     if (d.size_rad >= 0.5 * gear.angular_pitch_rad()) {
       f.fail(f.has("size_deg") ? "size_deg" : "size_um",

@@ -4,11 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "sim/mesh/profile_fault.hpp"
 
 namespace sim {
 namespace {
@@ -310,6 +312,10 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
       if (g == d.a || g == d.b) {
         ToothFault tf = f.fault;
         tf.gear = g == d.a ? 0 : 1;
+        if (!f.profile_json.empty()) {
+          tf = profile_fault(pair, g == d.a, f.fault.tooth, nlohmann::json::parse(f.profile_json),
+                             where + ": faults (" + f.gear + ")");
+        }
         faults.push_back(tf);
       }
     }

@@ -45,7 +45,7 @@ SpeedProfile parse_speed(const json& j, const std::string& where) {
 GearFault parse_fault(const json& j, const std::string& where, const std::string& path) {
   diag::Fields f(j, where, path,
                  {"gear", "tooth", "type", "depth_mm", "size_mm", "length_mm", "depth_um",
-                  "width_fraction", "position_mm"});
+                  "width_fraction", "position_mm", "profile"});
   GearFault g;
   g.gear = f.str("gear");
   g.fault.tooth = f.integer("tooth");
@@ -68,8 +68,11 @@ GearFault parse_fault(const json& j, const std::string& where, const std::string
     g.fault.size_m = f.positive("length_mm") * 1e-3;
     g.fault.depth_m = f.positive("depth_um") * 1e-6;
     if (f.has("position_mm")) g.fault.s_center_m = f.num("position_mm") * 1e-3;
+  } else if (type == "profile") {  // a flank deviation, resolved per mesh (sim::profile_fault)
+    if (!f.has("profile")) f.fail("profile", "required for type profile");
+    g.profile_json = f.raw("profile").dump();
   } else {
-    f.fail("type", "'" + type + "' is not one of crack, chip, missing, spall");
+    f.fail("type", "'" + type + "' is not one of crack, chip, missing, spall, profile");
   }
   return g;
 }

@@ -56,6 +56,7 @@ enum class MotorMode {
 struct GearFault {
   std::string gear;  // gear name in the gearbox description
   ToothFault fault;  // fault.gear (0/1) is filled in per mesh; fault.tooth is the tooth index
+  std::string profile_json;  // a flank deviation (sim::profile_fault) replacing `fault`, or empty
 };
 
 // A measured or FEM mesh stiffness table for one mesh (MeshStiffness::from_table): total mesh

@@ -1,0 +1,89 @@
+// Wear of a spur gear pair over its life (seed 004, Avsievich, Reut & Dubovskaya; SPEC.md
+// section 4), iterated in blocks of cycles: wear, update both flanks, recompute contact, load
+// sharing, contact ratio, mesh stiffness and the unloaded transmission error; stop at a depth
+// limit.
+//
+// Profile points. Wear is tracked on each gear's active flank (the path of contact s_start..s_end
+// of diag::GearPair mapped to roll distances rho1 = s, rho2 = T1T2 - s), on a grid with a node at
+// the pitch point. All teeth of a gear wear alike (every tooth meets the mate the same way on
+// average); a driver tooth passes the mesh once per driver revolution ("cycle"), a driven tooth
+// once per 1/u of a cycle.
+//
+// Load sharing (quasi-static, rigid bodies, linear teeth). At driver angle phi the pairs in contact
+// sit at s_j = s + j p_b; a worn pair is separated along the line of action by the sum of the two
+// normal wear depths, g_j = h1(s_j) + h2(T1T2 - s_j) (exact for involutes: normal wear of an
+// involute is a rotation of it, see diag/geometry/profile.hpp). With the pair stiffness k(s) of
+// sim::MeshStiffness (potential energy + fillet + Hertz) the compression d solves
+//     F = sum_j k(s_j) max(d - g_j, 0),   F = T_driver / r_b1,
+// and pair j carries F_j = k(s_j) (d - g_j)^+. The loaded contact ratio is the mean number of pairs
+// with F_j > 0; the mesh stiffness the mean of sum_j k(s_j) over the loaded pairs.
+//
+// Archard (Archard 1953; per pass as in Flodin & Andersson 1997, Wear 207:16): wear depth
+//     h = k_w p s, with p = F' / (2 a) the mean Hertz pressure over the contact band, half width
+//     a = sqrt(4 F' R / (pi E*)), F' = F_j / b, R = rho1 rho2 / (rho1 + rho2), and s the sliding
+//     distance while a flank point crosses the band, 2 a |v1 - v2| / v1 = 2 a |lambda1| on gear 1
+// so h1 = k_w F' |lambda1| per pass (and k_w F' |lambda2| on gear 2).
+// Seed 004, eq. (4)-(5): I_i = k |lambda_i| rho_red^m |V_s|^n at each profile point, with
+// V_s = omega1 (rho1 - u21 rho2) the sliding speed; the depth per pass is U_i = U_max I_i / I_max
+// (I_max over both gears). The seed leaves k, m, n and U_max to experiment; defaults here:
+// m = -1/2 (Hertz pressure ~ rho^-1/2: the seed's "rho stands in for pressure"), n = 1, and U_max
+// taken from Archard's largest depth per pass on the unworn pair, so that the two laws have the
+// same scale and differ in shape only.
+// The profile update is the normal depth applied to the generated flank (diag::apply_normal_depth,
+// the exact form of the seed's d theta = U / r; see the correction noted there).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "diag/gearbox/gearbox.hpp"
+
+namespace sim {
+
+enum class WearLaw {
+  kArchard,  // k_w p s in physical units
+  kSeed004,  // seed 004's intensity k lambda rho^m V^n, scaled by U_max
+};
+
+struct WearOptions {
+  WearLaw law = WearLaw::kArchard;
+  double cycles = 1e6;       // driver revolutions over the history, > 0
+  int steps = 100;           // blocks of cycles / steps revolutions, >= 1 (and <= 100000)
+  int profile_points = 101;  // points on each active flank, >= 11
+  // Archard wear coefficient [m^2/N = m^3/(N m)], > 0. 1e-16 is the order Flodin & Andersson
+  // measured for boundary-lubricated steel (they quote 5.4e-17 ... 5e-16).
+  double archard_coefficient_m2_per_n = 1e-16;
+  double seed_exponent_m = -0.5;            // m of rho_red^m [-]
+  double seed_exponent_n = 1.0;             // n of V_s^n [-], >= 0
+  double seed_max_depth_per_cycle_m = 0.0;  // U_max [m] per pass; 0: Archard's on the new pair
+  double depth_limit_m = 100e-6;            // stop once a flank point has worn this deep, > 0
+  int te_points_per_mesh = 64;              // driver angles per mesh period for the TE, >= 16
+
+  void validate() const;  // throws diag::InputError naming the field
+};
+
+struct WearHistory {
+  // Profile points (fixed): roll distance and radius on each gear's flank [m].
+  std::vector<double> roll_driver_m, roll_driven_m, radius_driver_m, radius_driven_m;
+  // One entry per completed step (K <= options.steps): cycles at the end of the step.
+  std::vector<double> cycles;
+  std::vector<std::vector<double>> depth_driver_m, depth_driven_m;  // K x points [m]
+  std::vector<double> te_peak_to_peak_rad;  // unloaded TE of the worn pair [rad, driven]
+  std::vector<std::array<double, 3>> te_harmonics_rad;  // its mesh harmonics 1..3 (amplitudes)
+  std::vector<double> loaded_contact_ratio;    // mean number of loaded pairs over a mesh period
+  std::vector<double> mesh_stiffness_n_per_m;  // mean loaded mesh stiffness
+  std::vector<double> max_pressure_pa;         // largest Hertz pressure over a mesh period
+  // The unworn state (before the first step), for comparison.
+  double te_peak_to_peak_new_rad = 0, loaded_contact_ratio_new = 0, max_pressure_new_pa = 0;
+  double normal_force_n = 0;      // total normal force F on the mesh
+  bool stopped_at_limit = false;  // the depth limit ended the history before options.steps
+};
+
+// The wear history of gb.meshes()[mesh]. Throws diag::InputError for bad options, a mesh index out
+// of range or a mesh without load (input torque 0).
+WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& options);
+
+// Pearson correlation of two equally long profiles (used to compare the laws' shapes).
+double shape_correlation(const std::vector<double>& a, const std::vector<double>& b);
+
+}  // namespace sim

@@ -1,0 +1,259 @@
+#include "sim/wear/wear.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include "diag/error.hpp"
+#include "diag/geometry/profile.hpp"
+#include "sim/mesh/mesh_stiffness.hpp"
+
+namespace sim {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+void require(bool ok, const char* field, const std::string& reason) {
+  if (!ok) throw diag::InputError(diag::format_error("wear options", field, reason));
+}
+
+double interp(const std::vector<double>& x, const std::vector<double>& y, double xq) {
+  if (xq <= x.front()) return y.front();
+  if (xq >= x.back()) return y.back();
+  const auto i = static_cast<std::size_t>(std::upper_bound(x.begin(), x.end(), xq) - x.begin());
+  const double t = (xq - x[i - 1]) / (x[i] - x[i - 1]);
+  return y[i - 1] + t * (y[i] - y[i - 1]);
+}
+
+// Loads of the pairs with stiffnesses k and gaps g sharing the force F (header formula).
+std::vector<double> share_load(const std::vector<double>& k, const std::vector<double>& g,
+                               double F) {
+  std::vector<std::size_t> order(k.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(), [&](auto a, auto b) { return g[a] < g[b]; });
+  double ksum = 0, kgsum = 0, d = 0;
+  for (std::size_t n = 0; n < order.size(); ++n) {
+    const std::size_t i = order[n];
+    if (!(k[i] > 0)) continue;
+    ksum += k[i];
+    kgsum += k[i] * g[i];
+    d = (F + kgsum) / ksum;
+    if (n + 1 == order.size() || d <= g[order[n + 1]]) break;
+  }
+  std::vector<double> f(k.size(), 0.0);
+  for (std::size_t i = 0; i < k.size(); ++i) f[i] = std::max(0.0, k[i] * (d - g[i]));
+  return f;
+}
+
+}  // namespace
+
+void WearOptions::validate() const {
+  require(cycles > 0 && std::isfinite(cycles), "cycles", "must be > 0");
+  require(steps >= 1 && steps <= 100000, "steps", "must be in [1, 100000]");
+  require(profile_points >= 11 && profile_points <= 100000, "profile_points",
+          "must be in [11, 100000]");
+  require(archard_coefficient_m2_per_n > 0 && archard_coefficient_m2_per_n < 1e-6,
+          "archard_coefficient", "must be in (0, 1e-6) m^2/N");
+  require(std::isfinite(seed_exponent_m) && std::abs(seed_exponent_m) <= 5, "seed_exponent_m",
+          "must be in [-5, 5]");
+  require(seed_exponent_n >= 0 && seed_exponent_n <= 5, "seed_exponent_n", "must be in [0, 5]");
+  require(seed_max_depth_per_cycle_m >= 0 && seed_max_depth_per_cycle_m < 1e-3,
+          "seed_max_depth_per_cycle", "must be in [0, 1e-3) m");
+  require(depth_limit_m > 0 && depth_limit_m < 0.01, "depth_limit", "must be in (0, 10) mm");
+  require(te_points_per_mesh >= 16 && te_points_per_mesh <= 4096, "te_points_per_mesh",
+          "must be in [16, 4096]");
+}
+
+double shape_correlation(const std::vector<double>& a, const std::vector<double>& b) {
+  const std::size_t n = std::min(a.size(), b.size());
+  double ma = 0, mb = 0;
+  for (std::size_t i = 0; i < n; ++i) ma += a[i] / n, mb += b[i] / n;
+  double sab = 0, saa = 0, sbb = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    sab += (a[i] - ma) * (b[i] - mb);
+    saa += (a[i] - ma) * (a[i] - ma);
+    sbb += (b[i] - mb) * (b[i] - mb);
+  }
+  return sab / std::sqrt(saa * sbb);
+}
+
+WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& o) {
+  o.validate();
+  if (mesh < 0 || mesh >= static_cast<int>(gb.meshes().size())) {
+    throw diag::InputError(diag::format_error("wear", "mesh", "index out of range"));
+  }
+  const diag::Mesh& me = gb.meshes()[static_cast<std::size_t>(mesh)];
+  const diag::GearPair& p = me.pair;
+  const diag::Gear &g1 = p.driver(), &g2 = p.driven();
+  const double rb1 = g1.base_radius_m(), rb2 = g2.base_radius_m(), L = p.loa_length_m();
+  const double u = p.ratio(), pb = p.base_pitch_m();
+  const double s0 = p.s_start_m(), s1 = p.s_end_m(), sp = p.s_pitch_m();
+  // Load: the input torque carried to the driver's shaft (no losses).
+  const double shaft_ratio =
+      std::abs(gb.shafts()[static_cast<std::size_t>(gb.shaft_of_gear(me.driver))].speed_ratio);
+  const double torque = gb.input().torque_nm / shaft_ratio;
+  if (!(torque > 0)) {
+    throw diag::InputError(
+        diag::format_error("gearbox", "input.torque_nm", "must be > 0 for a wear history"));
+  }
+  const double F = torque / rb1;
+  const double b = std::min(g1.spec().face_width_m, g2.spec().face_width_m);
+  const double e_star = 2.0 * hertz_stiffness(p) / (kPi * b);
+  const double omega1 = 2 * kPi * gb.shaft_speed_hz(gb.shaft_of_gear(me.driver));
+  const MeshStiffness stiffness(p);
+
+  // Profile grid on the path of contact with a node at the pitch point.
+  WearHistory h;
+  h.normal_force_n = F;
+  std::vector<double> s;
+  const int n_app =
+      std::clamp(static_cast<int>(std::lround((o.profile_points - 1) * (sp - s0) / (s1 - s0))), 1,
+                 o.profile_points - 2);
+  for (int i = 0; i < n_app; ++i) s.push_back(s0 + (sp - s0) * i / n_app);
+  const int n_rec = o.profile_points - 1 - n_app;
+  for (int i = 0; i <= n_rec; ++i) s.push_back(sp + (s1 - sp) * i / n_rec);
+  const std::size_t np = s.size();
+  for (std::size_t i = 0; i < np; ++i) {
+    h.roll_driver_m.push_back(s[i]);
+    h.radius_driver_m.push_back(std::hypot(rb1, s[i]));
+  }
+  for (std::size_t i = np; i-- > 0;) {  // driven roll increasing: s decreasing
+    h.roll_driven_m.push_back(L - s[i]);
+    h.radius_driven_m.push_back(std::hypot(rb2, L - s[i]));
+  }
+  std::vector<double> d1(np, 0.0), d2(np, 0.0);  // depths on the driver / driven grids
+
+  // The pairs in contact when one of them sits at x (x itself included), with their loads.
+  struct Sharing {
+    std::vector<double> pos, load;
+  };
+  auto sharing = [&](double x) {
+    Sharing sh;
+    const double first = x - pb * std::floor((x - s0) / pb + 1e-12);
+    for (double q = first; q <= s1 + 1e-12; q += pb) sh.pos.push_back(q);
+    std::vector<double> k, g;
+    for (double q : sh.pos) {
+      k.push_back(stiffness.healthy_pair_stiffness(std::clamp(q, s0, s1)));
+      g.push_back(interp(h.roll_driver_m, d1, q) + interp(h.roll_driven_m, d2, L - q));
+    }
+    sh.load = share_load(k, g, F);
+    return sh;
+  };
+  auto load_at = [&](double x) {
+    const Sharing sh = sharing(x);
+    for (std::size_t j = 0; j < sh.pos.size(); ++j) {
+      if (std::abs(sh.pos[j] - x) < 1e-12) return sh.load[j];
+    }
+    return 0.0;
+  };
+  // Per-pass depth at the grid points (driver grid index i; the driven point is np-1-i).
+  auto per_pass = [&](WearLaw law, std::vector<double>& w1, std::vector<double>& w2, double umax) {
+    w1.assign(np, 0.0);
+    w2.assign(np, 0.0);
+    for (std::size_t i = 0; i < np; ++i) {
+      const auto k = p.kinematics(s[i], omega1);
+      const double lam1 = std::abs(k.specific_sliding_1), lam2 = std::abs(k.specific_sliding_2);
+      if (law == WearLaw::kArchard) {
+        const double fw = load_at(s[i]) / b;
+        w1[i] = o.archard_coefficient_m2_per_n * fw * lam1;
+        w2[np - 1 - i] = o.archard_coefficient_m2_per_n * fw * lam2;
+      } else {
+        const double common = std::pow(k.reduced_radius_m, o.seed_exponent_m) *
+                              std::pow(std::abs(k.sliding_m_per_s), o.seed_exponent_n);
+        w1[i] = lam1 * common;
+        w2[np - 1 - i] = lam2 * common;
+      }
+    }
+    if (law == WearLaw::kSeed004) {
+      const double imax = std::max(*std::max_element(w1.begin(), w1.end()),
+                                   *std::max_element(w2.begin(), w2.end()));
+      for (auto* w : {&w1, &w2}) {
+        for (double& v : *w) v = imax > 0 ? umax * v / imax : 0.0;
+      }
+    }
+  };
+  double umax = o.seed_max_depth_per_cycle_m;
+  if (o.law == WearLaw::kSeed004 && umax == 0) {
+    std::vector<double> a1, a2;
+    per_pass(WearLaw::kArchard, a1, a2, 0);
+    umax =
+        std::max(*std::max_element(a1.begin(), a1.end()), *std::max_element(a2.begin(), a2.end()));
+  }
+
+  // State measures: unloaded TE by rolling the worn flanks, loaded sharing over a mesh period.
+  const diag::Flank new1 = diag::generate_tooth(g1).flank, new2 = diag::generate_tooth(g2).flank;
+  const int nt = o.te_points_per_mesh;
+  std::vector<double> phis;
+  for (int i = 0; i < nt; ++i) phis.push_back(p.mesh_period_rad() * (i + 0.5) / nt);
+  struct State {
+    double te_pp;
+    std::array<double, 3> harm;
+    double eps, k_mean, p_max;
+  };
+  auto measure = [&]() {
+    State st{};
+    const auto f1 =
+        std::make_shared<const diag::Flank>(diag::apply_normal_depth(new1, h.roll_driver_m, d1));
+    const auto f2 =
+        std::make_shared<const diag::Flank>(diag::apply_normal_depth(new2, h.roll_driven_m, d2));
+    const diag::MeshFlanks mf{std::vector<std::shared_ptr<const diag::Flank>>(g1.teeth(), f1),
+                              std::vector<std::shared_ptr<const diag::Flank>>(g2.teeth(), f2)};
+    const std::vector<double> te = diag::unloaded_transmission_error(p, mf, phis);
+    st.te_pp = *std::max_element(te.begin(), te.end()) - *std::min_element(te.begin(), te.end());
+    for (int hmn = 1; hmn <= 3; ++hmn) {
+      double re = 0, im = 0;
+      for (int i = 0; i < nt; ++i) {
+        re += te[i] * std::cos(2 * kPi * hmn * i / nt);
+        im += te[i] * std::sin(2 * kPi * hmn * i / nt);
+      }
+      st.harm[hmn - 1] = 2.0 * std::hypot(re, im) / nt;
+    }
+    for (int i = 0; i < nt; ++i) {
+      const Sharing sh = sharing(s0 + pb * (i + 0.5) / nt);
+      for (std::size_t j = 0; j < sh.pos.size(); ++j) {
+        if (!(sh.load[j] > 0)) continue;
+        st.eps += 1.0 / nt;
+        st.k_mean += stiffness.healthy_pair_stiffness(std::clamp(sh.pos[j], s0, s1)) / nt;
+        const double rho1 = sh.pos[j], rho2 = L - sh.pos[j];
+        const double R = rho1 * rho2 / (rho1 + rho2), fw = sh.load[j] / b;
+        st.p_max = std::max(st.p_max, std::sqrt(fw * e_star / (kPi * R)));
+      }
+    }
+    return st;
+  };
+  const State st0 = measure();
+  h.te_peak_to_peak_new_rad = st0.te_pp;
+  h.loaded_contact_ratio_new = st0.eps;
+  h.max_pressure_new_pa = st0.p_max;
+
+  const double block = o.cycles / o.steps;
+  std::vector<double> w1, w2;
+  for (int k = 0; k < o.steps; ++k) {
+    per_pass(o.law, w1, w2, umax);
+    for (std::size_t i = 0; i < np; ++i) {
+      d1[i] += block * w1[i];
+      d2[i] += block / u * w2[i];
+    }
+    const State st = measure();
+    h.cycles.push_back(block * (k + 1));
+    h.depth_driver_m.push_back(d1);
+    h.depth_driven_m.push_back(d2);
+    h.te_peak_to_peak_rad.push_back(st.te_pp);
+    h.te_harmonics_rad.push_back(st.harm);
+    h.loaded_contact_ratio.push_back(st.eps);
+    h.mesh_stiffness_n_per_m.push_back(st.k_mean);
+    h.max_pressure_pa.push_back(st.p_max);
+    const double deepest =
+        std::max(*std::max_element(d1.begin(), d1.end()), *std::max_element(d2.begin(), d2.end()));
+    if (deepest >= o.depth_limit_m) {
+      h.stopped_at_limit = k + 1 < o.steps;
+      break;
+    }
+  }
+  return h;
+}
+
+}  // namespace sim
