@@ -6,6 +6,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <complex>
+#include <iostream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
@@ -18,6 +20,7 @@
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "sim/dynamics/sweep.hpp"
+#include "sim/mesh/mesh_stiffness.hpp"
 
 namespace {
 
@@ -176,6 +179,49 @@ TEST(SeedResults, NormalToLoaVibrationIsZeroWithoutFrictionAndGrowsWithMu) {
   EXPECT_LT(levels[2] / levels[1], 2.4);
 }
 
+// Result 2, sign and size: with isotropic bearings the mesh stiffness acts along the LOA only,
+// so each shaft's motion normal to the LOA is its own linear oscillator driven by the friction
+// force alone: on the driver's shaft the friction force along the sensor's normal direction
+// (-t) is +F_fr (F_fr the "_friction" channel, the force on gear b along t), so
+//     m_A x'' + c_A x' + k_A x = F_fr,   a_n = x''
+// with m_A the pinion's disc mass, k_A = 2 k_bearing, c_A = 2 zeta_b sqrt(k_A m_A). At each
+// mesh harmonic the complex ratio a_n / F_fr must equal -W^2 / (k_A - m_A W^2 + i c_A W):
+// magnitude within 2 % and phase within 0.01 rad (RK4 and the contact sub-steps; both channels
+// pass the same linear-phase filter; measured 0.2 % / 0.6 % and < 1 mrad at harmonics 1 / 2). A
+// friction force on the wrong gear or with the wrong sign is off by pi in phase; a missing friction
+// force gives no normal response at all.
+TEST(SeedResults, NormalToLoaResponseIsTheFrictionForceThroughTheBearing) {
+  const diag::Gearbox gb = seed_pair();
+  sim::DynamicsOptions o;
+  o.friction.law = sim::FrictionLaw::kConstant;
+  o.friction.mu_constant = 0.06;
+  const double fs = 40000;
+  const sim::DynamicResult r = sim::simulate_dynamic(gb, o, short_run(0.1, fs));
+  const std::vector<double>& fr = r.find("pinion_wheel_friction")->samples;
+  const std::vector<double>& an = r.find("input_bearing1_normal_loa")->samples;
+  const double m = diag::Gear(gb.gears()[0].spec).disc_mass_kg();
+  const double k = 2 * o.bearing_stiffness_x_n_per_m;
+  const double c = 2 * o.bearing_damping_ratio * std::sqrt(k * m);
+  auto phasor = [&](const std::vector<double>& x, double f) {
+    const std::size_t n = static_cast<std::size_t>(std::floor(x.size() * f / fs) * fs / f);
+    std::complex<double> z = 0;
+    for (std::size_t i = 0; i < n; ++i) z += x[i] * std::polar(1.0, -2 * kPi * f * i / fs);
+    return 2.0 * z / static_cast<double>(n);
+  };
+  const double fz = gb.mesh_frequency_hz(0);
+  for (int h = 1; h <= 2; ++h) {
+    const double w = 2 * kPi * h * fz;
+    const std::complex<double> expected = -w * w / std::complex<double>(k - m * w * w, c * w);
+    const std::complex<double> got = phasor(an, h * fz) / phasor(fr, h * fz);
+    ASSERT_GT(std::abs(phasor(fr, h * fz)), 1.0) << h;  // N: friction does excite harmonic h
+    EXPECT_NEAR(std::abs(got) / std::abs(expected), 1.0, 0.02) << "harmonic " << h;
+    EXPECT_NEAR(std::arg(got / expected), 0.0, 0.01) << "harmonic " << h;
+    std::cout << "[ result 2 ] harmonic " << h << ": |a_n / F_fr| " << std::abs(got)
+              << " (oscillator " << std::abs(expected) << "), phase error "
+              << std::arg(got / expected) << " rad\n";
+  }
+}
+
 // Amplitude of the component at frequency f (an integer number of its periods in the window:
 // a single-bin DFT over whole periods, exact for a periodic signal).
 double amplitude_at(const std::vector<double>& x, double fs, double f) {
@@ -195,8 +241,10 @@ double amplitude_at(const std::vector<double>& x, double fs, double f) {
 
 // A sweep 1000..4500 rpm with and without Drozdov's friction: the peak dynamic mesh force per
 // speed window changes by a few per cent (the seed's Fig. 10: friction is a small damping and a
-// small excitation next to the stiffness variation). Bound: RMS over the windows of the relative
-// change < 4 %, and no window beyond 8 %.
+// small excitation next to the stiffness variation). Two-sided: the change must be small (RMS over
+// the windows < 4 %, no window beyond 8 %) AND present (RMS > 0.5 %): friction that did nothing
+// (a lost moment or force) gives exactly 0 and fails. Measured: RMS 2.4 %, worst 7.5 % (at the
+// resonance's jump, where a small shift of the jump speed moves one window's peak most).
 TEST(SeedResults, FrictionChangesTheMeshForceOnlyByAFewPercentOverASweep) {
   sim::SweepOptions sw;
   sw.from_rpm = 1000;
@@ -216,8 +264,12 @@ TEST(SeedResults, FrictionChangesTheMeshForceOnlyByAFewPercentOverASweep) {
     ss += change * change;
     worst = std::max(worst, std::abs(change));
   }
-  EXPECT_LT(std::sqrt(ss / a.up.size()), 0.04);
+  const double rms_change = std::sqrt(ss / a.up.size());
+  EXPECT_LT(rms_change, 0.04);
+  EXPECT_GT(rms_change, 0.005);
   EXPECT_LT(worst, 0.08);
+  std::cout << "[ result 1 ] friction changes the peak mesh force by " << 100 * rms_change
+            << " % RMS, " << 100 * worst << " % at worst\n";
 }
 
 // ---- seed result 3: hot oil, less friction-driven vibration ----
@@ -244,11 +296,17 @@ TEST(SeedResults, HotOilLowersTheNormalToLoaMeshHarmonics) {
 
 // ---- seed result 4: the normal-to-LOA level falls as the contact ratio approaches 2 ----
 
-// Fig. 12: at the torsional resonance, the acceleration normal to the LOA falls as the contact
-// ratio goes 1.2 -> 1.5 -> 1.8, because the two pairs' friction forces (opposite sides of the
-// pitch point) cancel over more of the mesh period. For each contact ratio the sweep's torsional
-// resonance is the window of the largest mesh force; the normal-direction RMS there must fall
-// strictly from one contact ratio to the next.
+// Fig. 12: at the resonance, the acceleration normal to the LOA falls as the contact ratio goes
+// 1.2 -> 1.5 -> 1.8, because the two pairs' friction forces (opposite sides of the pitch point)
+// cancel over more of the mesh period. For each contact ratio the resonance is the window of the
+// largest mesh force; the normal-direction RMS there must fall strictly from one contact ratio to
+// the next. On the default bearings (2e8 N/m each, the mesh's own order) that window is not the
+// classic torsional frequency sqrt(k (r1^2/J1 + r2^2/J2)) / 2 pi: it lies at 1.25-1.36 x it, at
+// the coupled torsional-translational mode (the mesh spring in series with the bearings, the
+// shafts moving along the LOA). Checked: the window's mesh frequency lies within 6 % of the
+// model's eigenfrequency of that mode (the eigenvalue of M^-1 K at mean stiffness nearest to it;
+// 6 %: the window width, 2.8 % of the frequency, plus the softening by contact loss), and that
+// eigenfrequency is 1.2-1.45 x the torsional one.
 TEST(SeedResults, NormalToLoaLevelAtResonanceFallsAsContactRatioGrows) {
   sim::SweepOptions sw;
   sw.from_rpm = 1000;
@@ -270,6 +328,17 @@ TEST(SeedResults, NormalToLoaLevelAtResonanceFallsAsContactRatioGrows) {
       if (r.up[i].rms[0] > r.up[best].rms[0]) best = i;
     }
     level.push_back(r.up[best].rms[2]);
+    const double f_peak = r.up[best].mesh_frequency_hz, f_t = r.mesh_torsional_frequency_hz[0];
+    double f_mode = 0;
+    for (double f : r.natural_frequencies_hz) {
+      if (std::abs(f - f_peak) < std::abs(f_mode - f_peak)) f_mode = f;
+    }
+    EXPECT_NEAR(f_peak / f_mode, 1.0, 0.06) << "eps " << eps;
+    EXPECT_GT(f_mode / f_t, 1.2) << "eps " << eps;
+    EXPECT_LT(f_mode / f_t, 1.45) << "eps " << eps;
+    std::cout << "[ result 4 ] eps " << eps << ": peak window " << f_peak
+              << " Hz = " << f_peak / f_t << " x torsional " << f_t << " Hz; coupled mode "
+              << f_mode << " Hz; normal RMS " << level.back() << " m/s^2\n";
   }
   EXPECT_GT(level[0], level[1]);
   EXPECT_GT(level[1], level[2]);
@@ -277,13 +346,28 @@ TEST(SeedResults, NormalToLoaLevelAtResonanceFallsAsContactRatioGrows) {
 
 // ---- seed result 5: the resonance and its jump ----
 
-// On stiff bearings (the torsional mode alone in the band) the sweep's resonance lies at the
-// analytic torsional natural frequency sqrt(k_mean (r1^2/J1 + r2^2/J2)) / 2 pi, shifted down by
-// the contact loss (softening: the mesh spends part of each period out of contact, so the
-// effective stiffness is lower): the run-up peak must sit within 15 % below it and never above
-// 3 % over it. The run-down stays on the resonant branch below the run-up's peak and jumps off
-// later (at a lower speed): hysteresis, the seed's Fig. 9.
+// The README's sweep example as written: the seed's pair (testdata/gearbox/seed000_pair.json),
+// the scenario testdata/scenario/seed000_sweep_jump.json (bearings 1e10 N/m: the torsional mode
+// alone in the band; on the default 2e8 N/m bearings the resonance is the coupled mode of result 4
+// and shows no jump in this band), 2000..4500 rpm, 25 windows of 0.03 s, up and down.
+//
+// Where the peak is, judged against an independent figure: the torsional frequency from ISO
+// 6336-1's c_gamma_alpha (not the model's potential-energy stiffness) and disc inertias computed
+// here from the drawing (rho pi r^4 b / 2 at the pitch radius), f_iso = sqrt(c b / m_e) / 2 pi
+// with m_e = 1 / (r_b1^2/J1 + r_b2^2/J2). The run-up peak must lie at 0.80-1.0 f_iso: below
+// it by the PEM's 6 % lower stiffness (3 % in frequency) and by the contact loss's softening (the
+// mesh is out of contact part of each period, > 5 % of the time at the peak), never above it.
+// The seed's own figure, 1560 Hz, cannot be the check: the paper gives neither its inertias nor
+// its FEM stiffness (see docs/notes/seed000.md).
+// The jump: the run-down stays on the resonant branch below the run-up's peak and leaves it
+// later, > 200 rpm (3 windows) lower, with a larger peak; in the window where the run-down peaks
+// the two runs differ by more than 30 % of the run-up's largest force (a linear system, or a
+// sweep too fast to show hysteresis, gives the same force up and down).
 TEST(SeedResults, ResonanceSitsAtTheTorsionalFrequencyAndJumps) {
+  const diag::Gearbox gb =
+      diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/seed000_pair.json");
+  const sim::Scenario sc =
+      sim::load_scenario(std::string(GEARDIAG_TESTDATA_DIR) + "/scenario/seed000_sweep_jump.json");
   sim::SweepOptions sw;
   sw.from_rpm = 2000;
   sw.to_rpm = 4500;
@@ -291,24 +375,43 @@ TEST(SeedResults, ResonanceSitsAtTheTorsionalFrequencyAndJumps) {
   sw.dwell_s = 0.03;
   sw.down = true;
   sw.channels = {"pinion_wheel_force"};
-  sim::DynamicsOptions o;
-  o.bearing_stiffness_x_n_per_m = o.bearing_stiffness_y_n_per_m = 1e10;
-  const sim::SweepResult r = sim::run_sweep(seed_pair(), o, sim::RunOptions{}, sw);
-  const double f_n = r.mesh_torsional_frequency_hz[0];
-  auto peak_window = [](const std::vector<sim::SweepPoint>& p) {
+  const sim::SweepResult r = sim::run_sweep(gb, sc.dynamics, sc.run, sw);
+  // The independent torsional frequency.
+  const diag::GearPair& p = gb.meshes()[0].pair;
+  const double b = 0.020, rho = 7850;
+  auto inertia = [&](double z) {
+    const double rp = 0.5 * 0.004 * z;
+    return rho * kPi * std::pow(rp, 4) * b / 2;
+  };
+  const double rb1 = 0.5 * 0.004 * 49 * std::cos(20 * kPi / 180);
+  const double rb2 = 0.5 * 0.004 * 51 * std::cos(20 * kPi / 180);
+  const double me = 1.0 / (rb1 * rb1 / inertia(49) + rb2 * rb2 / inertia(51));
+  const double c_iso = sim::iso6336_method_b(p).c_gamma_alpha_n_per_m2;
+  const double f_iso = std::sqrt(c_iso * b / me) / (2 * kPi);
+  auto peak_window = [](const std::vector<sim::SweepPoint>& pts) {
     std::size_t best = 0;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-      if (p[i].peak[0] > p[best].peak[0]) best = i;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      if (pts[i].peak[0] > pts[best].peak[0]) best = i;
     }
     return best;
   };
   const sim::SweepPoint& up = r.up[peak_window(r.up)];
-  EXPECT_GT(up.mesh_frequency_hz, 0.85 * f_n);
-  EXPECT_LT(up.mesh_frequency_hz, 1.03 * f_n);
+  EXPECT_GT(up.mesh_frequency_hz, 0.80 * f_iso);
+  EXPECT_LT(up.mesh_frequency_hz, 1.0 * f_iso);
   EXPECT_GT(up.contact_loss_fraction, 0.05);  // the peak is the nonlinear one
-  const sim::SweepPoint& down = r.down[peak_window(r.down)];
+  const std::size_t d = peak_window(r.down);
+  const sim::SweepPoint& down = r.down[d];
   EXPECT_LT(down.rpm, up.rpm - 200.0);  // the run-down peak is further down: the jump moved
   EXPECT_GT(down.peak[0], up.peak[0]);
+  const sim::SweepPoint& up_same = r.up[r.up.size() - 1 - d];  // the same speed window
+  ASSERT_NEAR(up_same.rpm, down.rpm, 1e-6);
+  EXPECT_GT(down.peak[0] - up_same.peak[0], 0.3 * up.peak[0]);
+  std::cout << "[ result 5 ] f_iso " << f_iso << " Hz, model torsional "
+            << r.mesh_torsional_frequency_hz[0] << " Hz; run-up peak " << up.rpm << " rpm ("
+            << up.mesh_frequency_hz << " Hz, " << up.peak[0] << " N, contact loss "
+            << up.contact_loss_fraction << "); run-down peak " << down.rpm << " rpm ("
+            << down.mesh_frequency_hz << " Hz, " << down.peak[0] << " N); up there "
+            << up_same.peak[0] << " N\n";
 }
 
 // Light load: contact loss and a jump also show on the default bearings, and the run up and run

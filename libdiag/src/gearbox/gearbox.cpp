@@ -157,7 +157,8 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     const std::string path = indexed("gears", i);
     Fields f(gears[i], where, path,
              {"name", "shaft", "teeth", "module_mm", "pressure_angle_deg", "face_width_mm",
-              "profile_shift", "addendum_coefficient", "clearance_coefficient", "material"});
+              "profile_shift", "addendum_coefficient", "clearance_coefficient", "material",
+              "bore_diameter_mm"});
     GearEntry g;
     g.name = f.name("name");
     if (gb.gear_index(g.name) >= 0) f.fail("name", "duplicate gear name '" + g.name + "'");
@@ -186,6 +187,8 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     g.spec.profile_shift = f.num("profile_shift", 0.0);
     g.spec.addendum_coefficient = f.positive("addendum_coefficient", 1.0);
     g.spec.clearance_coefficient = f.non_negative("clearance_coefficient", 0.25);
+    if (f.has("bore_diameter_mm"))
+      g.spec.bore_diameter_m = units::mm_to_m(f.non_negative("bore_diameter_mm", 0.0));
     if (f.has("material"))
       g.spec.material = parse_material(f.raw("material"), where, f.sub("material"));
     validate(g.spec, format_error(where, path, ""));

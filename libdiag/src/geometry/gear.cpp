@@ -46,6 +46,11 @@ void validate(const GearSpec& s, const std::string& where) {
   const double rf = s.module_m * (0.5 * s.teeth - s.addendum_coefficient - s.clearance_coefficient +
                                   s.profile_shift);
   require(rf > 0, where, "teeth", s.teeth, "large enough for a positive root radius");
+  if (s.bore_diameter_m >= 0 || !std::isfinite(s.bore_diameter_m)) {
+    require(std::isfinite(s.bore_diameter_m) && s.bore_diameter_m < 2 * rf, where, "bore_diameter",
+            units::m_to_mm(s.bore_diameter_m),
+            "in [0, root diameter " + std::to_string(units::m_to_mm(2 * rf)) + " mm)");
+  }
   // A pointed tooth (no tip land) cannot be made: the flanks cross below the tip circle.
   const double sa = Gear::tip_thickness_unchecked(s);
   if (!(sa > 0)) {

@@ -45,7 +45,8 @@ struct MeshData {
   bool per_tooth = false;  // faults or pitch errors: the teeth in contact matter
   bool gap_free = true;    // no pitch errors and no faults: every pair's gap is exactly 0
   double runout_a = 0, runout_b = 0, phase_a = 0, phase_b = 0;
-  double omega_table = -1;  // driver speed at which mu was tabulated [rad/s]
+  double omega_table = -1;           // driver speed at which mu was tabulated [rad/s]
+  std::vector<double> te_a, te_phi;  // static TE harmonics (DynamicsOptions::te_*)
 };
 
 struct Link {  // torsional spring-damper between two gears on one shaft
@@ -123,6 +124,16 @@ struct GearboxModel::Impl {
           m.runout_a * std::sin(theta_a + m.phase_a) + m.runout_b * std::sin(theta_b + m.phase_b);
       delta_dot += m.runout_a * wa * std::cos(theta_a + m.phase_a) +
                    m.runout_b * wb * std::cos(theta_b + m.phase_b);
+    }
+    if (!m.te_a.empty()) {
+      // Static transmission error e(theta_a): the mesh force is k (delta - e) + c (delta' - e').
+      const double wa = m.ra * nominal_speed(t) + v[m.a];
+      for (std::size_t h = 0; h < m.te_a.size(); ++h) {
+        const double w = static_cast<double>(h + 1) * m.za;
+        const double arg = w * theta_a + m.te_phi[h];
+        delta -= m.te_a[h] * std::cos(arg);
+        delta_dot += m.te_a[h] * w * wa * std::sin(arg);
+      }
     }
   }
 
@@ -206,6 +217,17 @@ void DynamicsOptions::validate(const std::string& where) const {
   nonneg(shaft_torsional_stiffness_nm_per_rad, "shaft_torsional_stiffness_nm_per_rad");
   nonneg(shaft_damping_ratio, "shaft_damping_ratio");
   nonneg(runout_m, "runout_m");
+  for (double a : te_amplitude_m) nonneg(a, "transmission_error.amplitude_um");
+  for (double p : te_phase_rad) {
+    if (!std::isfinite(p)) {
+      throw diag::InputError(
+          diag::format_error(where, "transmission_error.phase_deg", "must be finite"));
+    }
+  }
+  if (te_phase_rad.size() > te_amplitude_m.size()) {
+    throw diag::InputError(diag::format_error(where, "transmission_error.phase_deg",
+                                              "has more entries than amplitude_um"));
+  }
   if (accuracy_grade < 0 || accuracy_grade > 12) {
     throw diag::InputError(diag::format_error(where, "accuracy_grade",
                                               std::to_string(accuracy_grade) + " is not in 0..12"));
@@ -373,6 +395,9 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
     d.runout_a = d.runout_b = m.opt.runout_m;
     d.phase_a = runout_phase[d.a];
     d.phase_b = runout_phase[d.b];
+    d.te_a = m.opt.te_amplitude_m;
+    d.te_phi = m.opt.te_phase_rad;
+    d.te_phi.resize(d.te_a.size(), 0.0);
     m.tabulate_friction(d, m.opt.speed.speed_rad_per_s(0.0));
   }
 

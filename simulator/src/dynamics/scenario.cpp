@@ -2,7 +2,9 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
+#include <vector>
 
 #include "diag/error.hpp"
 #include "diag/io/json_fields.hpp"
@@ -101,6 +103,7 @@ Scenario parse_scenario(const json& j, const std::string& where) {
                   "faults",
                   "accuracy_grade",
                   "runout_um",
+                  "transmission_error",
                   "sensors",
                   "integrator",
                   "settle_s",
@@ -168,6 +171,28 @@ Scenario parse_scenario(const json& j, const std::string& where) {
   }
   if (f.has("accuracy_grade")) d.accuracy_grade = f.integer("accuracy_grade");
   d.runout_m = f.non_negative("runout_um", 0.0) * 1e-6;
+  if (f.has("transmission_error")) {
+    diag::Fields te(f.raw("transmission_error"), where, "transmission_error",
+                    {"amplitude_um", "phase_deg"});
+    auto numbers = [&](const char* key) {
+      std::vector<double> v;
+      if (!te.has(key)) return v;
+      if (!te.raw(key).is_array()) te.fail(key, "must be an array of numbers (one per harmonic)");
+      for (const json& x : te.raw(key)) {
+        if (!x.is_number()) te.fail(key, "must hold numbers only");
+        v.push_back(x.get<double>());
+      }
+      return v;
+    };
+    if (!te.has("amplitude_um")) te.fail("amplitude_um", "required (one value per harmonic)");
+    for (double a : numbers("amplitude_um")) {
+      if (!(a >= 0.0) || !std::isfinite(a)) te.fail("amplitude_um", "values must be >= 0");
+      d.te_amplitude_m.push_back(a * 1e-6);
+    }
+    for (double p : numbers("phase_deg")) d.te_phase_rad.push_back(p * std::numbers::pi / 180.0);
+    if (d.te_phase_rad.size() > d.te_amplitude_m.size())
+      te.fail("phase_deg", "has more entries than amplitude_um");
+  }
   // sensors.noise_seed: the sensor noise's own seed, so that two records of the same gears (the
   // same "seed": pitch errors, runout phases) differ in their noise, as two measurements do.
   std::optional<std::uint64_t> noise_seed;

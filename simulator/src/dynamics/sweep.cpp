@@ -133,6 +133,42 @@ SweepResult run_sweep(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
   return result;
 }
 
+HalfPower half_power_damping(const std::vector<double>& f, const std::vector<double>& a) {
+  const std::string where = "half_power_damping";
+  if (f.size() != a.size() || f.size() < 3) {
+    throw diag::InputError(diag::format_error(
+        where, "frequency_hz", "needs as many amplitudes as frequencies, at least 3"));
+  }
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!std::isfinite(f[i]) || (i > 0 && !(f[i] > f[i - 1]))) {
+      throw diag::InputError(diag::format_error(where, "frequency_hz", "must increase strictly"));
+    }
+    if (!(a[i] >= 0.0) || !std::isfinite(a[i])) {
+      throw diag::InputError(diag::format_error(where, "amplitude", "must be finite and >= 0"));
+    }
+  }
+  const std::size_t p = static_cast<std::size_t>(std::max_element(a.begin(), a.end()) - a.begin());
+  const double level = a[p] / std::sqrt(2.0);
+  // Crossing between samples i and i + step (the first below the level going outwards from p).
+  const long n = static_cast<long>(f.size());
+  auto crossing = [&](long step, const char* side) {
+    for (long i = static_cast<long>(p); i + step >= 0 && i + step < n; i += step) {
+      const long j = i + step;
+      if (a[j] <= level) return f[i] + (a[i] - level) / (a[i] - a[j]) * (f[j] - f[i]);
+    }
+    throw diag::InputError(diag::format_error(
+        where, "amplitude",
+        std::string("the response does not fall to 1/sqrt(2) of its peak on the ") + side +
+            " side of the peak within the data: widen the band"));
+  };
+  HalfPower h;
+  h.peak_hz = f[p];
+  h.f1_hz = crossing(-1, "low");
+  h.f2_hz = crossing(1, "high");
+  h.damping_ratio = (h.f2_hz - h.f1_hz) / (2.0 * h.peak_hz);
+  return h;
+}
+
 nlohmann::json SweepResult::to_json() const {
   nlohmann::json j;
   j["channels"] = channels;

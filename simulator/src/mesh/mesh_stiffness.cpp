@@ -57,6 +57,8 @@ const GaussLegendre& gauss() {
 }
 
 // One tooth as a cantilever (see the header). y: along the centre line from the gear centre;
+constexpr double kMinBoreRadiusRatio = 0.2;  // h_fi <= 5 (see Tooth)
+
 // h: half thickness; t = rho / r_b the roll parameter of an involute point.
 struct Tooth {
   double rb, rf, ra, alpha2, E, G, b;
@@ -96,7 +98,16 @@ struct Tooth {
       theta_f = psi(t_lo);
     }
     y_tip = ra;
-    hfi = 1.0 / o.bore_radius_ratio;
+    // h_fi = r_f / r_int: the gear's bore when given (GearSpec::bore_diameter_m), else the
+    // option's default ratio. A solid disc (bore 0) or a bore below 0.2 x the root diameter is
+    // held at h_fi = 5: Sainsot's table is a fit over finite rims and its B h_fi^2 term grows
+    // without bound as the bore closes (h_fi -> infinity at bore 0); 0.2 is the smallest ratio
+    // checked here. Not checked here against FE: the fit's trend in h_fi (the seed pair's mean
+    // stiffness falls from 20.6 N/(mm um) at ratio 0.5 to 13.5 at 0.2, a thicker rim giving a
+    // softer mesh), see docs/notes/seed000.md.
+    const double ratio =
+        sp.bore_diameter_m >= 0 ? sp.bore_diameter_m / (2 * rf) : o.bore_radius_ratio;
+    hfi = 1.0 / std::max(ratio, kMinBoreRadiusRatio);
     rho_tip = std::sqrt(ra * ra - rb * rb);
   }
   double psi(double t) const { return alpha2 - (t - std::atan(t)); }

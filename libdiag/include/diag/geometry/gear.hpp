@@ -23,6 +23,11 @@ struct GearSpec {
   double addendum_coefficient = 1.0;               // h_a* [-]
   double clearance_coefficient = 0.25;             // c* [-]; dedendum h_f* = h_a* + c*
   Material material;
+  // Bore (hole for the shaft) diameter [m]; < 0: not given, and the mesh stiffness model takes
+  // its default, half the root diameter (sim::StiffnessOptions::bore_radius_ratio = 0.5); 0: a
+  // solid disc; otherwise 0 <= bore < root diameter. It sets the rim under the teeth, whose
+  // compliance (Sainsot et al. 2004) is about half of a tooth's.
+  double bore_diameter_m = -1.0;
 };
 
 // Throws InputError naming `where` and the field when a value is out of range.

@@ -12,9 +12,14 @@
 // to B and the line of action (LOA) along n = (sin a_w, cos a_w) when the driver turns
 // counter-clockwise (mirrored in y otherwise); t = (-cos a_w, sin a_w) is the tangential direction
 // of both surfaces' sliding. The dynamic transmission error (compression of the mesh) is
-//     delta = r_ba psi_a - r_bb psi_b + n . (u_A - u_B) + e_runout(t)            (seed eq. 4)
+//     delta = r_ba psi_a - r_bb psi_b + n . (u_A - u_B) + e_runout(t) - e(theta_a)  (seed eq. 4)
 // and its gradient g = d delta / dq (r_ba, -r_bb, n, -n) is what couples the DOFs: the mesh
 // stiffness matrix is k g g^T (so K56 = -k cos^2 a_w, SPEC's correction of the seed).
+// e(theta_a) = sum_h A_h cos(h z_a theta_a + phi_h) is the mesh-periodic static transmission
+// error (the unloaded TE of profile modifications and manufacture, as a displacement along the
+// LOA), the classic displacement excitation of a mesh (Ozguven & Houser, J. Sound Vib. 121 (1988)
+// 383; Kahraman & Singh 1990): each pair's force is k_i (delta_0 - e) + c (delta_0' - e') with
+// delta_0 the compression without it, k(t)(delta - e(t)) in the usual notation.
 // Tooth pairs i in contact sit at LOA positions s_i (GearPair convention) found from the driver's
 // total angle; each carries
 //     F_i = max(0, k_i(s_i) (delta - gap_i(s_i)) + c_z (k_i / k_mean) delta')
@@ -96,7 +101,12 @@ struct DynamicsOptions {
   std::vector<GearFault> faults;                 // tooth faults
   int accuracy_grade = 0;                        // ISO 1328-1 grade of pitch errors, 0: none, 1..12
   double runout_m = 0.0;                         // eccentricity of every gear [m], >= 0
-  std::uint64_t seed = 1;                        // pitch errors and runout phases
+  // Static transmission error of every mesh, harmonic h = 1, 2, ... of the mesh frequency:
+  // amplitude A_h [m] (>= 0) and phase phi_h [rad] of e = sum A_h cos(h z_a theta_a + phi_h)
+  // (theta_a the driver's total angle). Empty: none. Phases may be shorter (missing: 0).
+  std::vector<double> te_amplitude_m;
+  std::vector<double> te_phase_rad;
+  std::uint64_t seed = 1;  // pitch errors and runout phases
 
   void validate(const std::string& where) const;
 };
