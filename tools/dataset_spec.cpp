@@ -7,6 +7,7 @@
 
 #include "detect/gear/sidebands.hpp"
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 #include "diag/io/json_fields.hpp"
 #include "sim/dynamics/gearbox_model.hpp"
 #include "sim/dynamics/scenario.hpp"
@@ -293,8 +294,8 @@ void check_sampling_rate(const DatasetSpec& s) {
         diag::fail(s.file.string(), "fs_hz",
                    diag::Fields::fmt(s.fs_hz) + " Hz is below 2.5 x " + diag::Fields::fmt(f) +
                        " Hz, mesh harmonic " + std::to_string(harmonics) + " of mesh " +
-                       std::to_string(m) + " of " + s.gearbox_paths[b] + " at " +
-                       diag::Fields::fmt(s.speed_rpm.hi) +
+                       diag::mesh_name(gb, static_cast<int>(m)) + " of " + s.gearbox_paths[b] +
+                       " at " + diag::Fields::fmt(s.speed_rpm.hi) +
                        " rpm (the detectors examine mesh harmonics 1.." +
                        std::to_string(harmonics) +
                        "); use fs_hz >= " + diag::Fields::fmt(std::ceil(2.5 * f)));
