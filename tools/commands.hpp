@@ -15,5 +15,6 @@ int cmd_attribute(int argc, char** argv);
 int cmd_analyze(int argc, char** argv);
 int cmd_validate(int argc, char** argv);
 int cmd_dataset(int argc, char** argv);
+int cmd_batch(int argc, char** argv);
 
 }  // namespace geardiag

@@ -29,6 +29,8 @@ const Command kCommands[] = {
     {"validate", geardiag::cmd_validate, "closed-loop validation of a detector on your gearbox"},
     {"dataset", geardiag::cmd_dataset,
      "labelled synthetic dataset from a spec: reproducible, resumable, all cores, MPI"},
+    {"batch", geardiag::cmd_batch,
+     "analyze many recordings into one table and a trend (all cores, MPI)"},
 };
 
 void print_usage(std::ostream& os) {

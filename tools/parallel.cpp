@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <exception>
 #include <mutex>
+#include <stdexcept>
 #include <thread>
 #include <vector>
 
@@ -88,6 +89,37 @@ long MpiWorld::sum(long value) const {
   }
 #endif
   return value;
+}
+
+std::vector<std::string> MpiWorld::gather(const std::string& text) const {
+#if GEARDIAG_WITH_MPI
+  if (started_) {
+    const long n = static_cast<long>(text.size());
+    std::vector<long> sizes(rank_ == 0 ? static_cast<std::size_t>(size_) : 0);
+    MPI_Gather(&n, 1, MPI_LONG, sizes.data(), 1, MPI_LONG, 0, MPI_COMM_WORLD);
+    std::vector<int> counts, offsets;
+    std::string all;
+    if (rank_ == 0) {
+      long total = 0;
+      for (long s : sizes) {
+        if (total + s > 2000000000L) throw std::runtime_error("MPI gather: more than 2 GB");
+        counts.push_back(static_cast<int>(s));
+        offsets.push_back(static_cast<int>(total));
+        total += s;
+      }
+      all.resize(static_cast<std::size_t>(total));
+    }
+    MPI_Gatherv(text.data(), static_cast<int>(n), MPI_CHAR, all.data(), counts.data(),
+                offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+    std::vector<std::string> out;
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      out.push_back(
+          all.substr(static_cast<std::size_t>(offsets[r]), static_cast<std::size_t>(counts[r])));
+    }
+    return out;
+  }
+#endif
+  return {text};
 }
 
 int default_jobs() {

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace geardiag {
 
@@ -38,6 +39,8 @@ class MpiWorld {
   long max(long value) const;
   // The sum of `value` over every rank.
   long sum(long value) const;
+  // Every rank's `text`, in rank order, on rank 0 (empty on the others). A collective.
+  std::vector<std::string> gather(const std::string& text) const;
 
  private:
   int rank_ = 0, size_ = 1;
