@@ -17,6 +17,7 @@
 #include <set>
 #include <sstream>
 
+#include "batch_analysis.hpp"
 #include "channel_options.hpp"
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
@@ -85,29 +86,16 @@ struct Inputs {
 json analyse(const std::string& file, const Inputs& in) {
   json row = {{"file", file}, {"status", "ok"}};
   try {
-    diag::Recording rec;
-    {
-      const std::lock_guard<std::mutex> lock(read_mutex);
-      rec = load_recording(file, in.fs);
-    }
-    row["time"] = time_stamp(rec, file);
-    std::optional<diag::Gearbox> gb = in.gearbox;
-    if (!gb && !rec.gearbox_json.empty()) {
-      gb = diag::parse_gearbox_text(rec.gearbox_json, file + ": /gearbox");
-    }
-    std::vector<std::string> notes;
-    if (gb) gb = gearbox_at_speed(*gb, rec, in.channels, notes);
-    prepare_channels(rec, gb ? &*gb : nullptr, in.channels);
-    detect::AnalyzeOptions opt;
-    opt.threads = 1;  // the files are the parallel work
-    const detect::AnalysisResult r = detect::analyze_recording(rec, gb ? &*gb : nullptr, opt);
+    const FileAnalysis a = analyse_file(file, in.gearbox, in.channels, in.fs);
+    const detect::AnalysisResult& r = a.result;
+    row["time"] = time_stamp(a.recording, file);
     if (r.speed.mean_rpm > 0) row["speed_rpm"] = r.speed.mean_rpm;
     row["findings"] = short_findings(r);
     if (!in.baseline.empty()) {
       // A recording the baseline cannot score keeps its analysis; the error column says why.
       try {
         const detect::AnalysisBaseline b =
-            detect::score_against_baseline(rec, in.baseline, {}, in.baseline_names);
+            detect::score_against_baseline(a.recording, in.baseline, {}, in.baseline_names);
         row["anomaly_score"] = b.anomaly_score;
         row["alarm"] = b.alarm ? 1 : 0;
         row["alarm_threshold"] = b.threshold;
@@ -230,6 +218,26 @@ std::vector<std::string> read_list(const std::string& list) {
 }
 
 }  // namespace
+
+FileAnalysis analyse_file(const std::string& file, const std::optional<diag::Gearbox>& gearbox,
+                          const ChannelOptions& channels, std::optional<double> fs) {
+  FileAnalysis a;
+  {
+    const std::lock_guard<std::mutex> lock(read_mutex);
+    a.recording = load_recording(file, fs);
+  }
+  std::optional<diag::Gearbox> gb = gearbox;
+  if (!gb && !a.recording.gearbox_json.empty()) {
+    gb = diag::parse_gearbox_text(a.recording.gearbox_json, file + ": /gearbox");
+  }
+  std::vector<std::string> notes;
+  if (gb) gb = gearbox_at_speed(*gb, a.recording, channels, notes);
+  prepare_channels(a.recording, gb ? &*gb : nullptr, channels);
+  detect::AnalyzeOptions opt;
+  opt.threads = 1;  // the files are the parallel work
+  a.result = detect::analyze_recording(a.recording, gb ? &*gb : nullptr, opt);
+  return a;
+}
 
 int cmd_batch(int argc, char** argv) {
   std::vector<std::string> files, baselines, trend;

@@ -294,3 +294,27 @@ TEST(BatchCli, OneRowPerFileAFailedFileIsARowAndMpiGivesTheSameTable) {
 }
 
 }  // namespace
+
+namespace {
+
+// validate --dataset over the reference dataset: every manifest row is analysed once and counted
+// in the confusion matrix (two recordings per class), and the JSON says which shaft was named.
+TEST(ValidateDatasetCli, ConfusionMatrixCountsEveryRecording) {
+  const fs::path js = scratch("validate.json");
+  const auto r = run("validate --dataset " + reference().string() + " --json " + js.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const nlohmann::json rep = nlohmann::json::parse(slurp(js));
+  ASSERT_EQ(rep["recordings"].size(), 6u);
+  for (const char* cls : {"healthy", "crack", "two"}) {
+    int n = 0;
+    for (const auto& [named, count] : rep["classes"][cls]["predicted"].items())
+      n += count.get<int>();
+    EXPECT_EQ(n, 2) << cls;
+  }
+  for (const auto& row : rep["recordings"]) {
+    EXPECT_TRUE(row["named"].is_string());
+    EXPECT_FALSE(row.contains("error")) << row.dump();
+  }
+}
+
+}  // namespace
