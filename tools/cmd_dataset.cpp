@@ -16,7 +16,9 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <boost/program_options.hpp>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -46,6 +48,15 @@ using nlohmann::json;
 // HDF5 writes go one at a time (the library serialises them anyway; this keeps the temporary-file
 // bookkeeping of write_output_file_via out of any doubt).
 std::mutex hdf5_mutex;
+// Seconds spent simulating and writing (summed over threads), for the closing line: writing is
+// serialised within a process, so its share bounds the speed-up of threads (not of ranks).
+std::atomic<long> simulate_us{0}, write_us{0};
+
+long elapsed_us(std::chrono::steady_clock::time_point since) {
+  return static_cast<long>(std::chrono::duration_cast<std::chrono::microseconds>(
+                               std::chrono::steady_clock::now() - since)
+                               .count());
+}
 
 json folder_record(const DatasetSpec& spec) {
   return {{"format", "geardiag-dataset"},
@@ -102,6 +113,7 @@ int prepare_folder(const fs::path& dir, const DatasetSpec& spec) {
 // One recording, simulated and written.
 void generate(const DatasetSpec& spec, const DrawnRecording& d, const fs::path& file,
               std::set<std::string>& warnings, std::mutex& warnings_mutex) {
+  const auto start = std::chrono::steady_clock::now();
   const sim::Scenario sc = sim::parse_scenario(d.scenario, d.id + ": scenario");
   const diag::Gearbox& gb = spec.gearboxes[static_cast<std::size_t>(d.gearbox)];
   const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
@@ -120,8 +132,24 @@ void generate(const DatasetSpec& spec, const DrawnRecording& d, const fs::path& 
     const std::lock_guard<std::mutex> lock(warnings_mutex);
     warnings.insert(r.warnings.begin(), r.warnings.end());
   }
+  simulate_us += elapsed_us(start);
   const std::lock_guard<std::mutex> lock(hdf5_mutex);
+  const auto write_start = std::chrono::steady_clock::now();
   diag::write_recording(file, rec);
+  write_us += elapsed_us(write_start);
+}
+
+// '1' for each recording whose file exists under its final name (complete), else '0'.
+std::string complete_recordings(const fs::path& dir, const DatasetSpec& spec) {
+  std::set<std::string> names;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir / "recordings")) {
+    names.insert(e.path().filename().string());
+  }
+  std::string done(spec.total, '0');
+  for (std::size_t k = 0; k < spec.total; ++k) {
+    if (names.count(draw_recording(spec, k).id + ".h5")) done[k] = '1';
+  }
+  return done;
 }
 
 std::string csv_cell(const json& v) {
@@ -147,10 +175,11 @@ std::size_t write_manifest(const fs::path& dir, const DatasetSpec& spec, std::os
   std::map<std::string, std::size_t> per_fault;
   std::size_t complete = 0;
   for (const DatasetClass& c : spec.classes) per_class[c.name] = {0, 0};
+  const std::string done = complete_recordings(dir, spec);
   for (std::size_t k = 0; k < spec.total; ++k) {
     const DrawnRecording d = draw_recording(spec, k);
     ++per_class[d.cls].second;
-    if (!fs::exists(dir / "recordings" / (d.id + ".h5"))) continue;
+    if (done[k] != '1') continue;
     ++per_class[d.cls].first;
     ++complete;
     for (const DrawnFault& f : d.faults) ++per_fault[f.type + " " + f.gear];
@@ -229,12 +258,16 @@ int cmd_dataset(int argc, char** argv) {
     if (world.root()) throw diag::InputError(refusal);
     return 2;
   }
-  // The missing recordings, listed after rank 0 cleaned the folder and before anyone writes.
+  // Which recordings are complete: rank 0 reads the folder once (one readdir, not a stat per
+  // recording and rank: on a parallel file system the metadata server is the bottleneck) after
+  // cleaning it, and tells the others before anyone writes.
+  std::string done;
+  if (world.root()) done = complete_recordings(dir, spec);
+  world.broadcast(done);
   std::vector<std::size_t> mine;
   std::size_t missing = 0;
   for (std::size_t k = 0; k < spec.total; ++k) {
-    const DrawnRecording d = draw_recording(spec, k);
-    if (fs::exists(dir / "recordings" / (d.id + ".h5"))) continue;
+    if (done[k] == '1') continue;
     if (missing++ % static_cast<std::size_t>(world.size()) ==
         static_cast<std::size_t>(world.rank())) {
       mine.push_back(k);
@@ -265,11 +298,16 @@ int cmd_dataset(int argc, char** argv) {
   for (const std::string& w : warnings) print_warnings({w}, "dataset");
   for (const std::string& e : errors) std::cerr << "geardiag dataset: error: " << e << "\n";
   const long failed_input = world.sum(input_errors), failed_internal = world.sum(internal_errors);
+  const long sim_total = world.sum(simulate_us), write_total = world.sum(write_us);
   world.barrier();
   if (!world.root()) return failed_internal ? 3 : failed_input ? 2 : 0;
   const std::size_t complete = write_manifest(dir, spec, std::cout);
   std::cout << complete << " of " << spec.total << " recordings in " << dir.string()
             << " (manifest.csv, manifest.jsonl, summary.json)\n";
+  if (missing > 0) {
+    std::cout << "CPU per new recording: simulation " << sim_total / 1e6 / missing << " s, writing "
+              << write_total / 1e6 / missing << " s (one writer per process)\n";
+  }
   if (lock_fd >= 0) ::close(lock_fd);
   if (failed_internal || failed_input) {
     std::cerr << "geardiag dataset: " << failed_input + failed_internal

@@ -91,6 +91,20 @@ long MpiWorld::sum(long value) const {
   return value;
 }
 
+void MpiWorld::broadcast(std::string& text) const {
+#if GEARDIAG_WITH_MPI
+  if (started_) {
+    long n = static_cast<long>(text.size());
+    MPI_Bcast(&n, 1, MPI_LONG, 0, MPI_COMM_WORLD);
+    if (n > 2000000000L) throw std::runtime_error("MPI broadcast: more than 2 GB");
+    text.resize(static_cast<std::size_t>(n));
+    MPI_Bcast(text.data(), static_cast<int>(n), MPI_CHAR, 0, MPI_COMM_WORLD);
+  }
+#else
+  (void)text;
+#endif
+}
+
 std::vector<std::string> MpiWorld::gather(const std::string& text) const {
 #if GEARDIAG_WITH_MPI
   if (started_) {

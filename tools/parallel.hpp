@@ -39,6 +39,8 @@ class MpiWorld {
   long max(long value) const;
   // The sum of `value` over every rank.
   long sum(long value) const;
+  // Rank 0's `text` on every rank. A collective.
+  void broadcast(std::string& text) const;
   // Every rank's `text`, in rank order, on rank 0 (empty on the others). A collective.
   std::vector<std::string> gather(const std::string& text) const;
 
