@@ -11,7 +11,8 @@ run() {  # name, command...
   local name=$1; shift
   rm -rf "$out/$name"
   /usr/bin/time -f "$name wall_s=%e user_s=%U sys_s=%S max_rss_kb=%M" "$@" -o "$out/$name" \
-    > /dev/null 2>> "$out/times.txt"
+    > "$out/$name.log" 2>> "$out/times.txt"
+  echo "$name load: $(cut -d" " -f1-3 /proc/loadavg)" >> "$out/times.txt"
 }
 : > "$out/times.txt"
 run jobs1 "$bin" dataset "$here/issue_spec.json" --jobs 1
