@@ -23,31 +23,11 @@
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
 #include "output.hpp"
+#include "recording_input.hpp"
 
 namespace po = boost::program_options;
 
 namespace geardiag {
-
-namespace {
-
-// A recording as `analyze` reads it: a geardiag HDF5 file, else an import (CSV, WAV, MAT) with the
-// --fs given. Throws diag::InputError naming the file.
-diag::Recording load_recording(const std::string& file, std::optional<double> fs_hz) {
-  const std::filesystem::path path(file);
-  if (!std::filesystem::exists(path)) throw diag::InputError(file + ": no such file");
-  try {
-    if (diag::is_hdf5_file(path)) return diag::read_recording(path);
-    diag::ImportOptions io;
-    io.fs_hz = fs_hz;
-    return diag::import_recording(path, io);
-  } catch (const diag::InputError& e) {
-    const std::string what = e.what();
-    if (what.find(file) != std::string::npos) throw;
-    throw diag::InputError(file + ": " + what);
-  }
-}
-
-}  // namespace
 
 int cmd_analyze(int argc, char** argv) {
   detect::AnalyzeOptions opt;

@@ -12,6 +12,7 @@
 #include "diag/units.hpp"
 #include "validate/attribution_loop.hpp"
 #include "validate_bearings.hpp"
+#include "validate_dataset.hpp"
 #include "validate_gear_damage.hpp"
 
 namespace po = boost::program_options;
@@ -26,6 +27,7 @@ int cmd_validate(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     if (std::string(argv[i]) == "--gear-damage") return validate_gear_damage(argc, argv);
     if (std::string(argv[i]) == "--bearings") return cmd_validate_bearings(argc, argv);
+    if (std::string(argv[i]) == "--dataset") return validate_dataset(argc, argv);
   }
   validate::AttributionLoopOptions opt;
   std::string gearbox;

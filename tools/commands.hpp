@@ -16,5 +16,7 @@ int cmd_analyze(int argc, char** argv);
 int cmd_validate(int argc, char** argv);
 int cmd_profile(int argc, char** argv);
 int cmd_wear(int argc, char** argv);
+int cmd_dataset(int argc, char** argv);
+int cmd_batch(int argc, char** argv);
 
 }  // namespace geardiag

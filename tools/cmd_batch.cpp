@@ -1,0 +1,352 @@
+// geardiag batch: `analyze` (detect::analyze_recording, as a library call) over many recordings
+// into one table, one row per recording, and an HTML trend of chosen indicators and of the anomaly
+// score against a healthy baseline. Files are analysed in parallel (one per worker thread, each
+// analysis single-threaded) and, under mpirun, split across the ranks (tools/parallel.hpp); rank
+// 0 gathers the rows and writes the table in the order the files were given. A file that cannot
+// be read or analysed is a row with its error, never the end of the batch.
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "batch_analysis.hpp"
+#include "channel_options.hpp"
+#include "commands.hpp"
+#include "detect/analysis/analyze.hpp"
+#include "detect/analysis/svg_plot.hpp"
+#include "diag/error.hpp"
+#include "diag/gearbox/gearbox.hpp"
+#include "output.hpp"
+#include "parallel.hpp"
+#include "recording_input.hpp"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace geardiag {
+
+namespace {
+
+using nlohmann::json;
+
+// Reading goes one file at a time: the HDF5 reader forks a child to survey each file, which is
+// safest with no other thread inside the library.
+std::mutex read_mutex;
+
+// "YYYY-MM-DDTHH:MM:SS" from the file's metadata (timestamp, time, start_time, recorded_at,
+// date), else from its name (2024-03-01_12-30-00, 20240301T123000, ...); empty when neither says.
+std::string time_stamp(const diag::Recording& rec, const std::string& file) {
+  for (const char* key : {"timestamp", "time", "start_time", "recorded_at", "date"}) {
+    const auto it = rec.metadata.find(key);
+    if (it != rec.metadata.end() && !it->second.empty()) return it->second;
+  }
+  static const std::regex stamp(
+      R"((\d{4})-?(\d{2})-?(\d{2})[T_ -]?(\d{2})[:\-]?(\d{2})[:\-]?(\d{2}))");
+  std::smatch m;
+  const std::string name = fs::path(file).filename().string();
+  if (std::regex_search(name, m, stamp)) {
+    return m[1].str() + "-" + m[2].str() + "-" + m[3].str() + "T" + m[4].str() + ":" + m[5].str() +
+           ":" + m[6].str();
+  }
+  return "";
+}
+
+std::string short_findings(const detect::AnalysisResult& r) {
+  std::string out;
+  for (const detect::AnalysisFinding& f : r.findings) {
+    std::ostringstream s;
+    s << f.kind;
+    if (!f.shaft.empty()) s << " " << f.shaft;
+    for (const std::string& g : f.gears) s << " " << g;
+    if (!f.bearing.empty()) s << " " << f.bearing;
+    if (!f.fault.empty()) s << " " << f.fault;
+    s << " (" << std::lround(100 * f.confidence) << " %)";
+    out += (out.empty() ? "" : "; ") + s.str();
+  }
+  return out;
+}
+
+struct Inputs {
+  std::optional<diag::Gearbox> gearbox;  // --gearbox
+  std::vector<diag::Recording> baseline;
+  std::vector<std::string> baseline_names;
+  ChannelOptions channels;
+  std::optional<double> fs;
+};
+
+// One recording's row: file, time, speed, findings, baseline score, and every feature.
+json analyse(const std::string& file, const Inputs& in) {
+  json row = {{"file", file}, {"status", "ok"}};
+  try {
+    const FileAnalysis a = analyse_file(file, in.gearbox, in.channels, in.fs);
+    const detect::AnalysisResult& r = a.result;
+    row["time"] = time_stamp(a.recording, file);
+    if (r.speed.mean_rpm > 0) row["speed_rpm"] = r.speed.mean_rpm;
+    row["findings"] = short_findings(r);
+    if (!in.baseline.empty()) {
+      // A recording the baseline cannot score keeps its analysis; the error column says why.
+      try {
+        const detect::AnalysisBaseline b =
+            detect::score_against_baseline(a.recording, in.baseline, {}, in.baseline_names);
+        row["anomaly_score"] = b.anomaly_score;
+        row["alarm"] = b.alarm ? 1 : 0;
+        row["alarm_threshold"] = b.threshold;
+      } catch (const diag::InputError& e) {
+        row["error"] = std::string("baseline: ") + e.what();
+      }
+    }
+    json features = json::object();
+    for (const auto& [name, value] : detect::features(r)) features[name] = value;
+    row["features"] = features;
+  } catch (const std::exception& e) {
+    const std::string what = e.what();
+    row["status"] = "error";
+    row["error"] = what.find(file) == std::string::npos ? file + ": " + what : what;
+  }
+  return row;
+}
+
+std::string csv_cell(const json& v) {
+  if (v.is_null()) return "";
+  std::string s = v.is_string() ? v.get<std::string>() : v.dump();
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+const std::vector<std::string> kFixedColumns = {
+    "file",          "time",  "status",          "error",   "speed_rpm",
+    "anomaly_score", "alarm", "alarm_threshold", "findings"};
+
+std::string table_csv(const std::vector<json>& rows, const std::set<std::string>& features) {
+  std::ostringstream out;
+  for (std::size_t i = 0; i < kFixedColumns.size(); ++i) out << (i ? "," : "") << kFixedColumns[i];
+  for (const std::string& f : features) out << "," << csv_cell(f);
+  out << "\n";
+  for (const json& row : rows) {
+    for (std::size_t i = 0; i < kFixedColumns.size(); ++i) {
+      out << (i ? "," : "") << csv_cell(row.value(kFixedColumns[i], json()));
+    }
+    const json& fv = row.contains("features") ? row["features"] : json::object();
+    for (const std::string& f : features) out << "," << csv_cell(fv.value(f, json()));
+    out << "\n";
+  }
+  return out.str();
+}
+
+// The trend page: one plot per chosen indicator and one of the anomaly score with the alarm
+// threshold, against the recording's position in the table (the files' order).
+std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen) {
+  std::ostringstream html;
+  html << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>geardiag batch trend"
+          "</title><style>body{font-family:sans-serif;margin:2em}</style></head><body>"
+          "<h1>geardiag batch: trend over "
+       << rows.size() << " recordings</h1><p>x: the recording's position in the table";
+  html << " (files in the order given; failed files leave a gap).</p>";
+  auto plot = [&](const std::string& title,
+                  const std::function<std::optional<double>(const json&)>& value,
+                  double threshold) {
+    std::vector<double> x, y;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      if (const auto v = value(rows[i])) {
+        x.push_back(static_cast<double>(i));
+        y.push_back(*v);
+      }
+    }
+    if (x.empty()) {
+      html << "<h2>" << detect::html_escape(title) << "</h2><p>no value in any recording</p>";
+      return;
+    }
+    std::vector<detect::PlotSeries> series = {{x, y, title, "#1f77b4"}};
+    std::vector<double> tx = {x.front(), x.back() == x.front() ? x.front() + 1 : x.back()};
+    std::vector<double> ty = {threshold, threshold};
+    if (std::isfinite(threshold)) series.push_back({tx, ty, "alarm threshold", "#d62728"});
+    detect::PlotOptions po;
+    po.title = title;
+    po.x_label = "recording";
+    po.y_label = title;
+    html << "<h2>" << detect::html_escape(title) << "</h2>" << detect::svg_line_plot(series, po);
+  };
+  for (const std::string& name : chosen) {
+    plot(
+        name,
+        [&](const json& r) -> std::optional<double> {
+          if (!r.contains("features") || !r["features"].contains(name)) return std::nullopt;
+          return r["features"][name].get<double>();
+        },
+        std::nan(""));
+  }
+  double threshold = std::nan("");
+  for (const json& r : rows) {
+    if (r.contains("alarm_threshold")) threshold = r["alarm_threshold"].get<double>();
+  }
+  if (std::isfinite(threshold)) {
+    plot(
+        "anomaly score",
+        [](const json& r) -> std::optional<double> {
+          if (!r.contains("anomaly_score")) return std::nullopt;
+          return r["anomaly_score"].get<double>();
+        },
+        threshold);
+  }
+  html << "</body></html>\n";
+  return html.str();
+}
+
+std::vector<std::string> read_list(const std::string& list) {
+  std::ifstream in(list);
+  if (!in) throw diag::InputError("--list " + list + ": cannot be read");
+  std::vector<std::string> files;
+  std::string line;
+  const fs::path base = fs::path(list).parent_path();
+  while (std::getline(in, line)) {
+    while (!line.empty() && (line.back() == '\r' || line.back() == ' ')) line.pop_back();
+    if (line.empty() || line[0] == '#') continue;
+    fs::path p(line);
+    files.push_back((p.is_relative() ? base / p : p).string());
+  }
+  return files;
+}
+
+}  // namespace
+
+FileAnalysis analyse_file(const std::string& file, const std::optional<diag::Gearbox>& gearbox,
+                          const ChannelOptions& channels, std::optional<double> fs) {
+  FileAnalysis a;
+  {
+    const std::lock_guard<std::mutex> lock(read_mutex);
+    a.recording = load_recording(file, fs);
+  }
+  std::optional<diag::Gearbox> gb = gearbox;
+  if (!gb && !a.recording.gearbox_json.empty()) {
+    gb = diag::parse_gearbox_text(a.recording.gearbox_json, file + ": /gearbox");
+  }
+  std::vector<std::string> notes;
+  if (gb) gb = gearbox_at_speed(*gb, a.recording, channels, notes);
+  prepare_channels(a.recording, gb ? &*gb : nullptr, channels);
+  detect::AnalyzeOptions opt;
+  opt.threads = 1;  // the files are the parallel work
+  a.result = detect::analyze_recording(a.recording, gb ? &*gb : nullptr, opt);
+  return a;
+}
+
+int cmd_batch(int argc, char** argv) {
+  std::vector<std::string> files, baselines, trend;
+  std::string list, gearbox, table, html;
+  double fs_hz = 0;
+  int jobs = 0;
+  Inputs in;
+  po::options_description desc(
+      "geardiag batch FILE... | --list LIST.txt [--gearbox GB.json] [--baseline FILE...] "
+      "-o TABLE.csv [--html OUT.html] [--trend FEATURE...] [--jobs N]\n"
+      "mpirun -np N geardiag batch ...\n\n"
+      "Analyses every recording as `geardiag analyze` does and writes one row per recording:\n"
+      "file, time stamp (the file's metadata, else its name), speed, status and error, the\n"
+      "anomaly score and alarm against --baseline (healthy recordings of the same channels),\n"
+      "the findings in short form and every condition indicator per channel\n"
+      "(\"<channel>/<indicator>\"). A file that fails is a row with its error. --html: the\n"
+      "trend of the --trend indicators and of the anomaly score with its alarm threshold.\n"
+      "--list: one file per line (relative to the list's folder; '#' comments).\n\noptions");
+  desc.add_options()("help,h", "this help")("files", po::value(&files)->multitoken(), "recordings")(
+      "list", po::value(&list), "a file listing the recordings, one per line")(
+      "gearbox", po::value(&gearbox), "gearbox description (default: each file's /gearbox)")(
+      "baseline", po::value(&baselines)->multitoken(), "healthy recordings to compare with")(
+      "output,o", po::value(&table)->required(), "the table (CSV; '-': stdout)")(
+      "html", po::value(&html), "trend page (HTML)")(
+      "trend", po::value(&trend)->multitoken(),
+      "indicators to trend (default: rms and kurtosis of the first sensor channel)")(
+      "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT")(
+      "jobs,j", po::value(&jobs)->default_value(0), "worker threads per process; 0 = every core");
+  in.channels.add_to(desc, true);
+  po::positional_options_description pos;
+  pos.add("files", -1);
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(desc).positional(pos).run(), vm);
+  if (vm.count("help")) {
+    std::cout << desc << "\n";
+    return 0;
+  }
+  po::notify(vm);
+  MpiWorld world(&argc, &argv);
+  jobs = resolve_jobs(jobs);
+  if (!list.empty()) {
+    for (std::string& f : read_list(list)) files.push_back(std::move(f));
+  }
+  if (files.empty()) throw diag::InputError("no recordings: give FILE... or --list LIST.txt");
+  if (vm.count("fs")) {
+    if (!(fs_hz > 0 && std::isfinite(fs_hz))) throw diag::InputError("--fs: must be > 0");
+    in.fs = fs_hz;
+  }
+  const bool table_stdout = check_output(table, "--output");
+  if (!html.empty() && check_output(html, "--html") && table_stdout) {
+    throw diag::InputError("-o - and --html -: only one output can go to stdout");
+  }
+  if (!gearbox.empty()) in.gearbox = diag::load_gearbox(gearbox);
+  // The baseline is read before any analysis: a bad baseline file stops the batch with its name.
+  for (const std::string& b : baselines) {
+    try {
+      in.baseline.push_back(load_recording(b, in.fs));
+      prepare_channels(in.baseline.back(), in.gearbox ? &*in.gearbox : nullptr, in.channels);
+    } catch (const diag::InputError& e) {
+      throw diag::InputError(std::string("--baseline ") + e.what());
+    }
+  }
+  in.baseline_names = baselines;
+  std::vector<std::size_t> mine;
+  for (std::size_t i = static_cast<std::size_t>(world.rank()); i < files.size();
+       i += static_cast<std::size_t>(world.size())) {
+    mine.push_back(i);
+  }
+  std::vector<json> rows(mine.size());
+  Progress progress("batch", mine.size(), world.root());
+  run_on_threads(mine.size(), jobs, [&](std::size_t i) {
+    rows[i] = analyse(files[mine[i]], in);
+    progress.tick();
+  });
+  progress.finish();
+  json part = json::array();
+  for (std::size_t i = 0; i < mine.size(); ++i) part.push_back({mine[i], rows[i]});
+  const std::vector<std::string> parts = world.gather(part.dump());
+  if (!world.root()) return 0;
+  std::vector<json> all(files.size());
+  for (const std::string& p : parts) {
+    for (const json& item : json::parse(p)) all[item[0].get<std::size_t>()] = item[1];
+  }
+  std::set<std::string> features;
+  std::size_t failed = 0, alarms = 0;
+  for (const json& r : all) {
+    failed += r["status"] == "error";
+    alarms += r.value("alarm", 0);
+    if (r.contains("features")) {
+      for (const auto& [name, v] : r["features"].items()) features.insert(name);
+    }
+  }
+  write_output(table, table_csv(all, features), "--output");
+  if (!html.empty()) {
+    if (trend.empty()) {
+      for (const json& r : all) {
+        if (!r.contains("features") || r["features"].empty()) continue;
+        const std::string first = r["features"].begin().key();
+        const std::string channel = first.substr(0, first.find('/'));
+        trend = {channel + "/rms", channel + "/kurtosis"};
+        break;
+      }
+    }
+    write_output(html, trend_html(all, trend), "--html");
+  }
+  (table_stdout ? std::cerr : std::cout)
+      << files.size() << " recordings, " << failed << " failed, " << alarms << " alarm(s) -> "
+      << table << (html.empty() ? "" : " and " + html) << "\n";
+  return 0;
+}
+
+}  // namespace geardiag

@@ -1,0 +1,530 @@
+#include "dataset_spec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "detect/gear/sidebands.hpp"
+#include "diag/error.hpp"
+#include "diag/io/channels.hpp"
+#include "diag/io/json_fields.hpp"
+#include "sim/dynamics/gearbox_model.hpp"
+#include "sim/dynamics/scenario.hpp"
+#include "sim/dynamics/simulate.hpp"
+
+namespace geardiag {
+
+namespace {
+
+using nlohmann::json;
+
+std::string indexed(const std::string& key, std::size_t i) {
+  return key + "[" + std::to_string(i) + "]";
+}
+
+// A number or [lo, hi] (lo <= hi), each within [min, max] (and > min when `open_min`).
+Range parse_range(const diag::Fields& f, const std::string& key, double min, double max,
+                  bool open_min) {
+  const json& v = f.raw(key);
+  Range r;
+  if (v.is_number()) {
+    r.lo = r.hi = f.num(key);
+  } else if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()) {
+    r.lo = v[0].get<double>();
+    r.hi = v[1].get<double>();
+    if (!(r.lo <= r.hi)) f.fail(key, "a range [lo, hi] needs lo <= hi");
+  } else {
+    f.fail(key, "must be a number or a range [lo, hi] of two numbers");
+  }
+  for (double x : {r.lo, r.hi}) {
+    if (!std::isfinite(x) || (open_min ? !(x > min) : !(x >= min)) || x > max) {
+      f.fail(key, diag::Fields::fmt(x) + " is outside " + (open_min ? "(" : "[") +
+                      diag::Fields::fmt(min) + ", " + diag::Fields::fmt(max) + "]");
+    }
+  }
+  return r;
+}
+
+IntRange parse_int_range(const diag::Fields& f, const std::string& key, int min, int max) {
+  const json& v = f.raw(key);
+  IntRange r;
+  auto is_int = [](const json& x) {
+    return x.is_number_integer() ||
+           (x.is_number_float() && std::floor(x.get<double>()) == x.get<double>() &&
+            std::abs(x.get<double>()) < 1e9);
+  };
+  if (is_int(v)) {
+    r.lo = r.hi = f.integer(key);
+  } else if (v.is_array() && v.size() == 2 && is_int(v[0]) && is_int(v[1])) {
+    r.lo = static_cast<int>(v[0].get<double>());
+    r.hi = static_cast<int>(v[1].get<double>());
+    if (r.lo > r.hi) f.fail(key, "a range [lo, hi] needs lo <= hi");
+  } else {
+    f.fail(key, "must be an integer or a range [lo, hi] of two integers");
+  }
+  if (r.lo < min || r.hi > max) {
+    f.fail(key, "must be within [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+  }
+  return r;
+}
+
+// Class names become file names: letters, digits, '_' and '-'.
+std::string class_name(const diag::Fields& f) {
+  const std::string name = f.str("name");
+  const bool ok = name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+                    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+                  });
+  if (!ok) f.fail("name", "'" + name + "' may hold only letters, digits, '_' and '-' (<= 64)");
+  return name;
+}
+
+DatasetFault parse_fault(const json& j, const std::string& where, const std::string& path) {
+  const diag::Fields f(j, where, path,
+                       {"type", "gear", "tooth", "depth_mm", "size_mm", "length_mm", "depth_um",
+                        "position_mm", "width_fraction"});
+  DatasetFault d;
+  d.type = f.str("type");
+  // The size field of each type; the others are refused, not ignored.
+  const std::map<std::string, std::set<std::string>> fields = {
+      {"crack", {"depth_mm"}},
+      {"chip", {"size_mm"}},
+      {"missing", {}},
+      {"spall", {"length_mm", "depth_um", "position_mm"}}};
+  const auto it = fields.find(d.type);
+  if (it == fields.end()) f.fail("type", "'" + d.type + "' is not crack, chip, missing or spall");
+  for (const char* key : {"depth_mm", "size_mm", "length_mm", "depth_um", "position_mm"}) {
+    if (f.has(key) && !it->second.count(key)) {
+      f.fail(key, "is not a field of a " + d.type + " fault");
+    }
+  }
+  const double kBig = 1e3;
+  if (d.type == "crack") d.size_mm = parse_range(f, "depth_mm", 0, kBig, true);
+  if (d.type == "chip") d.size_mm = parse_range(f, "size_mm", 0, kBig, true);
+  if (d.type == "spall") {
+    if (!f.has("length_mm")) f.fail("length_mm", "required number or range is missing");
+    if (!f.has("depth_um")) f.fail("depth_um", "required number or range is missing");
+    d.size_mm = parse_range(f, "length_mm", 0, kBig, true);
+    d.depth_um = parse_range(f, "depth_um", 0, 1e6, true);
+    if (f.has("position_mm")) {
+      d.has_position = true;
+      d.position_mm = parse_range(f, "position_mm", -kBig, kBig, false);
+    }
+  }
+  if ((d.type == "crack" && !f.has("depth_mm")) || (d.type == "chip" && !f.has("size_mm"))) {
+    f.fail(d.type == "crack" ? "depth_mm" : "size_mm", "required number or range is missing");
+  }
+  if (f.has("width_fraction")) d.width_fraction = parse_range(f, "width_fraction", 0, 1, true);
+  if (!f.has("gear")) f.fail("gear", "required: a gear name, an array of names or \"any\"");
+  const json& g = f.raw("gear");
+  if (g.is_string() && g.get<std::string>() == "any") {
+    // empty: any gear
+  } else if (g.is_string()) {
+    d.gears.push_back(f.str("gear"));
+  } else if (g.is_array() && !g.empty()) {
+    for (const json& name : g) {
+      if (!name.is_string()) f.fail("gear", "an array of gear names holds only strings");
+      d.gears.push_back(name.get<std::string>());
+    }
+  } else {
+    f.fail("gear", "must be a gear name, a non-empty array of names or \"any\"");
+  }
+  if (f.has("tooth") && !(f.raw("tooth").is_string() && f.raw("tooth") == "any")) {
+    d.any_tooth = false;
+    d.tooth = parse_int_range(f, "tooth", 0, 999);
+  }
+  return d;
+}
+
+// Scenario fields the dataset draws itself; a base `scenario` may not set them.
+const std::set<std::string> kDrawnScenarioFields = {
+    "speed", "torque_nm", "faults", "accuracy_grade", "runout_um", "duration_s", "fs_hz", "seed"};
+
+json fault_json(const DrawnFault& f) {
+  json j = {{"type", f.type}, {"gear", f.gear}, {"tooth", f.tooth}};
+  if (f.type == "crack") j["depth_mm"] = f.size_mm;
+  if (f.type == "chip") j["size_mm"] = f.size_mm;
+  if (f.type == "spall") {
+    j["length_mm"] = f.size_mm;
+    j["depth_um"] = f.depth_um;
+    if (f.has_position) j["position_mm"] = f.position_mm;
+  }
+  if (f.width_fraction != 1) j["width_fraction"] = f.width_fraction;
+  return j;
+}
+
+// The scenario of one operating point and set of faults, on top of the spec's base scenario.
+json scenario_json(const DatasetSpec& s, double rpm, double torque, double oil, double noise,
+                   int grade, double runout, std::uint64_t seed,
+                   const std::vector<DrawnFault>& faults) {
+  json j = s.scenario;
+  j["speed"] = {{"rpm", rpm}};
+  j["torque_nm"] = torque;
+  if (s.has_oil) j["oil"]["temperature_c"] = oil;
+  j["sensors"]["noise_m_per_s2"] = noise;
+  j["accuracy_grade"] = grade;
+  j["runout_um"] = runout;
+  j["duration_s"] = s.duration_s;
+  j["fs_hz"] = s.fs_hz;
+  j["seed"] = seed;
+  j["faults"] = json::array();
+  for (const DrawnFault& f : faults) j["faults"].push_back(fault_json(f));
+  return j;
+}
+
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+// The random stream of one recording, and the draws made from it. Every draw consumes exactly
+// one number, fixed values included, so that changing one field from a value to a range leaves
+// the other fields' draws as they were.
+class Stream {
+ public:
+  Stream(std::uint64_t seed, std::size_t k) {
+    std::uint64_t s = seed;
+    state_ = splitmix64(s) ^ ((static_cast<std::uint64_t>(k) + 1) * 0xd1b54a32d192ed03ULL);
+  }
+  double uniform() { return static_cast<double>(splitmix64(state_) >> 11) * 0x1.0p-53; }
+  double draw(const Range& r) {
+    const double u = uniform();
+    if (r.lo == r.hi) return r.lo;
+    const double x = std::round((r.lo + u * (r.hi - r.lo)) * 1e4) / 1e4;
+    return std::clamp(x, r.lo, r.hi);
+  }
+  int draw(const IntRange& r) {
+    const double u = uniform();
+    const int n = r.hi - r.lo + 1;
+    return r.lo + std::min(n - 1, static_cast<int>(u * n));
+  }
+  std::size_t pick(std::size_t n) {
+    return std::min(n - 1, static_cast<std::size_t>(uniform() * n));
+  }
+  std::uint64_t next() { return splitmix64(state_); }
+
+ private:
+  std::uint64_t state_;
+};
+
+std::string fnv1a64_hex(const std::string& text) {
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  for (unsigned char c : text) {
+    h ^= c;
+    h *= 0x100000001b3ULL;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+// The gears a fault may land on in gearbox `gb`.
+std::vector<int> candidate_gears(const DatasetFault& f, const diag::Gearbox& gb) {
+  std::vector<int> out;
+  if (f.gears.empty()) {
+    for (std::size_t g = 0; g < gb.gears().size(); ++g) out.push_back(static_cast<int>(g));
+  } else {
+    for (const std::string& name : f.gears) out.push_back(gb.gear_index(name));
+  }
+  return out;
+}
+
+// Everything the simulator would refuse about a class, found before anything is written: each
+// fault at its largest size, on every gear it may land on, at the highest speed and torque.
+void check_classes(const DatasetSpec& s) {
+  const std::string where = s.file.string();
+  for (std::size_t c = 0; c < s.classes.size(); ++c) {
+    for (std::size_t i = 0; i < s.classes[c].faults.size(); ++i) {
+      const DatasetFault& f = s.classes[c].faults[i];
+      const std::string field = indexed("classes", c) + "." + indexed("faults", i);
+      for (std::size_t b = 0; b < s.gearboxes.size(); ++b) {
+        const diag::Gearbox& gb = s.gearboxes[b];
+        for (const std::string& name : f.gears) {
+          if (gb.gear_index(name) < 0) {
+            std::string list;
+            for (const auto& g : gb.gears()) list += (list.empty() ? "" : ", ") + g.name;
+            diag::fail(where, field + ".gear",
+                       "'" + name + "' is not a gear of " + s.gearbox_paths[b] + " (" + list + ")");
+          }
+        }
+        for (int g : candidate_gears(f, gb)) {
+          const int teeth = gb.gears()[g].spec.teeth;
+          if (!f.any_tooth && f.tooth.hi >= teeth) {
+            diag::fail(where, field + ".tooth",
+                       std::to_string(f.tooth.hi) + " is not a tooth of gear '" +
+                           gb.gears()[g].name + "' (0.." + std::to_string(teeth - 1) + ")");
+          }
+          DrawnFault d{f.type,
+                       gb.gears()[g].name,
+                       "",
+                       f.any_tooth ? 0 : f.tooth.lo,
+                       f.size_mm.hi,
+                       f.depth_um.hi,
+                       f.position_mm.hi,
+                       f.width_fraction.hi,
+                       true,
+                       f.has_position};
+          const json sc =
+              scenario_json(s, s.speed_rpm.hi, s.torque_nm.hi, s.oil_c.hi, 0, 0, 0, 1, {d});
+          try {
+            const sim::Scenario parsed = sim::parse_scenario(sc, where);
+            const sim::GearboxModel model(gb, parsed.dynamics);
+          } catch (const diag::InputError& e) {
+            diag::fail(where, field,
+                       "on gear '" + gb.gears()[g].name + "' of " + s.gearbox_paths[b] +
+                           " at its largest size: " + e.what());
+          }
+        }
+      }
+    }
+  }
+}
+
+// fs must hold the mesh harmonics the detectors examine with the simulator's anti-alias margin
+// (flat to 0.8 of the output Nyquist frequency): fs >= 2.5 H f_mesh at the highest speed.
+void check_sampling_rate(const DatasetSpec& s) {
+  const int harmonics = detect::SidebandOptions{}.mesh_harmonics;
+  for (std::size_t b = 0; b < s.gearboxes.size(); ++b) {
+    const diag::Gearbox gb = s.gearboxes[b].with_input_speed_rpm(s.speed_rpm.hi);
+    for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
+      const double f = harmonics * gb.mesh_frequency_hz(static_cast<int>(m));
+      if (s.fs_hz < 2.5 * f) {
+        diag::fail(s.file.string(), "fs_hz",
+                   diag::Fields::fmt(s.fs_hz) + " Hz is below 2.5 x " + diag::Fields::fmt(f) +
+                       " Hz, mesh harmonic " + std::to_string(harmonics) + " of mesh " +
+                       diag::mesh_name(gb, static_cast<int>(m)) + " of " + s.gearbox_paths[b] +
+                       " at " + diag::Fields::fmt(s.speed_rpm.hi) +
+                       " rpm (the detectors examine mesh harmonics 1.." +
+                       std::to_string(harmonics) +
+                       "); use fs_hz >= " + diag::Fields::fmt(std::ceil(2.5 * f)));
+      }
+    }
+  }
+}
+
+}  // namespace
+
+DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
+  DatasetSpec s;
+  s.file = file;
+  const std::string where = file.string();
+  s.json = diag::load_json_file(file);
+  const diag::Fields f(
+      s.json, where, "",
+      {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz", "operating_points",
+       "noise_m_per_s2", "accuracy_grade", "runout_um", "scenario", "classes"});
+  // Gearboxes, relative to the spec's folder.
+  if (!f.has("gearbox")) f.fail("gearbox", "required: a path or an array of paths");
+  const json& g = f.raw("gearbox");
+  if (g.is_string()) {
+    s.gearbox_paths.push_back(f.str("gearbox"));
+  } else if (g.is_array() && !g.empty()) {
+    for (const json& p : g) {
+      if (!p.is_string() || p.get<std::string>().empty()) {
+        f.fail("gearbox", "an array of gearbox paths holds only non-empty strings");
+      }
+      s.gearbox_paths.push_back(p.get<std::string>());
+    }
+  } else {
+    f.fail("gearbox", "must be a path or a non-empty array of paths");
+  }
+  std::string hashed = s.json.dump();
+  for (std::size_t i = 0; i < s.gearbox_paths.size(); ++i) {
+    std::filesystem::path p = s.gearbox_paths[i];
+    if (p.is_relative()) p = file.parent_path() / p;
+    s.gearboxes.push_back(diag::load_gearbox(p));
+    hashed += '\0' + s.gearboxes.back().description_json();
+  }
+  s.hash = fnv1a64_hex(hashed);
+  const int seed = f.integer("seed");
+  if (seed < 0) f.fail("seed", "must be >= 0");
+  s.seed = static_cast<std::uint64_t>(seed);
+  const int per_class = f.integer("recordings_per_class");
+  if (per_class < 1)
+    f.fail("recordings_per_class", "must be >= 1 (got " + std::to_string(per_class) + ")");
+  s.duration_s = f.positive("duration_s");
+  if (s.duration_s > sim::kMaxDurationS) f.fail("duration_s", "must be <= 3600 s");
+  s.fs_hz = f.positive("fs_hz");
+  if (s.fs_hz > sim::kMaxFsHz) f.fail("fs_hz", "must be <= 1e6 Hz");
+  if (!f.has("operating_points")) f.fail("operating_points", "required: {speed_rpm, torque_nm}");
+  {
+    const diag::Fields op(f.raw("operating_points"), where, "operating_points",
+                          {"speed_rpm", "torque_nm", "oil_temperature_c"});
+    if (!op.has("speed_rpm")) op.fail("speed_rpm", "required number or range is missing");
+    if (!op.has("torque_nm")) op.fail("torque_nm", "required number or range is missing");
+    s.speed_rpm = parse_range(op, "speed_rpm", 0, diag::kMaxSpeedRpm, true);
+    s.torque_nm = parse_range(op, "torque_nm", 0, diag::kMaxTorqueNm, false);
+    if (op.has("oil_temperature_c")) {
+      s.has_oil = true;
+      s.oil_c = parse_range(op, "oil_temperature_c", -50, 200, false);
+    }
+  }
+  if (f.has("noise_m_per_s2")) s.noise = parse_range(f, "noise_m_per_s2", 0, 1e6, false);
+  if (f.has("accuracy_grade")) s.grade = parse_int_range(f, "accuracy_grade", 0, 12);
+  if (f.has("runout_um")) s.runout_um = parse_range(f, "runout_um", 0, 1e4, false);
+  if (f.has("scenario")) {
+    if (!f.raw("scenario").is_object()) f.fail("scenario", "must be a JSON object");
+    s.scenario = f.raw("scenario");
+    for (const auto& [key, value] : s.scenario.items()) {
+      if (kDrawnScenarioFields.count(key)) {
+        f.fail("scenario." + key,
+               "is set by the dataset spec (operating_points, classes, "
+               "duration_s, fs_hz, seed ...), not by the base scenario");
+      }
+    }
+    if (s.scenario.contains("sensors") && s.scenario["sensors"].is_object() &&
+        s.scenario["sensors"].contains("noise_m_per_s2")) {
+      f.fail("scenario.sensors.noise_m_per_s2", "is set by the spec's noise_m_per_s2");
+    }
+    if (s.has_oil && s.scenario.contains("oil") && s.scenario["oil"].is_object() &&
+        s.scenario["oil"].contains("temperature_c")) {
+      f.fail("scenario.oil.temperature_c", "is set by operating_points.oil_temperature_c");
+    }
+    sim::parse_scenario(s.scenario, where + ": scenario");
+  }
+  if (!f.has("classes") || !f.raw("classes").is_array() || f.raw("classes").empty()) {
+    f.fail("classes", "required: a non-empty array of classes");
+  }
+  std::set<std::string> names;
+  for (std::size_t c = 0; c < f.raw("classes").size(); ++c) {
+    const diag::Fields cf(f.raw("classes")[c], where, indexed("classes", c),
+                          {"name", "recordings", "faults"});
+    DatasetClass cls;
+    cls.name = class_name(cf);
+    if (!names.insert(cls.name).second) cf.fail("name", "'" + cls.name + "' is used twice");
+    cls.recordings = per_class;
+    if (cf.has("recordings")) {
+      cls.recordings = cf.integer("recordings");
+      if (cls.recordings < 0) cf.fail("recordings", "must be >= 0");
+    }
+    if (cf.has("faults")) {
+      if (!cf.raw("faults").is_array()) cf.fail("faults", "must be an array");
+      for (std::size_t i = 0; i < cf.raw("faults").size(); ++i) {
+        cls.faults.push_back(parse_fault(cf.raw("faults")[i], where, cf.sub(indexed("faults", i))));
+      }
+    }
+    s.max_faults = std::max(s.max_faults, cls.faults.size());
+    s.total += static_cast<std::size_t>(cls.recordings);
+    s.classes.push_back(std::move(cls));
+  }
+  if (s.total == 0) f.fail("classes", "no recordings to generate");
+  if (s.total > 100000000) f.fail("classes", "more than 1e8 recordings");
+  check_sampling_rate(s);
+  check_classes(s);
+  return s;
+}
+
+DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
+  DrawnRecording r;
+  r.index = k;
+  std::size_t first = 0, c = 0;
+  while (k >= first + static_cast<std::size_t>(s.classes[c].recordings)) {
+    first += static_cast<std::size_t>(s.classes[c].recordings);
+    ++c;
+  }
+  const DatasetClass& cls = s.classes[c];
+  r.cls = cls.name;
+  const int digits = std::max(6, static_cast<int>(std::to_string(s.total - 1).size()));
+  std::string index = std::to_string(k);
+  r.id = std::string(static_cast<std::size_t>(digits) - index.size(), '0') + index + "-" + r.cls;
+  Stream rng(s.seed, k);
+  r.gearbox = static_cast<int>(rng.pick(s.gearboxes.size()));
+  const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
+  r.speed_rpm = rng.draw(s.speed_rpm);
+  r.torque_nm = rng.draw(s.torque_nm);
+  r.oil_c = rng.draw(s.oil_c);
+  r.noise = rng.draw(s.noise);
+  r.grade = rng.draw(s.grade);
+  r.runout_um = rng.draw(s.runout_um);
+  for (const DatasetFault& f : cls.faults) {
+    const std::vector<int> gears = candidate_gears(f, gb);
+    const int g = gears[rng.pick(gears.size())];
+    DrawnFault d;
+    d.type = f.type;
+    d.gear = gb.gears()[g].name;
+    d.shaft = gb.gears()[g].shaft;
+    const int teeth = gb.gears()[g].spec.teeth;
+    d.tooth = rng.draw(f.any_tooth ? IntRange{0, teeth - 1} : f.tooth);
+    // Two faults drawn onto the same tooth of the same gear: the later one moves on (a fixed
+    // tooth stays where the spec put it).
+    for (int tries = 0; f.any_tooth && tries < teeth; ++tries) {
+      const bool taken = std::any_of(r.faults.begin(), r.faults.end(), [&](const DrawnFault& o) {
+        return o.gear == d.gear && o.tooth == d.tooth;
+      });
+      if (!taken) break;
+      d.tooth = (d.tooth + 1) % teeth;
+    }
+    d.size_mm = f.type == "missing" ? 0.0 : rng.draw(f.size_mm);
+    d.has_depth = f.type == "spall";
+    d.depth_um = rng.draw(f.depth_um);
+    d.has_position = f.has_position;
+    d.position_mm = rng.draw(f.position_mm);
+    d.width_fraction = rng.draw(f.width_fraction);
+    r.faults.push_back(d);
+  }
+  r.seed = rng.next() % 1000000000ULL;
+  r.scenario = scenario_json(s, r.speed_rpm, r.torque_nm, r.oil_c, r.noise, r.grade, r.runout_um,
+                             r.seed, r.faults);
+  return r;
+}
+
+std::vector<std::string> manifest_columns(const DatasetSpec& s) {
+  std::vector<std::string> cols = {"file",
+                                   "id",
+                                   "index",
+                                   "class",
+                                   "gearbox",
+                                   "seed",
+                                   "speed_rpm",
+                                   "torque_nm",
+                                   "oil_temperature_c",
+                                   "noise_m_per_s2",
+                                   "accuracy_grade",
+                                   "runout_um",
+                                   "duration_s",
+                                   "fs_hz",
+                                   "faults"};
+  for (std::size_t i = 1; i <= s.max_faults; ++i) {
+    for (const char* field : {"type", "gear", "shaft", "tooth", "size_mm", "depth_um",
+                              "position_mm", "width_fraction"}) {
+      cols.push_back("fault" + std::to_string(i) + "_" + field);
+    }
+  }
+  return cols;
+}
+
+nlohmann::json manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
+  json row = json::object();
+  row["file"] = "recordings/" + r.id + ".h5";
+  row["id"] = r.id;
+  row["index"] = r.index;
+  row["class"] = r.cls;
+  row["gearbox"] = s.gearbox_paths[static_cast<std::size_t>(r.gearbox)];
+  row["seed"] = r.seed;
+  row["speed_rpm"] = r.speed_rpm;
+  row["torque_nm"] = r.torque_nm;
+  row["oil_temperature_c"] = s.has_oil ? json(r.oil_c) : json(nullptr);
+  row["noise_m_per_s2"] = r.noise;
+  row["accuracy_grade"] = r.grade;
+  row["runout_um"] = r.runout_um;
+  row["duration_s"] = s.duration_s;
+  row["fs_hz"] = s.fs_hz;
+  row["faults"] = r.faults.size();
+  for (std::size_t i = 0; i < s.max_faults; ++i) {
+    const std::string p = "fault" + std::to_string(i + 1) + "_";
+    const DrawnFault* f = i < r.faults.size() ? &r.faults[i] : nullptr;
+    row[p + "type"] = f ? json(f->type) : json(nullptr);
+    row[p + "gear"] = f ? json(f->gear) : json(nullptr);
+    row[p + "shaft"] = f ? json(f->shaft) : json(nullptr);
+    row[p + "tooth"] = f ? json(f->tooth) : json(nullptr);
+    row[p + "size_mm"] = f && f->type != "missing" ? json(f->size_mm) : json(nullptr);
+    row[p + "depth_um"] = f && f->has_depth ? json(f->depth_um) : json(nullptr);
+    row[p + "position_mm"] = f && f->has_position ? json(f->position_mm) : json(nullptr);
+    row[p + "width_fraction"] = f ? json(f->width_fraction) : json(nullptr);
+  }
+  return row;
+}
+
+}  // namespace geardiag

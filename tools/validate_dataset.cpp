@@ -1,0 +1,214 @@
+// geardiag validate --dataset DIR: runs `analyze` on every recording of a dataset made by
+// `geardiag dataset` and compares its verdict with the manifest's truth: the detectability map of
+// that gearbox. The verdict is the damaged-gear locator's (detect/gear/gear_damage.hpp, finding
+// kind "gear_damage"): a recording is "detected" when it names a shaft, "located" when that shaft
+// carries the class's first fault. Printed: the confusion matrix (true class x the shaft named,
+// "none" when no finding), the detection and location rates per class and the detection rate
+// against fault size, speed and noise (four equal-width bins over the range present). --json and
+// --html write the same.
+#include "validate_dataset.hpp"
+
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "batch_analysis.hpp"
+#include "detect/analysis/svg_plot.hpp"
+#include "diag/error.hpp"
+#include "output.hpp"
+#include "parallel.hpp"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace geardiag {
+
+namespace {
+
+using nlohmann::json;
+
+// Detection rate of the faulty recordings against one manifest column, in four equal-width bins.
+json rate_by(const std::vector<json>& rows, const std::string& column) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const json& r : rows) {
+    if (!r[column].is_number()) continue;
+    lo = std::min(lo, r[column].get<double>());
+    hi = std::max(hi, r[column].get<double>());
+  }
+  json out = json::array();
+  if (!(lo <= hi)) return out;
+  const int bins = hi > lo ? 4 : 1;
+  std::vector<int> n(bins, 0), hit(bins, 0);
+  for (const json& r : rows) {
+    if (!r[column].is_number()) continue;
+    const double x = r[column].get<double>();
+    const int b = hi > lo ? std::min(bins - 1, static_cast<int>((x - lo) / (hi - lo) * bins)) : 0;
+    ++n[b];
+    hit[b] += r["detected"].get<bool>();
+  }
+  for (int b = 0; b < bins; ++b) {
+    const double w = (hi - lo) / bins;
+    out.push_back({{"from", lo + b * w},
+                   {"to", lo + (b + 1) * w},
+                   {"recordings", n[b]},
+                   {"detected", hit[b]},
+                   {"rate", n[b] ? json(static_cast<double>(hit[b]) / n[b]) : json(nullptr)}});
+  }
+  return out;
+}
+
+std::string html_report(const json& rep) {
+  std::ostringstream h;
+  h << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>geardiag validate --dataset"
+       "</title><style>body{font-family:sans-serif;margin:2em}td,th{border:1px solid #ccc;"
+       "padding:3px 8px}table{border-collapse:collapse}</style></head><body>"
+       "<h1>Detectability map: "
+    << detect::html_escape(rep["dataset"].get<std::string>()) << "</h1>";
+  h << "<h2>Confusion matrix (true class x shaft named by the gear-damage locator)</h2><table>"
+       "<tr><th>class</th>";
+  for (const auto& col : rep["columns"])
+    h << "<th>" << detect::html_escape(col.get<std::string>()) << "</th>";
+  h << "<th>detected</th><th>located</th></tr>";
+  for (const auto& [cls, row] : rep["classes"].items()) {
+    h << "<tr><td>" << detect::html_escape(cls) << "</td>";
+    for (const auto& col : rep["columns"])
+      h << "<td>" << row["predicted"].value(col.get<std::string>(), 0) << "</td>";
+    h << "<td>" << row["detected"] << " / " << row["recordings"] << "</td><td>" << row["located"]
+      << "</td></tr>";
+  }
+  h << "</table>";
+  for (const char* by : {"size_mm", "speed_rpm", "noise_m_per_s2"}) {
+    h << "<h2>Detection rate of the faulty recordings vs " << by << "</h2><table><tr><th>" << by
+      << "</th><th>detected / recordings</th><th>rate</th></tr>";
+    for (const json& b : rep["rate_by"][by]) {
+      h << "<tr><td>" << b["from"].get<double>() << " - " << b["to"].get<double>() << "</td><td>"
+        << b["detected"] << " / " << b["recordings"] << "</td><td>"
+        << (b["rate"].is_null() ? ""
+                                : std::to_string(std::lround(100 * b["rate"].get<double>())) + " %")
+        << "</td></tr>";
+    }
+    h << "</table>";
+  }
+  h << "</body></html>\n";
+  return h.str();
+}
+
+}  // namespace
+
+int validate_dataset(int argc, char** argv) {
+  std::string dir, json_out, html_out;
+  int jobs = 0;
+  po::options_description desc(
+      "geardiag validate --dataset DIR [--json OUT.json] [--html OUT.html] [--jobs N]\n\n"
+      "Analyses every recording of DIR/manifest.jsonl (made by geardiag dataset) and compares\n"
+      "the damaged-gear locator's verdict with the truth: confusion matrix (class x shaft named),\n"
+      "detection and location rate per class, detection rate vs fault size, speed and noise.\n\n"
+      "options");
+  desc.add_options()("help,h", "this help")("dataset", po::value(&dir)->required(),
+                                            "dataset folder")(
+      "json", po::value(&json_out), "the report as JSON")("html", po::value(&html_out),
+                                                          "the report as HTML")(
+      "jobs,j", po::value(&jobs)->default_value(0), "worker threads; 0 = every core");
+  po::variables_map vm;
+  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
+  if (vm.count("help")) {
+    std::cout << desc << "\n";
+    return 0;
+  }
+  po::notify(vm);
+  jobs = resolve_jobs(jobs);
+  if (!json_out.empty()) check_output(json_out, "--json");
+  if (!html_out.empty()) check_output(html_out, "--html");
+  const fs::path manifest = fs::path(dir) / "manifest.jsonl";
+  std::ifstream in(manifest);
+  if (!in) throw diag::InputError("--dataset " + dir + ": no manifest.jsonl (not a dataset?)");
+  std::vector<json> rows;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    try {
+      rows.push_back(json::parse(line));
+      if (!rows.back().contains("file") || !rows.back().contains("class"))
+        throw std::runtime_error("");
+    } catch (const std::exception&) {
+      throw diag::InputError(manifest.string() + ": line " + std::to_string(n) +
+                             ": not a manifest row");
+    }
+  }
+  if (rows.empty()) throw diag::InputError(manifest.string() + ": no recordings");
+  Progress progress("validate", rows.size(), true);
+  run_on_threads(rows.size(), jobs, [&](std::size_t i) {
+    json& r = rows[i];
+    std::string named = "none";
+    try {
+      const FileAnalysis a = analyse_file((fs::path(dir) / r["file"].get<std::string>()).string(),
+                                          std::nullopt, {}, std::nullopt);
+      for (const auto& f : a.result.findings) {
+        if (f.kind == "gear_damage") {
+          named = f.shaft;
+          break;
+        }
+      }
+    } catch (const std::exception& e) {
+      named = "error";
+      r["error"] = e.what();
+    }
+    r["named"] = named;
+    r["detected"] = named != "none" && named != "error";
+    r["located"] = r.value("faults", 0) > 0 && r["fault1_shaft"].is_string() &&
+                   named == r["fault1_shaft"].get<std::string>();
+    r["size_mm"] = r.contains("fault1_size_mm") ? r["fault1_size_mm"] : json(nullptr);
+    progress.tick();
+  });
+  progress.finish();
+  std::set<std::string> columns = {"none"};
+  json classes = json::object();
+  std::vector<json> faulty;
+  for (const json& r : rows) {
+    const std::string cls = r["class"];
+    columns.insert(r["named"].get<std::string>());
+    json& c = classes[cls];
+    if (!c.contains("predicted")) c["predicted"] = json::object();
+    c["recordings"] = c.value("recordings", 0) + 1;
+    c["detected"] = c.value("detected", 0) + (r["detected"].get<bool>() ? 1 : 0);
+    c["located"] = c.value("located", 0) + (r["located"].get<bool>() ? 1 : 0);
+    c["predicted"][r["named"].get<std::string>()] =
+        c["predicted"].value(r["named"].get<std::string>(), 0) + 1;
+    if (r.value("faults", 0) > 0) faulty.push_back(r);
+  }
+  json rep = {{"dataset", dir},
+              {"decision", "gear_damage finding (the damaged-gear locator) names a shaft"},
+              {"columns", columns},
+              {"classes", classes},
+              {"rate_by",
+               {{"size_mm", rate_by(faulty, "size_mm")},
+                {"speed_rpm", rate_by(faulty, "speed_rpm")},
+                {"noise_m_per_s2", rate_by(faulty, "noise_m_per_s2")}}},
+              {"recordings", rows}};
+  std::cout << "confusion matrix (true class x shaft named by the gear-damage locator):\n  class";
+  for (const std::string& c : columns) std::cout << "\t" << c;
+  std::cout << "\tdetected\tlocated\n";
+  for (const auto& [cls, c] : classes.items()) {
+    std::cout << "  " << cls;
+    for (const std::string& col : columns) std::cout << "\t" << c["predicted"].value(col, 0);
+    std::cout << "\t" << c["detected"] << "/" << c["recordings"] << "\t" << c["located"] << "\n";
+  }
+  for (const char* by : {"size_mm", "speed_rpm", "noise_m_per_s2"}) {
+    std::cout << "detection rate of the faulty recordings vs " << by << ":\n";
+    for (const json& b : rep["rate_by"][by]) {
+      std::cout << "  " << b["from"].get<double>() << " - " << b["to"].get<double>() << ": "
+                << b["detected"] << " / " << b["recordings"] << "\n";
+    }
+  }
+  if (!json_out.empty()) write_output(json_out, rep.dump(1) + "\n", "--json");
+  if (!html_out.empty()) write_output(html_out, html_report(rep), "--html");
+  return 0;
+}
+
+}  // namespace geardiag
