@@ -28,13 +28,23 @@ namespace geardiag {
 
 namespace {
 
+// The excerpt of a long HDF5 recording that analyze holds in memory (diag::ReadLimits): at most
+// 2^20 samples in all, or 2^18 per channel when there are many channels, never over 2^19 per
+// channel. analyze peaks at 80-190 bytes per sample held (bench/analyze_memory.sh): a 1 GB,
+// 8-channel recording in < 256 MB (docs/notes/analyze-perf.md).
+constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 20;
+constexpr std::uint64_t kKeptChannelSamples = std::uint64_t{1} << 18;
+constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
+
 // A recording as `analyze` reads it: a geardiag HDF5 file, else an import (CSV, WAV, MAT) with the
-// --fs given. Throws diag::InputError naming the file.
-diag::Recording load_recording(const std::string& file, std::optional<double> fs_hz) {
+// --fs given; a long HDF5 recording as its first part within `limits` (hdf5.hpp: read by blocks,
+// memory bounded whatever the file's length). Throws diag::InputError naming the file.
+diag::Recording load_recording(const std::string& file, std::optional<double> fs_hz,
+                               const diag::ReadLimits& limits) {
   const std::filesystem::path path(file);
   if (!std::filesystem::exists(path)) throw diag::InputError(file + ": no such file");
   try {
-    if (diag::is_hdf5_file(path)) return diag::read_recording(path);
+    if (diag::is_hdf5_file(path)) return diag::read_recording(path, limits);
     diag::ImportOptions io;
     io.fs_hz = fs_hz;
     return diag::import_recording(path, io);
@@ -53,6 +63,7 @@ int cmd_analyze(int argc, char** argv) {
   std::string recording, gearbox, json_out, html_out, fail_on;
   std::vector<std::string> baselines;
   double fs_hz = 0;
+  std::uint64_t max_samples = kMaxSamples;
   ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
@@ -96,6 +107,15 @@ int cmd_analyze(int argc, char** argv) {
       "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
+  const std::string max_samples_help =
+      "a longer HDF5 recording is analysed on its first part holding at most this many samples "
+      "in all (or " +
+      std::to_string(kKeptChannelSamples) + " per channel, never over " +
+      std::to_string(kMaxChannelSamples) +
+      " per channel), read by blocks: memory stays bounded whatever the length; 0: the whole "
+      "recording";
+  desc.add_options()("max-samples", po::value(&max_samples)->default_value(max_samples),
+                     max_samples_help.c_str());
   desc.add_options()("timing", po::bool_switch(&opt.timing),
                      "add the wall time of each stage to the JSON (timing_s)")(
       "rpm-at", po::value(&opt.nominal_time_s),
@@ -129,13 +149,19 @@ int cmd_analyze(int argc, char** argv) {
   const std::optional<double> fs =
       vm.count("fs") ? std::optional<double>(fs_hz) : std::optional<double>();
   const std::filesystem::path path(recording);
-  diag::Recording rec = load_recording(recording, fs);
+  diag::ReadLimits limits;  // the excerpt analysed of a long HDF5 recording (see --max-samples)
+  if (max_samples != 0) {
+    limits.max_samples = max_samples;
+    limits.kept_channel_samples = std::min(max_samples, kKeptChannelSamples);
+    limits.max_channel_samples = std::min(max_samples, kMaxChannelSamples);
+  }
+  diag::Recording rec = load_recording(recording, fs, limits);
   // Every input is read before anything is analysed or written: a bad baseline file stops the
   // run with its name and no output.
   std::vector<diag::Recording> healthy;
   for (const std::string& b : baselines) {
     try {
-      healthy.push_back(load_recording(b, fs));
+      healthy.push_back(load_recording(b, fs, limits));
     } catch (const diag::InputError& e) {
       throw diag::InputError(std::string("--baseline ") + e.what());
     }
