@@ -983,12 +983,13 @@ Recording read_recording(const std::filesystem::path& path, const ReadLimits& li
     const double t = excerpt_seconds(reader, limits);
     Recording rec = read_all(reader, t);
     if (std::isfinite(t)) {
-      double whole = 0;
+      double whole = 0, kept = 0;
       for (const ChannelInfo& c : reader.channels()) {
         whole = std::max(whole, static_cast<double>(c.length) / c.fs_hz);
+        kept = std::max(kept, static_cast<double>(samples_within(c, t)) / c.fs_hz);
       }
       std::ostringstream note;
-      note << std::setprecision(4) << "long recording: the first " << t << " s of " << whole
+      note << std::setprecision(4) << "long recording: the first " << kept << " s of " << whole
            << " s analysed (kept in memory: at most " << limits.max_samples << " samples in all or "
            << limits.kept_channel_samples << " per channel, never over "
            << limits.max_channel_samples << " per channel)";
