@@ -40,11 +40,11 @@ constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
 // --fs given; a long HDF5 recording as its first part within `limits` (hdf5.hpp: read by blocks,
 // memory bounded whatever the file's length). Throws diag::InputError naming the file.
 diag::Recording load_recording(const std::string& file, std::optional<double> fs_hz,
-                               const diag::ReadLimits& limits) {
+                               const diag::ReadLimits& limits, bool* cut = nullptr) {
   const std::filesystem::path path(file);
   if (!std::filesystem::exists(path)) throw diag::InputError(file + ": no such file");
   try {
-    if (diag::is_hdf5_file(path)) return diag::read_recording(path, limits);
+    if (diag::is_hdf5_file(path)) return diag::read_recording(path, limits, cut);
     diag::ImportOptions io;
     io.fs_hz = fs_hz;
     return diag::import_recording(path, io);
@@ -104,7 +104,8 @@ int cmd_analyze(int argc, char** argv) {
       "tsa-min-revs", po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
       "fewer whole revolutions skip a shaft's TSA, >= 2")(
       "threads", po::value(&opt.threads)->default_value(opt.threads),
-      "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
+      "channels analysed in parallel, [0, 256]; 0: one per hardware thread (default; 2 for a "
+      "recording longer than --max-samples)")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
   const std::string max_samples_help =
@@ -155,7 +156,12 @@ int cmd_analyze(int argc, char** argv) {
     limits.kept_channel_samples = std::min(max_samples, kKeptChannelSamples);
     limits.max_channel_samples = std::min(max_samples, kMaxChannelSamples);
   }
-  diag::Recording rec = load_recording(recording, fs, limits);
+  bool cut = false;
+  diag::Recording rec = load_recording(recording, fs, limits, &cut);
+  // Each channel in flight holds its transforms (~35 MiB at 2^18 samples): a long recording runs
+  // at most 2 channels at a time unless --threads says otherwise, so that the 256 MB bound holds
+  // on any machine (bench/analyze_memory.sh).
+  if (cut && vm["threads"].defaulted() && opt.threads == 0) opt.threads = 2;
   // Every input is read before anything is analysed or written: a bad baseline file stops the
   // run with its name and no output.
   std::vector<diag::Recording> healthy;

@@ -977,10 +977,11 @@ Recording read_recording(const std::filesystem::path& path) {
   return reading(path.string(), [&] { return read_all(reader); });
 }
 
-Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits) {
+Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits, bool* cut) {
   RecordingReader reader(path);
   return reading(path.string(), [&] {
     const double t = excerpt_seconds(reader, limits);
+    if (cut) *cut = std::isfinite(t);
     Recording rec = read_all(reader, t);
     if (std::isfinite(t)) {
       double whole = 0, kept = 0;

@@ -69,8 +69,9 @@ struct ReadLimits {
 // channel count, not with the length), or the whole record when it fits (then the result equals
 // read_recording(path)). Memory is bounded by the limits whatever the file's length: the samples
 // are read by hyperslab (read_block), never the whole channel. When cut, rec.notes says so (the
-// excerpt's and the record's durations).
-Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits);
+// excerpt's and the record's durations) and *cut (when given) is set.
+Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits,
+                         bool* cut = nullptr);
 
 struct ChannelInfo {
   std::string name;
