@@ -29,6 +29,18 @@ namespace po = boost::program_options;
 
 namespace geardiag {
 
+namespace {
+
+// The excerpt of a long HDF5 recording that analyze holds in memory (diag::ReadLimits): at most
+// 2^20 samples in all, or 2^18 per channel when there are many channels, never over 2^19 per
+// channel. analyze peaks at 80-190 bytes per sample held (bench/analyze_memory.sh): a 1 GB,
+// 8-channel recording in < 256 MB (docs/notes/analyze-perf.md).
+constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 20;
+constexpr std::uint64_t kKeptChannelSamples = std::uint64_t{1} << 18;
+constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
+
+}  // namespace
+
 int cmd_analyze(int argc, char** argv) {
   detect::AnalyzeOptions opt;
   const detect::BaselineComparisonOptions bo;
@@ -36,6 +48,7 @@ int cmd_analyze(int argc, char** argv) {
   std::vector<std::string> baselines;
   std::string gear_baseline;
   double fs_hz = 0;
+  std::uint64_t max_samples = kMaxSamples;
   ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
@@ -83,13 +96,23 @@ int cmd_analyze(int argc, char** argv) {
       "tsa-min-revs", po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
       "fewer whole revolutions skip a shaft's TSA, >= 2")(
       "threads", po::value(&opt.threads)->default_value(opt.threads),
-      "channels analysed in parallel, [0, 256]; 0: one per hardware thread")(
+      "channels analysed in parallel, [0, 256]; 0: one per hardware thread (default; 2 for a "
+      "recording longer than --max-samples)")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
   desc.add_options()("curves", po::value(&curves_out),
                      "write every curve the report draws (PSD, spectra, envelope spectra with the "
                      "fault bands, order spectra, TSA signals, speed) as HDF5 datasets with their "
                      "axes and units (README \"Curves\")");
+  const std::string max_samples_help =
+      "a longer HDF5 recording is analysed on its first part holding at most this many samples "
+      "in all (or " +
+      std::to_string(kKeptChannelSamples) + " per channel, never over " +
+      std::to_string(kMaxChannelSamples) +
+      " per channel), read by blocks: memory stays bounded whatever the length; 0: the whole "
+      "recording";
+  desc.add_options()("max-samples", po::value(&max_samples)->default_value(max_samples),
+                     max_samples_help.c_str());
   desc.add_options()("timing", po::bool_switch(&opt.timing),
                      "add the wall time of each stage to the JSON (timing_s)")(
       "rpm-at", po::value(&opt.nominal_time_s),
@@ -124,13 +147,24 @@ int cmd_analyze(int argc, char** argv) {
   const std::optional<double> fs =
       vm.count("fs") ? std::optional<double>(fs_hz) : std::optional<double>();
   const std::filesystem::path path(recording);
-  diag::Recording rec = load_recording(recording, fs);
+  diag::ReadLimits limits;  // the excerpt analysed of a long HDF5 recording (see --max-samples)
+  if (max_samples != 0) {
+    limits.max_samples = max_samples;
+    limits.kept_channel_samples = std::min(max_samples, kKeptChannelSamples);
+    limits.max_channel_samples = std::min(max_samples, kMaxChannelSamples);
+  }
+  bool cut = false;
+  diag::Recording rec = load_recording(recording, fs, limits, &cut);
+  // Each channel in flight holds its transforms (~35 MiB at 2^18 samples): a long recording runs
+  // at most 2 channels at a time unless --threads says otherwise, so that the 256 MB bound holds
+  // on any machine (bench/analyze_memory.sh).
+  if (cut && vm["threads"].defaulted() && opt.threads == 0) opt.threads = 2;
   // Every input is read before anything is analysed or written: a bad baseline file stops the
   // run with its name and no output.
   std::vector<diag::Recording> healthy;
   for (const std::string& b : baselines) {
     try {
-      healthy.push_back(load_recording(b, fs));
+      healthy.push_back(load_recording(b, fs, limits));
     } catch (const diag::InputError& e) {
       throw diag::InputError(std::string("--baseline ") + e.what());
     }
@@ -138,7 +172,7 @@ int cmd_analyze(int argc, char** argv) {
   std::optional<diag::Recording> gear_healthy;
   if (!gear_baseline.empty()) {
     try {
-      gear_healthy = load_recording(gear_baseline, fs);
+      gear_healthy = load_recording(gear_baseline, fs, limits);
     } catch (const diag::InputError& e) {
       throw diag::InputError(std::string("--gear-baseline ") + e.what());
     }

@@ -8,11 +8,12 @@
 
 namespace geardiag {
 
-diag::Recording load_recording(const std::string& file, std::optional<double> fs_hz) {
+diag::Recording load_recording(const std::string& file, std::optional<double> fs_hz,
+                               const diag::ReadLimits& limits, bool* cut) {
   const std::filesystem::path path(file);
   if (!std::filesystem::exists(path)) throw diag::InputError(file + ": no such file");
   try {
-    if (diag::is_hdf5_file(path)) return diag::read_recording(path);
+    if (diag::is_hdf5_file(path)) return diag::read_recording(path, limits, cut);
     diag::ImportOptions io;
     io.fs_hz = fs_hz;
     return diag::import_recording(path, io);

@@ -48,6 +48,33 @@ const fs::path& simulated() {
   return h5;
 }
 
+// A long HDF5 recording is analysed on its first part (--max-samples, diag::ReadLimits): with
+// 4000 samples per channel at most, the 0.5 s record at 20 kHz is cut at 0.2 s for every channel,
+// and the notes say so; --max-samples 0 reads it whole.
+TEST(AnalyzeCli, LongRecordingIsAnalysedOnItsFirstPart) {
+  const fs::path js = scratch("excerpt.json");
+  auto a = run("analyze " + simulated().string() + " --max-samples 4000 --json " + js.string());
+  ASSERT_EQ(a.code, 0) << a.out;
+  auto j = nlohmann::json::parse(std::ifstream(js));
+  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 0.2);
+  for (const auto& c : j["channels"]) EXPECT_EQ(c["samples"].get<int>(), 4000) << c["name"];
+  auto has_note = [](const nlohmann::json& r) {
+    for (const auto& n : r["notes"]) {
+      if (n.get<std::string>().find("long recording: the first 0.2 s of 0.5 s analysed") !=
+          std::string::npos) {
+        return true;
+      }
+    }
+    return false;
+  };
+  EXPECT_TRUE(has_note(j)) << j["notes"].dump(1);
+  a = run("analyze " + simulated().string() + " --max-samples 0 --json " + js.string());
+  ASSERT_EQ(a.code, 0) << a.out;
+  j = nlohmann::json::parse(std::ifstream(js));
+  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 0.5);
+  EXPECT_FALSE(has_note(j));
+}
+
 TEST(AnalyzeCli, SimulatedRecordingGivesJsonAndHtmlReports) {
   const fs::path js = scratch("a.json"), html = scratch("a.html");
   const auto a = run("analyze " + simulated().string() + " --json " + js.string() + " --html " +

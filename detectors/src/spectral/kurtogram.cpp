@@ -1,5 +1,6 @@
 #include "detect/spectral/kurtogram.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstring>
@@ -40,6 +41,22 @@ double complex_kurtosis(const std::vector<double>& a, const std::vector<double>&
   if (s2 == 0.0) return 0.0;
   const double n = static_cast<double>(a.size());
   return n * s4 / (s2 * s2) - 2.0;
+}
+
+// The smallest 2^a 3^b 5^c >= n: a length FFTW transforms at full speed (a band of m bins has
+// an arbitrary m; 2m = 66668 = 4 x 16667, a prime, took FFTW's slow prime-length path and made
+// the kurtogram half of analyze's time).
+std::size_t smooth_length_at_least(std::size_t n) {
+  std::size_t best = std::size_t{1};
+  while (best < n) best <<= 1;
+  for (std::size_t p5 = 1; p5 < best; p5 *= 5) {
+    for (std::size_t p35 = p5; p35 < best; p35 *= 3) {
+      std::size_t v = p35;
+      while (v < n) v <<= 1;
+      best = std::min(best, v);
+    }
+  }
+  return best;
 }
 
 }  // namespace
@@ -157,7 +174,14 @@ Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& opti
       const std::size_t k_hi =
           i + 1 == bands ? half + 1 : ((i + 1) * n + 2 * bands - 1) / (2 * bands);
       const std::size_t m = k_hi - k_lo;
-      const std::size_t len = 2 * m;  // complex band signal, oversampled by 2
+      // The complex band signal c(t) = sum_{q<m} Z_q e^{2 pi i q t / len}, sampled at len >= 2m
+      // points (oversampled by at least 2, as the paper's complex decimated signals). The
+      // kurtosis is the ratio of the means of |c|^4 and |c|^2 over the samples; |c|^4 is a
+      // trigonometric polynomial of degree 2(m - 1), so any len >= 2m - 1 equispaced points give
+      // its exact mean over a period (and of |c|^2's): K does not depend on len beyond 2m - 1,
+      // and len is taken as the smallest fast FFT length >= 2m (smooth_length_at_least). Same
+      // value as len = 2m up to round-off.
+      const std::size_t len = smooth_length_at_least(2 * m);
       auto it = ffts.find(len);
       if (it == ffts.end()) it = ffts.emplace(len, RealFft(len)).first;
       RealFft& f = it->second;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <string>
 
 #include "detect/spectral/fft.hpp"
@@ -39,7 +40,8 @@ Spectrum amplitude_spectrum(std::span<const double> x, const SpectrumOptions& op
   }
   mean = options.remove_mean ? mean / static_cast<double>(n) : 0.0;
 
-  const std::vector<double> w = make_window(options.window, n);
+  const std::shared_ptr<const std::vector<double>> window = shared_window(options.window, n);
+  const std::vector<double>& w = *window;
   double wsum = 0.0;
   for (double v : w) wsum += v;
   std::vector<double> buf(nfft, 0.0);

@@ -2,6 +2,8 @@
 
 #include <array>
 #include <cmath>
+#include <deque>
+#include <mutex>
 #include <numbers>
 #include <string>
 
@@ -52,6 +54,30 @@ std::vector<double> make_window(WindowType type, std::size_t n, WindowSymmetry s
     for (int k = 0; k < c.terms; ++k, sign = -sign) v += sign * c.a[k] * std::cos(k * z);
     w[j] = v;
   }
+  return w;
+}
+
+std::shared_ptr<const std::vector<double>> shared_window(WindowType type, std::size_t n,
+                                                         WindowSymmetry symmetry) {
+  struct Entry {
+    WindowType type;
+    std::size_t n;
+    WindowSymmetry symmetry;
+    std::shared_ptr<const std::vector<double>> w;
+  };
+  constexpr std::size_t kKept = 4;  // windows kept, most recent first
+  static std::mutex mutex;
+  static std::deque<Entry> kept;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    for (const Entry& e : kept) {
+      if (e.type == type && e.n == n && e.symmetry == symmetry) return e.w;
+    }
+  }
+  auto w = std::make_shared<const std::vector<double>>(make_window(type, n, symmetry));
+  std::lock_guard<std::mutex> lock(mutex);
+  kept.push_front({type, n, symmetry, w});
+  if (kept.size() > kKept) kept.pop_back();
   return w;
 }
 

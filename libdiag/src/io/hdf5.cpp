@@ -14,9 +14,12 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <iomanip>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -906,7 +909,41 @@ void RecordingReader::read_samples(const std::string& what, std::uint64_t offset
 
 namespace {
 
-Recording read_all(const RecordingReader& reader) {
+// Samples of channel c within an excerpt of t seconds (all of them when t is infinite).
+std::uint64_t samples_within(const ChannelInfo& c, double t) {
+  if (!std::isfinite(t)) return c.length;
+  const double n = std::floor(t * c.fs_hz);
+  return n >= static_cast<double>(c.length) ? c.length : static_cast<std::uint64_t>(n);
+}
+
+// The longest excerpt duration [s] within the limits (ReadLimits); infinite when the whole
+// record fits.
+double excerpt_seconds(const RecordingReader& reader, const ReadLimits& limits) {
+  auto fits = [&](double t) {
+    std::uint64_t sum = 0, longest = 0;
+    for (const ChannelInfo& c : reader.channels()) {
+      const std::uint64_t n = samples_within(c, t);
+      sum += n;
+      longest = std::max(longest, n);
+    }
+    return longest <= limits.max_channel_samples &&
+           (sum <= limits.max_samples || longest <= limits.kept_channel_samples);
+  };
+  if (fits(std::numeric_limits<double>::infinity())) return std::numeric_limits<double>::infinity();
+  // Bisection on t: every condition of fits() only fails more as t grows.
+  double lo = 0, hi = 0;
+  for (const ChannelInfo& c : reader.channels()) {
+    hi = std::max(hi, static_cast<double>(c.length) / c.fs_hz);
+  }
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (fits(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+Recording read_all(const RecordingReader& reader,
+                   double t = std::numeric_limits<double>::infinity()) {
   Recording rec;
   for (const ChannelInfo& c : reader.channels()) {
     Signal& s = (c.group == "signals" ? rec.signals : rec.tachos).emplace_back();
@@ -915,7 +952,7 @@ Recording read_all(const RecordingReader& reader) {
     s.unit = c.unit;
     s.direction = c.direction;
     s.location = c.location;
-    s.samples.resize(static_cast<std::size_t>(c.length));
+    s.samples.resize(static_cast<std::size_t>(samples_within(c, t)));
     s.role = c.role;
     s.shaft = c.shaft;
     s.mesh = c.mesh;
@@ -939,6 +976,29 @@ Recording read_all(const RecordingReader& reader) {
 Recording read_recording(const std::filesystem::path& path) {
   RecordingReader reader(path);
   return reading(path.string(), [&] { return read_all(reader); });
+}
+
+Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits, bool* cut) {
+  RecordingReader reader(path);
+  return reading(path.string(), [&] {
+    const double t = excerpt_seconds(reader, limits);
+    if (cut) *cut = std::isfinite(t);
+    Recording rec = read_all(reader, t);
+    if (std::isfinite(t)) {
+      double whole = 0, kept = 0;
+      for (const ChannelInfo& c : reader.channels()) {
+        whole = std::max(whole, static_cast<double>(c.length) / c.fs_hz);
+        kept = std::max(kept, static_cast<double>(samples_within(c, t)) / c.fs_hz);
+      }
+      std::ostringstream note;
+      note << std::setprecision(4) << "long recording: the first " << kept << " s of " << whole
+           << " s analysed (kept in memory: at most " << limits.max_samples << " samples in all or "
+           << limits.kept_channel_samples << " per channel, never over "
+           << limits.max_channel_samples << " per channel)";
+      rec.notes.push_back(note.str());
+    }
+    return rec;
+  });
 }
 
 }  // namespace diag

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -46,6 +47,12 @@ enum class WindowSymmetry {
 // The window's n values. n >= 1 (throws diag::InputError "window: n: ..." otherwise).
 std::vector<double> make_window(WindowType type, std::size_t n,
                                 WindowSymmetry symmetry = WindowSymmetry::kPeriodic);
+
+// make_window's values, shared: the last few windows made are kept (a record's spectra are taken
+// window after window of the same length; computing the cosines was 6 % of analyze's CPU).
+// Thread-safe; the same values as make_window.
+std::shared_ptr<const std::vector<double>> shared_window(
+    WindowType type, std::size_t n, WindowSymmetry symmetry = WindowSymmetry::kPeriodic);
 
 // Coherent gain: mean(w) (the factor a bin-centred sine's DFT peak is multiplied by, over n/2).
 double coherent_gain(std::span<const double> w);

@@ -55,6 +55,24 @@ void write_recording(const std::filesystem::path& path, const Recording& rec,
 // non-HDF5 file, a file that is not a geardiag recording, or NaN/Inf samples.
 Recording read_recording(const std::filesystem::path& path);
 
+// A bound on the samples read_recording(path, limits) keeps in memory.
+struct ReadLimits {
+  std::uint64_t max_samples = UINT64_MAX;          // all channels together (tachos included) ...
+  std::uint64_t kept_channel_samples = 0;          // ... unless no channel is longer than this
+  std::uint64_t max_channel_samples = UINT64_MAX;  // any one channel, always
+};
+
+// The recording's first T seconds, every channel (tachos too) cut at its first
+// min(length, floor(T fs)) samples: T is the longest duration with no channel over
+// max_channel_samples and either at most max_samples in all or no channel over
+// kept_channel_samples (so that many short channels are not cut: memory then grows with the
+// channel count, not with the length), or the whole record when it fits (then the result equals
+// read_recording(path)). Memory is bounded by the limits whatever the file's length: the samples
+// are read by hyperslab (read_block), never the whole channel. When cut, rec.notes says so (the
+// excerpt's and the record's durations) and *cut (when given) is set.
+Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits,
+                         bool* cut = nullptr);
+
 struct ChannelInfo {
   std::string name;
   std::string group;  // "signals" or "tacho"

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Peak memory and CPU of `geardiag analyze` (the whole command) on long recordings: 10 s of the
+# two-stage box simulated at 20 kHz, 8 of its vibration channels and its input tacho tiled by
+# bench/make_long_recording.py (block by block) into recordings of 0.25 GB and 1 GB of vibration
+# samples, each analysed with /usr/bin/time -v. analyze reads the first part of a long recording
+# within its limits (--max-samples, hdf5.hpp ReadLimits): peak RSS must be < 256 MB and the same
+# at both lengths (flat in length). Not a CI test: it needs ~1.5 GB of disk and a few minutes. The
+# files are deleted on exit, also on failure or Ctrl-C.
+#
+# Usage: bench/analyze_memory.sh [BUILD_DIR]   (default build)
+set -euo pipefail
+dir=${1:-build}
+exe="$dir/geardiag"
+[[ -x "$exe" ]] || { echo "analyze_memory: $exe not built" >&2; exit 2; }
+here=$(cd "$(dirname "$0")" && pwd)
+tmpdir=$(mktemp -d "${TMPDIR:-/tmp}/geardiag_analyze_memory.XXXXXX")
+trap 'rm -rf "$tmpdir"' EXIT INT TERM
+free_kb=$(df -Pk "$tmpdir" | awk 'NR == 2 { print $4 }')
+if (( free_kb < 2 * 1024 * 1024 )); then
+  echo "analyze_memory: $tmpdir has $(( free_kb / 1024 )) MiB free, need 2048 MiB" >&2
+  exit 2
+fi
+peak() { sed -n 's/^[[:space:]]*Maximum resident set size (kbytes): //p' "$1"; }
+field() { sed -n "s/^[[:space:]]*$2: //p" "$1"; }
+"$exe" simulate --gearbox "$here/../testdata/gearbox/two_stage_17_44_21_50.json" --duration 10 \
+  --fs 20000 -o "$tmpdir/short.h5" > /dev/null
+log="$tmpdir/time.log"
+status=0
+for bytes in 2.5e8 1e9; do
+  file="$tmpdir/long.h5"
+  /usr/bin/python3 "$here/make_long_recording.py" "$tmpdir/short.h5" "$file" "$bytes"
+  /usr/bin/time -v "$exe" analyze "$file" --json "$tmpdir/r.json" \
+    > /dev/null 2> "$log"
+  rss_kb=$(peak "$log")
+  echo "analyze: peak RSS $(( rss_kb / 1024 )) MiB, user $(field "$log" 'User time (seconds)') s," \
+       "sys $(field "$log" 'System time (seconds)') s; $(grep -o 'the first [0-9.]* s of [0-9.]* s' "$tmpdir/r.json")"
+  if (( rss_kb * 1024 >= 256000000 )); then
+    echo "analyze_memory: peak RSS $(( rss_kb * 1024 / 1000000 )) MB is over the 256 MB target" >&2
+    status=1
+  fi
+  rm -f "$file"
+done
+exit $status
