@@ -14,5 +14,6 @@ int cmd_sweep(int argc, char** argv);
 int cmd_attribute(int argc, char** argv);
 int cmd_analyze(int argc, char** argv);
 int cmd_validate(int argc, char** argv);
+int cmd_bifurcation(int argc, char** argv);
 
 }  // namespace geardiag

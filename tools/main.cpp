@@ -27,6 +27,8 @@ const Command kCommands[] = {
     {"analyze", geardiag::cmd_analyze,
      "offline analysis of a recording: spectra, TSA, indicators, findings; JSON/HTML reports"},
     {"validate", geardiag::cmd_validate, "closed-loop validation of a detector on your gearbox"},
+    {"bifurcation", geardiag::cmd_bifurcation,
+     "face-gear pair: Poincare points and period class vs input speed"},
 };
 
 void print_usage(std::ostream& os) {

@@ -205,7 +205,7 @@ TEST(FaceGear, Rk4AndAdaptiveAgree) {
               range(b.dte), b.events);
   EXPECT_LT(diff, 1e-3 * range(b.dte));
   EXPECT_LT(diff4, 0.5 * diff);
-  EXPECT_EQ(fg::classify_period(a.poincare), fg::classify_period(b.poincare));
+  EXPECT_EQ(fg::classify_period(a), fg::classify_period(b));
 }
 
 // Seed result 1: at the rated point (4000 rpm, 300 N m) the response is period-1 without impact
@@ -213,7 +213,7 @@ TEST(FaceGear, Rk4AndAdaptiveAgree) {
 TEST(FaceGear, RatedPointIsPeriodOneWithoutImpact) {
   const fg::Description d = seed_pair();
   const fg::Trace tr = steady(d);
-  EXPECT_EQ(fg::classify_period(tr.poincare), "period-1");
+  EXPECT_EQ(fg::classify_period(tr), "period-1");
   EXPECT_EQ(fg::classify_impacts(tr.contact), fg::ImpactClass::kNoImpact);
   const double gmf = 4000.0 / 60 * 15;
   const auto spec = fg::amplitude_spectrum(tr.dte, 1.0 / tr.dt, 3.5 * gmf);
@@ -302,13 +302,13 @@ TEST(FaceGear, PeriodClassification) {
     pn.push_back(i % 3);
     chaos.push_back(std::sin(1.0 + i * i * 0.37));
   }
-  EXPECT_EQ(fg::classify_period(p1), "period-1");
-  EXPECT_EQ(fg::classify_period(p2), "period-2");
-  EXPECT_EQ(fg::classify_period(pn), "period-n");
-  EXPECT_EQ(fg::classify_period(chaos), "chaos");
-  EXPECT_EQ(fg::classify_impacts({1, 1, 1}), fg::ImpactClass::kNoImpact);
-  EXPECT_EQ(fg::classify_impacts({1, 0, 1}), fg::ImpactClass::kSingleSided);
-  EXPECT_EQ(fg::classify_impacts({1, 0, -1}), fg::ImpactClass::kDoubleSided);
+  EXPECT_EQ(fg::classify_period(p1, 1.0), "period-1");
+  EXPECT_EQ(fg::classify_period(p2, 1.0), "period-2");
+  EXPECT_EQ(fg::classify_period(pn, 1.0), "period-n");
+  EXPECT_EQ(fg::classify_period(chaos, 1.0), "chaos");
+  EXPECT_EQ(fg::classify_impacts(std::vector<int>{1, 1, 1}), fg::ImpactClass::kNoImpact);
+  EXPECT_EQ(fg::classify_impacts(std::vector<int>{1, 0, 1}), fg::ImpactClass::kSingleSided);
+  EXPECT_EQ(fg::classify_impacts(std::vector<int>{1, 0, -1}), fg::ImpactClass::kDoubleSided);
 }
 
 namespace {

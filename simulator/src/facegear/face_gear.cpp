@@ -325,7 +325,7 @@ Trace run(const Model& model, const RunOptions& opt) {
   const int n = opt.steps_per_period;
   const double h = t_mesh / n;
   tr.dt = h * opt.decimation;
-  std::array<double, 4> ys = model.initial_state();
+  std::array<double, 4> ys = opt.has_start ? opt.start : model.initial_state();
   double* y = ys.data();
   std::unique_ptr<AdaptiveStepper> adaptive;
   if (opt.integrator == Integrator::kAdaptive) {
@@ -352,6 +352,10 @@ Trace run(const Model& model, const RunOptions& opt) {
       tr.max_abs_mesh_torque = std::max(tr.max_abs_mesh_torque, std::abs(m.torque));
       if (opt.integrator == Integrator::kRk4 && m.contact != last) ++tr.events;
       last = m.contact;
+      ++tr.contact_steps[static_cast<int>(m.contact) + 1];
+      if (i == first_recorded) tr.dte_min = tr.dte_max = y[2];
+      tr.dte_min = std::min(tr.dte_min, y[2]);
+      tr.dte_max = std::max(tr.dte_max, y[2]);
       if (opt.keep_trace && (i - first_recorded) % opt.decimation == 0) {
         tr.t.push_back(ti);
         tr.dte.push_back(y[2]);
@@ -375,6 +379,7 @@ Trace run(const Model& model, const RunOptions& opt) {
           "face-gear simulation diverged (check the stiffness tables, inertias and damping)");
     }
   }
+  tr.final_state = ys;
   return tr;
 }
 
@@ -402,26 +407,23 @@ const char* to_string(ImpactClass c) {
 }
 
 ImpactClass classify_impacts(const std::vector<int>& contact) {
-  bool free = false, coast = false;
+  std::array<long, 3> n{};
   for (int c : contact) {
-    free |= c == static_cast<int>(Contact::kFree);
-    coast |= c == static_cast<int>(Contact::kCoast);
+    if (c >= -1 && c <= 1) ++n[c + 1];
   }
-  if (coast && std::count(contact.begin(), contact.end(), static_cast<int>(Contact::kDrive)) > 0) {
-    return ImpactClass::kDoubleSided;
-  }
-  return (free || coast) ? ImpactClass::kSingleSided : ImpactClass::kNoImpact;
+  return classify_impacts(n);
 }
 
-int poincare_period(const std::vector<double>& p, double rel_tol, int max_period) {
+ImpactClass classify_impacts(const std::array<long, 3>& n) {
+  if (n[0] > 0 && n[2] > 0) return ImpactClass::kDoubleSided;
+  return (n[0] > 0 || n[1] > 0) ? ImpactClass::kSingleSided : ImpactClass::kNoImpact;
+}
+
+int poincare_period(const std::vector<double>& p, double scale, double rel_tol, int max_period) {
   if (p.size() < static_cast<std::size_t>(2 * max_period + 2)) {
     throw diag::InputError("poincare_period: needs at least 2 max_period + 2 points");
   }
-  const auto [lo, hi] = std::minmax_element(p.begin(), p.end());
-  double mean = 0.0;
-  for (double v : p) mean += v;
-  mean /= static_cast<double>(p.size());
-  const double tol = rel_tol * ((*hi - *lo) + std::abs(mean));
+  const double tol = rel_tol * scale;
   for (int n = 1; n <= max_period; ++n) {
     bool ok = true;
     for (std::size_t i = 0; i + n < p.size() && ok; ++i) ok = std::abs(p[i] - p[i + n]) <= tol;
@@ -430,11 +432,15 @@ int poincare_period(const std::vector<double>& p, double rel_tol, int max_period
   return 0;
 }
 
-std::string classify_period(const std::vector<double>& points) {
-  const int n = poincare_period(points);
+std::string classify_period(const std::vector<double>& points, double scale) {
+  const int n = poincare_period(points, scale);
   if (n == 0) return "chaos";
   if (n <= 2) return "period-" + std::to_string(n);
   return "period-n";
+}
+
+std::string classify_period(const Trace& trace) {
+  return classify_period(trace.poincare, trace.dte_max - trace.dte_min);
 }
 
 double amplitude_at(const std::vector<double>& x, double fs, double f) {

@@ -157,6 +157,10 @@ struct Trace {
   std::vector<double> poincare;  // DTE once per mesh period (at the start of each period)
   double max_abs_mesh_torque = 0.0;
   int events = 0;  // contact switches located (adaptive integrator) or seen (RK4)
+  // Recorded steps in each contact state, indexed by Contact + 1 (coast, free, drive).
+  std::array<long, 3> contact_steps{};
+  std::array<double, 4> final_state{};  // y at the end (to continue a sweep)
+  double dte_min = 0.0, dte_max = 0.0;  // over the recorded steps
 };
 
 enum class Integrator { kRk4, kAdaptive };
@@ -169,6 +173,8 @@ struct RunOptions {
   int decimation = 1;           // keep every n-th step in the trace (Poincare is per period)
   bool keep_trace = true;       // false: only Poincare points and the maxima
   double rel_tol = 1e-9, abs_tol = 1e-12;  // adaptive integrator tolerances
+  bool has_start = false;                  // start from `start` instead of static equilibrium
+  std::array<double, 4> start{};
   void validate() const;
 };
 
@@ -186,12 +192,20 @@ void rk4_step(const Model& model, double t, double h, double* y);
 enum class ImpactClass { kNoImpact, kSingleSided, kDoubleSided };
 const char* to_string(ImpactClass c);
 ImpactClass classify_impacts(const std::vector<int>& contact);
+// From the step counts of Trace::contact_steps: coast and drive both touched -> double-sided; free
+// flight or coast contact alone -> single-sided; drive only -> no impact.
+ImpactClass classify_impacts(const std::array<long, 3>& contact_steps);
 
 // Period of a Poincare sequence: the smallest n <= max_period with |p_i - p_{i+n}| <= tol for
-// all i, tol = rel_tol * (spread of the sequence + |mean|) . 0 when none (chaos or quasi-period).
-int poincare_period(const std::vector<double>& points, double rel_tol = 1e-4, int max_period = 8);
+// all i, tol = rel_tol * scale, scale the DTE's peak-to-peak over the same window (the dynamic
+// amplitude: the numerical jitter of the points, ~1e-4 of it where the table's kinks fall between
+// RK4 stages, stays below; a period-2 split is a sizeable share of it). 0 when none (chaos or
+// quasi-periodic motion; the two are not told apart).
+int poincare_period(const std::vector<double>& points, double scale, double rel_tol = 1e-3,
+                    int max_period = 8);
 // "period-1", "period-2", "period-n" (3..max_period), "chaos" (no period found).
-std::string classify_period(const std::vector<double>& points);
+std::string classify_period(const std::vector<double>& points, double scale);
+std::string classify_period(const Trace& trace);  // scale = trace.dte_max - trace.dte_min
 
 // Single-sided amplitude spectrum of x at frequencies k fs / N (naive DFT up to f_max, the mean
 // removed); returns pairs (f, amplitude).
