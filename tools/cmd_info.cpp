@@ -17,6 +17,7 @@
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
 #include "diag/io/json_fields.hpp"
+#include "facegear_cmd.hpp"
 #include "output.hpp"
 
 namespace geardiag {
@@ -80,6 +81,8 @@ double duration_s(const diag::ChannelInfo& c) {
 
 std::optional<diag::Gearbox> gearbox_of(const Description& d) {
   if (d.gearbox_json.empty()) return std::nullopt;
+  // A face-gear pair recording: its description is shown through the truth (model, DLF, ...).
+  if (is_face_gear_text(d.gearbox_json, d.file + ": /gearbox")) return std::nullopt;
   return diag::parse_gearbox_text(d.gearbox_json, d.file + ": /gearbox");
 }
 
@@ -197,6 +200,7 @@ int cmd_info(int argc, char** argv) {
 
   if (!gearbox.empty()) {
     if (!file.empty()) throw po::error("give either FILE or --gearbox, not both");
+    if (is_face_gear_description(gearbox)) return info_face_gear(gearbox, json);
     const diag::Gearbox gb = diag::load_gearbox(gearbox);
     print_warnings(gb.warnings(), "info");
     if (json) {

@@ -11,6 +11,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/units.hpp"
+#include "facegear_cmd.hpp"
 #include "output.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
@@ -122,6 +123,11 @@ int cmd_simulate(int argc, char** argv) {
       std::filesystem::path(output).extension() != ".h5") {
     throw diag::InputError("--output: '" + output +
                            "': the dynamic mode writes an HDF5 recording (.h5)");
+  }
+  if (is_face_gear_description(gearbox)) {
+    return simulate_face_gear({gearbox, output, scenario, vm.count("duration") ? duration_s : 1.0,
+                               vm.count("fs") ? fs_hz : 20000.0, vm.count("rpm") ? rpm : 0.0,
+                               vm.count("torque") ? torque : -1.0});
   }
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
   print_warnings(gb.warnings(), "simulate");

@@ -10,6 +10,7 @@
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "facegear_cmd.hpp"
 #include "output.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/sweep.hpp"
@@ -51,6 +52,9 @@ int cmd_sweep(int argc, char** argv) {
   sw.down = down;
   // Checked before the sweep; with "-" the JSON goes to stdout and the tables to stderr.
   const CoutToStderr tables_to_stderr(!json_out.empty() && check_output(json_out, "--json"));
+  if (is_face_gear_description(gearbox)) {
+    return sweep_face_gear({gearbox, scenario, json_out, sw.from_rpm, sw.to_rpm, sw.steps, down});
+  }
   const diag::Gearbox gb = diag::load_gearbox(gearbox);
   sim::Scenario sc;
   if (!scenario.empty()) sc = sim::load_scenario(scenario);

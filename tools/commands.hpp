@@ -18,5 +18,6 @@ int cmd_profile(int argc, char** argv);
 int cmd_wear(int argc, char** argv);
 int cmd_dataset(int argc, char** argv);
 int cmd_batch(int argc, char** argv);
+int cmd_bifurcation(int argc, char** argv);
 
 }  // namespace geardiag

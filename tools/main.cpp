@@ -34,6 +34,8 @@ const Command kCommands[] = {
      "labelled synthetic dataset from a spec: reproducible, resumable, all cores, MPI"},
     {"batch", geardiag::cmd_batch,
      "analyze many recordings into one table and a trend (all cores, MPI)"},
+    {"bifurcation", geardiag::cmd_bifurcation,
+     "face-gear pair: Poincare points and period class vs input speed"},
 };
 
 void print_usage(std::ostream& os) {

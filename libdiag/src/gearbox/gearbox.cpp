@@ -128,6 +128,14 @@ std::vector<int> Gearbox::gears_sharing_shaft(int gear) const {
 
 Gearbox parse_gearbox(const json& j, const std::string& where) {
   Gearbox gb;
+  // A face-gear pair (seed 002) is its own description type, handled by the simulator's
+  // sim/facegear/description.hpp; the commands that need shafts, gears and meshes refuse it here.
+  if (j.is_object() && j.contains("face_gear_pair")) {
+    throw InputError(format_error(where, "face_gear_pair",
+                                  "a face-gear pair description: geardiag info, simulate, sweep "
+                                  "and bifurcation take it; this command needs a gearbox of "
+                                  "shafts, gears and meshes"));
+  }
   Fields top(
       j, where, "",
       {"name", "shafts", "gears", "meshes", "input", "output", "bearings", "sensors", "defects"});
