@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "channel_options.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/curves.hpp"
@@ -122,12 +123,7 @@ int cmd_analyze(int argc, char** argv) {
   po::positional_options_description pos;
   pos.add("recording", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).positional(pos).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm, &pos)) return 0;
   if (vm.count("fs") && !(fs_hz > 0 && std::isfinite(fs_hz))) {
     throw diag::InputError("--fs: " + std::to_string(fs_hz) + " is not a sampling rate > 0 Hz");
   }

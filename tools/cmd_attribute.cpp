@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "detect/attribution/period_matcher.hpp"
 #include "diag/error.hpp"
@@ -96,12 +97,7 @@ int cmd_attribute(int argc, char** argv) {
   po::positional_options_description pos;
   pos.add("recording", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).positional(pos).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm, &pos)) return 0;
   // Checked before the work; with "-" the JSON goes to stdout and the table to stderr.
   const CoutToStderr table_to_stderr(!json_out.empty() && check_output(json_out, "--json"));
 

@@ -19,6 +19,7 @@
 
 #include "batch_analysis.hpp"
 #include "channel_options.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/svg_plot.hpp"
@@ -270,12 +271,7 @@ int cmd_batch(int argc, char** argv) {
   po::positional_options_description pos;
   pos.add("files", -1);
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).positional(pos).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm, &pos)) return 0;
   MpiWorld world(&argc, &argv);
   jobs = resolve_jobs(jobs);
   if (!list.empty()) {

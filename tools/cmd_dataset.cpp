@@ -26,6 +26,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "dataset_spec.hpp"
 #include "diag/error.hpp"
@@ -232,12 +233,7 @@ int cmd_dataset(int argc, char** argv) {
   po::positional_options_description pos;
   pos.add("spec", 1);
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).positional(pos).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm, &pos)) return 0;
   MpiWorld world(&argc, &argv);
   jobs = resolve_jobs(jobs);
   // Every rank reads and checks the spec (the same file, the same verdict): nothing is written

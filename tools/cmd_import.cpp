@@ -8,6 +8,7 @@
 #include <string>
 
 #include "channel_options.hpp"
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -83,12 +84,7 @@ int cmd_import(int argc, char** argv) {
   positional.add("input", 1);
 
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-  if (vm.count("help")) {
-    std::cout << visible << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, all, vm, &positional, &visible)) return 0;
   if (input.empty()) throw po::error("missing INPUT file");
   if (output.empty()) throw po::error("missing -o OUTPUT.h5");
 

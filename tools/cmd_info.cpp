@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -190,12 +191,7 @@ int cmd_info(int argc, char** argv) {
   positional.add("file", 1);
 
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(all).positional(positional).run(), vm);
-  if (vm.count("help")) {
-    std::cout << visible << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, all, vm, &positional, &visible)) return 0;
   const bool json = vm.count("json") > 0;
 
   if (!gearbox.empty()) {

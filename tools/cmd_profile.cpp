@@ -5,6 +5,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -94,12 +95,7 @@ int cmd_profile(int argc, char** argv) {
                                                               "tooth index, 0 .. z - 1")(
       "output,o", po::value(&out)->required(), "output file: .csv or .svg ('-': CSV to stdout)");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   const bool svg = out.size() > 4 && out.substr(out.size() - 4) == ".svg";
   const bool to_stdout = check_output(out, "--output");
   const diag::Gearbox gb = diag::load_gearbox(gearbox);

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -102,12 +103,7 @@ int cmd_simulate(int argc, char** argv) {
       "kinematic: encoder counts per revolution for both angles (0 = no quantisation)")(
       "seed", po::value(&k.seed)->default_value(k.seed), "random seed");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   // Checked before the simulation; with "-" the recording goes to stdout and the summary to
   // stderr.
   const diag::OutputTarget target = diag::check_output_path(output, "--output");

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -43,12 +44,7 @@ int cmd_sweep(int argc, char** argv) {
       "channel", po::value(&sw.channels)->multitoken(), "channel(s) to report")(
       "json", po::value(&json_out), "write the sweep as JSON ('-': stdout, the tables to stderr)");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   sw.down = down;
   // Checked before the sweep; with "-" the JSON goes to stdout and the tables to stderr.
   const CoutToStderr tables_to_stderr(!json_out.empty() && check_output(json_out, "--json"));

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <string>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -60,12 +61,7 @@ int cmd_validate(int argc, char** argv) {
       "ladder-cases", po::value(&ladder_cases)->default_value(ladder_cases),
       "single-defect cases per size when searching the smallest reliable size (0 = skip)");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   if (!vm.count("attribution"))
     throw diag::InputError("say what to validate: --attribution, --gear-damage or --bearings");
   if (opt.cases < 1) throw diag::InputError("--cases: must be >= 1");

@@ -4,6 +4,7 @@
 #include <iomanip>
 #include <iostream>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -83,12 +84,7 @@ int cmd_wear(int argc, char** argv) {
       "profile-points", po::value(&o.profile_points)->default_value(o.profile_points),
       "points on each active flank")("output,o", po::value(&out)->required(), "output HDF5 file");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   if (law == "archard") {
     o.law = sim::WearLaw::kArchard;
   } else if (law == "seed004") {

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "cli_options.hpp"
 #include "commands.hpp"
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
@@ -277,12 +278,7 @@ int cmd_bifurcation(int argc, char** argv) {
       "json", po::value(&json_out)->required(), "output JSON ('-': stdout)")(
       "svg", po::value(&svg_out), "output SVG plot");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   const CoutToStderr summary_to_stderr(check_output(json_out, "--json"));
   if (!svg_out.empty()) check_output(svg_out, "--svg");
   opt.validate();

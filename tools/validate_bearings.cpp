@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "cli_options.hpp"
 #include "diag/error.hpp"
 #include "validate/bearing_loop.hpp"
 
@@ -59,12 +60,7 @@ int cmd_validate_bearings(int argc, char** argv) {
       "seed", po::value(&opt.first_seed)->default_value(opt.first_seed), "first seed")(
       "duration", po::value(&opt.duration_s)->default_value(opt.duration_s), "record length [s]");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   opt.shaft_hz = parse_list(speeds, "speeds");
   opt.sizes = parse_list(sizes, "sizes");
   opt.snr_db = parse_list(snrs, "snr");

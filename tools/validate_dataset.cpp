@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "batch_analysis.hpp"
+#include "cli_options.hpp"
 #include "detect/analysis/svg_plot.hpp"
 #include "diag/error.hpp"
 #include "output.hpp"
@@ -116,12 +117,7 @@ int validate_dataset(int argc, char** argv) {
                                                           "the report as HTML")(
       "jobs,j", po::value(&jobs)->default_value(0), "worker threads; 0 = every core");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   jobs = resolve_jobs(jobs);
   if (!json_out.empty()) check_output(json_out, "--json");
   if (!html_out.empty()) check_output(html_out, "--html");

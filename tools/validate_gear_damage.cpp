@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_options.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "validate/gear_damage_loop.hpp"
@@ -48,12 +49,7 @@ int validate_gear_damage(int argc, char** argv) {
       "baseline", po::bool_switch(&opt.baseline),
       "compare each case with a healthy baseline of the same gears (NA4-style)");
   po::variables_map vm;
-  po::store(po::command_line_parser(argc, argv).options(desc).run(), vm);
-  if (vm.count("help")) {
-    std::cout << desc << "\n";
-    return 0;
-  }
-  po::notify(vm);
+  if (!parse_options(argc, argv, desc, vm)) return 0;
   opt.min_runout_m = min_runout_um * 1e-6;
   opt.max_runout_m = max_runout_um * 1e-6;
   opt.validate();
