@@ -110,7 +110,9 @@ int cmd_demo(int argc, char** argv) {
       << d.channels.size() << " channels, RK4 step " << d.step_s * 1e6 << " us\n\n";
   const diag::Recording rec = sim::to_recording(gb, d);
   detect::AnalyzeOptions aopt;
-  const detect::AnalysisResult a2 = detect::analyze_recording(rec, &gb, aopt);
+  // The description at the speed the run was made at (the recording says it), as analyze does.
+  const diag::Gearbox at_speed = gb.with_input_speed_rpm(rec.speed_rpm);
+  const detect::AnalysisResult a2 = detect::analyze_recording(rec, &at_speed, aopt);
   std::cout << detect::format_summary(a2);
   // Which shaft carries the damaged gear: analyze's damaged-shaft locator (TSA per shaft,
   // validated in the closed loop), against the truth.

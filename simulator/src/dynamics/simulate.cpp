@@ -646,6 +646,12 @@ diag::Recording to_recording(const diag::Gearbox& gb, const DynamicResult& r) {
   rec.gearbox_json = gb.description_json();
   rec.truth_json = r.truth.dump();
   rec.metadata["simulator"] = "dynamic";
+  // The speed the run was made at, as a measured file records its own: the description's
+  // input.speed_rpm is only its nominal (simulate --rpm or a scenario's speed replace it). A
+  // varying speed has no one value: the tachos carry it.
+  const double lo = r.truth.value("input_speed_rpm_min", 0.0);
+  const double hi = r.truth.value("input_speed_rpm_max", 0.0);
+  if (lo > 0 && lo == hi) rec.speed_rpm = lo;
   return rec;
 }
 
