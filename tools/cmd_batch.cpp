@@ -5,15 +5,17 @@
 // 0 gathers the rows and writes the table in the order the files were given. A file that cannot
 // be read or analysed is a row with its error, never the end of the batch.
 #include <boost/program_options.hpp>
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <regex>
 #include <set>
 #include <sstream>
 
@@ -42,22 +44,57 @@ using nlohmann::json;
 // safest with no other thread inside the library.
 std::mutex read_mutex;
 
+// The date-time in a file name: at some position, digits and optional separators in the order
+// YYYY [-] MM [-] DD [T_ -] hh [:-] mm [:-] ss (2024-03-01_12-30-00, 20240301T123000, ...).
+// Written out rather than as a std::regex: GCC 12's <regex> trips -Wmaybe-uninitialized under
+// the sanitizers. Returns the six fields, or an empty vector.
+struct DateTimePart {
+  int digits;
+  const char* separators;  // an optional separator before the part ("" for none)
+};
+constexpr DateTimePart kDateTimeParts[] = {{4, ""},     {2, "-"},  {2, "-"},
+                                           {2, "T_ -"}, {2, ":-"}, {2, ":-"}};
+
+std::vector<std::string> date_time_in(const std::string& name) {
+  // Parts k.. from position i; the optional separators tried taken first, then skipped (as a
+  // greedy regex would).
+  std::vector<std::string> fields;
+  auto match = [&](auto&& self, std::size_t k, std::size_t i) -> bool {
+    if (k == std::size(kDateTimeParts)) return true;
+    const DateTimePart& part = kDateTimeParts[k];
+    auto digits_at = [&](std::size_t j) {
+      if (j + part.digits > name.size()) return false;
+      for (int d = 0; d < part.digits; ++d) {
+        if (!std::isdigit(static_cast<unsigned char>(name[j + d]))) return false;
+      }
+      fields.push_back(name.substr(j, part.digits));
+      if (self(self, k + 1, j + part.digits)) return true;
+      fields.pop_back();
+      return false;
+    };
+    if (i < name.size() && *part.separators && std::strchr(part.separators, name[i]) &&
+        digits_at(i + 1)) {
+      return true;
+    }
+    return digits_at(i);
+  };
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    fields.clear();
+    if (match(match, 0, i)) return fields;
+  }
+  return {};
+}
+
 // "YYYY-MM-DDTHH:MM:SS" from the file's metadata (timestamp, time, start_time, recorded_at,
-// date), else from its name (2024-03-01_12-30-00, 20240301T123000, ...); empty when neither says.
+// date), else from its name (date_time_in); empty when neither says.
 std::string time_stamp(const diag::Recording& rec, const std::string& file) {
   for (const char* key : {"timestamp", "time", "start_time", "recorded_at", "date"}) {
     const auto it = rec.metadata.find(key);
     if (it != rec.metadata.end() && !it->second.empty()) return it->second;
   }
-  static const std::regex stamp(
-      R"((\d{4})-?(\d{2})-?(\d{2})[T_ -]?(\d{2})[:\-]?(\d{2})[:\-]?(\d{2}))");
-  std::smatch m;
-  const std::string name = fs::path(file).filename().string();
-  if (std::regex_search(name, m, stamp)) {
-    return m[1].str() + "-" + m[2].str() + "-" + m[3].str() + "T" + m[4].str() + ":" + m[5].str() +
-           ":" + m[6].str();
-  }
-  return "";
+  const std::vector<std::string> m = date_time_in(fs::path(file).filename().string());
+  if (m.size() != 6) return "";
+  return m[0] + "-" + m[1] + "-" + m[2] + "T" + m[3] + ":" + m[4] + ":" + m[5];
 }
 
 std::string short_findings(const detect::AnalysisResult& r) {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cli_run.hpp"
@@ -243,6 +244,35 @@ namespace {
 // geardiag batch over the reference dataset, a missing file among them: one row per file in the
 // order given, the missing one a row with its error; the two healthy recordings are the
 // baseline. Under mpirun -np 2 the table is the same bytes.
+// The time column from a date-time in the file's name, in the forms a logger writes
+// (separated or compact); none in the name and none in the metadata: empty.
+TEST(BatchCli, TheTimeStampComesFromTheFileName) {
+  const fs::path src = scratch("stamp_source.h5");
+  const auto s = run("simulate --gearbox " +
+                     (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json").string() +
+                     " --rpm 1500 --duration 0.3 --fs 10000 -o " + src.string());
+  ASSERT_EQ(s.code, 0) << s.out;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"pump_2024-03-01_12-30-00.h5", "2024-03-01T12:30:00"},
+      {"rig20240301T123005x.h5", "2024-03-01T12:30:05"},
+      {"run_7_of_12.h5", ""}};
+  std::string args;
+  for (const auto& [name, stamp] : cases) {
+    fs::copy_file(src, scratch(name), fs::copy_options::overwrite_existing);
+    args += " " + scratch(name).string();
+  }
+  const fs::path table = scratch("stamps.csv");
+  const auto r = run("batch" + args + " -o " + table.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::istringstream csv(slurp(table));
+  std::string line;
+  std::getline(csv, line);  // header
+  for (const auto& [name, stamp] : cases) {
+    ASSERT_TRUE(std::getline(csv, line));
+    EXPECT_NE(line.find(name + "," + stamp + ",ok,"), std::string::npos) << line.substr(0, 200);
+  }
+}
+
 TEST(BatchCli, OneRowPerFileAFailedFileIsARowAndMpiGivesTheSameTable) {
   const fs::path ref = reference();
   // Two healthy 0.5 s recordings of the same gearbox and channels: the baseline, and the first
