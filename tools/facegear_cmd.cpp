@@ -104,6 +104,8 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
   };
   std::vector<double> contact(tr.contact.begin(), tr.contact.end());
   add("dte", "rad", diag::Role::kAngle, diag::Direction::kAngle, "", tr.dte);
+  // Its rate: (dte, dte_rate) is the phase portrait.
+  add("dte_rate", "rad/s", diag::Role::kSpeed, diag::Direction::kUnspecified, "", tr.dte_rate);
   add("mesh_torque", "N m", diag::Role::kOther, diag::Direction::kUnspecified, "", tr.mesh_torque);
   add("mesh_stiffness", "N m/rad", diag::Role::kOther, diag::Direction::kUnspecified, "",
       tr.stiffness);

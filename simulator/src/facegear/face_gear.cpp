@@ -337,7 +337,8 @@ Trace run(const Model& model, const RunOptions& opt) {
   const long first_recorded = static_cast<long>(opt.transient_periods) * n;
   if (opt.keep_trace) {
     const std::size_t cap = static_cast<std::size_t>(opt.record_periods) * n / opt.decimation + 1;
-    for (auto* v : {&tr.t, &tr.dte, &tr.mesh_torque, &tr.stiffness, &tr.theta_p, &tr.theta_g}) {
+    for (auto* v :
+         {&tr.t, &tr.dte, &tr.mesh_torque, &tr.stiffness, &tr.theta_p, &tr.theta_g, &tr.dte_rate}) {
       v->reserve(cap);
     }
     tr.contact.reserve(cap);
@@ -359,6 +360,7 @@ Trace run(const Model& model, const RunOptions& opt) {
       if (opt.keep_trace && (i - first_recorded) % opt.decimation == 0) {
         tr.t.push_back(ti);
         tr.dte.push_back(y[2]);
+        tr.dte_rate.push_back(y[3] - r * y[1]);
         tr.mesh_torque.push_back(m.torque);
         tr.stiffness.push_back(m.k);
         tr.theta_p.push_back(y[0]);

@@ -153,6 +153,8 @@ class Model {
 struct Trace {
   double dt = 0.0;
   std::vector<double> t, dte, mesh_torque, stiffness, theta_p, theta_g;
+  std::vector<double>
+      dte_rate;  // d(DTE)/dt = omega_g - r omega_p [rad/s]: with dte, the phase portrait
   std::vector<int> contact;
   std::vector<double> poincare;  // DTE once per mesh period (at the start of each period)
   double max_abs_mesh_torque = 0.0;
