@@ -16,9 +16,11 @@ struct FileAnalysis {
   detect::AnalysisResult result;
 };
 
-// The gearbox is `gearbox`, else the file's /gearbox, at the speed the data says. Reading is
-// serialised (HDF5); the analysis is not. Throws diag::InputError naming the file.
-FileAnalysis analyse_file(const std::string& file, const std::optional<diag::Gearbox>& gearbox,
-                          const ChannelOptions& channels, std::optional<double> fs);
+// `recording` (read from `file` by the caller: load_recording, recording_input.hpp, on a thread
+// of its own, parallel.hpp's run_in_rounds) analysed. The gearbox is `gearbox`, else the file's
+// /gearbox, at the speed the data says. Throws diag::InputError naming the file.
+FileAnalysis analyse_file(diag::Recording recording, const std::string& file,
+                          const std::optional<diag::Gearbox>& gearbox,
+                          const ChannelOptions& channels);
 
 }  // namespace geardiag

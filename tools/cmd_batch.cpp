@@ -13,7 +13,6 @@
 #include <iostream>
 #include <iterator>
 #include <map>
-#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -39,10 +38,6 @@ namespace geardiag {
 namespace {
 
 using nlohmann::json;
-
-// Reading goes one file at a time: the HDF5 reader forks a child to survey each file, which is
-// safest with no other thread inside the library.
-std::mutex read_mutex;
 
 // The date-time in a file name: at some position, digits and optional separators in the order
 // YYYY [-] MM [-] DD [T_ -] hh [:-] mm [:-] ss (2024-03-01_12-30-00, 20240301T123000, ...).
@@ -121,10 +116,27 @@ struct Inputs {
 };
 
 // One recording's row: file, time, speed, findings, baseline score, and every feature.
-json analyse(const std::string& file, const Inputs& in) {
+// One file as read (ahead, on the main thread: run_in_rounds): its recording, or why not.
+struct Read {
+  std::optional<diag::Recording> recording;
+  std::string error;
+};
+
+Read read_file(const std::string& file, const Inputs& in) {
+  Read r;
+  try {
+    r.recording = load_recording(file, in.fs);
+  } catch (const std::exception& e) {
+    r.error = e.what();
+  }
+  return r;
+}
+
+json analyse(const std::string& file, Read read, const Inputs& in) {
   json row = {{"file", file}, {"status", "ok"}};
   try {
-    const FileAnalysis a = analyse_file(file, in.gearbox, in.channels, in.fs);
+    if (!read.recording) throw diag::InputError(read.error);
+    const FileAnalysis a = analyse_file(std::move(*read.recording), file, in.gearbox, in.channels);
     const detect::AnalysisResult& r = a.result;
     row["time"] = time_stamp(a.recording, file);
     if (r.speed.mean_rpm > 0) row["speed_rpm"] = r.speed.mean_rpm;
@@ -257,13 +269,11 @@ std::vector<std::string> read_list(const std::string& list) {
 
 }  // namespace
 
-FileAnalysis analyse_file(const std::string& file, const std::optional<diag::Gearbox>& gearbox,
-                          const ChannelOptions& channels, std::optional<double> fs) {
+FileAnalysis analyse_file(diag::Recording recording, const std::string& file,
+                          const std::optional<diag::Gearbox>& gearbox,
+                          const ChannelOptions& channels) {
   FileAnalysis a;
-  {
-    const std::lock_guard<std::mutex> lock(read_mutex);
-    a.recording = load_recording(file, fs);
-  }
+  a.recording = std::move(recording);
   std::optional<diag::Gearbox> gb = gearbox;
   if (!gb && !a.recording.gearbox_json.empty()) {
     gb = diag::parse_gearbox_text(a.recording.gearbox_json, file + ": /gearbox");
@@ -341,10 +351,14 @@ int cmd_batch(int argc, char** argv) {
   }
   std::vector<json> rows(mine.size());
   Progress progress("batch", mine.size(), world.root());
-  run_on_threads(mine.size(), jobs, [&](std::size_t i) {
-    rows[i] = analyse(files[mine[i]], in);
-    progress.tick();
-  });
+  std::vector<Read> read(mine.size());
+  run_in_rounds(
+      mine.size(), jobs, [&](std::size_t i) { read[i] = read_file(files[mine[i]], in); },
+      [&](std::size_t i) {
+        rows[i] = analyse(files[mine[i]], std::move(read[i]), in);
+        read[i] = {};
+        progress.tick();
+      });
   progress.finish();
   json part = json::array();
   for (std::size_t i = 0; i < mine.size(); ++i) part.push_back({mine[i], rows[i]});

@@ -178,6 +178,16 @@ void run_on_threads(std::size_t items, int jobs, const std::function<void(std::s
   if (error) std::rethrow_exception(error);
 }
 
+void run_in_rounds(std::size_t items, int jobs, const std::function<void(std::size_t)>& serial,
+                   const std::function<void(std::size_t)>& task) {
+  const std::size_t round = static_cast<std::size_t>(std::max(1, jobs));
+  for (std::size_t first = 0; first < items; first += round) {
+    const std::size_t n = std::min(round, items - first);
+    for (std::size_t j = 0; j < n; ++j) serial(first + j);
+    run_on_threads(n, jobs, [&](std::size_t j) { task(first + j); });
+  }
+}
+
 Progress::Progress(std::string what, std::size_t total, bool enabled)
     : what_(std::move(what)),
       total_(total),

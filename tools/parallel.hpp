@@ -61,6 +61,15 @@ int resolve_jobs(int jobs);
 // first uncaught one is rethrown here after every worker stopped).
 void run_on_threads(std::size_t items, int jobs, const std::function<void(std::size_t)>& task);
 
+// As run_on_threads, in rounds of `jobs` items: serial(i) for each item of a round on the calling
+// thread while no worker thread exists, then task(i) for them on the threads. For work that must
+// run with one thread alive: the HDF5 reader forks a survey child (diag/io/hdf5), and a fork while
+// another thread holds a lock (an allocator's, a library's) can deadlock the child (GCC 12's
+// AddressSanitizer allocator did, in `batch` under ASan). serial must not throw (keep its errors
+// for task).
+void run_in_rounds(std::size_t items, int jobs, const std::function<void(std::size_t)>& serial,
+                   const std::function<void(std::size_t)>& task);
+
 // A progress line on stderr when it is a terminal: "<what> 12/100, 3.4/s, 0:26 left". Silent
 // when stderr is piped or redirected, and on every rank but 0. Thread-safe.
 class Progress {

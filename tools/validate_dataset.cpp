@@ -15,8 +15,10 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "batch_analysis.hpp"
 #include "cli_options.hpp"
@@ -24,6 +26,7 @@
 #include "diag/error.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
+#include "recording_input.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -139,29 +142,46 @@ int validate_dataset(int argc, char** argv) {
   }
   if (rows.empty()) throw diag::InputError(manifest.string() + ": no recordings");
   Progress progress("validate", rows.size(), true);
-  run_on_threads(rows.size(), jobs, [&](std::size_t i) {
-    json& r = rows[i];
-    std::string named = "none";
-    try {
-      const FileAnalysis a = analyse_file((fs::path(dir) / r["file"].get<std::string>()).string(),
-                                          std::nullopt, {}, std::nullopt);
-      for (const auto& f : a.result.findings) {
-        if (f.kind == "gear_damage") {
-          named = f.shaft;
-          break;
+  // Each file read on the main thread (run_in_rounds: the HDF5 reader forks), analysed on a
+  // worker.
+  std::vector<std::optional<diag::Recording>> read(rows.size());
+  std::vector<std::string> read_error(rows.size());
+  auto path_of = [&](std::size_t i) {
+    return (fs::path(dir) / rows[i]["file"].get<std::string>()).string();
+  };
+  run_in_rounds(
+      rows.size(), jobs,
+      [&](std::size_t i) {
+        try {
+          read[i] = load_recording(path_of(i), std::nullopt);
+        } catch (const std::exception& e) {
+          read_error[i] = e.what();
         }
-      }
-    } catch (const std::exception& e) {
-      named = "error";
-      r["error"] = e.what();
-    }
-    r["named"] = named;
-    r["detected"] = named != "none" && named != "error";
-    r["located"] = r.value("faults", 0) > 0 && r["fault1_shaft"].is_string() &&
-                   named == r["fault1_shaft"].get<std::string>();
-    r["size_mm"] = r.contains("fault1_size_mm") ? r["fault1_size_mm"] : json(nullptr);
-    progress.tick();
-  });
+      },
+      [&](std::size_t i) {
+        json& r = rows[i];
+        std::string named = "none";
+        try {
+          if (!read[i]) throw diag::InputError(read_error[i]);
+          const FileAnalysis a = analyse_file(std::move(*read[i]), path_of(i), std::nullopt, {});
+          read[i].reset();
+          for (const auto& f : a.result.findings) {
+            if (f.kind == "gear_damage") {
+              named = f.shaft;
+              break;
+            }
+          }
+        } catch (const std::exception& e) {
+          named = "error";
+          r["error"] = e.what();
+        }
+        r["named"] = named;
+        r["detected"] = named != "none" && named != "error";
+        r["located"] = r.value("faults", 0) > 0 && r["fault1_shaft"].is_string() &&
+                       named == r["fault1_shaft"].get<std::string>();
+        r["size_mm"] = r.contains("fault1_size_mm") ? r["fault1_size_mm"] : json(nullptr);
+        progress.tick();
+      });
   progress.finish();
   std::set<std::string> columns = {"none"};
   json classes = json::object();

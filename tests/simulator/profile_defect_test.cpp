@@ -29,8 +29,8 @@ diag::Gearbox seed_box(const json& defect) {
 
 // A chip over the whole active flank of z2 (roll from the form circle to the tip), depth in um.
 json z2_chip(double depth_um) {
-  const auto& mesh = seed_box({{"gear", "z2"}, {"size_deg", 0.1}}).meshes()[0];
-  const diag::Flank f = diag::generate_tooth(mesh.pair.driven()).flank;
+  const diag::Gearbox gb = seed_box({{"gear", "z2"}, {"size_deg", 0.1}});  // outlives the mesh
+  const diag::Flank f = diag::generate_tooth(gb.meshes()[0].pair.driven()).flank;
   auto roll_deg = [&](double r) {
     return diag::units::rad_to_deg(std::sqrt(std::pow(r / f.base_radius_m, 2) - 1));
   };
@@ -102,7 +102,8 @@ namespace {
 // contact, with the rolled lag as its gap: a 10 um chip over the whole flank of driven tooth 3 is a
 // 10 um gap (within 0.1 %, the rolling's chords) for pairs with that tooth, none for the others.
 TEST(ProfileDefect, DynamicModelTakesTheDeviationAsAGapOnItsTooth) {
-  const diag::GearPair& p = seed_box({{"gear", "z2"}, {"size_deg", 0.1}}).meshes()[0].pair;
+  const diag::Gearbox gb = seed_box({{"gear", "z2"}, {"size_deg", 0.1}});  // outlives the pair
+  const diag::GearPair& p = gb.meshes()[0].pair;
   const sim::ToothFault f = sim::profile_fault(p, false, 3, z2_chip(10.0), "scenario.json");
   EXPECT_EQ(f.kind, sim::ToothFault::Kind::kSpall);
   EXPECT_NEAR(f.depth_m, 10e-6, 1e-3 * 10e-6);
