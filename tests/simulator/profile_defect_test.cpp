@@ -92,6 +92,12 @@ TEST(ProfileDefect, BadProfileDefectsAreRefusedNamingTheField) {
       msg({{"gear", "z2"}, {"profile", {{"kind", "chip"}, {"roll_deg", {5, 90}}, {"depth_um", 5}}}})
           .find("defects[0].profile: roll_deg"),
       std::string::npos);
+  // A missing field is refused naming it (it read freed memory once: libFuzzer,
+  // fuzz/regressions/gearbox_json/profile_without_roll.json).
+  EXPECT_NE(msg({{"gear", "z2"}, {"profile", {{"kind", "chip"}, {"depth_um", 5}}}})
+                .find("defects[0].profile.roll_deg: required field is missing"),
+            std::string::npos)
+      << msg({{"gear", "z2"}, {"profile", {{"kind", "chip"}, {"depth_um", 5}}}});
 }
 
 }  // namespace

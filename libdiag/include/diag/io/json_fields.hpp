@@ -139,7 +139,13 @@ class Fields {
     return obj_[key].get<bool>();
   }
 
-  const nlohmann::json& raw(const std::string& key) const { return obj_[key]; }
+  // The value as it is, for the caller to check. A missing key is refused naming it (const
+  // operator[] on a missing key is undefined behaviour in nlohmann::json: libFuzzer found a
+  // profile defect without roll_deg reading freed memory).
+  const nlohmann::json& raw(const std::string& key) const {
+    if (!obj_.contains(key)) fail(key, "required field is missing");
+    return obj_[key];
+  }
   const std::string& where() const { return where_; }
   std::string sub(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
 
