@@ -69,24 +69,26 @@ void MpiWorld::barrier() const {
 #endif
 }
 
+#if GEARDIAG_WITH_MPI
+namespace {
+long all_reduce(long value, MPI_Op op) {
+  long out = value;
+  MPI_Allreduce(&value, &out, 1, MPI_LONG, op, MPI_COMM_WORLD);
+  return out;
+}
+}  // namespace
+#endif
+
 long MpiWorld::max(long value) const {
 #if GEARDIAG_WITH_MPI
-  if (started_) {
-    long out = value;
-    MPI_Allreduce(&value, &out, 1, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
-    return out;
-  }
+  if (started_) return all_reduce(value, MPI_MAX);
 #endif
   return value;
 }
 
 long MpiWorld::sum(long value) const {
 #if GEARDIAG_WITH_MPI
-  if (started_) {
-    long out = value;
-    MPI_Allreduce(&value, &out, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
-    return out;
-  }
+  if (started_) return all_reduce(value, MPI_SUM);
 #endif
   return value;
 }

@@ -144,21 +144,9 @@ TEST(AnalyzeGearDamage, AHealthyBaselineOfTheSameGearsIsComparedAndFused) {
   const two_stage_case::Errors errors{7, 10e-6};
   const double duration = 11.0 / (kRpm / 60.0 / 4.0);
   const auto speed = sim::SpeedProfile::constant(kRpm);
+  // The same gears (seed 3: pitch errors, runout phases) in every record, each with its own noise.
   auto record = [&](const std::optional<sim::GearFault>& fault, std::uint64_t noise_seed) {
-    sim::DynamicsOptions dyn;
-    dyn.speed = speed;
-    dyn.input_torque_nm = 50.0;
-    if (fault) dyn.faults.push_back(*fault);
-    dyn.accuracy_grade = errors.accuracy_grade;
-    dyn.runout_m = errors.runout_m;
-    dyn.seed = 3;  // the same gears (pitch errors, runout phases) in every record
-    sim::RunOptions run;
-    run.duration_s = duration;
-    run.fs_hz = 10000.0;
-    run.accel_noise_m_per_s2 = 4.0;
-    run.seed = noise_seed;
-    run.mesh_channels = false;
-    return sim::to_recording(gb, sim::simulate_dynamic(gb, dyn, run));
+    return two_stage_case::simulate(gb, speed, duration, fault, errors, 3, noise_seed);
   };
   detect::AnalyzeOptions opt;
   opt.gear_damage.baseline = std::make_shared<const detect::GearDamageBaseline>(

@@ -55,9 +55,12 @@ struct Errors {
   double runout_m = 0;
 };
 
+// `seed` draws the gears' errors and, unless noise_seed is given, the sensor noise; a separate
+// noise_seed gives a second measurement of the same gears.
 inline diag::Recording simulate(const diag::Gearbox& gb, const sim::SpeedProfile& speed,
                                 double duration_s, const std::optional<sim::GearFault>& fault,
-                                const Errors& errors = {}, std::uint64_t seed = 3) {
+                                const Errors& errors = {}, std::uint64_t seed = 3,
+                                std::optional<std::uint64_t> noise_seed = std::nullopt) {
   sim::DynamicsOptions dyn;
   dyn.speed = speed;
   dyn.input_torque_nm = 50.0;
@@ -69,7 +72,7 @@ inline diag::Recording simulate(const diag::Gearbox& gb, const sim::SpeedProfile
   run.duration_s = duration_s;
   run.fs_hz = 10000.0;
   run.accel_noise_m_per_s2 = 4.0;
-  run.seed = seed;
+  run.seed = noise_seed.value_or(seed);
   run.mesh_channels = false;
   return sim::to_recording(gb, sim::simulate_dynamic(gb, dyn, run));
 }
