@@ -139,6 +139,7 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
   truth["dte_peak_to_peak_rad"] = range_of(tr.dte);
   truth["impact"] = fg::to_string(fg::classify_impacts(tr.contact_steps));
   truth["period"] = fg::classify_period(tr);
+  truth["half_gmf_ratio"] = fg::half_gmf_ratio(tr, gmf);
   truth["contact_states"] = "contact_state: 1 drive flank, 0 free flight, -1 coast flank";
   truth["stiffness_table"] = d.table_source;
   truth["stiffness_scale"] = d.pair.stiffness_scale;
@@ -208,6 +209,7 @@ int sweep_face_gear(const FaceGearSweepArgs& a) {
                    {"dlf", dlf},
                    {"free_flight_share", free},
                    {"period", period},
+                   {"half_gmf_ratio", fg::half_gmf_ratio(tr, model.mesh_frequency_hz())},
                    {"impact", impact}});
     }
     return j;
@@ -263,7 +265,9 @@ int cmd_bifurcation(int argc, char** argv) {
       "Bifurcation diagram of a face-gear pair (seed 002): at each of N speeds from A to B an\n"
       "independent run from static equilibrium; after the transients the DTE once per mesh\n"
       "period (Poincare section) and its class (period-1, period-2, period-n, chaos), the impact\n"
-      "class and the DLF. Speeds run on all cores; the output does not depend on their number.\n"
+      "class, the DLF and half_gmf_ratio, A(GMF/2) / A(GMF) of the DTE spectrum (the period\n"
+      "doubling's subharmonic line). Speeds run on all cores; the output does not depend on their\n"
+      "number; a terminal shows the progress.\n"
       "The scenario accepts stiffness_scale, torque_nm, backlash_um, static_te_scale.\n\noptions");
   desc.add_options()("help,h", "this help")("gearbox", po::value(&gearbox)->required(),
                                             "face-gear pair description (JSON)")(

@@ -458,6 +458,21 @@ double amplitude_at(const std::vector<double>& x, double fs, double f) {
   return 2.0 * std::hypot(re, im) / static_cast<double>(x.size());
 }
 
+double half_gmf_ratio(const Trace& trace, double gmf_hz) {
+  if (trace.dte.empty() || !(trace.dt > 0) || !(gmf_hz > 0)) return 0.0;
+  const double per_period = 1.0 / (gmf_hz * trace.dt);  // samples per mesh period
+  const double periods = std::floor(static_cast<double>(trace.dte.size()) / per_period);
+  const double even = 2.0 * std::floor(periods / 2.0);
+  if (even < 2) return 0.0;
+  const auto n = static_cast<std::size_t>(std::llround(even * per_period));
+  const std::vector<double> x(
+      trace.dte.begin(),
+      trace.dte.begin() + static_cast<std::ptrdiff_t>(std::min(n, trace.dte.size())));
+  const double fs = 1.0 / trace.dt;
+  const double a1 = amplitude_at(x, fs, gmf_hz);
+  return a1 > 0 ? amplitude_at(x, fs, 0.5 * gmf_hz) / a1 : 0.0;
+}
+
 std::vector<std::array<double, 2>> amplitude_spectrum(const std::vector<double>& x, double fs,
                                                       double f_max) {
   std::vector<std::array<double, 2>> out;

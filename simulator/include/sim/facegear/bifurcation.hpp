@@ -29,6 +29,9 @@ struct BifurcationPoint {
   ImpactClass impact = ImpactClass::kNoImpact;
   double dlf = 0.0;         // max |T_mesh| / T_static over the recorded periods
   double free_share = 0.0;  // share of recorded steps out of contact
+  // A(GMF / 2) / A(GMF) of the DTE over the recorded periods (half_gmf_ratio): the period
+  // doubling's subharmonic line in the spectrum.
+  double half_gmf_ratio = 0.0;
 };
 
 struct Bifurcation {

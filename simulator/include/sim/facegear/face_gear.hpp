@@ -216,4 +216,11 @@ std::vector<std::array<double, 2>> amplitude_spectrum(const std::vector<double>&
 // Amplitude of the component at f (projection on cos/sin over the whole record).
 double amplitude_at(const std::vector<double>& x, double fs, double f);
 
+// Subharmonic ratio A(GMF / 2) / A(GMF) of the trace's DTE (amplitude_at), over the first
+// 2 floor(P / 2) whole mesh periods of the P the trace holds, so that both lines fall on DFT bins
+// (no leakage from one into the other). A period-2 response has a line at GMF / 2, a period-1
+// response none (its spectrum holds only multiples of the GMF): the ratio is how users see the
+// period doubling in the spectrum. 0 when the trace holds fewer than two periods or no GMF line.
+double half_gmf_ratio(const Trace& trace, double gmf_hz);
+
 }  // namespace sim::facegear
