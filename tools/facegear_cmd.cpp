@@ -80,7 +80,9 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
   ro.steps_per_period =
       std::max(fg::rk4_steps_per_period(model), static_cast<int>(std::ceil(2.0 * a.fs_hz / gmf)));
   ro.transient_periods = 300;
-  ro.record_periods = static_cast<int>(std::ceil(a.duration_s * gmf)) + 2;
+  // At least 18 mesh periods, what classify_period needs (2 x 8 + 2 Poincare points): a shorter
+  // recording's truth classifies the same steady run over its first 18 periods.
+  ro.record_periods = std::max(static_cast<int>(std::ceil(a.duration_s * gmf)) + 2, 18);
   if (static_cast<double>(ro.steps_per_period) * ro.record_periods > 2e9) {
     throw diag::InputError("--duration: too many integration steps; shorten the recording");
   }
@@ -322,7 +324,8 @@ int cmd_bifurcation(int argc, char** argv) {
   }
   std::cout << "bifurcation: " << b.speeds.size() << " speeds " << opt.from_rpm << ".."
             << opt.to_rpm << " rpm: period-1 " << counts[0] << ", period-2 " << counts[1]
-            << ", period-n " << counts[2] << ", chaos " << counts[3] << " -> " << json_out << "\n";
+            << ", period-n " << counts[2] << ", chaos " << counts[3] << " on " << b.threads
+            << " threads -> " << json_out << "\n";
   return 0;
 }
 

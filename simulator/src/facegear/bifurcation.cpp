@@ -68,6 +68,7 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
   };
   int n = opt.threads > 0 ? opt.threads : static_cast<int>(std::thread::hardware_concurrency());
   n = std::clamp(n, 1, opt.steps);
+  out.threads = n;
   std::vector<std::thread> pool;
   std::exception_ptr error;
   std::mutex error_mutex;

@@ -37,6 +37,7 @@ struct BifurcationPoint {
 struct Bifurcation {
   std::vector<BifurcationPoint> speeds;
   double natural_frequency_hz = 0.0;  // mesh mode at the operating torque
+  int threads = 0;                    // worker threads used (not in the JSON: no effect on it)
   nlohmann::json to_json() const;
   // Scatter plot (speed vs DTE in micro-rad), points coloured by period class.
   std::string to_svg(const std::string& title) const;
