@@ -10,6 +10,7 @@
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -203,4 +204,49 @@ TEST_F(FaceGearTables, BadHdf5TablesNameDatasetAndReason) {
   } catch (const diag::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("header"), std::string::npos) << e.what();
   }
+}
+
+// The "a load outside the table: say how it is extrapolated or refuse": constant
+// extrapolation, the nearest load's row (FlankTable), documented in description.hpp and the
+// README. Below the first load and above the last the stiffness equals that row's exactly; within
+// the grid it is linear in load (bilinear with the angle), so the midpoint of two loads is the
+// mean of their rows (to rounding, 1e-15 relative).
+TEST(FaceGearTableLoads, OutsideTheGridTheNearestLoadRowIsUsed) {
+  fg::FlankTable t;
+  const double period = 2 * std::numbers::pi / 15;
+  t.angle_rad = {0.0, period / 2};
+  t.e0_rad = {0.0, 0.0};
+  t.load_nm = {10.0, 100.0};
+  t.k = {1e6, 2e6,   // angle 0: loads 10, 100
+         3e6, 5e6};  // angle period / 2
+  t.validate("t", "drive", period);
+  EXPECT_EQ(t.stiffness(0.0, 0.0, period), 1e6);
+  EXPECT_EQ(t.stiffness(0.0, 9.99, period), 1e6);
+  EXPECT_EQ(t.stiffness(0.0, 100.0, period), 2e6);
+  EXPECT_EQ(t.stiffness(0.0, 1e5, period), 2e6);
+  EXPECT_EQ(t.stiffness(period / 2, 1e5, period), 5e6);
+  EXPECT_NEAR(t.stiffness(0.0, 55.0, period), 1.5e6, 1.5e6 * 1e-15);
+  // Angle midway across the period end (from period / 2 back to 0 + period), above the grid.
+  EXPECT_NEAR(t.stiffness(0.75 * period, 500.0, period), 3.5e6, 3.5e6 * 1e-15);
+}
+
+// Backlash < 0 and the other scenario fields out of range: InputError naming the field, from the
+// scenario as from the description (tests/simulator/face_gear_test.cpp).
+TEST(FaceGearTableLoads, ScenarioRefusesNegativeBacklashAndScale) {
+  fg::Description d = fg::parse_description(
+      nlohmann::json{{"face_gear_pair", {{"pinion_teeth", 15}, {"gear_teeth", 121}}}}, "fg.json");
+  auto error = [&](const nlohmann::json& sc) {
+    try {
+      fg::apply_scenario(d, sc, "sc.json");
+    } catch (const diag::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_NE(error({{"backlash_um", -1}}).find("sc.json: backlash_um"), std::string::npos);
+  EXPECT_NE(error({{"stiffness_scale", 0}}).find("sc.json: stiffness_scale"), std::string::npos);
+  EXPECT_NE(error({{"torque_nm", -3}}).find("sc.json: torque_nm"), std::string::npos);
+  EXPECT_NE(error({{"static_te_scale", -1}}).find("sc.json: static_te_scale"), std::string::npos);
+  EXPECT_EQ(error({{"backlash_um", 0}}), "");
+  EXPECT_EQ(d.pair.half_backlash_rad, 0.0);
 }
