@@ -141,7 +141,7 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
   truth["dte_peak_to_peak_rad"] = range_of(tr.dte);
   truth["impact"] = fg::to_string(fg::classify_impacts(tr.contact_steps));
   truth["period"] = fg::classify_period(tr);
-  truth["half_gmf_ratio"] = fg::half_gmf_ratio(tr, gmf);
+  truth["half_gmf_ratio"] = tr.half_gmf_ratio;
   truth["contact_states"] = "contact_state: 1 drive flank, 0 free flight, -1 coast flank";
   truth["stiffness_table"] = d.table_source;
   truth["stiffness_scale"] = d.pair.stiffness_scale;
@@ -211,7 +211,7 @@ int sweep_face_gear(const FaceGearSweepArgs& a) {
                    {"dlf", dlf},
                    {"free_flight_share", free},
                    {"period", period},
-                   {"half_gmf_ratio", fg::half_gmf_ratio(tr, model.mesh_frequency_hz())},
+                   {"half_gmf_ratio", tr.half_gmf_ratio},
                    {"impact", impact}});
     }
     return j;

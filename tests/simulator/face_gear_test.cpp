@@ -305,7 +305,7 @@ struct HalfGmfLine {
   std::string period;        // classify_period (the Poincare section)
   double half = 0, gmf = 0;  // A(GMF / 2), A(GMF) of the DTE
   double neighbourhood = 0;  // largest other bin in [0.25, 0.75] GMF
-  double library_ratio = 0;  // fg::half_gmf_ratio
+  double library_ratio = 0;  // Trace::half_gmf_ratio
 };
 
 // A steady response at (rpm, torque) with 10x stiffness, and the DTE spectrum around GMF / 2
@@ -334,7 +334,7 @@ HalfGmfLine half_gmf_line(double rpm, double torque) {
       out.neighbourhood = std::max(out.neighbourhood, fg::amplitude_at(x, fs, k * df));
     }
   }
-  out.library_ratio = fg::half_gmf_ratio(tr, gmf);
+  out.library_ratio = tr.half_gmf_ratio;
   return out;
 }
 

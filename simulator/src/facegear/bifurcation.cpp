@@ -49,8 +49,7 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
       ro.steps_per_period = rk4_steps_per_period(model);
       ro.transient_periods = opt.transient_periods;
       ro.record_periods = opt.record_periods;
-      // The trace (every step) for the DTE spectrum's GMF / 2 and GMF lines.
-      ro.keep_trace = true;
+      ro.keep_trace = false;
       const Trace tr = run(model, ro);
       p.points = tr.poincare;
       p.period_class = classify_period(tr);
@@ -58,7 +57,7 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
       p.dlf = tr.max_abs_mesh_torque / model.static_torque();
       const long total = tr.contact_steps[0] + tr.contact_steps[1] + tr.contact_steps[2];
       p.free_share = static_cast<double>(tr.contact_steps[1]) / static_cast<double>(total);
-      p.half_gmf_ratio = half_gmf_ratio(tr, model.mesh_frequency_hz());
+      p.half_gmf_ratio = tr.half_gmf_ratio;
       const int d = ++done;
       if (progress) {
         const std::lock_guard<std::mutex> lock(progress_mutex);
