@@ -516,7 +516,8 @@ constexpr double kMinFsHz = 1e-3, kMaxFsHz = 1e9;
 // The HDF5 library (1.10) can crash or loop on a corrupted file, e.g. on a global-heap entry
 // behind a variable-length string attribute; no check of ours can come before its own reads.
 // So every file is first read by a child process: everything RecordingReader and read_recording
-// read (the samples too when they are at most kSurveySampleBytes). A child killed by a signal, or
+// read (survey_recording: the samples too when they are at most kSurveySampleBytes), or the
+// arrays read_hdf5_arrays reads. A child killed by a signal, or
 // not done within kSurveySeconds, means the file would crash or hang this process: refused. A
 // child that merely finds an error lets the parent read on and report that error itself.
 constexpr int kSurveySeconds = 30;
