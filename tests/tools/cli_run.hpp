@@ -18,18 +18,22 @@ struct Run {
   std::string out;  // stdout and stderr together
 };
 
-// With kill_after_s > 0 the binary is killed after that many seconds (`timeout -s KILL`), so that
-// a hang fails the test instead of stopping the test binary.
-inline Run run(const std::string& args, int kill_after_s = 0) {
-  const std::string prefix =
-      kill_after_s > 0 ? "timeout -s KILL " + std::to_string(kill_after_s) + " " : "";
-  const std::string cmd = prefix + std::string(GEARDIAG_BINARY) + " " + args + " 2>&1";
+// Runs a shell command line as it is (stdout only unless it redirects stderr).
+inline Run run_command(const std::string& cmd) {
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
   while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
   const int status = pclose(p);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+// With kill_after_s > 0 the binary is killed after that many seconds (`timeout -s KILL`), so that
+// a hang fails the test instead of stopping the test binary.
+inline Run run(const std::string& args, int kill_after_s = 0) {
+  const std::string prefix =
+      kill_after_s > 0 ? "timeout -s KILL " + std::to_string(kill_after_s) + " " : "";
+  return run_command(prefix + std::string(GEARDIAG_BINARY) + " " + args + " 2>&1");
 }
 
 // A file in a per-process folder under $GEARDIAG_TMP (set by CTest) or the system temp folder;

@@ -1,16 +1,22 @@
 // The face-gear pair (seed 002) through the CLI: simulate writes the DTE, mesh torque, contact
 // state and both angles with the DLF in the truth; bifurcation writes speeds_rpm, points and class
-// and does not depend on the thread count; the commands that need shafts/gears/meshes refuse the
-// description with exit 2; bad input names the field.
+// and half_gmf_ratio and does not depend on the thread count, runs on all cores and shows its
+// progress on a terminal; a stiffness table from HDF5; the commands that need shafts/gears/meshes
+// refuse the description with exit 2; bad input names the field.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "cli_run.hpp"
 #include "diag/io/hdf5.hpp"
+#include "diag/io/hdf5_arrays.hpp"
 
 namespace {
 
@@ -89,6 +95,11 @@ TEST(FaceGearCli, BifurcationJsonIsDeterministicAcrossThreads) {
   ASSERT_EQ(j.at("points").size(), 4u);
   EXPECT_EQ(j.at("points")[0].size(), 20u);
   for (const auto& c : j.at("class")) EXPECT_EQ(c, "period-1");
+  // Period-1: no GMF / 2 line (measured ratios below 1e-5; 1e-3 is the bound of the library
+  // test FaceGear.PeriodTwoHasHalfGmfLinePeriodOneHasNone).
+  ASSERT_EQ(j.at("half_gmf_ratio").size(), 4u);
+  for (const auto& x : j.at("half_gmf_ratio")) EXPECT_LT(x.get<double>(), 1e-3);
+  EXPECT_NE(r1.out.find("on 1 threads"), std::string::npos) << r1.out;
   EXPECT_NE(slurp(svg).find("<svg"), std::string::npos);
 }
 
@@ -124,4 +135,68 @@ TEST(FaceGearCli, RefusalsAndBadInputExit2) {
                     "/gearbox/three_shaft.json --from-rpm 100 --to-rpm 200 --steps 2 --json " +
                     scratch("g.json").string());
   EXPECT_EQ(g.code, 2) << g.out;
+}
+
+// "All cores, progress on a terminal": under a pseudo-terminal (util-linux script) the default
+// --threads 0 runs min(cores, speeds) workers and stderr shows "\rbifurcation: i/N speeds"; through
+// a pipe no progress is written (the JSON and the summary only).
+TEST(FaceGearCli, BifurcationUsesAllCoresAndShowsProgressOnATerminal) {
+  if (!fs::exists("/usr/bin/script")) GTEST_SKIP() << "no /usr/bin/script for a pseudo-terminal";
+  const std::string args = std::string(GEARDIAG_BINARY) + " bifurcation --gearbox " + kFaceGear +
+                           " --from-rpm 2000 --to-rpm 6000 --steps 4 --transient 50 --periods 20" +
+                           " --json " + scratch("tty.json").string();
+  const cli_test::Run tty =
+      cli_test::run_command("/usr/bin/script -qec '" + args + "' /dev/null < /dev/null");
+  ASSERT_EQ(tty.code, 0) << tty.out;
+  EXPECT_NE(tty.out.find("\rbifurcation: 1/4 speeds"), std::string::npos) << tty.out;
+  EXPECT_NE(tty.out.find("\rbifurcation: 4/4 speeds"), std::string::npos) << tty.out;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  EXPECT_NE(tty.out.find("on " + std::to_string(std::min(cores, 4u)) + " threads"),
+            std::string::npos)
+      << tty.out;
+  const cli_test::Run pipe = cli_test::run_command(args + " 2>&1");
+  ASSERT_EQ(pipe.code, 0) << pipe.out;
+  EXPECT_EQ(pipe.out.find("speeds\r"), std::string::npos) << pipe.out;
+  EXPECT_EQ(pipe.out.find('\r'), std::string::npos) << pipe.out;
+}
+
+// A stiffness table from HDF5 through simulate (a recording shorter than the 18 mesh periods the
+// period class needs still gets one), and a bad HDF5 table: exit 2 naming the dataset.
+TEST(FaceGearCli, SimulateWithHdf5TableAndBadTableExit2) {
+  std::vector<double> angle, e0, k, k_bad;
+  for (int i = 0; i < 24; ++i) {
+    angle.push_back(i);  // deg, one mesh period of 15 teeth
+    e0.push_back(2.0 * std::cos(2 * 3.141592653589793 * i / 24));
+    for (int j = 0; j < 2; ++j) k.push_back(9e5 * (1 + 0.05 * std::cos(0.26 * i)));
+  }
+  k_bad = k;
+  k_bad[7] = -1.0;
+  auto table = [&](const std::string& name, const std::vector<double>& drive_k) {
+    diag::write_hdf5_arrays(scratch(name), {{"/angle_deg", {}, angle, "deg"},
+                                            {"/load_nm", {}, {10.0, 300.0}, "N m"},
+                                            {"/drive/stiffness_nm_per_rad", {24, 2}, drive_k, ""},
+                                            {"/drive/e0_urad", {}, e0, "urad"},
+                                            {"/coast/stiffness_nm_per_rad", {24, 2}, k, ""},
+                                            {"/coast/e0_urad", {}, e0, "urad"}});
+    const fs::path json = scratch(name + ".json");
+    std::ofstream(json)
+        << nlohmann::json{{"face_gear_pair",
+                           {{"pinion_teeth", 15}, {"gear_teeth", 121}, {"stiffness_table", name}}}}
+               .dump();
+    return json.string();
+  };
+  const fs::path out = scratch("h5table.h5");
+  const cli_test::Run ok = cli_test::run("simulate --gearbox " + table("t.h5", k) +
+                                         " --duration 0.005 -o " + out.string());
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  const nlohmann::json truth = nlohmann::json::parse(diag::read_recording(out).truth_json);
+  EXPECT_EQ(truth.at("stiffness_table"), "t.h5");
+  EXPECT_EQ(truth.at("period"), "period-1");
+  EXPECT_LT(truth.at("half_gmf_ratio").get<double>(), 1e-3);
+  const cli_test::Run bad = cli_test::run("simulate --gearbox " + table("bad.h5", k_bad) +
+                                          " --duration 0.005 -o " + scratch("x.h5").string());
+  EXPECT_EQ(bad.code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("bad.h5: /drive/stiffness_nm_per_rad: stiffness must be > 0"),
+            std::string::npos)
+      << bad.out;
 }

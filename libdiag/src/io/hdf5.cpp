@@ -29,6 +29,7 @@
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/io/hdf5_arrays.hpp"
 #include "diag/io/input_file.hpp"
 #include "diag/io/output_file.hpp"
 #include "diag/version.hpp"
@@ -422,7 +423,7 @@ bool hard_link_exists(hid_t parent, const char* name, const std::string& where,
                                                         : "a user-defined link";
     throw InputError(format_error(
         where, what,
-        std::string("is ") + kind + "; a recording holds its groups and channels itself"));
+        std::string("is ") + kind + "; the file must hold its groups and datasets itself"));
   }
   return true;
 }
@@ -515,7 +516,8 @@ constexpr double kMinFsHz = 1e-3, kMaxFsHz = 1e9;
 // The HDF5 library (1.10) can crash or loop on a corrupted file, e.g. on a global-heap entry
 // behind a variable-length string attribute; no check of ours can come before its own reads.
 // So every file is first read by a child process: everything RecordingReader and read_recording
-// read (the samples too when they are at most kSurveySampleBytes). A child killed by a signal, or
+// read (survey_recording: the samples too when they are at most kSurveySampleBytes), or the
+// arrays read_hdf5_arrays reads. A child killed by a signal, or
 // not done within kSurveySeconds, means the file would crash or hang this process: refused. A
 // child that merely finds an error lets the parent read on and report that error itself.
 constexpr int kSurveySeconds = 30;
@@ -523,7 +525,8 @@ constexpr std::uint64_t kSurveySampleBytes = std::uint64_t{16} << 20;
 bool in_survey_child = false;
 constexpr int kSurveyFoundAnError = 97;  // the child's exit code for an exception it caught
 
-void survey_in_child(const std::filesystem::path& path, const std::string& where) {
+// Runs `body` (the reads of the file) in a forked child first; see above.
+void survey_in_child(const std::string& where, const std::function<void()>& body) {
   if (in_survey_child) return;
   std::fflush(nullptr);
   const pid_t pid = ::fork();
@@ -532,21 +535,7 @@ void survey_in_child(const std::filesystem::path& path, const std::string& where
     in_survey_child = true;
     int code = 0;
     try {
-      RecordingReader reader(path);
-      (void)reader.metadata();
-      (void)reader.format_attributes();
-      (void)reader.gearbox_json();
-      (void)reader.truth_json();
-      (void)reader.speed_rpm();
-      (void)reader.roles_stated();
-      std::uint64_t total = 0;
-      for (const ChannelInfo& c : reader.channels()) total += c.length * sizeof(double);
-      if (total <= kSurveySampleBytes) {
-        for (const ChannelInfo& c : reader.channels()) {
-          std::vector<double> samples(static_cast<std::size_t>(c.length));
-          reader.read_block(c.group + "/" + c.name, 0, samples);
-        }
-      }
+      body();
     } catch (...) {
       code = kSurveyFoundAnError;
     }
@@ -581,6 +570,26 @@ void survey_in_child(const std::filesystem::path& path, const std::string& where
     throw InputError(format_error(where, "",
                                   "corrupted file: reading it failed in the HDF5 library (exit " +
                                       std::to_string(WEXITSTATUS(status)) + "); refused"));
+  }
+}
+
+// What RecordingReader and read_recording read (the samples too when they are at most
+// kSurveySampleBytes).
+void survey_recording(const std::filesystem::path& path) {
+  RecordingReader reader(path);
+  (void)reader.metadata();
+  (void)reader.format_attributes();
+  (void)reader.gearbox_json();
+  (void)reader.truth_json();
+  (void)reader.speed_rpm();
+  (void)reader.roles_stated();
+  std::uint64_t total = 0;
+  for (const ChannelInfo& c : reader.channels()) total += c.length * sizeof(double);
+  if (total <= kSurveySampleBytes) {
+    for (const ChannelInfo& c : reader.channels()) {
+      std::vector<double> samples(static_cast<std::size_t>(c.length));
+      reader.read_block(c.group + "/" + c.name, 0, samples);
+    }
   }
 }
 
@@ -647,7 +656,7 @@ RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path
   if (!is_hdf5_file(path)) {
     throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
   }
-  survey_in_child(path, where);
+  survey_in_child(where, [&] { survey_recording(path); });
   {
     Hid fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, where, "file properties");
     check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), where, "file properties");
@@ -999,6 +1008,101 @@ Recording read_recording(const std::filesystem::path& path, const ReadLimits& li
     }
     return rec;
   });
+}
+
+namespace {
+
+// One numeric dataset of an untrusted file as doubles; nullopt when the path (or a group on it)
+// does not exist. Every component of the path must be a hard link.
+std::optional<Hdf5Array> read_numeric_dataset(hid_t file, const std::string& path,
+                                              std::size_t max_values, const std::string& where) {
+  if (path.size() < 2 || path[0] != '/' || path.back() == '/') {
+    throw std::invalid_argument("read_hdf5_arrays: '" + path + "' is not an absolute path");
+  }
+  for (std::size_t slash = path.find('/', 1);; slash = path.find('/', slash + 1)) {
+    const std::string prefix = path.substr(0, slash);
+    if (!hard_link_exists(file, prefix.c_str(), where, prefix)) return std::nullopt;
+    if (slash == std::string::npos) break;
+    if (!is_group(file, prefix.c_str(), where)) {
+      throw InputError(format_error(where, prefix, "is not a group"));
+    }
+  }
+  Hid obj(H5Oopen(file, path.c_str(), H5P_DEFAULT), H5Oclose);
+  if (!obj.valid()) unreadable(where, path);
+  if (H5Iget_type(obj.get()) != H5I_DATASET) {
+    throw InputError(format_error(where, path, "is not a dataset"));
+  }
+  Hid ds = checked(H5Dopen2(file, path.c_str(), H5P_DEFAULT), H5Dclose, where, path);
+  Hid type(H5Dget_type(ds.get()), H5Tclose);
+  Hid space(H5Dget_space(ds.get()), H5Sclose);
+  if (!type.valid() || !space.valid()) unreadable(where, path);
+  const H5T_class_t cls = H5Tget_class(type.get());
+  if (cls != H5T_FLOAT && cls != H5T_INTEGER) {
+    throw InputError(format_error(where, path, "must hold numbers (integer or float)"));
+  }
+  if (H5Sget_simple_extent_type(space.get()) != H5S_SIMPLE) {
+    throw InputError(format_error(where, path, "must be a 1-D or 2-D array"));
+  }
+  const int rank = H5Sget_simple_extent_ndims(space.get());
+  if (rank < 1 || rank > 2) {
+    throw InputError(format_error(
+        where, path,
+        "must be a 1-D or 2-D array (it has " + std::to_string(rank) + " dimensions)"));
+  }
+  hsize_t dims[2] = {0, 0};
+  if (H5Sget_simple_extent_dims(space.get(), dims, nullptr) != rank) unreadable(where, path);
+  Hdf5Array out;
+  out.path = path;
+  hsize_t n = 1;
+  for (int d = 0; d < rank; ++d) {
+    if (dims[d] == 0) throw InputError(format_error(where, path, "is empty"));
+    if (dims[d] > max_values / n) {
+      throw InputError(format_error(
+          where, path, "has more than " + std::to_string(max_values) + " values (refused)"));
+    }
+    n *= dims[d];
+    out.shape.push_back(static_cast<std::size_t>(dims[d]));
+  }
+  check_storage(ds.get(), n, H5Tget_size(type.get()), where, path);
+  out.data.resize(static_cast<std::size_t>(n));
+  if (H5Dread(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data.data()) < 0) {
+    unreadable(where, path);
+  }
+  check_finite(out.data, 0, where, path);
+  if (auto unit = attribute_text(ds.get(), "unit", where, path)) out.unit = *unit;
+  return out;
+}
+
+std::map<std::string, Hdf5Array> read_arrays(const std::filesystem::path& path,
+                                             const std::vector<std::string>& names,
+                                             std::size_t max_values) {
+  const std::string where = path.string();
+  Hid fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, where, "file properties");
+  check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), where, "file properties");
+  Hid file(H5Fopen(where.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose);
+  if (!file.valid()) throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
+  std::map<std::string, Hdf5Array> out;
+  for (const std::string& name : names) {
+    if (auto a = read_numeric_dataset(file.get(), name, max_values, where)) {
+      out.emplace(name, std::move(*a));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::map<std::string, Hdf5Array> read_hdf5_arrays(const std::filesystem::path& path,
+                                                  const std::vector<std::string>& names,
+                                                  std::size_t max_values) {
+  silence_hdf5();
+  const std::string where = path.string();
+  check_input_file(path);  // a FIFO, a device, a directory: refused before HDF5 opens it
+  if (!is_hdf5_file(path)) {
+    throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
+  }
+  survey_in_child(where, [&] { (void)read_arrays(path, names, max_values); });
+  return reading(where, [&] { return read_arrays(path, names, max_values); });
 }
 
 }  // namespace diag

@@ -57,6 +57,7 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
       p.dlf = tr.max_abs_mesh_torque / model.static_torque();
       const long total = tr.contact_steps[0] + tr.contact_steps[1] + tr.contact_steps[2];
       p.free_share = static_cast<double>(tr.contact_steps[1]) / static_cast<double>(total);
+      p.half_gmf_ratio = tr.half_gmf_ratio;
       const int d = ++done;
       if (progress) {
         const std::lock_guard<std::mutex> lock(progress_mutex);
@@ -66,6 +67,7 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
   };
   int n = opt.threads > 0 ? opt.threads : static_cast<int>(std::thread::hardware_concurrency());
   n = std::clamp(n, 1, opt.steps);
+  out.threads = n;
   std::vector<std::thread> pool;
   std::exception_ptr error;
   std::mutex error_mutex;
@@ -89,7 +91,8 @@ nlohmann::json Bifurcation::to_json() const {
   nlohmann::json j;
   nlohmann::json rpm = nlohmann::json::array(), pts = nlohmann::json::array(),
                  cls = nlohmann::json::array(), imp = nlohmann::json::array(),
-                 dlf = nlohmann::json::array(), free = nlohmann::json::array();
+                 dlf = nlohmann::json::array(), free = nlohmann::json::array(),
+                 half = nlohmann::json::array();
   for (const BifurcationPoint& p : speeds) {
     rpm.push_back(p.rpm);
     pts.push_back(p.points);
@@ -97,6 +100,7 @@ nlohmann::json Bifurcation::to_json() const {
     imp.push_back(to_string(p.impact));
     dlf.push_back(p.dlf);
     free.push_back(p.free_share);
+    half.push_back(p.half_gmf_ratio);
   }
   j["speeds_rpm"] = rpm;
   j["points"] = pts;
@@ -105,6 +109,7 @@ nlohmann::json Bifurcation::to_json() const {
   j["impact"] = imp;
   j["dlf"] = dlf;
   j["free_flight_share"] = free;
+  j["half_gmf_ratio"] = half;
   j["natural_frequency_hz"] = natural_frequency_hz;
   return j;
 }

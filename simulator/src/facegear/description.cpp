@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/io/hdf5.hpp"
+#include "diag/io/hdf5_arrays.hpp"
 #include "diag/io/json_fields.hpp"
 
 namespace sim::facegear {
@@ -164,6 +166,101 @@ void load_table_csv(const std::filesystem::path& path, const FaceGearPair& pair,
   }
 }
 
+void load_table_hdf5(const std::filesystem::path& path, const FaceGearPair& pair, FlankTable& drive,
+                     FlankTable& coast) {
+  const std::string where = path.string();
+  const char* flanks[2] = {"drive", "coast"};
+  const char* grids[2] = {"angle_deg", "load_nm"};
+  std::vector<std::string> names = {"/angle_deg", "/load_nm"};
+  for (const char* f : flanks) {
+    for (const char* leaf : {"angle_deg", "load_nm", "stiffness_nm_per_rad", "e0_urad"}) {
+      names.push_back(std::string("/") + f + "/" + leaf);
+    }
+  }
+  const std::map<std::string, diag::Hdf5Array> arrays = diag::read_hdf5_arrays(path, names);
+  const double period = pair.mesh_period_rad();
+  FlankTable* tabs[2] = {&drive, &coast};
+  for (int f = 0; f < 2; ++f) {
+    const std::string flank = flanks[f];
+    auto find = [&](const std::string& name) -> const diag::Hdf5Array* {
+      auto it = arrays.find(name);
+      return it == arrays.end() ? nullptr : &it->second;
+    };
+    // The flank's own grid, else the shared one at the root.
+    const diag::Hdf5Array* grid[2];
+    for (int g = 0; g < 2; ++g) {
+      const std::string own = "/" + flank + "/" + grids[g], shared = std::string("/") + grids[g];
+      grid[g] = find(own);
+      if (grid[g] == nullptr) grid[g] = find(shared);
+      if (grid[g] == nullptr) {
+        diag::fail(where, shared, "missing dataset (nor " + own + " for the " + flank + " flank)");
+      }
+      if (grid[g]->shape.size() != 1) diag::fail(where, grid[g]->path, "must be 1-D");
+    }
+    const diag::Hdf5Array* k = find("/" + flank + "/stiffness_nm_per_rad");
+    const diag::Hdf5Array* e0 = find("/" + flank + "/e0_urad");
+    if (k == nullptr) diag::fail(where, "/" + flank + "/stiffness_nm_per_rad", "missing dataset");
+    if (e0 == nullptr) diag::fail(where, "/" + flank + "/e0_urad", "missing dataset");
+    const std::vector<double>& angle = grid[0]->data;
+    const std::vector<double>& load = grid[1]->data;
+    const std::size_t na = angle.size(), nl = load.size();
+    const std::vector<std::size_t> want = {na, nl};
+    if (k->shape != want) {
+      std::string got;
+      for (std::size_t d : k->shape) got += (got.empty() ? "" : " x ") + std::to_string(d);
+      diag::fail(where, k->path,
+                 "shape " + got + " does not match " + grid[0]->path + " x " + grid[1]->path +
+                     " (" + std::to_string(na) + " x " + std::to_string(nl) + ")");
+    }
+    if (e0->shape != std::vector<std::size_t>{na}) {
+      diag::fail(where, e0->path, "must be 1-D with one value per angle of " + grid[0]->path);
+    }
+    FlankTable& t = *tabs[f];
+    t = FlankTable{};
+    for (std::size_t i = 0; i < na; ++i) {
+      const double a = angle[i] * kPi / 180.0;
+      if (a < 0 || a >= period) {
+        diag::fail(where, grid[0]->path,
+                   "angle " + std::to_string(angle[i]) + " deg is outside one mesh period [0, " +
+                       std::to_string(360.0 / pair.pinion_teeth) + ")");
+      }
+      if (i > 0 && !(angle[i] > angle[i - 1])) {
+        diag::fail(where, grid[0]->path,
+                   "angles must be strictly increasing (entry " + std::to_string(i) + ": " +
+                       std::to_string(angle[i]) + " after " + std::to_string(angle[i - 1]) + ")");
+      }
+      t.angle_rad.push_back(a);
+      t.e0_rad.push_back(e0->data[i] * 1e-6);
+    }
+    for (std::size_t j = 0; j < nl; ++j) {
+      if (load[j] < 0 || (j > 0 && !(load[j] > load[j - 1]))) {
+        diag::fail(where, grid[1]->path,
+                   "loads must be >= 0 and strictly increasing (entry " + std::to_string(j) + ")");
+      }
+    }
+    for (std::size_t i = 0; i < k->data.size(); ++i) {
+      if (!(k->data[i] > 0)) {
+        diag::fail(where, k->path,
+                   "stiffness must be > 0 (got " + std::to_string(k->data[i]) + " at angle " +
+                       std::to_string(angle[i / nl]) + " deg, load " +
+                       std::to_string(load[i % nl]) + " N m)");
+      }
+    }
+    t.load_nm = load;
+    t.k = k->data;
+    t.validate(where, flank, period);
+  }
+}
+
+void load_table(const std::filesystem::path& path, const FaceGearPair& pair, FlankTable& drive,
+                FlankTable& coast) {
+  if (diag::is_hdf5_file(path)) {
+    load_table_hdf5(path, pair, drive, coast);
+  } else {
+    load_table_csv(path, pair, drive, coast);
+  }
+}
+
 bool is_face_gear(const nlohmann::json& j) { return j.is_object() && j.contains("face_gear_pair"); }
 
 bool is_face_gear_file(const std::filesystem::path& path) {
@@ -239,7 +336,7 @@ void parse_pair(const nlohmann::json& j, const std::string& where, Description& 
     }
     std::filesystem::path tp(d.table_source);
     if (tp.is_relative()) tp = std::filesystem::path(where).parent_path() / tp;
-    load_table_csv(tp, p, p.drive, p.coast);
+    load_table(tp, p, p.drive, p.coast);
   }
   d.mesh_damping_ratio = f.non_negative("mesh_damping_ratio", 0.05);
   if (f.has("damping_alpha") || f.has("damping_beta")) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <memory>
 #include <numbers>
 
@@ -343,6 +344,12 @@ Trace run(const Model& model, const RunOptions& opt) {
     }
     tr.contact.reserve(cap);
   }
+  // The GMF / 2 and GMF components of the DTE (half_gmf_ratio): the DTE less its first recorded
+  // value (a constant has no component at these frequencies over whole periods; removing most of
+  // it keeps the rounding of the sums at the level of the dynamic part).
+  const long spectral_steps = 2L * (opt.record_periods / 2) * n;
+  std::complex<double> sum_half{}, sum_gmf{};
+  double dte_ref = 0.0;
   double t = 0.0;
   for (long i = 0; i <= total; ++i) {
     // The step index sets the time (no accumulated rounding): t = i h.
@@ -354,7 +361,14 @@ Trace run(const Model& model, const RunOptions& opt) {
       if (opt.integrator == Integrator::kRk4 && m.contact != last) ++tr.events;
       last = m.contact;
       ++tr.contact_steps[static_cast<int>(m.contact) + 1];
-      if (i == first_recorded) tr.dte_min = tr.dte_max = y[2];
+      if (i == first_recorded) tr.dte_min = tr.dte_max = dte_ref = y[2];
+      if (const long k = i - first_recorded; k < spectral_steps) {
+        // Phase of GMF / 2 at step k: pi k / n, taken modulo its period of 2 n steps.
+        const std::complex<double> e =
+            std::polar(1.0, -std::numbers::pi * static_cast<double>(k % (2L * n)) / n);
+        sum_half += (y[2] - dte_ref) * e;
+        sum_gmf += (y[2] - dte_ref) * e * e;
+      }
       tr.dte_min = std::min(tr.dte_min, y[2]);
       tr.dte_max = std::max(tr.dte_max, y[2]);
       if (opt.keep_trace && (i - first_recorded) % opt.decimation == 0) {
@@ -382,6 +396,9 @@ Trace run(const Model& model, const RunOptions& opt) {
     }
   }
   tr.final_state = ys;
+  if (spectral_steps > 0 && std::abs(sum_gmf) > 0) {
+    tr.half_gmf_ratio = std::abs(sum_half) / std::abs(sum_gmf);
+  }
   return tr;
 }
 

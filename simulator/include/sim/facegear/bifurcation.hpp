@@ -29,11 +29,15 @@ struct BifurcationPoint {
   ImpactClass impact = ImpactClass::kNoImpact;
   double dlf = 0.0;         // max |T_mesh| / T_static over the recorded periods
   double free_share = 0.0;  // share of recorded steps out of contact
+  // A(GMF / 2) / A(GMF) of the DTE over the recorded periods (half_gmf_ratio): the period
+  // doubling's subharmonic line in the spectrum.
+  double half_gmf_ratio = 0.0;
 };
 
 struct Bifurcation {
   std::vector<BifurcationPoint> speeds;
   double natural_frequency_hz = 0.0;  // mesh mode at the operating torque
+  int threads = 0;                    // worker threads used (not in the JSON: no effect on it)
   nlohmann::json to_json() const;
   // Scatter plot (speed vs DTE in micro-rad), points coloured by period class.
   std::string to_svg(const std::string& title) const;

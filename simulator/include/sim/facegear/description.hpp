@@ -22,6 +22,18 @@
 // (angle, load) pair of its grid once; e0_urad [face-gear micro-rad] the same for every load of
 // an angle.
 //
+// HDF5 table (the same columns as arrays; read with diag::read_hdf5_arrays, so h5py or MATLAB
+// write it):
+//   /angle_deg                    1-D, n_a: pinion angle in [0, 360/N_p), strictly increasing
+//   /load_nm                      1-D, n_l: mesh load [N m, pinion torque], strictly increasing,
+//                                 >= 0
+//   /drive/stiffness_nm_per_rad   2-D, n_a x n_l (row i: angle i), > 0
+//   /drive/e0_urad                1-D, n_a: static TE [face-gear micro-rad]
+//   /coast/stiffness_nm_per_rad, /coast/e0_urad   the coast flank, the same shapes
+// A flank may have its own grid (/drive/angle_deg, /drive/load_nm), which then shapes its arrays
+// instead of the root's. Numbers of any integer or float type; other datasets are ignored.
+// Outside the load grid the nearest load's row is used (constant extrapolation, FlankTable).
+//
 // Analytical default (derivation in docs/notes/face-gear.md): mean torsional stiffness from
 // ISO 6336-1's mesh stiffness c_gamma = 20 N/(mm um) times the face width, referred to the
 // pinion base radius and the face gear's mean radius; ISO 6336-1's low-load reduction
@@ -72,6 +84,13 @@ double default_gear_inertia(const Geometry& g);
 // Reads a CSV table file; throws diag::InputError naming the file, line and field.
 void load_table_csv(const std::filesystem::path& path, const FaceGearPair& pair, FlankTable& drive,
                     FlankTable& coast);
+// Reads an HDF5 table file (layout above); throws diag::InputError naming the file, dataset and
+// reason. The same table as CSV gives bit-identical FlankTables.
+void load_table_hdf5(const std::filesystem::path& path, const FaceGearPair& pair, FlankTable& drive,
+                     FlankTable& coast);
+// Either, by the file's content (the HDF5 signature), not its name.
+void load_table(const std::filesystem::path& path, const FaceGearPair& pair, FlankTable& drive,
+                FlankTable& coast);
 
 // True when the JSON is a face-gear description (has "face_gear_pair").
 bool is_face_gear(const nlohmann::json& j);

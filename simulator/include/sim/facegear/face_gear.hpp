@@ -163,6 +163,13 @@ struct Trace {
   std::array<long, 3> contact_steps{};
   std::array<double, 4> final_state{};  // y at the end (to continue a sweep)
   double dte_min = 0.0, dte_max = 0.0;  // over the recorded steps
+  // Subharmonic ratio A(GMF / 2) / A(GMF) of the DTE (amplitudes of the two DFT components, as
+  // amplitude_at), accumulated at every step (trace kept or not, no decimation) over the first
+  // 2 floor(record_periods / 2) recorded mesh periods, so that both lines fall on DFT bins (no
+  // leakage from one into the other). A period-2 response has a line at GMF / 2, a period-1
+  // response none (only multiples of the GMF): how users see the period doubling in the
+  // spectrum. 0 with fewer than 2 recorded periods.
+  double half_gmf_ratio = 0.0;
 };
 
 enum class Integrator { kRk4, kAdaptive };
