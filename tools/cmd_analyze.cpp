@@ -155,6 +155,9 @@ int cmd_analyze(int argc, char** argv) {
   // at most 2 channels at a time unless --threads says otherwise, so that the 256 MB bound holds
   // on any machine (bench/analyze_memory.sh).
   if (cut && vm["threads"].defaulted() && opt.threads == 0) opt.threads = 2;
+  // What is a mean over time (indicators, PSD, envelope spectra) is then accumulated over the
+  // whole file, block by block (detect::AnalyzeOptions::whole_recording).
+  if (cut) opt.whole_recording = path;
   // Every input is read before anything is analysed or written: a bad baseline file stops the
   // run with its name and no output.
   std::vector<diag::Recording> healthy;

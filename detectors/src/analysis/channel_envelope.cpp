@@ -74,8 +74,13 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
   } else {
     env = envelope_spectrum(xt, eo);
   }
+  envelope_results(ctx, env, spectral.fs_hz, c);
+  return env;
+}
+
+double envelope_plot_max_hz(const AnalysisContext& ctx, double fs_hz) {
   // Kept for plotting up to 5 x the highest bearing fault line (else 1 kHz), at most Nyquist.
-  double env_max = opt.envelope_plot_max_hz;
+  double env_max = ctx.opt.envelope_plot_max_hz;
   const diag::Gearbox* gb = ctx.gb;
   if (env_max == 0) {
     env_max = 1000.0;
@@ -90,10 +95,17 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
       if (top > 0) env_max = 5 * top;
     }
   }
-  env_max = std::min(env_max, 0.5 * spectral.fs_hz);
-  c.envelope_peaks = largest_peaks(env, opt.peaks_reported, env_max);
+  return std::min(env_max, 0.5 * fs_hz);
+}
+
+void envelope_results(const AnalysisContext& ctx, const Spectrum& env, double fs_hz,
+                      ChannelAnalysis& c) {
+  const double env_max = envelope_plot_max_hz(ctx, fs_hz);
+  c.envelope_peaks = largest_peaks(env, ctx.opt.peaks_reported, env_max);
   c.envelope = slice_for_plot(env.frequency_hz, env.amplitude, 0, env_max, ctx.plot_points);
-  return env;
+  const SpectrumView ev{env.frequency_hz, env.amplitude};
+  for (BearingAnalysis& ba : c.bearings)
+    ba.metrics = fault_band_metrics(ev, ba.bands, SpectrumScale::kAmplitude);
 }
 
 void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, const Spectrum& env,
