@@ -21,6 +21,20 @@ int kurtogram_level_for(std::size_t n, int max_level) {
   return std::min(max_level, static_cast<int>(std::floor(std::log2(static_cast<double>(n)))) - 7);
 }
 
+// The part of a record the band is chosen on: its middle kKurtogramSamples (all of a shorter
+// record). The kurtogram costs ~12 pairs of inverse FFTs of the record's length (kurtogram.hpp:
+// one row per level, every band of a row together as long as the record): 40 % of analyze on
+// the 39-channel simulation. A band's kurtosis is a mean over time (of |c|^4 and |c|^2), so a
+// stationary or cyclostationary record's middle 2^16 samples estimate it as the whole does:
+// 3.3 s at 20 kHz, >= 100 revolutions of a shaft above 30 Hz and > 150 impacts of a bearing
+// fault line above 50 Hz, 1024 samples in each band of the deepest level 6 (Antoni 2007 asks
+// 2^7). The middle, not the start, to keep clear of an acquisition's start-up transient.
+constexpr std::size_t kKurtogramSamples = std::size_t{1} << 16;
+std::span<const double> kurtogram_excerpt(std::span<const double> x) {
+  if (x.size() <= kKurtogramSamples) return x;
+  return x.subspan((x.size() - kKurtogramSamples) / 2, kKurtogramSamples);
+}
+
 }  // namespace
 
 Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
@@ -39,7 +53,7 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
     KurtogramOptions ko;
     ko.fs_hz = sig.fs_hz;
     ko.max_level = level;
-    const Kurtogram kg = fast_kurtogram(xt, ko);
+    const Kurtogram kg = fast_kurtogram(kurtogram_excerpt(xt), ko);
     c.kurtogram_level = kg.level;
     c.kurtogram_kurtosis = kg.kurtosis;
     c.kurtogram = kg.levels;
