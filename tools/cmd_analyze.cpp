@@ -110,8 +110,9 @@ int cmd_analyze(int argc, char** argv) {
       "in all (or " +
       std::to_string(kKeptChannelSamples) + " per channel, never over " +
       std::to_string(kMaxChannelSamples) +
-      " per channel), read by blocks: memory stays bounded whatever the length; 0: the whole "
-      "recording";
+      " per channel), read by blocks, and its time indicators, Welch PSD and envelope spectra "
+      "over the whole file, block by block: memory stays bounded whatever the length; 0: the "
+      "whole recording in memory";
   desc.add_options()("max-samples", po::value(&max_samples)->default_value(max_samples),
                      max_samples_help.c_str());
   desc.add_options()("timing", po::bool_switch(&opt.timing),

@@ -102,7 +102,8 @@ struct AnalyzeOptions {
   GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
                                             // not used: the shaft angles are analyze's own)
   // Called with the name of each stage as it starts ("kinematics", "angle_plans", "channels",
-  // "two_direction", "gear_damage", "findings"); the CLI draws a progress line on a terminal.
+  // "whole_record" when whole_recording is set, "two_direction", "gear_damage", "findings"); the
+  // CLI draws a progress line on a terminal.
   std::function<void(const std::string&)> progress;
   bool timing = false;               // record the wall time of each stage (AnalysisResult::
                                      // timing_s); off by default: it differs run to run
