@@ -132,18 +132,19 @@ void whole_record_stage(const AnalysisContext& ctx, AnalysisResult& r) {
     }
   }
   if (channels == 0) return;
+  // At varying speed the PSD and envelope spectra are order spectra through the first part's
+  // angle plans: only the indicators cover the whole file.
   std::string note = "whole recording read by blocks (" + fmt(whole_s, 5) + " s, " +
-                     std::to_string(channels) +
-                     " channels): the time indicators and Welch PSD cover all of it";
+                     std::to_string(channels) + " channels): the time indicators " +
+                     (ctx.order_domain ? "cover" : "and Welch PSD cover") + " all of it";
   if (blocks > 0) {
     note += ", the envelope spectra are the mean of " + std::to_string(blocks) + " blocks of " +
             std::to_string(block) + " samples in the band the kurtogram chose on the first part";
   }
-  note +=
-      "; the amplitude spectrum, kurtogram, sidebands, order spectrum, TSA, bearing diagnosis "
-      "and damaged-shaft locator cover the first " +
-      fmt(excerpt_s, 4) + " s";
-  if (ctx.order_domain) note += " (at varying speed the PSD and envelope spectra too)";
+  note += std::string("; the ") + (ctx.order_domain ? "PSD, envelope spectra, " : "") +
+          "amplitude spectrum, kurtogram, sidebands, order spectrum, TSA, bearing diagnosis and "
+          "damaged-shaft locator cover the first " +
+          fmt(excerpt_s, 4) + " s";
   r.notes.push_back(note);
 }
 
