@@ -110,8 +110,9 @@ int cmd_analyze(int argc, char** argv) {
       "in all (or " +
       std::to_string(kKeptChannelSamples) + " per channel, never over " +
       std::to_string(kMaxChannelSamples) +
-      " per channel), read by blocks: memory stays bounded whatever the length; 0: the whole "
-      "recording";
+      " per channel), read by blocks, and its time indicators, Welch PSD and envelope spectra "
+      "over the whole file, block by block: memory stays bounded whatever the length; 0: the "
+      "whole recording in memory";
   desc.add_options()("max-samples", po::value(&max_samples)->default_value(max_samples),
                      max_samples_help.c_str());
   desc.add_options()("timing", po::bool_switch(&opt.timing),
@@ -155,6 +156,9 @@ int cmd_analyze(int argc, char** argv) {
   // at most 2 channels at a time unless --threads says otherwise, so that the 256 MB bound holds
   // on any machine (bench/analyze_memory.sh).
   if (cut && vm["threads"].defaulted() && opt.threads == 0) opt.threads = 2;
+  // What is a mean over time (indicators, PSD, envelope spectra) is then accumulated over the
+  // whole file, block by block (detect::AnalyzeOptions::whole_recording).
+  if (cut) opt.whole_recording = path;
   // Every input is read before anything is analysed or written: a bad baseline file stops the
   // run with its name and no output.
   std::vector<diag::Recording> healthy;

@@ -68,6 +68,12 @@ TEST(AnalyzeCli, LongRecordingIsAnalysedOnItsFirstPart) {
     return false;
   };
   EXPECT_TRUE(has_note(j)) << j["notes"].dump(1);
+  // The indicators, PSD and envelope spectra are accumulated over the whole file, and said so.
+  bool whole = false;
+  for (const auto& n : j["notes"]) {
+    whole |= n.get<std::string>().find("whole recording read by blocks (0.5 s,") == 0;
+  }
+  EXPECT_TRUE(whole) << j["notes"].dump(1);
   a = run("analyze " + simulated().string() + " --max-samples 0 --json " + js.string());
   ASSERT_EQ(a.code, 0) << a.out;
   j = nlohmann::json::parse(std::ifstream(js));

@@ -219,6 +219,11 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     r.channels[ci] = analyse_channel(ctx, ang, ci, spectra[ci]);
   });
   lap("channels");
+  if (!opt.whole_recording.empty()) {
+    if (opt.progress) opt.progress("whole_record");
+    whole_record_stage(ctx, r);
+    lap("whole_record");
+  }
 
   if (gb) {
     two_direction_stage(ctx, spectra, r);

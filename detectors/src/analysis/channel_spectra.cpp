@@ -50,8 +50,15 @@ void time_stage(const diag::Signal& sig, bool sensor, ChannelAnalysis& c) {
   c.vibration = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
                 sig.role == diag::Role::kDisplacement;
   c.sensor = sensor;
-  const Moments mo = moments(sig.samples);
-  c.time = {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
+  c.time = time_indicators(moments(sig.samples));
+}
+
+TimeIndicators time_indicators(const Moments& mo) {
+  return {mo.rms(), mo.peak(), mo.crest_factor(), mo.kurtosis(), mo.skewness()};
+}
+
+std::size_t welch_segment(const AnalyzeOptions& opt, std::size_t n) {
+  return std::min(opt.welch_nperseg, pow2_at_most(n));
 }
 
 void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
@@ -100,7 +107,7 @@ Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
   c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, ctx.plot_points, Decimation::kMax);
   WelchOptions wo;
   wo.fs_hz = fs;
-  wo.nperseg = std::min(opt.welch_nperseg, pow2_at_most(x.size()));
+  wo.nperseg = welch_segment(opt, x.size());
   const Psd psd = welch(x, wo);
   c.psd = decimate_for_plot(psd.frequency_hz, psd.value, ctx.plot_points, Decimation::kMax);
   c.psd_resolution_hz = psd.resolution_hz;

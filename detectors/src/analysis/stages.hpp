@@ -115,6 +115,10 @@ PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>
 // ---- per-channel stages ----
 // The channel's identity and time-domain indicators.
 void time_stage(const diag::Signal& sig, bool sensor, ChannelAnalysis& c);
+// The time-domain indicators of a channel's moments (time_stage's, the whole-record stage's).
+TimeIndicators time_indicators(const Moments& mo);
+// The Welch segment length for a record of n samples (spectra_stage's, the whole-record's).
+std::size_t welch_segment(const AnalyzeOptions& opt, std::size_t n);
 
 // The record a channel's spectra are taken of: the channel itself, or at varying speed the
 // channel at uniform input-shaft angles read as a record at the mean speed (its rate
@@ -146,6 +150,11 @@ void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
 // envelope in time resampled like the channel); returned whole for the bearing metrics.
 Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
                         const SpectralRecord& rec, ChannelAnalysis& c);
+// How far the envelope trace and peaks of a spectral record of rate fs_hz are kept [Hz].
+double envelope_plot_max_hz(const AnalysisContext& ctx, double fs_hz);
+// The envelope peaks, trace and bearing band metrics of a channel from its envelope spectrum.
+void envelope_results(const AnalysisContext& ctx, const Spectrum& env, double fs_hz,
+                      ChannelAnalysis& c);
 // Fault bands, band metrics and diagnose_bearings for the bearings this channel sees.
 void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, const Spectrum& env,
                    ChannelAnalysis& c);
@@ -157,6 +166,9 @@ void tsa_stage(const AnalysisContext& ctx, const AngularRecords& ang, std::size_
                const diag::Signal& sig, ChannelAnalysis& c);
 
 // ---- recording-level stages ----
+// A cut recording (AnalyzeOptions::whole_recording): every channel's time indicators, Welch PSD
+// and (at a steady speed) envelope spectrum recomputed over the whole file, block by block.
+void whole_record_stage(const AnalysisContext& ctx, AnalysisResult& r);
 // Along/normal-LOA pairs at one location: mesh-harmonic energies in both directions.
 void two_direction_stage(const AnalysisContext& ctx, const std::vector<Spectrum>& spectra,
                          AnalysisResult& r);

@@ -49,6 +49,7 @@
 #pragma once
 
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <limits>
 #include <map>
@@ -101,7 +102,8 @@ struct AnalyzeOptions {
   GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
                                             // not used: the shaft angles are analyze's own)
   // Called with the name of each stage as it starts ("kinematics", "angle_plans", "channels",
-  // "two_direction", "gear_damage", "findings"); the CLI draws a progress line on a terminal.
+  // "whole_record" when whole_recording is set, "two_direction", "gear_damage", "findings"); the
+  // CLI draws a progress line on a terminal.
   std::function<void(const std::string&)> progress;
   bool timing = false;               // record the wall time of each stage (AnalysisResult::
                                      // timing_s); off by default: it differs run to run
@@ -110,6 +112,12 @@ struct AnalyzeOptions {
   double nominal_time_s = -1;        // when the nominal speed holds [s], for the speed from the
                                      // vibration; < 0: a steady record first, else (no steady line:
                                      // a run-up) mid-record
+  // The HDF5 file `rec` is the first part of (diag::ReadLimits), or empty. When given, the
+  // whole-record stage reads every channel of it block by block after the per-channel stages:
+  // time indicators (running moments), Welch PSD and, at a steady speed, the envelope spectrum
+  // (mean over blocks as long as the excerpt, in the band the kurtogram chose on it) then cover
+  // the whole file in memory bounded by the excerpt's length (a note says what covered what).
+  std::filesystem::path whole_recording;
 
   void validate() const;  // throws diag::InputError "analyze: <field>: ..."
 };
