@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <set>
 
+#include "dataset_modes.hpp"
 #include "detect/gear/sidebands.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
@@ -22,6 +23,8 @@ using nlohmann::json;
 std::string indexed(const std::string& key, std::size_t i) {
   return key + "[" + std::to_string(i) + "]";
 }
+
+}  // namespace
 
 // A number or [lo, hi] (lo <= hi), each within [min, max] (and > min when `open_min`).
 Range parse_range(const diag::Fields& f, const std::string& key, double min, double max,
@@ -78,6 +81,27 @@ std::string class_name(const diag::Fields& f) {
   if (!ok) f.fail("name", "'" + name + "' may hold only letters, digits, '_' and '-' (<= 64)");
   return name;
 }
+
+std::vector<std::string> parse_gearbox_paths(const diag::Fields& f) {
+  std::vector<std::string> paths;
+  if (!f.has("gearbox")) f.fail("gearbox", "required: a path or an array of paths");
+  const json& g = f.raw("gearbox");
+  if (g.is_string()) {
+    paths.push_back(f.str("gearbox"));
+  } else if (g.is_array() && !g.empty()) {
+    for (const json& p : g) {
+      if (!p.is_string() || p.get<std::string>().empty()) {
+        f.fail("gearbox", "an array of gearbox paths holds only non-empty strings");
+      }
+      paths.push_back(p.get<std::string>());
+    }
+  } else {
+    f.fail("gearbox", "must be a path or a non-empty array of paths");
+  }
+  return paths;
+}
+
+namespace {
 
 DatasetFault parse_fault(const json& j, const std::string& where, const std::string& path) {
   const diag::Fields f(j, where, path,
@@ -172,42 +196,9 @@ json scenario_json(const DatasetSpec& s, double rpm, double torque, double oil, 
   return j;
 }
 
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
+using Stream = DrawStream;
 
-// The random stream of one recording, and the draws made from it. Every draw consumes exactly
-// one number, fixed values included, so that changing one field from a value to a range leaves
-// the other fields' draws as they were.
-class Stream {
- public:
-  Stream(std::uint64_t seed, std::size_t k) {
-    std::uint64_t s = seed;
-    state_ = splitmix64(s) ^ ((static_cast<std::uint64_t>(k) + 1) * 0xd1b54a32d192ed03ULL);
-  }
-  double uniform() { return static_cast<double>(splitmix64(state_) >> 11) * 0x1.0p-53; }
-  double draw(const Range& r) {
-    const double u = uniform();
-    if (r.lo == r.hi) return r.lo;
-    const double x = std::round((r.lo + u * (r.hi - r.lo)) * 1e4) / 1e4;
-    return std::clamp(x, r.lo, r.hi);
-  }
-  int draw(const IntRange& r) {
-    const double u = uniform();
-    const int n = r.hi - r.lo + 1;
-    return r.lo + std::min(n - 1, static_cast<int>(u * n));
-  }
-  std::size_t pick(std::size_t n) {
-    return std::min(n - 1, static_cast<std::size_t>(uniform() * n));
-  }
-  std::uint64_t next() { return splitmix64(state_); }
-
- private:
-  std::uint64_t state_;
-};
+}  // namespace
 
 std::string fnv1a64_hex(const std::string& text) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
@@ -219,6 +210,8 @@ std::string fnv1a64_hex(const std::string& text) {
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
 }
+
+namespace {
 
 // The gears a fault may land on in gearbox `gb`.
 std::vector<int> candidate_gears(const DatasetFault& f, const diag::Gearbox& gb) {
@@ -311,25 +304,18 @@ DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
   s.file = file;
   const std::string where = file.string();
   s.json = diag::load_json_file(file);
+  // Kinematic and face-gear datasets: dataset_modes.cpp.
+  s.simulator = dataset_simulator(s.json, file);
+  if (s.simulator != "dynamic") {
+    load_mode_spec(s);
+    return s;
+  }
   const diag::Fields f(
       s.json, where, "",
       {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz", "operating_points",
-       "noise_m_per_s2", "accuracy_grade", "runout_um", "scenario", "classes"});
+       "noise_m_per_s2", "accuracy_grade", "runout_um", "scenario", "classes", "simulator"});
   // Gearboxes, relative to the spec's folder.
-  if (!f.has("gearbox")) f.fail("gearbox", "required: a path or an array of paths");
-  const json& g = f.raw("gearbox");
-  if (g.is_string()) {
-    s.gearbox_paths.push_back(f.str("gearbox"));
-  } else if (g.is_array() && !g.empty()) {
-    for (const json& p : g) {
-      if (!p.is_string() || p.get<std::string>().empty()) {
-        f.fail("gearbox", "an array of gearbox paths holds only non-empty strings");
-      }
-      s.gearbox_paths.push_back(p.get<std::string>());
-    }
-  } else {
-    f.fail("gearbox", "must be a path or a non-empty array of paths");
-  }
+  s.gearbox_paths = parse_gearbox_paths(f);
   std::string hashed = s.json.dump();
   for (std::size_t i = 0; i < s.gearbox_paths.size(); ++i) {
     std::filesystem::path p = s.gearbox_paths[i];
@@ -430,6 +416,10 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
   std::string index = std::to_string(k);
   r.id = std::string(static_cast<std::size_t>(digits) - index.size(), '0') + index + "-" + r.cls;
   Stream rng(s.seed, k);
+  if (s.simulator != "dynamic") {
+    draw_mode_recording(s, cls, rng, r);
+    return r;
+  }
   r.gearbox = static_cast<int>(rng.pick(s.gearboxes.size()));
   const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
   r.speed_rpm = rng.draw(s.speed_rpm);
@@ -471,6 +461,7 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
 }
 
 std::vector<std::string> manifest_columns(const DatasetSpec& s) {
+  if (s.simulator != "dynamic") return mode_manifest_columns(s);
   std::vector<std::string> cols = {"file",
                                    "id",
                                    "index",
@@ -496,6 +487,7 @@ std::vector<std::string> manifest_columns(const DatasetSpec& s) {
 }
 
 nlohmann::json manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
+  if (s.simulator != "dynamic") return mode_manifest_row(s, r);
   json row = json::object();
   row["file"] = "recordings/" + r.id + ".h5";
   row["id"] = r.id;
