@@ -6,6 +6,7 @@
 #include <set>
 
 #include "dataset_modes.hpp"
+#include "detect/gear/gear_damage.hpp"
 #include "detect/gear/sidebands.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
@@ -297,6 +298,30 @@ void check_sampling_rate(const DatasetSpec& s) {
   }
 }
 
+// The damaged-gear locator (detect/gear/gear_damage.hpp) averages whole revolutions of each shaft
+// and skips a shaft with fewer than GearDamageOptions::min_revolutions in the record: a warning
+// (not a refusal: the recordings are still valid) when the slowest shaft at the lowest speed
+// turns fewer times than that within duration_s.
+void warn_revolutions(DatasetSpec& s) {
+  const int needed = detect::GearDamageOptions{}.min_revolutions;
+  for (std::size_t b = 0; b < s.gearboxes.size(); ++b) {
+    const diag::Gearbox gb = s.gearboxes[b].with_input_speed_rpm(s.speed_rpm.lo);
+    for (std::size_t sh = 0; sh < gb.shafts().size(); ++sh) {
+      const double revs = s.duration_s * gb.shaft_speed_hz(static_cast<int>(sh));
+      if (revs >= needed) continue;
+      s.warnings.push_back(
+          s.file.string() + ": duration_s: " + diag::Fields::fmt(s.duration_s) + " s holds " +
+          diag::Fields::fmt(std::floor(revs * 10) / 10) + " revolutions of shaft '" +
+          gb.shafts()[sh].name + "' of " + s.gearbox_paths[b] + " at " +
+          diag::Fields::fmt(s.speed_rpm.lo) +
+          " rpm: the damaged-gear locator (validate "
+          "--dataset) skips a shaft with fewer than " +
+          std::to_string(needed) + " whole revolutions; use duration_s >= " +
+          diag::Fields::fmt(std::ceil(needed / gb.shaft_speed_hz(static_cast<int>(sh)) * 10) / 10));
+    }
+  }
+}
+
 }  // namespace
 
 DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
@@ -399,6 +424,7 @@ DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
   if (s.total > 100000000) f.fail("classes", "more than 1e8 recordings");
   check_sampling_rate(s);
   check_classes(s);
+  warn_revolutions(s);
   return s;
 }
 
