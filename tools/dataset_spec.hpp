@@ -17,6 +17,9 @@
 //                        size fields of its type as numbers or [lo, hi]}; gear: a name, an array
 //                        of names, or "any" (drawn per recording among the gearbox's gears);
 //                        tooth: an integer, [lo, hi] or "any" (default)
+//   simulator            "dynamic" (default: the fields above), "kinematic" (seed 003) or
+//                        "face_gear" (seed 002; implied by a face-gear gearbox): their fields in
+//                        tools/dataset_modes.hpp
 // Ranges are drawn uniformly and rounded to 1e-4 of their unit (so that the manifest's numbers
 // are the simulated ones exactly); integer ranges uniformly over the integers.
 //
