@@ -194,6 +194,7 @@ std::size_t write_manifest(const fs::path& dir, const DatasetSpec& spec, std::os
     ++per_class[d.cls].first;
     ++complete;
     for (const DrawnFault& f : d.faults) ++per_fault[f.type + " " + f.gear];
+    for (const DrawnDefect& f : d.defects) ++per_fault[f.type + " " + f.gear];
     // A face-gear row holds the simulation's outcome (DLF, impact class): read back from the file.
     const json row = spec.simulator == "face_gear"
                          ? json::parse(diag::RecordingReader(dir / ("recordings/" + d.id + ".h5"))

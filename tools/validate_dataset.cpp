@@ -38,6 +38,8 @@ namespace {
 
 using nlohmann::json;
 
+}  // namespace
+
 // Detection rate of the faulty recordings against one manifest column, in four equal-width bins.
 json rate_by(const std::vector<json>& rows, const std::string& column) {
   double lo = INFINITY, hi = -INFINITY;
@@ -67,6 +69,8 @@ json rate_by(const std::vector<json>& rows, const std::string& column) {
   }
   return out;
 }
+
+namespace {
 
 std::string html_report(const json& rep) {
   std::ostringstream h;

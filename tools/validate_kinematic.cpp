@@ -29,6 +29,7 @@
 #include "diag/units.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
+#include "validate_dataset.hpp"
 
 namespace fs = std::filesystem;
 
@@ -134,8 +135,19 @@ int validate_kinematic_dataset(const std::string& dir, std::vector<json>& rows,
     c["sizes_checked"] = c.value("sizes_checked", 0) + r.value("sizes_checked", 0);
     c["sizes_within_15pct"] = c.value("sizes_within_15pct", 0) + r.value("sizes_within_15pct", 0);
   }
+  // The detectability map: recordings with defects, "detected" when a defective shaft is named
+  // (right or partial), against the first defect's size at the output and the angle noise.
+  std::vector<json> faulty;
+  for (json r : rows) {
+    if (r.value("defects", 0) == 0) continue;
+    r["detected"] = r["verdict"] == "right" || r["verdict"] == "partial";
+    faulty.push_back(r);
+  }
+  const json by = {{"defect1_size_output_deg", rate_by(faulty, "defect1_size_output_deg")},
+                   {"noise_deg", rate_by(faulty, "noise_deg")}};
   json rep = {{"dataset", dir},
               {"simulator", "kinematic"},
+              {"rate_by", by},
               {"decision",
                "period matcher (geardiag attribute, default options): right = every defective "
                "shaft named and nothing else; partial = some named, none wrong; silent = none "
@@ -151,6 +163,13 @@ int validate_kinematic_dataset(const std::string& dir, std::vector<json>& rows,
     for (const std::string& v : kVerdicts) table << "\t" << c[v];
     table << "\t" << c["multiplicity"] << "\t" << c["sizes_within_15pct"] << "/"
           << c["sizes_checked"] << "\n";
+  }
+  for (const auto& [column, bins] : by.items()) {
+    table << "defective shafts named (right or partial) vs " << column << ":\n";
+    for (const json& b : bins) {
+      table << "  " << b["from"].get<double>() << " - " << b["to"].get<double>() << ": "
+            << b["detected"] << " / " << b["recordings"] << "\n";
+    }
   }
   std::cout << table.str();
   if (!json_out.empty()) write_output(json_out, rep.dump(1) + "\n", "--json");
