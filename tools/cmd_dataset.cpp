@@ -123,6 +123,7 @@ void generate(const DatasetSpec& spec, const DrawnRecording& d, const fs::path& 
     const diag::Gearbox& gb = spec.gearboxes[static_cast<std::size_t>(d.gearbox)];
     const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
     rec = sim::to_recording(gb, r);
+    apply_sensor_set(spec, d, rec);
     sim_warnings = r.warnings;
   } else {
     rec = simulate_mode_recording(spec, d);  // kinematic, face gear: dataset_modes.cpp

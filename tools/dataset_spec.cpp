@@ -1,5 +1,7 @@
 #include "dataset_spec.hpp"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -298,6 +300,65 @@ void check_sampling_rate(const DatasetSpec& s) {
   }
 }
 
+bool matches_any(const std::vector<std::string>& patterns, const std::string& name) {
+  return std::any_of(patterns.begin(), patterns.end(), [&](const std::string& p) {
+    return ::fnmatch(p.c_str(), name.c_str(), 0) == 0;
+  });
+}
+
+// sensor_sets[]: {name, channels[], tachos[]}; every pattern must match a channel (a tacho) of
+// every gearbox, found by simulating each gearbox for 10 ms at the lowest speed.
+void parse_sensor_sets(const diag::Fields& f, DatasetSpec& s) {
+  const json& arr = f.raw("sensor_sets");
+  if (!arr.is_array() || arr.empty()) f.fail("sensor_sets", "must be a non-empty array");
+  std::vector<diag::Recording> probes;
+  for (const diag::Gearbox& gb : s.gearboxes) {
+    json sc = scenario_json(s, s.speed_rpm.lo, s.torque_nm.lo, s.oil_c.lo, 0, 0, 0, 1, {});
+    sc["duration_s"] = 0.01;
+    const sim::Scenario parsed = sim::parse_scenario(sc, s.file.string());
+    probes.push_back(sim::to_recording(gb, sim::simulate_dynamic(gb, parsed.dynamics, parsed.run)));
+  }
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < arr.size(); ++i) {
+    const diag::Fields sf(arr[i], s.file.string(), indexed("sensor_sets", i),
+                          {"name", "channels", "tachos"});
+    SensorSet set;
+    set.name = class_name(sf);
+    if (!names.insert(set.name).second) sf.fail("name", "'" + set.name + "' is used twice");
+    for (const char* key : {"channels", "tachos"}) {
+      if (!sf.has(key)) continue;
+      const json& list = sf.raw(key);
+      if (!list.is_array() || (list.empty() && std::string(key) == "channels")) {
+        sf.fail(key, "must be an array of channel names or glob patterns");
+      }
+      for (const json& p : list) {
+        if (!p.is_string() || p.get<std::string>().empty()) {
+          sf.fail(key, "holds only non-empty strings");
+        }
+        (std::string(key) == "channels" ? set.channels : set.tachos).push_back(p);
+      }
+    }
+    if (!sf.has("channels")) sf.fail("channels", "required: the channels this set keeps");
+    set.all_tachos = !sf.has("tachos");
+    for (std::size_t b = 0; b < probes.size(); ++b) {
+      for (const bool tacho : {false, true}) {
+        for (const std::string& p : tacho ? set.tachos : set.channels) {
+          const auto& list = tacho ? probes[b].tachos : probes[b].signals;
+          const bool hit = std::any_of(list.begin(), list.end(), [&](const diag::Signal& sig) {
+            return matches_any({p}, sig.name);
+          });
+          if (!hit) {
+            sf.fail(tacho ? "tachos" : "channels",
+                    "'" + p + "' matches no " + (tacho ? "tachometer" : "channel") + " of " +
+                        s.gearbox_paths[b] + " (geardiag info on a recording lists them)");
+          }
+        }
+      }
+    }
+    s.sensor_sets.push_back(std::move(set));
+  }
+}
+
 // The damaged-gear locator (detect/gear/gear_damage.hpp) averages whole revolutions of each shaft
 // and skips a shaft with fewer than GearDamageOptions::min_revolutions in the record: a warning
 // (not a refusal: the recordings are still valid) when the slowest shaft at the lowest speed
@@ -335,10 +396,10 @@ DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
     load_mode_spec(s);
     return s;
   }
-  const diag::Fields f(
-      s.json, where, "",
-      {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz", "operating_points",
-       "noise_m_per_s2", "accuracy_grade", "runout_um", "scenario", "classes", "simulator"});
+  const diag::Fields f(s.json, where, "",
+                       {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz",
+                        "operating_points", "noise_m_per_s2", "accuracy_grade", "runout_um",
+                        "scenario", "classes", "simulator", "sensor_sets"});
   // Gearboxes, relative to the spec's folder.
   s.gearbox_paths = parse_gearbox_paths(f);
   std::string hashed = s.json.dump();
@@ -425,6 +486,7 @@ DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
   check_sampling_rate(s);
   check_classes(s);
   warn_revolutions(s);
+  if (f.has("sensor_sets")) parse_sensor_sets(f, s);
   return s;
 }
 
@@ -481,9 +543,22 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
     r.faults.push_back(d);
   }
   r.seed = rng.next() % 1000000000ULL;
+  // Drawn last, and only when there are sets: the other draws stay those of a spec without them.
+  if (!s.sensor_sets.empty()) r.sensor_set = static_cast<int>(rng.pick(s.sensor_sets.size()));
   r.scenario = scenario_json(s, r.speed_rpm, r.torque_nm, r.oil_c, r.noise, r.grade, r.runout_um,
                              r.seed, r.faults);
   return r;
+}
+
+void apply_sensor_set(const DatasetSpec& s, const DrawnRecording& r, diag::Recording& rec) {
+  if (r.sensor_set < 0) return;
+  const SensorSet& set = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)];
+  std::erase_if(rec.signals,
+                [&](const diag::Signal& sig) { return !matches_any(set.channels, sig.name); });
+  if (!set.all_tachos) {
+    std::erase_if(rec.tachos,
+                  [&](const diag::Signal& sig) { return !matches_any(set.tachos, sig.name); });
+  }
 }
 
 std::vector<std::string> manifest_columns(const DatasetSpec& s) {
@@ -509,6 +584,7 @@ std::vector<std::string> manifest_columns(const DatasetSpec& s) {
       cols.push_back("fault" + std::to_string(i) + "_" + field);
     }
   }
+  if (!s.sensor_sets.empty()) cols.push_back("sensor_set");
   return cols;
 }
 
@@ -542,6 +618,8 @@ nlohmann::json manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
     row[p + "position_mm"] = f && f->has_position ? json(f->position_mm) : json(nullptr);
     row[p + "width_fraction"] = f ? json(f->width_fraction) : json(nullptr);
   }
+  if (r.sensor_set >= 0)
+    row["sensor_set"] = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)].name;
   return row;
 }
 

@@ -39,6 +39,7 @@
 
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/io/recording.hpp"
 
 namespace geardiag {
 
@@ -91,6 +92,15 @@ struct DatasetClass {
   FaceGearRanges face_gear;              // face-gear datasets: the spec's, overridden per class
 };
 
+// A set of sensors (dynamic datasets): the channels a recording keeps, as names or glob patterns
+// of the simulator's channel names (`geardiag info` lists them), and its tachometers (all when
+// `tachos` is not given). One set is drawn per recording.
+struct SensorSet {
+  std::string name;
+  std::vector<std::string> channels, tachos;
+  bool all_tachos = true;
+};
+
 // The kinematic simulator's settings (sim::KinematicOptions), amplitudes at the output shaft.
 struct KinematicSettings {
   double step_deg = 0;     // 0: per recording, 1/24 of the smallest defect pulse, <= 0.001 rad
@@ -124,7 +134,8 @@ struct DatasetSpec {
   KinematicSettings kinematic;
   std::vector<nlohmann::json> gearbox_json;
   std::vector<std::filesystem::path> gearbox_files;
-  std::vector<std::string> warnings;  // printed by the command (e.g. too few revolutions)
+  std::vector<std::string> warnings;   // printed by the command (e.g. too few revolutions)
+  std::vector<SensorSet> sensor_sets;  // empty: every channel the simulator writes
 };
 
 struct DrawnFault {
@@ -157,6 +168,7 @@ struct DrawnRecording {
   double backlash_um = 0, stiffness_scale = 1, static_te_scale = 1, input_amplitude = 0,
          input_frequency_hz = 0, load_amplitude = 0, load_frequency_hz = 0;
   nlohmann::json model;
+  int sensor_set = -1;  // index into DatasetSpec::sensor_sets, -1: none
 };
 
 // The random stream of one recording (splitmix64, Steele, Lea & Flood 2014), and the draws made
@@ -213,6 +225,9 @@ std::string fnv1a64_hex(const std::string& text);
 DatasetSpec load_dataset_spec(const std::filesystem::path& file);
 
 DrawnRecording draw_recording(const DatasetSpec& spec, std::size_t k);
+
+// Keeps the channels and tachometers of the recording's sensor set (nothing when it has none).
+void apply_sensor_set(const DatasetSpec& spec, const DrawnRecording& r, diag::Recording& rec);
 
 // The manifest's columns, in order, and one recording's row (flat: one value per column, null
 // where a column does not apply).

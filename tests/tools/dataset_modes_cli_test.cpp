@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -213,6 +214,48 @@ TEST(DatasetModesCli, TooFewRevolutionsOfTheSlowestShaftAreWarned) {
   EXPECT_NE(r.out.find("0.05 s holds 0.2 revolutions of shaft 'output'"), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("use duration_s >= 1.6"), std::string::npos) << r.out;
+}
+
+// Sensor sets (dynamic datasets): one set drawn per recording, its channels and tachometers kept
+// (names or glob patterns), its name in the manifest; a pattern that matches no channel of the
+// gearbox is refused before anything is written.
+TEST(DatasetModesCli, SensorSetsKeepTheirChannelsOnly) {
+  const std::string head = R"({"gearbox": ")" + gearbox("three_shaft.json") +
+                           R"(", "seed": 4, "recordings_per_class": 2, "duration_s": 0.05,
+ "fs_hz": 10000, "operating_points": {"speed_rpm": 1200, "torque_nm": 50}, "classes": [{"name": "h"}],
+ "sensor_sets": )";
+  const fs::path spec =
+      write("sets.json", head + R"([{"name": "rig", "channels": ["input_bearing1_vertical",
+      "output_bearing2_vertical"], "tachos": ["input"]}, {"name": "vertical", "channels": ["*_vertical"]}]})");
+  const fs::path dir = scratch("sets_out");
+  auto r = run("dataset " + spec.string() + " -o " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::set<std::string> drawn;
+  for (const json& row : manifest(dir)) {
+    const std::string set = row["sensor_set"];
+    drawn.insert(set);
+    const diag::RecordingReader reader(dir / row["file"].get<std::string>());
+    std::vector<std::string> signals, tachos;
+    for (const auto& c : reader.channels())
+      (c.group == "tacho" ? tachos : signals).push_back(c.name);
+    if (set == "rig") {
+      EXPECT_EQ(signals,
+                (std::vector<std::string>{"input_bearing1_vertical", "output_bearing2_vertical"}));
+      EXPECT_EQ(tachos, std::vector<std::string>{"input"});
+    } else {
+      EXPECT_EQ(signals.size(), 6u);  // two bearings on each of the three shafts
+      for (const std::string& n : signals) EXPECT_NE(n.find("_vertical"), std::string::npos) << n;
+      EXPECT_EQ(tachos.size(), 3u);
+    }
+  }
+  EXPECT_EQ(drawn, (std::set<std::string>{"rig", "vertical"}));  // this seed draws both
+  const fs::path bad =
+      write("sets_bad.json", head + R"([{"name": "x", "channels": ["casing_*"]}]})");
+  r = run("dataset " + bad.string() + " -o " + scratch("sets_bad_out").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("sensor_sets[0].channels: 'casing_*' matches no channel"), std::string::npos)
+      << r.out;
+  EXPECT_FALSE(fs::exists(scratch("sets_bad_out")));
 }
 
 }  // namespace
