@@ -28,6 +28,7 @@
 
 #include "cli_options.hpp"
 #include "commands.hpp"
+#include "dataset_modes.hpp"
 #include "dataset_spec.hpp"
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
@@ -115,23 +116,33 @@ int prepare_folder(const fs::path& dir, const DatasetSpec& spec) {
 void generate(const DatasetSpec& spec, const DrawnRecording& d, const fs::path& file,
               std::set<std::string>& warnings, std::mutex& warnings_mutex) {
   const auto start = std::chrono::steady_clock::now();
-  const sim::Scenario sc = sim::parse_scenario(d.scenario, d.id + ": scenario");
-  const diag::Gearbox& gb = spec.gearboxes[static_cast<std::size_t>(d.gearbox)];
-  const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
-  diag::Recording rec = sim::to_recording(gb, r);
+  diag::Recording rec;
+  std::vector<std::string> sim_warnings;
+  if (spec.simulator == "dynamic") {
+    const sim::Scenario sc = sim::parse_scenario(d.scenario, d.id + ": scenario");
+    const diag::Gearbox& gb = spec.gearboxes[static_cast<std::size_t>(d.gearbox)];
+    const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
+    rec = sim::to_recording(gb, r);
+    apply_sensor_set(spec, d, rec);
+    sim_warnings = r.warnings;
+  } else {
+    rec = simulate_mode_recording(spec, d);  // kinematic, face gear: dataset_modes.cpp
+  }
   json truth = json::parse(rec.truth_json);
+  json row = manifest_row(spec, d);
+  add_mode_outcomes(spec, truth, row);
   truth["dataset"] = {{"id", d.id},
                       {"class", d.cls},
                       {"index", d.index},
                       {"spec_hash", spec.hash},
-                      {"scenario", d.scenario},
-                      {"manifest", manifest_row(spec, d)}};
+                      {"scenario", spec.simulator == "dynamic" ? d.scenario : d.model},
+                      {"manifest", row}};
   rec.truth_json = truth.dump();
   rec.metadata["dataset_id"] = d.id;
   rec.metadata["dataset_class"] = d.cls;
   {
     const std::lock_guard<std::mutex> lock(warnings_mutex);
-    warnings.insert(r.warnings.begin(), r.warnings.end());
+    warnings.insert(sim_warnings.begin(), sim_warnings.end());
   }
   simulate_us += elapsed_us(start);
   const std::lock_guard<std::mutex> lock(hdf5_mutex);
@@ -184,7 +195,12 @@ std::size_t write_manifest(const fs::path& dir, const DatasetSpec& spec, std::os
     ++per_class[d.cls].first;
     ++complete;
     for (const DrawnFault& f : d.faults) ++per_fault[f.type + " " + f.gear];
-    const json row = manifest_row(spec, d);
+    for (const DrawnDefect& f : d.defects) ++per_fault[f.type + " " + f.gear];
+    // A face-gear row holds the simulation's outcome (DLF, impact class): read back from the file.
+    const json row = spec.simulator == "face_gear"
+                         ? json::parse(diag::RecordingReader(dir / ("recordings/" + d.id + ".h5"))
+                                           .truth_json())["dataset"]["manifest"]
+                         : manifest_row(spec, d);
     jsonl << "{";
     for (std::size_t i = 0; i < cols.size(); ++i) {
       csv << (i ? "," : "") << csv_cell(row[cols[i]]);
@@ -244,6 +260,7 @@ int cmd_dataset(int argc, char** argv) {
   std::string refusal;
   if (world.root()) {
     for (const diag::Gearbox& gb : spec.gearboxes) print_warnings(gb.warnings(), "dataset");
+    print_warnings(spec.warnings, "dataset");
     try {
       lock_fd = prepare_folder(dir, spec);
     } catch (const diag::InputError& e) {

@@ -1,10 +1,14 @@
 #include "dataset_spec.hpp"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
 
+#include "dataset_modes.hpp"
+#include "detect/gear/gear_damage.hpp"
 #include "detect/gear/sidebands.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
@@ -22,6 +26,8 @@ using nlohmann::json;
 std::string indexed(const std::string& key, std::size_t i) {
   return key + "[" + std::to_string(i) + "]";
 }
+
+}  // namespace
 
 // A number or [lo, hi] (lo <= hi), each within [min, max] (and > min when `open_min`).
 Range parse_range(const diag::Fields& f, const std::string& key, double min, double max,
@@ -78,6 +84,27 @@ std::string class_name(const diag::Fields& f) {
   if (!ok) f.fail("name", "'" + name + "' may hold only letters, digits, '_' and '-' (<= 64)");
   return name;
 }
+
+std::vector<std::string> parse_gearbox_paths(const diag::Fields& f) {
+  std::vector<std::string> paths;
+  if (!f.has("gearbox")) f.fail("gearbox", "required: a path or an array of paths");
+  const json& g = f.raw("gearbox");
+  if (g.is_string()) {
+    paths.push_back(f.str("gearbox"));
+  } else if (g.is_array() && !g.empty()) {
+    for (const json& p : g) {
+      if (!p.is_string() || p.get<std::string>().empty()) {
+        f.fail("gearbox", "an array of gearbox paths holds only non-empty strings");
+      }
+      paths.push_back(p.get<std::string>());
+    }
+  } else {
+    f.fail("gearbox", "must be a path or a non-empty array of paths");
+  }
+  return paths;
+}
+
+namespace {
 
 DatasetFault parse_fault(const json& j, const std::string& where, const std::string& path) {
   const diag::Fields f(j, where, path,
@@ -172,42 +199,9 @@ json scenario_json(const DatasetSpec& s, double rpm, double torque, double oil, 
   return j;
 }
 
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
+using Stream = DrawStream;
 
-// The random stream of one recording, and the draws made from it. Every draw consumes exactly
-// one number, fixed values included, so that changing one field from a value to a range leaves
-// the other fields' draws as they were.
-class Stream {
- public:
-  Stream(std::uint64_t seed, std::size_t k) {
-    std::uint64_t s = seed;
-    state_ = splitmix64(s) ^ ((static_cast<std::uint64_t>(k) + 1) * 0xd1b54a32d192ed03ULL);
-  }
-  double uniform() { return static_cast<double>(splitmix64(state_) >> 11) * 0x1.0p-53; }
-  double draw(const Range& r) {
-    const double u = uniform();
-    if (r.lo == r.hi) return r.lo;
-    const double x = std::round((r.lo + u * (r.hi - r.lo)) * 1e4) / 1e4;
-    return std::clamp(x, r.lo, r.hi);
-  }
-  int draw(const IntRange& r) {
-    const double u = uniform();
-    const int n = r.hi - r.lo + 1;
-    return r.lo + std::min(n - 1, static_cast<int>(u * n));
-  }
-  std::size_t pick(std::size_t n) {
-    return std::min(n - 1, static_cast<std::size_t>(uniform() * n));
-  }
-  std::uint64_t next() { return splitmix64(state_); }
-
- private:
-  std::uint64_t state_;
-};
+}  // namespace
 
 std::string fnv1a64_hex(const std::string& text) {
   std::uint64_t h = 0xcbf29ce484222325ULL;
@@ -219,6 +213,8 @@ std::string fnv1a64_hex(const std::string& text) {
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
   return buf;
 }
+
+namespace {
 
 // The gears a fault may land on in gearbox `gb`.
 std::vector<int> candidate_gears(const DatasetFault& f, const diag::Gearbox& gb) {
@@ -304,6 +300,89 @@ void check_sampling_rate(const DatasetSpec& s) {
   }
 }
 
+bool matches_any(const std::vector<std::string>& patterns, const std::string& name) {
+  return std::any_of(patterns.begin(), patterns.end(), [&](const std::string& p) {
+    return ::fnmatch(p.c_str(), name.c_str(), 0) == 0;
+  });
+}
+
+// sensor_sets[]: {name, channels[], tachos[]}; every pattern must match a channel (a tacho) of
+// every gearbox, found by simulating each gearbox for 10 ms at the lowest speed.
+void parse_sensor_sets(const diag::Fields& f, DatasetSpec& s) {
+  const json& arr = f.raw("sensor_sets");
+  if (!arr.is_array() || arr.empty()) f.fail("sensor_sets", "must be a non-empty array");
+  std::vector<diag::Recording> probes;
+  for (const diag::Gearbox& gb : s.gearboxes) {
+    json sc = scenario_json(s, s.speed_rpm.lo, s.torque_nm.lo, s.oil_c.lo, 0, 0, 0, 1, {});
+    sc["duration_s"] = 0.01;
+    const sim::Scenario parsed = sim::parse_scenario(sc, s.file.string());
+    probes.push_back(sim::to_recording(gb, sim::simulate_dynamic(gb, parsed.dynamics, parsed.run)));
+  }
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < arr.size(); ++i) {
+    const diag::Fields sf(arr[i], s.file.string(), indexed("sensor_sets", i),
+                          {"name", "channels", "tachos"});
+    SensorSet set;
+    set.name = class_name(sf);
+    if (!names.insert(set.name).second) sf.fail("name", "'" + set.name + "' is used twice");
+    for (const char* key : {"channels", "tachos"}) {
+      if (!sf.has(key)) continue;
+      const json& list = sf.raw(key);
+      if (!list.is_array() || (list.empty() && std::string(key) == "channels")) {
+        sf.fail(key, "must be an array of channel names or glob patterns");
+      }
+      for (const json& p : list) {
+        if (!p.is_string() || p.get<std::string>().empty()) {
+          sf.fail(key, "holds only non-empty strings");
+        }
+        (std::string(key) == "channels" ? set.channels : set.tachos).push_back(p);
+      }
+    }
+    if (!sf.has("channels")) sf.fail("channels", "required: the channels this set keeps");
+    set.all_tachos = !sf.has("tachos");
+    for (std::size_t b = 0; b < probes.size(); ++b) {
+      for (const bool tacho : {false, true}) {
+        for (const std::string& p : tacho ? set.tachos : set.channels) {
+          const auto& list = tacho ? probes[b].tachos : probes[b].signals;
+          const bool hit = std::any_of(list.begin(), list.end(), [&](const diag::Signal& sig) {
+            return matches_any({p}, sig.name);
+          });
+          if (!hit) {
+            sf.fail(tacho ? "tachos" : "channels",
+                    "'" + p + "' matches no " + (tacho ? "tachometer" : "channel") + " of " +
+                        s.gearbox_paths[b] + " (geardiag info on a recording lists them)");
+          }
+        }
+      }
+    }
+    s.sensor_sets.push_back(std::move(set));
+  }
+}
+
+// The damaged-gear locator (detect/gear/gear_damage.hpp) averages whole revolutions of each shaft
+// and skips a shaft with fewer than GearDamageOptions::min_revolutions in the record: a warning
+// (not a refusal: the recordings are still valid) when the slowest shaft at the lowest speed
+// turns fewer times than that within duration_s.
+void warn_revolutions(DatasetSpec& s) {
+  const int needed = detect::GearDamageOptions{}.min_revolutions;
+  for (std::size_t b = 0; b < s.gearboxes.size(); ++b) {
+    const diag::Gearbox gb = s.gearboxes[b].with_input_speed_rpm(s.speed_rpm.lo);
+    for (std::size_t sh = 0; sh < gb.shafts().size(); ++sh) {
+      const double revs = s.duration_s * gb.shaft_speed_hz(static_cast<int>(sh));
+      if (revs >= needed) continue;
+      s.warnings.push_back(
+          s.file.string() + ": duration_s: " + diag::Fields::fmt(s.duration_s) + " s holds " +
+          diag::Fields::fmt(std::floor(revs * 10) / 10) + " revolutions of shaft '" +
+          gb.shafts()[sh].name + "' of " + s.gearbox_paths[b] + " at " +
+          diag::Fields::fmt(s.speed_rpm.lo) +
+          " rpm: the damaged-gear locator (validate "
+          "--dataset) skips a shaft with fewer than " +
+          std::to_string(needed) + " whole revolutions; use duration_s >= " +
+          diag::Fields::fmt(std::ceil(needed / gb.shaft_speed_hz(static_cast<int>(sh)) * 10) / 10));
+    }
+  }
+}
+
 }  // namespace
 
 DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
@@ -311,25 +390,18 @@ DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
   s.file = file;
   const std::string where = file.string();
   s.json = diag::load_json_file(file);
-  const diag::Fields f(
-      s.json, where, "",
-      {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz", "operating_points",
-       "noise_m_per_s2", "accuracy_grade", "runout_um", "scenario", "classes"});
-  // Gearboxes, relative to the spec's folder.
-  if (!f.has("gearbox")) f.fail("gearbox", "required: a path or an array of paths");
-  const json& g = f.raw("gearbox");
-  if (g.is_string()) {
-    s.gearbox_paths.push_back(f.str("gearbox"));
-  } else if (g.is_array() && !g.empty()) {
-    for (const json& p : g) {
-      if (!p.is_string() || p.get<std::string>().empty()) {
-        f.fail("gearbox", "an array of gearbox paths holds only non-empty strings");
-      }
-      s.gearbox_paths.push_back(p.get<std::string>());
-    }
-  } else {
-    f.fail("gearbox", "must be a path or a non-empty array of paths");
+  // Kinematic and face-gear datasets: dataset_modes.cpp.
+  s.simulator = dataset_simulator(s.json, file);
+  if (s.simulator != "dynamic") {
+    load_mode_spec(s);
+    return s;
   }
+  const diag::Fields f(s.json, where, "",
+                       {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz",
+                        "operating_points", "noise_m_per_s2", "accuracy_grade", "runout_um",
+                        "scenario", "classes", "simulator", "sensor_sets"});
+  // Gearboxes, relative to the spec's folder.
+  s.gearbox_paths = parse_gearbox_paths(f);
   std::string hashed = s.json.dump();
   for (std::size_t i = 0; i < s.gearbox_paths.size(); ++i) {
     std::filesystem::path p = s.gearbox_paths[i];
@@ -413,6 +485,8 @@ DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
   if (s.total > 100000000) f.fail("classes", "more than 1e8 recordings");
   check_sampling_rate(s);
   check_classes(s);
+  warn_revolutions(s);
+  if (f.has("sensor_sets")) parse_sensor_sets(f, s);
   return s;
 }
 
@@ -430,6 +504,10 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
   std::string index = std::to_string(k);
   r.id = std::string(static_cast<std::size_t>(digits) - index.size(), '0') + index + "-" + r.cls;
   Stream rng(s.seed, k);
+  if (s.simulator != "dynamic") {
+    draw_mode_recording(s, cls, rng, r);
+    return r;
+  }
   r.gearbox = static_cast<int>(rng.pick(s.gearboxes.size()));
   const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
   r.speed_rpm = rng.draw(s.speed_rpm);
@@ -465,12 +543,26 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
     r.faults.push_back(d);
   }
   r.seed = rng.next() % 1000000000ULL;
+  // Drawn last, and only when there are sets: the other draws stay those of a spec without them.
+  if (!s.sensor_sets.empty()) r.sensor_set = static_cast<int>(rng.pick(s.sensor_sets.size()));
   r.scenario = scenario_json(s, r.speed_rpm, r.torque_nm, r.oil_c, r.noise, r.grade, r.runout_um,
                              r.seed, r.faults);
   return r;
 }
 
+void apply_sensor_set(const DatasetSpec& s, const DrawnRecording& r, diag::Recording& rec) {
+  if (r.sensor_set < 0) return;
+  const SensorSet& set = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)];
+  std::erase_if(rec.signals,
+                [&](const diag::Signal& sig) { return !matches_any(set.channels, sig.name); });
+  if (!set.all_tachos) {
+    std::erase_if(rec.tachos,
+                  [&](const diag::Signal& sig) { return !matches_any(set.tachos, sig.name); });
+  }
+}
+
 std::vector<std::string> manifest_columns(const DatasetSpec& s) {
+  if (s.simulator != "dynamic") return mode_manifest_columns(s);
   std::vector<std::string> cols = {"file",
                                    "id",
                                    "index",
@@ -492,10 +584,12 @@ std::vector<std::string> manifest_columns(const DatasetSpec& s) {
       cols.push_back("fault" + std::to_string(i) + "_" + field);
     }
   }
+  if (!s.sensor_sets.empty()) cols.push_back("sensor_set");
   return cols;
 }
 
 nlohmann::json manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
+  if (s.simulator != "dynamic") return mode_manifest_row(s, r);
   json row = json::object();
   row["file"] = "recordings/" + r.id + ".h5";
   row["id"] = r.id;
@@ -524,6 +618,8 @@ nlohmann::json manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
     row[p + "position_mm"] = f && f->has_position ? json(f->position_mm) : json(nullptr);
     row[p + "width_fraction"] = f ? json(f->width_fraction) : json(nullptr);
   }
+  if (r.sensor_set >= 0)
+    row["sensor_set"] = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)].name;
   return row;
 }
 

@@ -17,6 +17,9 @@
 //                        size fields of its type as numbers or [lo, hi]}; gear: a name, an array
 //                        of names, or "any" (drawn per recording among the gearbox's gears);
 //                        tooth: an integer, [lo, hi] or "any" (default)
+//   simulator            "dynamic" (default: the fields above), "kinematic" (seed 003) or
+//                        "face_gear" (seed 002; implied by a face-gear gearbox): their fields in
+//                        tools/dataset_modes.hpp
 // Ranges are drawn uniformly and rounded to 1e-4 of their unit (so that the manifest's numbers
 // are the simulated ones exactly); integer ranges uniformly over the integers.
 //
@@ -26,6 +29,8 @@
 // before it. The simulation's own seed (noise, pitch errors, runout phases) is drawn from it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -33,6 +38,8 @@
 #include <vector>
 
 #include "diag/gearbox/gearbox.hpp"
+#include "diag/io/json_fields.hpp"
+#include "diag/io/recording.hpp"
 
 namespace geardiag {
 
@@ -55,10 +62,51 @@ struct DatasetFault {
   Range width_fraction{1, 1};
 };
 
+// A sporadic tooth defect of a kinematic class (seed 003; dataset_modes.cpp): on a power-path
+// gear, its size in the gear's own rotation or at the output, where it enters the mesh.
+struct KinematicDefect {
+  std::string type = "chip";       // kept in the truth
+  std::vector<std::string> gears;  // empty: any power-path gear
+  bool size_at_output = false;     // size_output_deg given instead of size_deg
+  Range size_deg;
+  bool any_phase = true;
+  Range phase_deg;
+};
+
+// The drawn parameters of a face-gear pair (seed 002), each a number or [lo, hi].
+struct FaceGearRanges {
+  Range speed_rpm, torque_nm;
+  bool has_backlash = false;
+  Range backlash_um;
+  Range stiffness_scale{1, 1}, static_te_scale{1, 1};
+  bool has_fluctuation = false;  // else the description's torque_fluctuation stands
+  Range input_amplitude{0, 0}, input_frequency_hz{0, 0}, load_amplitude{0, 0},
+      load_frequency_hz{0, 0};
+};
+
 struct DatasetClass {
   std::string name;
   int recordings = 0;
   std::vector<DatasetFault> faults;
+  std::vector<KinematicDefect> defects;  // kinematic datasets
+  FaceGearRanges face_gear;              // face-gear datasets: the spec's, overridden per class
+};
+
+// A set of sensors (dynamic datasets): the channels a recording keeps, as names or glob patterns
+// of the simulator's channel names (`geardiag info` lists them), and its tachometers (all when
+// `tachos` is not given). One set is drawn per recording.
+struct SensorSet {
+  std::string name;
+  std::vector<std::string> channels, tachos;
+  bool all_tachos = true;
+};
+
+// The kinematic simulator's settings (sim::KinematicOptions), amplitudes at the output shaft.
+struct KinematicSettings {
+  double step_deg = 0;     // 0: per recording, 1/24 of the smallest defect pulse, <= 0.001 rad
+  double revolutions = 0;  // input revolutions; 0: six periods of the slowest path shaft
+  Range runout_deg{0, 0}, mesh_te_deg{0, 0}, noise_deg{0, 0};
+  std::int64_t encoder_counts = 0;
 };
 
 struct DatasetSpec {
@@ -79,6 +127,15 @@ struct DatasetSpec {
   std::size_t max_faults = 0;
   std::string hash;     // 16 hex digits: the spec and the gearbox descriptions' text
   nlohmann::json json;  // the spec as read
+  // The simulator: "dynamic" (default), "kinematic" (seed 003: shaft angles with sporadic
+  // defects) or "face_gear" (seed 002: the face-gear pair; gearbox_json holds its descriptions
+  // and gearbox_files their resolved paths). dataset_modes.cpp.
+  std::string simulator = "dynamic";
+  KinematicSettings kinematic;
+  std::vector<nlohmann::json> gearbox_json;
+  std::vector<std::filesystem::path> gearbox_files;
+  std::vector<std::string> warnings;   // printed by the command (e.g. too few revolutions)
+  std::vector<SensorSet> sensor_sets;  // empty: every channel the simulator writes
 };
 
 struct DrawnFault {
@@ -86,6 +143,12 @@ struct DrawnFault {
   int tooth = 0;
   double size_mm = 0, depth_um = 0, position_mm = 0, width_fraction = 1;
   bool has_depth = false, has_position = false;
+};
+
+struct DrawnDefect {
+  std::string type, gear, shaft;
+  double size_gear_deg = 0, size_output_deg = 0, phase_deg = 0, period_input_rev = 0,
+         first_event_input_deg = 0;
 };
 
 struct DrawnRecording {
@@ -98,7 +161,62 @@ struct DrawnRecording {
   int grade = 0;
   std::vector<DrawnFault> faults;
   nlohmann::json scenario;  // the scenario simulated (README "Scenario description")
+  // Kinematic: the defects and settings; face gear: the drawn pair parameters. `model` is the
+  // description simulated (the gearbox with its defects, or the face-gear pair's).
+  std::vector<DrawnDefect> defects;
+  double step_rad = 0, revolutions = 0, runout_deg = 0, mesh_te_deg = 0, kin_noise_deg = 0;
+  double backlash_um = 0, stiffness_scale = 1, static_te_scale = 1, input_amplitude = 0,
+         input_frequency_hz = 0, load_amplitude = 0, load_frequency_hz = 0;
+  nlohmann::json model;
+  int sensor_set = -1;  // index into DatasetSpec::sensor_sets, -1: none
 };
+
+// The random stream of one recording (splitmix64, Steele, Lea & Flood 2014), and the draws made
+// from it. Every draw consumes exactly one number, fixed values included, so that changing one
+// field from a value to a range leaves the other fields' draws as they were.
+class DrawStream {
+ public:
+  DrawStream(std::uint64_t seed, std::size_t k) {
+    std::uint64_t s = seed;
+    state_ = splitmix64(s) ^ ((static_cast<std::uint64_t>(k) + 1) * 0xd1b54a32d192ed03ULL);
+  }
+  double uniform() { return static_cast<double>(splitmix64(state_) >> 11) * 0x1.0p-53; }
+  // Uniform in [lo, hi], rounded to 1e-4 of the unit.
+  double draw(const Range& r) {
+    const double u = uniform();
+    if (r.lo == r.hi) return r.lo;
+    const double x = std::round((r.lo + u * (r.hi - r.lo)) * 1e4) / 1e4;
+    return std::clamp(x, r.lo, r.hi);
+  }
+  int draw(const IntRange& r) {
+    const double u = uniform();
+    const int n = r.hi - r.lo + 1;
+    return r.lo + std::min(n - 1, static_cast<int>(u * n));
+  }
+  std::size_t pick(std::size_t n) {
+    return std::min(n - 1, static_cast<std::size_t>(uniform() * n));
+  }
+  std::uint64_t next() { return splitmix64(state_); }
+
+ private:
+  static std::uint64_t splitmix64(std::uint64_t& state) {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  std::uint64_t state_;
+};
+
+// Field parsers shared by the simulators' specs (dataset_spec.cpp; dataset_modes.cpp): a number
+// or [lo, hi] within [min, max] (> min when open_min); an integer or integer range; a class name
+// (letters, digits, '_', '-'); the `gearbox` path or array of paths; a 16-hex-digit FNV-1a hash.
+Range parse_range(const diag::Fields& f, const std::string& key, double min, double max,
+                  bool open_min);
+IntRange parse_int_range(const diag::Fields& f, const std::string& key, int min, int max);
+std::string class_name(const diag::Fields& f);
+std::vector<std::string> parse_gearbox_paths(const diag::Fields& f);
+std::string fnv1a64_hex(const std::string& text);
 
 // Reads and checks a spec. Throws diag::InputError naming the file and field: unknown fields,
 // bad values, a fault on a gear no gearbox has, a tooth beyond a gear's teeth, a fault size the
@@ -107,6 +225,9 @@ struct DrawnRecording {
 DatasetSpec load_dataset_spec(const std::filesystem::path& file);
 
 DrawnRecording draw_recording(const DatasetSpec& spec, std::size_t k);
+
+// Keeps the channels and tachometers of the recording's sensor set (nothing when it has none).
+void apply_sensor_set(const DatasetSpec& spec, const DrawnRecording& r, diag::Recording& rec);
 
 // The manifest's columns, in order, and one recording's row (flat: one value per column, null
 // where a column does not apply).

@@ -63,29 +63,31 @@ bool is_face_gear_text(const std::string& json_text, const std::string& where) {
   return fg::is_face_gear(diag::parse_json_text(json_text, where));
 }
 
-int simulate_face_gear(const FaceGearSimulateArgs& a) {
-  fg::Description d = load(a.gearbox, a.scenario);
-  if (a.rpm > 0) d.operating.speed_rpm = speed_rpm_checked(a.rpm, "--rpm");
-  if (a.torque_nm >= 0) {
-    if (!(a.torque_nm > 0)) throw diag::InputError("--torque: a face-gear pair needs > 0 N m");
-    d.operating.torque_nm = a.torque_nm;
-  }
-  if (!(a.duration_s > 0) || a.duration_s > 600) {
+fg::RunOptions face_gear_run_options(const fg::Description& d, double duration_s, double fs_hz) {
+  if (!(duration_s > 0) || duration_s > 600) {
     throw diag::InputError("--duration: must be in (0, 600] s");
   }
-  if (!(a.fs_hz > 0) || a.fs_hz > 1e7) throw diag::InputError("--fs: must be in (0, 1e7] Hz");
+  if (!(fs_hz > 0) || fs_hz > 1e7) throw diag::InputError("--fs: must be in (0, 1e7] Hz");
   const fg::Model model(d.pair, d.operating);
   const double gmf = model.mesh_frequency_hz();
   fg::RunOptions ro;
   ro.steps_per_period =
-      std::max(fg::rk4_steps_per_period(model), static_cast<int>(std::ceil(2.0 * a.fs_hz / gmf)));
+      std::max(fg::rk4_steps_per_period(model), static_cast<int>(std::ceil(2.0 * fs_hz / gmf)));
   ro.transient_periods = 300;
   // At least 18 mesh periods, what classify_period needs (2 x 8 + 2 Poincare points): a shorter
   // recording's truth classifies the same steady run over its first 18 periods.
-  ro.record_periods = std::max(static_cast<int>(std::ceil(a.duration_s * gmf)) + 2, 18);
+  ro.record_periods = std::max(static_cast<int>(std::ceil(duration_s * gmf)) + 2, 18);
   if (static_cast<double>(ro.steps_per_period) * ro.record_periods > 2e9) {
     throw diag::InputError("--duration: too many integration steps; shorten the recording");
   }
+  return ro;
+}
+
+diag::Recording face_gear_recording(const fg::Description& d, const std::string& gearbox_json,
+                                    const FaceGearSimulateArgs& a) {
+  const fg::RunOptions ro = face_gear_run_options(d, a.duration_s, a.fs_hz);
+  const fg::Model model(d.pair, d.operating);
+  const double gmf = model.mesh_frequency_hz();
   const fg::Trace tr = fg::run(model, ro);
   const std::size_t n = static_cast<std::size_t>(std::floor(a.duration_s * a.fs_hz));
   diag::Recording rec;
@@ -128,7 +130,7 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
     }
     rec.signals.push_back(std::move(s));
   }
-  rec.gearbox_json = diag::load_json_file(a.gearbox).dump(2);
+  rec.gearbox_json = gearbox_json;
   rec.speed_rpm = d.operating.speed_rpm;
   nlohmann::json truth;
   truth["model"] = "face-gear pair torsional (seed 002)";
@@ -147,6 +149,18 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
   truth["stiffness_scale"] = d.pair.stiffness_scale;
   truth["rk4_steps_per_mesh_period"] = ro.steps_per_period;
   rec.truth_json = truth.dump();
+  return rec;
+}
+
+int simulate_face_gear(const FaceGearSimulateArgs& a) {
+  fg::Description d = load(a.gearbox, a.scenario);
+  if (a.rpm > 0) d.operating.speed_rpm = speed_rpm_checked(a.rpm, "--rpm");
+  if (a.torque_nm >= 0) {
+    if (!(a.torque_nm > 0)) throw diag::InputError("--torque: a face-gear pair needs > 0 N m");
+    d.operating.torque_nm = a.torque_nm;
+  }
+  const diag::Recording rec = face_gear_recording(d, diag::load_json_file(a.gearbox).dump(2), a);
+  const nlohmann::json truth = nlohmann::json::parse(rec.truth_json);
   diag::write_recording(a.output, rec);
   std::cout << "simulated face-gear pair " << d.name << ": " << a.duration_s << " s at " << a.fs_hz
             << " Hz, " << d.operating.speed_rpm << " rpm, " << d.operating.torque_nm << " N m; DLF "

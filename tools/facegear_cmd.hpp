@@ -4,6 +4,9 @@
 
 #include <string>
 
+#include "diag/io/recording.hpp"
+#include "sim/facegear/description.hpp"
+
 namespace geardiag {
 
 // True when the description file is a face-gear pair (reads the JSON; InputError when unreadable).
@@ -17,6 +20,15 @@ struct FaceGearSimulateArgs {
   double rpm = 0.0, torque_nm = -1.0;  // overrides when > 0 / >= 0
 };
 int simulate_face_gear(const FaceGearSimulateArgs& a);
+
+// The recording `simulate` writes for a face-gear pair (dte, dte_rate, mesh torque and stiffness,
+// both angles, contact state; truth with DLF, impact and period classes), from a parsed
+// description; a.gearbox/output/scenario/rpm/torque are not used. gearbox_json is stored as the
+// recording's /gearbox. The run's options, checked (InputError naming --duration or --fs).
+diag::Recording face_gear_recording(const sim::facegear::Description& d,
+                                    const std::string& gearbox_json, const FaceGearSimulateArgs& a);
+sim::facegear::RunOptions face_gear_run_options(const sim::facegear::Description& d,
+                                                double duration_s, double fs_hz);
 
 struct FaceGearSweepArgs {
   std::string gearbox, scenario, json_out;

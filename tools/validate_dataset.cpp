@@ -27,6 +27,7 @@
 #include "output.hpp"
 #include "parallel.hpp"
 #include "recording_input.hpp"
+#include "validate_kinematic.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -36,6 +37,8 @@ namespace geardiag {
 namespace {
 
 using nlohmann::json;
+
+}  // namespace
 
 // Detection rate of the faulty recordings against one manifest column, in four equal-width bins.
 json rate_by(const std::vector<json>& rows, const std::string& column) {
@@ -66,6 +69,8 @@ json rate_by(const std::vector<json>& rows, const std::string& column) {
   }
   return out;
 }
+
+namespace {
 
 std::string html_report(const json& rep) {
   std::ostringstream h;
@@ -112,7 +117,9 @@ int validate_dataset(int argc, char** argv) {
       "geardiag validate --dataset DIR [--json OUT.json] [--html OUT.html] [--jobs N]\n\n"
       "Analyses every recording of DIR/manifest.jsonl (made by geardiag dataset) and compares\n"
       "the damaged-gear locator's verdict with the truth: confusion matrix (class x shaft named),\n"
-      "detection and location rate per class, detection rate vs fault size, speed and noise.\n\n"
+      "detection and location rate per class, detection rate vs fault size, speed and noise.\n"
+      "A kinematic dataset goes through the period matcher (geardiag attribute): right /\n"
+      "partial / silent / wrong per class.\n\n"
       "options");
   desc.add_options()("help,h", "this help")("dataset", po::value(&dir)->required(),
                                             "dataset folder")(
@@ -141,6 +148,16 @@ int validate_dataset(int argc, char** argv) {
     }
   }
   if (rows.empty()) throw diag::InputError(manifest.string() + ": no recordings");
+  // Kinematic datasets go through the attribution (validate_kinematic.cpp); face-gear ones have
+  // no detector.
+  const std::string simulator = rows.front().value("simulator", "dynamic");
+  if (simulator == "kinematic")
+    return validate_kinematic_dataset(dir, rows, json_out, html_out, jobs);
+  if (simulator != "dynamic") {
+    throw diag::InputError("--dataset " + dir + ": a " + simulator +
+                           " dataset: no detector reads these recordings yet (the manifest holds "
+                           "each recording's simulated outcome)");
+  }
   Progress progress("validate", rows.size(), true);
   // Each file read on the main thread (run_in_rounds: the HDF5 reader forks), analysed on a
   // worker.
