@@ -256,9 +256,8 @@ std::string spectrogram_svg(const SpectrogramTrace& s, const std::string& psd_un
   const int h = 280, L = 70, R = 80, T = 30, B = 45;
   const double pw = width_px - L - R, ph = h - T - B;
   std::ostringstream o;
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\" "
-       "width=\""
-    << width_px << "\" height=\"" << h << "\" viewBox=\"0 0 " << width_px << " " << h
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_px << "\" height=\"" << h
+    << "\" viewBox=\"0 0 " << width_px << " " << h
     << "\" font-family=\"sans-serif\" font-size=\"11\"><defs><linearGradient id=\"" << id
     << "\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\">";
   for (int k = 0; k <= 4; ++k) {
@@ -275,7 +274,7 @@ std::string spectrogram_svg(const SpectrogramTrace& s, const std::string& psd_un
     << " s in " << cols << " columns)</text>";
   o << "<image x=\"" << L << "\" y=\"" << T << "\" width=\"" << f3(pw) << "\" height=\"" << ph
     << "\" preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" "
-       "xlink:href=\"data:image/png;base64,"
+       "href=\"data:image/png;base64,"
     << base64(png_indexed(idx, cols, palette)) << "\"/>";
   o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << f3(pw) << "\" height=\"" << ph
     << "\" fill=\"none\" stroke=\"#333\"/>";
@@ -529,8 +528,13 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
 
   // ---- findings ----
   o << "<h2 id=findings>Findings</h2>\n";
+  if (alarm) {  // the baseline ALARM is a finding (counted in the verdict)
+    o << "<p><span class=bad>ALARM</span> against the baseline: anomaly score "
+      << f3(r.baseline->anomaly_score) << " above " << f3(r.baseline->threshold)
+      << " (<a href=\"#baseline\">baseline</a>).</p>\n";
+  }
   if (r.findings.empty()) {
-    o << "<p class=good>No finding.</p>\n";
+    if (!alarm) o << "<p class=good>No finding.</p>\n";
   } else {
     o << "<table><tr><th class=l>kind</th><th class=l>shaft / gears</th><th class=l>bearing / "
          "fault</th><th>frequency [Hz]</th><th class=l>channel</th><th>confidence</th>"
