@@ -321,10 +321,10 @@ TEST(Analyze, HtmlReportIsOneSelfContainedDocument) {
 
 // The spectrogram of a tone switched on half-way: the tone's bin is dark before and bright after
 // (by more than 60 dB: the record before is exactly zero but for 1e-6 noise); the grid stays
-// within its bounds for a record of 2^20 samples (kSpectrogramColumns spans, kSpectrogramRows + 1
-// bins), and the report draws it as one PNG image.
+// within its bounds for a record of 2^18 samples (2047 segments) (kSpectrogramColumns spans,
+// kSpectrogramRows + 1 bins), and the report draws it as one PNG image.
 TEST(Analyze, SpectrogramShowsWhenAToneStartsOnABoundedGrid) {
-  const std::size_t n = std::size_t{1} << 20;
+  const std::size_t n = std::size_t{1} << 18;
   const double fs = 8192, f0 = 1024;  // f0 on bin 32 of the 256-sample segments
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0, 1e-6);
