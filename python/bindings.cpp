@@ -271,7 +271,9 @@ py::dict curves_py(std::vector<diag::DataGroup>&& groups) {
     py::dict columns, units;
     for (diag::DataColumn& c : g.columns) {
       units[py::str(c.name)] = c.unit;
-      columns[py::str(c.name)] = to_numpy(std::move(c.values));
+      py::array a = to_numpy(std::move(c.values));
+      if (!c.shape.empty()) a = a.reshape(std::vector<py::ssize_t>(c.shape.begin(), c.shape.end()));
+      columns[py::str(c.name)] = a;
     }
     py::dict attrs;
     for (const auto& [k, v] : g.numbers) attrs[py::str(k)] = v;

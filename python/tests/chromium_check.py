@@ -41,7 +41,8 @@ MEASURE = """<script>
     height: folded, height_unfolded: document.documentElement.scrollHeight, width: W,
     scroll_width: document.documentElement.scrollWidth, overflowing: over.slice(0, 20),
     links: links.length, broken_links: broken, details: document.querySelectorAll('details').length,
-    svgs: document.querySelectorAll('svg').length, scripts: %(scripts)d});
+    svgs: document.querySelectorAll('svg').length,
+    images: document.querySelectorAll('svg image').length, scripts: %(scripts)d});
   document.body.appendChild(out);
 })();
 </script>"""

@@ -80,7 +80,7 @@ def test_analyze_equals_cli(sim_file, cli_outputs):
         n = 0
         for ch, groups in curves["channels"].items():
             for gname in ("psd", "spectrum", "envelope_spectrum", "order_spectrum", "waveform",
-                          "kurtogram"):
+                          "kurtogram", "spectrogram"):
                 if gname in groups:
                     g = f["channels"][ch][gname]
                     for col in groups[gname]["units"]:
@@ -88,6 +88,11 @@ def test_analyze_equals_cli(sim_file, cli_outputs):
                         assert g[col].attrs["unit"] == groups[gname]["units"][col]
                         n += 1
         assert n > 10
+        # The spectrogram: a 2-D dataset [time, frequency] with its axes and units.
+        sg = next(iter(f["channels"].values()))["spectrogram"]
+        assert sg["psd_db"].shape == (sg["time_s"].size, sg["frequency_hz"].size)
+        assert sg["psd_db"].attrs["unit"] == "dB re 1 (m/s^2)^2/Hz"
+        assert sg["time_s"].attrs["unit"] == "s" and sg["frequency_hz"].attrs["unit"] == "Hz"
         # TSA signals per shaft with the angle axis.
         tsa = next(iter(f["channels"].values()))["tsa"]
         for shaft in tsa:
@@ -137,3 +142,29 @@ def test_analyze_cwru_inner_race():
     r = geardiag.analyze(SHARED_DATA / "cwru-bearing" / "IR007_0.mat", gearbox=gb, fs_hz=12000)
     faults = [f["fault"] for f in r["findings"] if f["kind"] == "bearing"]
     assert faults == ["inner_race"]
+    # The envelope spectrum the decision read and the lines it counted (--curves' groups): the
+    # inner-race family's lines seen, the x axis ending at 1.1 x the highest scored harmonic.
+    ch = r["curves"]["channels"]["X105_DE_time"]
+    env = ch["bearings"]["drive_end"]["decision_envelope"]
+    lines = ch["bearings"]["drive_end"]["decision_lines"]
+    labels = lines["attrs"]["labels"].split(";")
+    seen = {lab for lab, s in zip(labels, lines["seen"]) if s == 1}
+    assert {"BPFI", "2xBPFI", "3xBPFI"} <= seen
+    assert env["frequency_hz"][-1] <= 1.1 * lines["expected_hz"].max() + 1e-9
+    assert env["frequency_hz"][-1] > lines["expected_hz"].max()
+    assert env["attrs"]["band_high_hz"] > env["attrs"]["band_low_hz"] > 0
+    assert env["attrs"]["status"] == "inner_race"
+    # The spectrogram: a bounded 2-D grid; its first column is scipy's spectrogram (same Hann
+    # window, 256-sample segments, 50 % overlap, PSD scaling) of the first span, averaged over
+    # the span's segments, in dB (1e-9 dB: round-off).
+    sg = ch["spectrogram"]
+    assert sg["psd_db"].shape == (sg["time_s"].size, sg["frequency_hz"].size)
+    assert sg["time_s"].size == 240 and sg["frequency_hz"].size == 129
+    rec = geardiag.read_recording(SHARED_DATA / "cwru-bearing" / "IR007_0.mat", fs_hz=12000)
+    x = np.asarray(rec.signals["X105_DE_time"])
+    span = x[: x.size // 240]
+    f, t, sxx = scipy.signal.spectrogram(span, 12000, window="hann", nperseg=256, noverlap=128,
+                                         detrend="constant", scaling="density", mode="psd")
+    np.testing.assert_allclose(sg["frequency_hz"], f)
+    np.testing.assert_allclose(sg["psd_db"][0], 10 * np.log10(sxx.mean(axis=1)), atol=1e-9)
+

@@ -296,6 +296,14 @@ TEST(BaselineComparison, AnalysisJsonHasAnomalyScoreAndAlarmAtTopLevelAndHtmlThe
   EXPECT_NE(h.find("Against the baseline"), std::string::npos);
   EXPECT_NE(h.find(r.baseline->deviations.front().feature), std::string::npos);
   EXPECT_NE(h.find("ALARM"), std::string::npos);
+  // An ALARM is a finding: counted in the verdict, listed under Findings, never "No finding".
+  if (r.findings.empty()) {
+    EXPECT_NE(h.find("Verdict: 1 finding"), std::string::npos);
+    EXPECT_EQ(h.find("No finding"), std::string::npos);
+  }
+  const std::size_t fs = h.find("id=findings");
+  ASSERT_NE(fs, std::string::npos);
+  EXPECT_LT(h.find("ALARM", fs), h.find("id=indicators"));
   EXPECT_NE(detect::format_summary(r).find("ALARM"), std::string::npos);
 }
 

@@ -3,12 +3,14 @@
 // SKF 6205 drive-end bearing, no gears) at the speed in the file. Skips when the data is absent.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "detect/analysis/analyze.hpp"
+#include "detect/analysis/html_report.hpp"
 #include "detect/gear/bearing_diagnosis.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/import.hpp"
@@ -107,6 +109,41 @@ TEST_F(AnalyzeCwru, InnerRaceFaultFileGivesAnInnerRaceFinding) {
 
 TEST_F(AnalyzeCwru, OuterRaceFaultFileGivesAnOuterRaceFinding) {
   expect_fault(analyse("OR007@6_0.mat", 12000.0), "outer_race", 3.5848);
+}
+
+// The import locates CWRU's channels by their documented names, so the drive-end bearing of the
+// description is diagnosed on the drive-end accelerometer only (not on the fan-end and base
+// channels), and the report names the channels by what they are. The envelope spectrum drawn
+// for the bearing is the one its decision read: the decision's own band, the seen lines those
+// the decision counted (the inner-race family, its three harmonics), the axis ending at 1.1 x the
+// highest harmonic scored.
+TEST_F(AnalyzeCwru, ReportNamesTheChannelsAndDrawsTheDecisionsEnvelope) {
+  const CwruAnalysis r = analyse("IR007_0.mat", 12000.0);
+  std::string html = detect::render_html_report(r.result);
+  EXPECT_NE(html.find("drive end vibration sensor (" + r.de + ")"), std::string::npos);
+  EXPECT_NE(html.find("fan end vibration sensor ("), std::string::npos);
+  EXPECT_NE(html.find("Envelope spectrum the bearing decision read"), std::string::npos);
+  for (const auto& c : r.result.channels) {
+    EXPECT_EQ(c.bearings.empty(), c.name != r.de) << c.name;
+    if (c.name != r.de) continue;
+    EXPECT_EQ(c.location, "drive_end");
+    const detect::BearingAnalysis& b = c.bearings.at(0);
+    int seen_bpfi = 0;
+    double top = 0;
+    for (const auto& l : b.lines) {
+      seen_bpfi += l.family == 2 && l.seen;
+      top = std::max(top, l.expected_hz);
+    }
+    EXPECT_EQ(seen_bpfi, 3);
+    for (const auto& f : b.diagnosis.band_decision.families) {
+      if (f.fault != detect::BearingFault::kInnerRace) continue;
+      EXPECT_EQ(f.detected, 3);
+    }
+    ASSERT_GT(b.decision_envelope.x.size(), 100u);
+    EXPECT_LE(b.decision_envelope.x.back(), 1.1 * top);
+    EXPECT_GT(b.decision_envelope.x.back(), 1.1 * top - 2.0);  // within a bin (0.1 Hz) or two
+                                                               // plot buckets (1.3 Hz at 1500)
+  }
 }
 
 TEST_F(AnalyzeCwru, HealthyBearingGivesNoBearingFinding) {

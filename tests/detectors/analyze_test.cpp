@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <random>
 #include <set>
 
@@ -316,6 +317,37 @@ TEST(Analyze, HtmlReportIsOneSelfContainedDocument) {
   EXPECT_NE(h.find("<svg"), std::string::npos);
   EXPECT_NE(h.find("Two directions"), std::string::npos);
   EXPECT_NE(h.find("TSA of shaft in"), std::string::npos);
+}
+
+// The spectrogram of a tone switched on half-way: the tone's bin is dark before and bright after
+// (by more than 60 dB: the record before is exactly zero but for 1e-6 noise); the grid stays
+// within its bounds for a record of 2^18 samples (2047 segments) (kSpectrogramColumns spans,
+// kSpectrogramRows + 1 bins), and the report draws it as one PNG image.
+TEST(Analyze, SpectrogramShowsWhenAToneStartsOnABoundedGrid) {
+  const std::size_t n = std::size_t{1} << 18;
+  const double fs = 8192, f0 = 1024;  // f0 on bin 32 of the 256-sample segments
+  std::mt19937 rng(3);
+  std::normal_distribution<double> noise(0, 1e-6);
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x[i] = noise(rng) + (i >= n / 2 ? std::sin(2 * std::numbers::pi * f0 * i / fs) : 0.0);
+  }
+  diag::Recording rec;
+  diag::Signal s = channel("a", diag::Direction::kUnspecified, std::move(x));
+  s.fs_hz = fs;
+  rec.signals.push_back(std::move(s));
+  const auto r = detect::analyze_recording(rec, nullptr);
+  const detect::SpectrogramTrace& sg = r.channels[0].spectrogram;
+  ASSERT_EQ(sg.time_s.size(), detect::kSpectrogramColumns);
+  ASSERT_EQ(sg.frequency_hz.size(), detect::kSpectrogramRows + 1);
+  ASSERT_EQ(sg.psd_db.size(), sg.time_s.size() * sg.frequency_hz.size());
+  EXPECT_DOUBLE_EQ(sg.frequency_hz[32], f0);
+  const std::size_t bins = sg.frequency_hz.size();
+  EXPECT_GT(sg.psd_db[200 * bins + 32] - sg.psd_db[20 * bins + 32], 60.0);
+  EXPECT_NEAR(sg.time_s.back(), (n - 0.5 * n / detect::kSpectrogramColumns) / fs, 1e-3);
+  const std::string h = detect::render_html_report(r);
+  EXPECT_NE(h.find("Spectrogram"), std::string::npos);
+  EXPECT_NE(h.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos);  // PNG signature
 }
 
 TEST(Analyze, ShortRecordsSkipStepsWithNotesInsteadOfFailing) {

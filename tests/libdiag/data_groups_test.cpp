@@ -62,4 +62,23 @@ TEST(DataGroups, RefusesBadNamesAndUnwritableTargets) {
   fs::remove_all(dir);
 }
 
+// A column with a shape is written (its dimensions are checked with h5py in
+// python/tests/test_recording_analysis.py); a shape that does not hold the values is refused
+// before any file is made.
+TEST(DataGroups, TwoDimensionalColumnsKeepTheirShape) {
+  const fs::path dir = scratch("2d");
+  fs::create_directories(dir);
+  std::vector<diag::DataGroup> g(1);
+  g[0].path = "channels/a1/spectrogram";
+  g[0].columns = {{"time_s", "s", {0, 1, 2}},
+                  {"frequency_hz", "Hz", {0, 10}},
+                  {"psd_db", "dB", {1, 2, 3, 4, 5, 6}, {3, 2}}};
+  diag::write_data_groups(dir / "c.h5", g);
+  EXPECT_GT(fs::file_size(dir / "c.h5"), 0u);  // dimensions read back by h5py (python/tests)
+  g[0].columns[2].shape = {4, 2};
+  EXPECT_THROW(diag::write_data_groups(dir / "d.h5", g), diag::InputError);
+  EXPECT_FALSE(fs::exists(dir / "d.h5"));
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -287,6 +287,15 @@ TEST_F(Import, MatVectorsBecomeChannelsAndScalarsMetadata) {
   EXPECT_EQ(rec.signals[1].samples, (std::vector<double>{1, -2, 3}));
   EXPECT_EQ(rec.metadata.at("X001RPM"), "1796.25");
   EXPECT_EQ(rec.metadata.count("image"), 0u);
+  // CWRU's naming gives the location (a note says so); any other name gives none, and nothing
+  // else (unit, role, direction) is read from a name.
+  EXPECT_EQ(rec.signals[0].location, "drive_end");
+  EXPECT_EQ(rec.signals[0].unit, "");
+  EXPECT_EQ(rec.signals[0].role, diag::Role::kVibration);
+  EXPECT_EQ(rec.signals[1].location, "");
+  bool noted = false;
+  for (const auto& n : rec.notes) noted = noted || n.find("X001_DE_time at drive_end") != n.npos;
+  EXPECT_TRUE(noted);
 }
 
 // ---- damaged files (issue 13): refused naming the file and the damage, never read as data ----

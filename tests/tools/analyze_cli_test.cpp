@@ -316,6 +316,9 @@ TEST(AnalyzeCli, HtmlReportRendersInHeadlessChromium) {
   ASSERT_EQ(pclose(p), 0);
   EXPECT_NE(dom.find("<svg"), std::string::npos);
   EXPECT_NE(dom.find("Findings"), std::string::npos);
+  // The spectrograms: SVG <image> elements holding inline PNGs, parsed into the DOM.
+  EXPECT_NE(dom.find("<image"), std::string::npos);
+  EXPECT_NE(dom.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos);
   const std::string shot = "timeout 120 " + std::string(chromium) +
                            " --headless --disable-gpu --no-sandbox --screenshot=" + png.string() +
                            " --window-size=1200,2000 file://" + html.string() + " >/dev/null 2>&1";

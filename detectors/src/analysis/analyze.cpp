@@ -42,6 +42,7 @@ ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords
   const diag::Signal* spectral = rec.spectral();
   if (!spectral) return c;  // the order domain without the channel at uniform angles
   spectrum = spectra_stage(ctx, *spectral, c);
+  spectrogram_stage(sig, c);
   const Spectrum env = envelope_stage(ctx, ang, rec, c);
   bearing_stage(ctx, *spectral, env, c);
   if (!ctx.gb) return c;

@@ -35,6 +35,38 @@ std::span<const double> kurtogram_excerpt(std::span<const double> x) {
   return x.subspan((x.size() - kKurtogramSamples) / 2, kKurtogramSamples);
 }
 
+// The band view of the decision as the report draws it: every scored harmonic with its
+// prominence and whether the decision counted it, and the spectrum it was read on up to 1.1 x the
+// highest of them.
+void decision_view(const BearingDiagnosis& d, double line_threshold_db, std::size_t plot_points,
+                   BearingAnalysis& ba) {
+  static const char* kLabel[] = {"FTF", "BPFO", "BPFI", "2BSF"};
+  double top = 0;
+  for (const FamilyScore& f : ba.diagnosis.band_decision.families) {
+    const int fam = f.fault == BearingFault::kCage        ? 0
+                    : f.fault == BearingFault::kOuterRace ? 1
+                    : f.fault == BearingFault::kInnerRace ? 2
+                                                          : 3;
+    for (std::size_t h = 0; h < f.lines.size(); ++h) {
+      const LineMeasurement& m = f.lines[h];
+      BearingLine l;
+      l.family = fam;
+      l.harmonic = static_cast<int>(h) + 1;
+      l.label = (h == 0 ? "" : std::to_string(h + 1) + "x") + kLabel[fam];
+      l.expected_hz = m.expected_hz;
+      l.found_hz = m.valid ? m.frequency_hz : m.expected_hz;
+      l.prominence_db = m.valid ? m.prominence_db : 0.0;
+      l.seen = m.valid && m.prominence_db >= line_threshold_db;
+      top = std::max(top, m.expected_hz);
+      ba.lines.push_back(std::move(l));
+    }
+  }
+  if (top > 0 && d.band_ses_frequency_hz.size() > 2) {
+    ba.decision_envelope =
+        slice_for_plot(d.band_ses_frequency_hz, d.band_ses_amplitude, 0, 1.1 * top, plot_points);
+  }
+}
+
 }  // namespace
 
 Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
@@ -174,6 +206,7 @@ void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, con
         ba.diagnosis = *it->second.first;
         ba.band_centre_hz = it->second.second->band_centre_hz;
         ba.band_width_hz = it->second.second->band_width_hz;
+        decision_view(*it->second.second, bo.decision.line_threshold_db, ctx.plot_points, ba);
       }
       c.bearings.push_back(std::move(ba));
     }

@@ -53,6 +53,63 @@ void bearing_groups(const std::string& prefix, const ChannelAnalysis& c,
   }
 }
 
+// The channel's spectrogram: time_s, frequency_hz and psd_db[time][frequency] (2-D).
+void spectrogram_group(const std::string& prefix, const ChannelAnalysis& c,
+                       std::vector<diag::DataGroup>& out) {
+  const SpectrogramTrace& s = c.spectrogram;
+  if (s.time_s.size() < 2) return;
+  diag::DataGroup g;
+  g.path = prefix + "/spectrogram";
+  g.description = "spectrogram: Welch PSD of each time span in dB (Hann, " +
+                  std::to_string(2 * kSpectrogramRows) + "-sample segments, 50 % overlap)";
+  g.columns = {{"time_s", "s", s.time_s},
+               {"frequency_hz", "Hz", s.frequency_hz},
+               {"psd_db",
+                "dB re 1 " + (c.unit.empty() ? "unit^2" : squared_unit(c.unit)) + "/Hz",
+                s.psd_db,
+                {s.time_s.size(), s.frequency_hz.size()}}};
+  g.texts["layout"] = "psd_db[time, frequency]";
+  out.push_back(std::move(g));
+}
+
+// Per bearing diagnosed: the spectrum its decision read (band view) with the band's edges, and
+// the lines it scored (seen: 1 where it counted them).
+void decision_groups(const std::string& prefix, const ChannelAnalysis& c,
+                     std::vector<diag::DataGroup>& out) {
+  for (const BearingAnalysis& b : c.bearings) {
+    if (b.decision_envelope.x.size() < 2) continue;
+    const std::string p = prefix + "/bearings/" + b.bearing;
+    out.push_back(trace_group(p + "/decision_envelope",
+                              "squared envelope spectrum of the prewhitened signal in the band "
+                              "the bearing decision used (its band view)",
+                              b.decision_envelope, "frequency_hz", "Hz", "amplitude", ""));
+    out.back().numbers = {{"band_low_hz", b.band_centre_hz - 0.5 * b.band_width_hz},
+                          {"band_high_hz", b.band_centre_hz + 0.5 * b.band_width_hz}};
+    out.back().texts["status"] = b.diagnosis.status == BearingDecisionStatus::kFault
+                                     ? finding_name(b.diagnosis.fault)
+                                     : to_string(b.diagnosis.status);
+    diag::DataGroup g;
+    g.path = p + "/decision_lines";
+    g.description = "every harmonic the bearing decision scored on that spectrum";
+    std::vector<double> expected, found, prominence, family, harmonic, seen;
+    std::string labels;
+    for (const BearingLine& l : b.lines) {
+      expected.push_back(l.expected_hz);
+      found.push_back(l.found_hz);
+      prominence.push_back(l.prominence_db);
+      family.push_back(l.family);
+      harmonic.push_back(l.harmonic);
+      seen.push_back(l.seen ? 1 : 0);
+      labels += (labels.empty() ? "" : ";") + l.label;
+    }
+    g.columns = {{"expected_hz", "Hz", expected},     {"found_hz", "Hz", found},
+                 {"prominence_db", "dB", prominence}, {"family", "", family},
+                 {"harmonic", "", harmonic},          {"seen", "", seen}};
+    g.texts = {{"labels", labels}, {"families", "0 FTF;1 BPFO;2 BPFI;3 BALL (2 BSF)"}};
+    out.push_back(std::move(g));
+  }
+}
+
 }  // namespace
 
 std::string squared_unit(const std::string& unit) {
@@ -121,6 +178,8 @@ std::vector<diag::DataGroup> analysis_curves(const AnalysisResult& r) {
                             {"band_high_hz", c.envelope_high_hz}};
       bearing_groups(p, c, out);
     }
+    decision_groups(p, c, out);
+    spectrogram_group(p, c, out);
     for (const MeshAnalysis& m : c.meshes) {
       if (m.zoom.x.size() < 2) continue;
       out.push_back(trace_group(p + "/meshes/" + m.name + "/zoom",
@@ -156,7 +215,7 @@ std::vector<diag::DataGroup> analysis_curves(const AnalysisResult& r) {
       // The time-domain groups (waveform, kurtogram) and the TSA are not spectra.
       const std::string& q = out[i].path;
       if (!q.ends_with("/fault_bands") && !q.ends_with("/waveform") && !q.ends_with("/kurtogram") &&
-          q.find("/tsa/") == std::string::npos) {
+          !q.ends_with("/spectrogram") && q.find("/tsa/") == std::string::npos) {
         out[i].texts["domain"] = domain;
       }
     }

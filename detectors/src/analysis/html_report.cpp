@@ -1,8 +1,10 @@
 #include "detect/analysis/html_report.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 #include <utility>
@@ -139,6 +141,257 @@ std::string kurtogram_svg(const std::vector<KurtogramLevel>& levels, double low_
   return o.str();
 }
 
+// ---- spectrogram: an indexed-colour PNG inside an SVG with its axes and colour bar ----
+
+// CRC-32 (ISO 3309, as PNG chunks use it) and Adler-32 (RFC 1950) of `d`.
+std::uint32_t crc32(const std::string& d) {
+  std::uint32_t c = 0xffffffffu;
+  for (unsigned char ch : d) {
+    c ^= ch;
+    for (int k = 0; k < 8; ++k) c = (c >> 1) ^ (0xedb88320u & (0u - (c & 1u)));
+  }
+  return c ^ 0xffffffffu;
+}
+
+void put_be32(std::string& out, std::uint32_t v) {
+  for (int s = 24; s >= 0; s -= 8) out += static_cast<char>((v >> s) & 0xffu);
+}
+
+// A PNG (RFC 2083) of 8-bit palette indices, `width` x rows, row-major from the top; the zlib
+// stream holds stored (uncompressed) deflate blocks: no compression library needed, and the
+// image is small by construction (SpectrogramTrace's bounded grid).
+std::string png_indexed(const std::vector<unsigned char>& idx, std::size_t width,
+                        const std::vector<std::array<unsigned char, 3>>& palette) {
+  const std::size_t rows = idx.size() / width;
+  std::string raw;
+  for (std::size_t r = 0; r < rows; ++r) {
+    raw += '\0';  // filter type 0 (none)
+    raw.append(reinterpret_cast<const char*>(idx.data() + r * width), width);
+  }
+  std::string z = "\x78\x01";
+  for (std::size_t at = 0; at < raw.size() || at == 0; at += 65535) {
+    const std::size_t len = std::min<std::size_t>(65535, raw.size() - at);
+    z += static_cast<char>(at + len >= raw.size() ? 1 : 0);  // BFINAL on the last, BTYPE 00
+    z += static_cast<char>(len & 0xff);
+    z += static_cast<char>(len >> 8);
+    z += static_cast<char>(~len & 0xff);
+    z += static_cast<char>((~len >> 8) & 0xff);
+    z.append(raw, at, len);
+  }
+  std::uint32_t a = 1, b = 0;
+  for (unsigned char ch : raw) {
+    a = (a + ch) % 65521;
+    b = (b + a) % 65521;
+  }
+  put_be32(z, (b << 16) | a);
+  std::string png = "\x89PNG\r\n\x1a\n";
+  const auto chunk = [&png](const std::string& type, const std::string& data) {
+    put_be32(png, static_cast<std::uint32_t>(data.size()));
+    png += type + data;
+    put_be32(png, crc32(type + data));
+  };
+  std::string ihdr;
+  put_be32(ihdr, static_cast<std::uint32_t>(width));
+  put_be32(ihdr, static_cast<std::uint32_t>(rows));
+  ihdr += std::string("\x08\x03\x00\x00\x00", 5);  // 8 bits, palette, deflate, no filter/interlace
+  chunk("IHDR", ihdr);
+  std::string plte;
+  for (const auto& c : palette) plte.append(reinterpret_cast<const char*>(c.data()), 3);
+  chunk("PLTE", plte);
+  chunk("IDAT", z);
+  chunk("IEND", "");
+  return png;
+}
+
+std::string base64(const std::string& d) {
+  static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string o;
+  for (std::size_t i = 0; i < d.size(); i += 3) {
+    std::uint32_t v = static_cast<unsigned char>(d[i]) << 16;
+    if (i + 1 < d.size()) v |= static_cast<unsigned char>(d[i + 1]) << 8;
+    if (i + 2 < d.size()) v |= static_cast<unsigned char>(d[i + 2]);
+    o += k[(v >> 18) & 63];
+    o += k[(v >> 12) & 63];
+    o += i + 1 < d.size() ? k[(v >> 6) & 63] : '=';
+    o += i + 2 < d.size() ? k[v & 63] : '=';
+  }
+  return o;
+}
+
+// Viridis (matplotlib's default map) through five of its colours, linearly interpolated.
+std::array<unsigned char, 3> viridis(double v) {
+  static const double kStops[5][3] = {
+      {68, 1, 84}, {59, 82, 139}, {33, 145, 140}, {94, 201, 98}, {253, 231, 37}};
+  const double p = std::clamp(v, 0.0, 1.0) * 4;
+  const int i = std::min(3, static_cast<int>(p));
+  const double f = p - i;
+  std::array<unsigned char, 3> c{};
+  for (int k = 0; k < 3; ++k) {
+    c[static_cast<std::size_t>(k)] = static_cast<unsigned char>(
+        std::lround(kStops[i][k] + f * (kStops[i + 1][k] - kStops[i][k])));
+  }
+  return c;
+}
+
+// The spectrogram of a channel: time on x, frequency on y, the PSD in dB over the top 80 dB as
+// colour (viridis, with its bar). `id` makes the colour bar's gradient id unique on the page.
+std::string spectrogram_svg(const SpectrogramTrace& s, const std::string& psd_unit,
+                            const std::string& id, int width_px) {
+  constexpr double kRangeDb = 80;
+  const std::size_t cols = s.time_s.size(), bins = s.frequency_hz.size();
+  const double top = *std::max_element(s.psd_db.begin(), s.psd_db.end());
+  std::vector<std::array<unsigned char, 3>> palette(256);
+  for (std::size_t i = 0; i < palette.size(); ++i)
+    palette[i] = viridis(static_cast<double>(i) / 255);
+  std::vector<unsigned char> idx(cols * bins);
+  for (std::size_t r = 0; r < bins; ++r) {
+    for (std::size_t m = 0; m < cols; ++m) {
+      const double v = (s.psd_db[m * bins + (bins - 1 - r)] - (top - kRangeDb)) / kRangeDb;
+      idx[r * cols + m] = static_cast<unsigned char>(std::lround(255 * std::clamp(v, 0.0, 1.0)));
+    }
+  }
+  const double dt = cols > 1 ? s.time_s[1] - s.time_s[0] : 1;
+  const double t0 = s.time_s.front() - dt / 2, t1 = s.time_s.back() + dt / 2;
+  const double f1 = s.frequency_hz.back();
+  const int h = 280, L = 70, R = 80, T = 30, B = 45;
+  const double pw = width_px - L - R, ph = h - T - B;
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width_px << "\" height=\"" << h
+    << "\" viewBox=\"0 0 " << width_px << " " << h
+    << "\" font-family=\"sans-serif\" font-size=\"11\"><defs><linearGradient id=\"" << id
+    << "\" x1=\"0\" y1=\"1\" x2=\"0\" y2=\"0\">";
+  for (int k = 0; k <= 4; ++k) {
+    const auto c = viridis(k / 4.0);
+    char col[8];
+    std::snprintf(col, sizeof col, "#%02x%02x%02x", c[0], c[1], c[2]);
+    o << "<stop offset=\"" << k / 4.0 << "\" stop-color=\"" << col << "\"/>";
+  }
+  o << "</linearGradient></defs><text x=\"" << width_px / 2
+    << "\" y=\"18\" text-anchor=\"middle\" font-size=\"13\" font-weight=\"bold\">Spectrogram "
+       "(Hann, "
+    << 2 * kSpectrogramRows << " samples per segment, "
+    << f3(bins > 1 ? s.frequency_hz[1] - s.frequency_hz[0] : 0) << " Hz bins, " << f3(t1 - t0)
+    << " s in " << cols << " columns)</text>";
+  o << "<image x=\"" << L << "\" y=\"" << T << "\" width=\"" << f3(pw) << "\" height=\"" << ph
+    << "\" preserveAspectRatio=\"none\" style=\"image-rendering:pixelated\" "
+       "href=\"data:image/png;base64,"
+    << base64(png_indexed(idx, cols, palette)) << "\"/>";
+  o << "<rect x=\"" << L << "\" y=\"" << T << "\" width=\"" << f3(pw) << "\" height=\"" << ph
+    << "\" fill=\"none\" stroke=\"#333\"/>";
+  for (double t : nice_ticks(t0, t1, 8)) {
+    const double x = L + pw * (t - t0) / (t1 - t0);
+    o << "<line x1=\"" << f3(x) << "\" x2=\"" << f3(x) << "\" y1=\"" << T + ph << "\" y2=\""
+      << T + ph + 4 << "\" stroke=\"#000\"/><text x=\"" << f3(x) << "\" y=\"" << T + ph + 15
+      << "\" text-anchor=\"middle\">" << f3(t) << "</text>";
+  }
+  for (double f : nice_ticks(0, f1, 5)) {
+    const double y = T + ph * (1 - f / f1);
+    o << "<line x1=\"" << L - 4 << "\" x2=\"" << L << "\" y1=\"" << f3(y) << "\" y2=\"" << f3(y)
+      << "\" stroke=\"#000\"/><text x=\"" << L - 6 << "\" y=\"" << f3(y + 4)
+      << "\" text-anchor=\"end\">" << f3(f) << "</text>";
+  }
+  const double bx = L + pw + 14;
+  o << "<rect x=\"" << f3(bx) << "\" y=\"" << T << "\" width=\"12\" height=\"" << ph
+    << "\" fill=\"url(#" << id << ")\" stroke=\"#333\"/><text x=\"" << f3(bx + 15) << "\" y=\""
+    << T + 9 << "\">" << f3(top) << "</text><text x=\"" << f3(bx + 15) << "\" y=\"" << T + ph
+    << "\">" << f3(top - kRangeDb) << "</text><text transform=\"translate(" << f3(bx + 40) << ","
+    << T + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">dB re 1 " << html_escape(psd_unit)
+    << "</text><text x=\"" << f3(L + pw / 2) << "\" y=\"" << h - 8
+    << "\" text-anchor=\"middle\">time [s]</text><text transform=\"translate(14," << T + ph / 2
+    << ") rotate(-90)\" text-anchor=\"middle\">frequency [Hz]</text></svg>\n";
+  return o.str();
+}
+
+// ---- the bearing decision's own envelope spectrum with the lines it scored ----
+
+// One plot per demodulation band the decision used on this channel (bearings on one shaft share
+// it), with every scored harmonic of every family: solid where the decision counted the line
+// (prominence at or above its threshold), dashed where it expected one and saw none; then the
+// lines' table. Empty when no bearing of the channel was diagnosed.
+std::string decision_envelope_html(const ChannelAnalysis& c, const PlotOptions& po, bool orders) {
+  static const char* kFamilyColor[] = {"#ff7f0e", "#17becf", "#8c564b", "#e377c2"};
+  std::ostringstream o;
+  for (std::size_t b = 0; b < c.bearings.size();) {
+    const BearingAnalysis& first = c.bearings[b];
+    std::size_t e = b + 1;
+    while (e < c.bearings.size() && c.bearings[e].shaft == first.shaft &&
+           c.bearings[e].band_centre_hz == first.band_centre_hz &&
+           c.bearings[e].band_width_hz == first.band_width_hz) {
+      ++e;
+    }
+    if (first.decision_envelope.x.size() < 2) {
+      b = e;
+      continue;
+    }
+    std::vector<PlotMarker> mk;
+    double top = 0;
+    for (std::size_t i = b; i < e; ++i) {
+      for (const BearingLine& l : c.bearings[i].lines) {
+        const std::string who = e - b > 1 ? c.bearings[i].bearing + " " : "";
+        mk.push_back({l.seen ? l.found_hz : l.expected_hz,
+                      who + l.label + (l.seen ? " (seen)" : ""), kFamilyColor[l.family % 4],
+                      !l.seen});
+        top = std::max(top, l.expected_hz);
+      }
+    }
+    std::stable_sort(mk.begin(), mk.end(),
+                     [](const PlotMarker& p, const PlotMarker& q) { return p.x < q.x; });
+    for (std::size_t i = 0; i < mk.size(); ++i) mk[i].label_row = static_cast<int>(i % 4);
+    const double low = first.band_centre_hz - first.band_width_hz / 2;
+    PlotOptions pe = po;
+    pe.title = "Envelope spectrum the bearing decision read: band " + f3(low) + "-" +
+               f3(low + first.band_width_hz) + " Hz (kurtogram of the prewhitened signal)";
+    pe.x_label = orders ? "frequency at the mean speed [Hz]" : "frequency [Hz]";
+    pe.y_label = "squared envelope (prewhitened)";
+    pe.y_db = false;
+    pe.height_px = 300;
+    pe.x_min = 0;
+    pe.x_max = 1.1 * top;
+    const PlotSeries es{first.decision_envelope.x, first.decision_envelope.y, "", "#1f77b4"};
+    o << svg_line_plot(std::span(&es, 1), pe, mk)
+      << "<p class=note>Solid: a line the decision counted (at least its line threshold over the "
+         "local floor); dashed: where a line of the family was expected and none stood out. "
+         "FTF cage rate, BPFO outer race, BPFI inner race, 2BSF twice the ball spin frequency; "
+         "2x, 3x: harmonics.</p>\n<table><tr><th class=l>bearing</th><th class=l>line</th>"
+         "<th>expected [Hz]</th><th>found [Hz]</th><th>prominence [dB]</th><th class=l>seen</th>"
+         "</tr>";
+    for (std::size_t i = b; i < e; ++i) {
+      for (const BearingLine& l : c.bearings[i].lines) {
+        o << "<tr><td class=l>" << html_escape(c.bearings[i].bearing) << "</td><td class=l>"
+          << html_escape(l.label) << "</td><td>" << f3(l.expected_hz) << "</td><td>"
+          << f3(l.found_hz) << "</td><td>" << f3(l.prominence_db) << "</td><td class=l>"
+          << (l.seen ? "<b>seen</b>" : "no") << "</td></tr>";
+      }
+    }
+    o << "</table>\n";
+    b = e;
+  }
+  return o.str();
+}
+
+// What a channel is, for people: "drive end accelerometer (X105_DE_time)", from its role, unit,
+// location and direction (the channel contract, diag/io/channels.hpp), never from its name.
+std::string channel_label(const ChannelAnalysis& c) {
+  std::string kind;
+  if (c.role == diag::Role::kVibration) {
+    static const char* kAccel[] = {"m/s^2", "m/s2", "mm/s^2", "g", "G"};
+    static const char* kVel[] = {"m/s", "mm/s", "in/s", "ips"};
+    kind = "vibration sensor";
+    for (const char* u : kAccel) kind = c.unit == u ? "accelerometer" : kind;
+    for (const char* u : kVel) kind = c.unit == u ? "velocity sensor" : kind;
+    if (c.unit == "Pa") kind = "microphone";
+  } else {
+    kind = std::string(diag::to_string(c.role));
+  }
+  std::string where = c.location;
+  std::replace(where.begin(), where.end(), '_', ' ');
+  std::string label = (where.empty() ? "" : where + " ") + kind;
+  if (c.direction != diag::Direction::kUnspecified) {
+    label += ", " + std::string(diag::to_string(c.direction));
+  }
+  return label + " (" + c.name + ")";
+}
+
 }  // namespace
 
 void HtmlReportOptions::validate() const {
@@ -229,7 +482,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
   o << "<li><a href=\"#indicators\">Indicators</a></li>";
   if (r.baseline) o << "<li><a href=\"#baseline\">Against the baseline</a></li>";
   for (const ChannelAnalysis* c : plotted) {
-    o << "<li><a href=\"#" << anchor("ch-", c->name) << "\">Channel " << html_escape(c->name)
+    o << "<li><a href=\"#" << anchor("ch-", c->name) << "\">" << html_escape(channel_label(*c))
       << "</a></li>";
   }
   o << "</ol></nav>\n";
@@ -275,8 +528,13 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
 
   // ---- findings ----
   o << "<h2 id=findings>Findings</h2>\n";
+  if (alarm) {  // the baseline ALARM is a finding (counted in the verdict)
+    o << "<p><span class=bad>ALARM</span> against the baseline: anomaly score "
+      << f3(r.baseline->anomaly_score) << " above " << f3(r.baseline->threshold)
+      << " (<a href=\"#baseline\">baseline</a>).</p>\n";
+  }
   if (r.findings.empty()) {
-    o << "<p class=good>No finding.</p>\n";
+    if (!alarm) o << "<p class=good>No finding.</p>\n";
   } else {
     o << "<table><tr><th class=l>kind</th><th class=l>shaft / gears</th><th class=l>bearing / "
          "fault</th><th>frequency [Hz]</th><th class=l>channel</th><th>confidence</th>"
@@ -399,13 +657,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
     // A channel's own verdict: the findings it shows best.
     int shown = 0;
     for (const auto& f : r.findings) shown += f.channel == c.name ? 1 : 0;
-    std::string what = std::string(diag::to_string(c.role));
-    if (c.direction != diag::Direction::kUnspecified)
-      what += ", " + std::string(diag::to_string(c.direction));
-    if (!c.location.empty()) what += ", at " + c.location;
-    if (!c.shaft.empty()) what += ", shaft " + c.shaft;
-    o << "<details class=channel id=\"" << anchor("ch-", c.name) << "\"><summary>Channel "
-      << html_escape(c.name) << " <span class=note>(" << html_escape(what) << ")</span> "
+    o << "<details class=channel id=\"" << anchor("ch-", c.name) << "\"><summary>"
+      << html_escape(channel_label(c)) << " "
+      << (c.shaft.empty() ? "" : "<span class=note>(shaft " + html_escape(c.shaft) + ")</span> ")
       << (shown > 0 ? "<span class=bad>" + std::to_string(shown) +
                           (shown == 1 ? " finding" : " findings") + "</span>"
                     : std::string(c.sensor ? "<span class=good>no finding</span>"
@@ -425,8 +679,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       }
     }
     if (c.waveform.x.size() > 1 || !c.kurtogram.empty()) {
-      o << "<details><summary>Time waveform" << (c.kurtogram.empty() ? "" : " and kurtogram")
-        << "</summary>\n";
+      o << "<details><summary>Time waveform"
+        << (c.spectrogram.time_s.size() > 1 ? ", spectrogram" : "")
+        << (c.kurtogram.empty() ? "" : " and kurtogram") << "</summary>\n";
       if (c.waveform.x.size() > 1) {
         PlotOptions pw = po;
         pw.title = "Time waveform";
@@ -435,6 +690,12 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         pw.height_px = 200;
         const PlotSeries ws{c.waveform.x, c.waveform.y, "", "#1f77b4"};
         o << svg_line_plot(std::span(&ws, 1), pw);
+      }
+      if (c.spectrogram.time_s.size() > 1) {
+        o << spectrogram_svg(
+            c.spectrogram,
+            (c.unit.empty() ? "unit\u00b2" : pretty_unit(squared_unit(c.unit))) + "/Hz",
+            anchor("sg-", c.name), opt.plot_width_px);
       }
       if (!c.kurtogram.empty() && !c.kurtogram.front().kurtosis.empty()) {
         o << kurtogram_svg(c.kurtogram, c.envelope_low_hz, c.envelope_high_hz, c.kurtogram_level,
@@ -523,7 +784,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       pe.y_label = "amplitude [" + amp_unit + "]";
       pe.y_db = false;
       const PlotSeries es{c.envelope.x, c.envelope.y, "", "#8c564b"};
-      o << svg_line_plot(std::span(&es, 1), pe, fm, bands);
+      // The decision's own spectrum when a bearing was diagnosed; else the kurtogram band's.
+      const std::string decided = decision_envelope_html(c, po, orders);
+      o << (decided.empty() ? svg_line_plot(std::span(&es, 1), pe, fm, bands) : decided);
       for (const auto& b : c.bearings) {
         o << "<p class=note>Bearing " << html_escape(b.bearing) << ": FTF "
           << f3(b.frequencies.ftf_hz) << ", BPFO " << f3(b.frequencies.bpfo_hz) << ", BPFI "

@@ -5,6 +5,7 @@
 //     time_stage          time-domain indicators
 //     spectra_stage       amplitude spectrum, Welch PSD (of the channel's spectral record: the
 //                         record itself, or at varying speed its order-domain form)
+//     spectrogram_stage   the record's spectrogram in time (channel_spectrogram.cpp)
 //     order_spectrum_stage
 //     envelope_stage      kurtogram band, envelope spectrum (demodulated in time)
 //     bearing_stage       fault bands and diagnose_bearings per bearing the channel sees
@@ -143,6 +144,8 @@ void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std:
 // Amplitude spectrum (returned whole: the sidebands and two directions read it) and Welch PSD.
 Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
                        ChannelAnalysis& c);
+// The spectrogram of the record in time, on the bounded grid of SpectrogramTrace.
+void spectrogram_stage(const diag::Signal& sig, ChannelAnalysis& c);
 // The order spectrum in input-shaft orders.
 void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
                           ChannelAnalysis& c);

@@ -188,8 +188,9 @@ std::string svg_line_plot(std::span<const PlotSeries> series, const PlotOptions&
       << "\" y2=\"" << num(T + ph) << "\" stroke=\"" << html_escape(m.color) << "\""
       << (m.dashed ? " stroke-dasharray=\"4,3\"" : "") << "/>";
     if (!m.label.empty()) {
-      o << "<text x=\"" << num(X(m.x) + 2) << "\" y=\"" << num(T + 10) << "\" fill=\""
-        << html_escape(m.color) << "\" font-size=\"9\">" << html_escape(m.label) << "</text>";
+      o << "<text x=\"" << num(X(m.x) + 2) << "\" y=\""
+        << num(T + 10 + 10 * std::max(0, m.label_row)) << "\" fill=\"" << html_escape(m.color)
+        << "\" font-size=\"9\">" << html_escape(m.label) << "</text>";
     }
   }
   o << "</svg>";

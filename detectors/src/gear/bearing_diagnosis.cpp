@@ -290,6 +290,8 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
     f.evidence = evidence(s);
     out.findings.push_back(std::move(f));
   }
+  out.band_ses_frequency_hz = band_ses.frequency_hz;
+  out.band_ses_amplitude = band_ses.amplitude;
   return out;
 }
 

@@ -3,6 +3,8 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
+#include <array>
 #include <set>
 #include <stdexcept>
 
@@ -82,6 +84,11 @@ void check_names(std::span<const DataGroup> groups, const std::string& where) {
     for (const DataColumn& c : g.columns) {
       if (c.name.empty() || c.name.find('/') != std::string::npos || !names.insert(c.name).second)
         throw InputError(format_error(where, g.path + "/" + c.name, "bad or repeated column name"));
+      std::size_t count = c.shape.empty() ? c.values.size() : 1;
+      for (std::size_t d : c.shape) count *= d;
+      if (count != c.values.size() || c.shape.size() > 8)
+        throw InputError(format_error(where, g.path + "/" + c.name,
+                                      "shape does not hold the values (or more than 8 axes)"));
     }
   }
 }
@@ -106,11 +113,21 @@ void write_file(const std::filesystem::path& file, std::span<const DataGroup> gr
     for (const auto& [k, v] : g.texts) text_attribute(group.id, k, v);
     for (const DataColumn& c : g.columns) {
       const hsize_t n = c.values.size();
-      const Space space(H5Screate_simple(1, &n, nullptr), c.name);
+      // Fixed arrays (shape has at most 8 axes, check_names): GCC 12 warns falsely on a
+      // std::vector<hsize_t> here (free-nonheap-object).
+      std::array<hsize_t, 8> dims{}, chunk{};
+      const int rank = c.shape.empty() ? 1 : static_cast<int>(c.shape.size());
+      dims[0] = n;
+      for (std::size_t d = 0; d < c.shape.size(); ++d) dims[d] = c.shape[d];
+      const Space space(H5Screate_simple(rank, dims.data(), nullptr), c.name);
       const Plist dcpl(H5Pcreate(H5P_DATASET_CREATE), c.name);
       if (n > 0) {
-        const hsize_t chunk = std::min<hsize_t>(n, 65536);
-        put(H5Pset_chunk(dcpl.id, 1, &chunk), c.name);
+        // Chunks of about 64 Ki values along the first axis (whole rows of the others).
+        hsize_t row = 1;
+        for (int d = 1; d < rank; ++d) row *= dims[static_cast<std::size_t>(d)];
+        chunk = dims;
+        chunk[0] = std::clamp<hsize_t>(65536 / row, 1, dims[0]);
+        put(H5Pset_chunk(dcpl.id, rank, chunk.data()), c.name);
         put(H5Pset_deflate(dcpl.id, 4), c.name);
       }
       const Dataset ds(H5Dcreate2(group.id, c.name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT,

@@ -537,6 +537,32 @@ std::string scalar_text(const mat::Variable& v) {
   return number_text(v.values[0]);
 }
 
+// The Case Western Reserve University bearing data's naming (its "Data Files" pages): variable
+// X<nnn>_DE_time is the accelerometer at the drive end, X<nnn>_FE_time at the fan end,
+// X<nnn>_BA_time on the base. Those channels get that location ("drive_end", "fan_end", "base"),
+// so a description whose bearing carries the name finds its sensor (channels.hpp); the unit is
+// left unknown (the files do not give it). One note lists them.
+void cwru_locations(Recording& rec) {
+  static const std::pair<const char*, const char*> kSites[] = {
+      {"_DE_time", "drive_end"}, {"_FE_time", "fan_end"}, {"_BA_time", "base"}};
+  std::string named;
+  for (Signal& s : rec.signals) {
+    const std::string& n = s.name;
+    std::size_t digits = 0;
+    while (1 + digits < n.size() && std::isdigit(static_cast<unsigned char>(n[1 + digits])))
+      ++digits;
+    if (n.size() != 1 + digits + 8 || n[0] != 'X' || digits == 0 || !s.location.empty()) continue;
+    for (const auto& [suffix, site] : kSites) {
+      if (n.compare(1 + digits, 8, suffix) != 0) continue;
+      s.location = site;
+      named += (named.empty() ? "" : ", ") + n + " at " + site;
+    }
+  }
+  if (!named.empty()) {
+    rec.notes.push_back("sensor locations from the CWRU bearing data's variable names: " + named);
+  }
+}
+
 Recording import_mat(const std::filesystem::path& path, const std::string& where,
                      const ImportOptions& options, std::uint64_t file_size) {
   std::vector<mat::Variable> vars = mat::is_mat73(path)
@@ -578,6 +604,7 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
         format_error(where, "fs_hz", ".mat files do not store the sampling rate: give it (--fs)"));
   }
   for (Signal& s : rec.signals) s.fs_hz = *options.fs_hz;
+  cwru_locations(rec);
   if (!rpm_values.empty()) {
     const auto [lo, hi] =
         std::minmax_element(rpm_values.begin(), rpm_values.end(),

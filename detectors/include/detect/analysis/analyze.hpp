@@ -160,6 +160,30 @@ struct ShaftTsaAnalysis {
   std::vector<GearMetricsRow> gears;
 };
 
+// A spectrogram kept for the report: the STFT power in dB on a bounded grid (the record cut into
+// at most kSpectrogramColumns spans of equal length, each span the mean of its Welch segments'
+// PSD, Hann, 50 % overlap; frequency bins of nperseg = 2 x kSpectrogramRows samples up to fs/2),
+// so a long file gives a spectrogram of the same size as a short one.
+struct SpectrogramTrace {
+  std::vector<double> time_s;        // span centres [s]
+  std::vector<double> frequency_hz;  // bin frequencies [Hz]
+  std::vector<double> psd_db;        // row-major [time][frequency]: 10 log10(PSD / 1 unit^2/Hz)
+                                     // [dB], floored at 200 dB below the largest value
+};
+inline constexpr std::size_t kSpectrogramColumns = 240;
+inline constexpr std::size_t kSpectrogramRows = 128;
+
+// One harmonic of a bearing fault family as the decision measured it on its envelope spectrum.
+struct BearingLine {
+  std::string label;         // "BPFO", "2xBPFI", "FTF", "3x2BSF"
+  int family = 0;            // 0 FTF, 1 BPFO, 2 BPFI, 3 ball (2 BSF): FaultBand::family's order
+  int harmonic = 1;          // h
+  double expected_hz = 0;    // h f0 (nominal)
+  double found_hz = 0;       // the largest bin of the search window
+  double prominence_db = 0;  // over the local floor
+  bool seen = false;         // detected by the decision (prominence >= its line threshold)
+};
+
 struct BearingAnalysis {
   std::string bearing, shaft;
   BearingFrequencies frequencies;
@@ -170,6 +194,10 @@ struct BearingAnalysis {
   BearingStatus diagnosis;   // diagnose_bearings on this channel: the combined status and fault,
                              // the decisions on the band-selected and the whole-band SES
   double band_centre_hz = 0, band_width_hz = 0;  // its demodulation band (prewhitened signal)
+  PlotTrace decision_envelope;     // the decision's own spectrum (band view: squared envelope of
+                                   // the prewhitened signal in that band), up to 1.1 x the
+                                   // highest harmonic scored; empty when not diagnosed
+  std::vector<BearingLine> lines;  // every harmonic the band view scored (diagnosed only)
 };
 
 struct ChannelAnalysis {
@@ -204,6 +232,7 @@ struct ChannelAnalysis {
                        // report's time waveform; filled with the envelope (vibration channels)
   std::vector<KurtogramLevel> kurtogram;  // the fast kurtogram's map the envelope band came
                                           // from (empty: not run); the report draws it
+  SpectrogramTrace spectrogram;           // of the record in time (empty: too short)
 };
 
 struct TwoDirectionRow {

@@ -20,6 +20,16 @@
 //                                      texts labels (";"-separated) and families; numbers ftf_hz,
 //                                      bpfo_hz, bpfi_hz, bsf_hz, ball_fault_hz, shaft_hz and the
 //                                      decision's band (decision_band_low_hz, ..._high_hz)
+//   channels/<ch>/bearings/<b>/decision_envelope
+//                                      frequency_hz [Hz], amplitude (unit-free): the squared
+//                                      envelope spectrum of the prewhitened signal the bearing
+//                                      decision read; numbers band_low_hz, band_high_hz (its
+//                                      band); text status (the fault named, or no_fault/ambiguous)
+//   channels/<ch>/bearings/<b>/decision_lines
+//                                      expected_hz, found_hz [Hz], prominence_db [dB], family,
+//                                      harmonic, seen (1: counted by the decision); text labels
+//   channels/<ch>/spectrogram          time_s [s], frequency_hz [Hz], psd_db [dB re 1 unit^2/Hz]
+//                                      2-D [time, frequency] (analyze.hpp, SpectrogramTrace)
 //   channels/<ch>/meshes/<m>/zoom      frequency_hz [Hz], amplitude [unit] around the mesh line
 //   channels/<ch>/order_spectrum       order [cycles/rev of the input shaft], amplitude [unit]
 //   channels/<ch>/tsa/<sh>             angle_rev [rev], tsa, regular, residual, difference [unit]

@@ -24,6 +24,8 @@ struct PlotMarker {
   std::string label;  // drawn at the top of the line; may be empty
   std::string color = "#d62728";
   bool dashed = true;
+  int label_row = 0;  // the label drawn this many text rows (10 px) below the top: staggers
+                      // the labels of close lines, >= 0
 };
 
 struct PlotBand {

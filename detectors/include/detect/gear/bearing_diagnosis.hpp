@@ -117,9 +117,11 @@ struct BearingDiagnosis {
   std::string channel;
   double band_centre_hz = 0;  // the demodulation band chosen from the kurtogram [Hz]
   double band_width_hz = 0;
-  double band_level = 0;                // its kurtogram level
-  double band_kurtosis = 0;             // its kurtosis (0 for Gaussian noise)
-  std::vector<BearingStatus> bearings;  // in the order given
+  double band_level = 0;                      // its kurtogram level
+  double band_kurtosis = 0;                   // its kurtosis (0 for Gaussian noise)
+  std::vector<BearingStatus> bearings;        // in the order given
+  std::vector<double> band_ses_frequency_hz;  // the band view's spectrum (step 3) the decisions
+  std::vector<double> band_ses_amplitude;     // read, for plotting with their lines
 };
 
 // The fault's name in findings: "outer_race", "inner_race", "rolling_element", "cage" ("" for

@@ -8,7 +8,8 @@
 //   /<group path>              one HDF5 group per DataGroup (intermediate groups created);
 //                              attributes: description, axis (the first column's name), the
 //                              group's numbers (float64) and texts (UTF-8 strings)
-//   /<group path>/<column>     float64 1-D dataset; attribute unit (empty when unknown)
+//   /<group path>/<column>     float64 dataset, 1-D (or DataColumn::shape); attribute unit (empty
+//                              when unknown)
 //
 // Written through diag/io/output_file.hpp (a temporary file renamed into place: a failed run
 // never leaves a half-written file).
@@ -26,6 +27,8 @@ struct DataColumn {
   std::string name;  // dataset name: no '/', not empty
   std::string unit;  // e.g. "Hz", "(m/s^2)^2/Hz"; empty when unknown
   std::vector<double> values;
+  std::vector<std::size_t> shape = {};  // empty: 1-D; else the dataset's dimensions (row-major,
+                                        // their product values.size()), e.g. {time, frequency}
 };
 
 struct DataGroup {

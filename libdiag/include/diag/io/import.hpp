@@ -8,6 +8,8 @@
 // MAT: every numeric real vector variable with more than one element becomes a channel named
 // after the variable; scalar numeric variables go to the recording's metadata (e.g. X097RPM).
 // The sampling rate is not stored in .mat files: options.fs_hz is required.
+// Variables named as in the CWRU bearing data (X<nnn>_DE_time, _FE_time, _BA_time) get the
+// location drive_end, fan_end, base (a note says so); nothing else is read from a name.
 // WAV: one channel per audio channel, named ch0, ch1, ...; fs from the file unless overridden.
 //
 // Damage is refused, never read as data (docs/notes/reliability.md): a path that is not a regular
