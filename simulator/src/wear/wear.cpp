@@ -92,6 +92,8 @@ void WearOptions::validate() const {
           "seed_max_depth_per_cycle", "must be in [0, 1e-3) m");
   require(depth_limit_m > 0 && depth_limit_m < 0.01, "depth_limit", "must be in (0, 10) mm");
   require(std::isfinite(input_torque_nm), "input_torque_nm", "must be finite");
+  require(substep_depth_m >= 1e-8 && substep_depth_m <= 1e-3, "substep_depth",
+          "must be in [0.01, 1000] um");
   require(te_points_per_mesh >= 16 && te_points_per_mesh <= 4096, "te_points_per_mesh",
           "must be in [16, 4096]");
 }
@@ -257,10 +259,22 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   const double block = o.cycles / o.steps;
   std::vector<double> w1, w2;
   for (int k = 0; k < o.steps; ++k) {
-    per_pass(o.law, w1, w2, umax);
-    for (std::size_t i = 0; i < np; ++i) {
-      d1[i] += block * w1[i];
-      d2[i] += block / u * w2[i];
+    // Sub-blocks (header): at most o.substep_depth_m of wear at any point between two load
+    // sharings; the seed's law does not depend on the load, so one sub-block is exact for it.
+    for (double left = block; left > 0;) {
+      per_pass(o.law, w1, w2, umax);
+      const double peak = std::max(*std::max_element(w1.begin(), w1.end()),
+                                   *std::max_element(w2.begin(), w2.end()) / u);
+      double dc = left;
+      if (o.law == WearLaw::kArchard && peak * dc > o.substep_depth_m) {
+        dc = o.substep_depth_m / peak;
+        if (left - dc < 1e-9 * block) dc = left;
+      }
+      for (std::size_t i = 0; i < np; ++i) {
+        d1[i] += dc * w1[i];
+        d2[i] += dc / u * w2[i];
+      }
+      left = dc == left ? 0.0 : left - dc;
     }
     const State st = measure();
     h.cycles.push_back(block * (k + 1));
@@ -336,16 +350,25 @@ WornPair wear_pair(const diag::Gearbox& gb, int mesh, WearOptions o, double targ
       std::fill(lo.depth_driver_m.begin(), lo.depth_driver_m.end(), 0.0);
       std::fill(lo.depth_driven_m.begin(), lo.depth_driven_m.end(), 0.0);
     }
-    const double d_lo = std::max(lo.max_depth_driver_m(), lo.max_depth_driven_m());
-    const double t = d_hi > d_lo ? (target_depth_m - d_lo) / (d_hi - d_lo) : 1.0;
+    // The deepest point of the blend lo + t (hi - lo) grows with t (depths only grow); where it
+    // equals the target is found by bisection (the deepest point may move between lo and hi).
     WornPair w = hi;
-    w.cycles = lo.cycles + t * (hi.cycles - lo.cycles);
-    for (std::size_t i = 0; i < w.depth_driver_m.size(); ++i) {
-      w.depth_driver_m[i] =
-          lo.depth_driver_m[i] + t * (hi.depth_driver_m[i] - lo.depth_driver_m[i]);
-      w.depth_driven_m[i] =
-          lo.depth_driven_m[i] + t * (hi.depth_driven_m[i] - lo.depth_driven_m[i]);
+    auto blend = [&](double t) {
+      w.cycles = lo.cycles + t * (hi.cycles - lo.cycles);
+      for (std::size_t i = 0; i < w.depth_driver_m.size(); ++i) {
+        w.depth_driver_m[i] =
+            lo.depth_driver_m[i] + t * (hi.depth_driver_m[i] - lo.depth_driver_m[i]);
+        w.depth_driven_m[i] =
+            lo.depth_driven_m[i] + t * (hi.depth_driven_m[i] - lo.depth_driven_m[i]);
+      }
+      return std::max(w.max_depth_driver_m(), w.max_depth_driven_m());
+    };
+    double a = 0, b = 1;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (a + b);
+      (blend(mid) < target_depth_m ? a : b) = mid;
     }
+    blend(0.5 * (a + b));
     const diag::GearPair& p = gb.meshes()[static_cast<std::size_t>(mesh)].pair;
     std::vector<double> phis;
     for (int i = 0; i < o.te_points_per_mesh; ++i)

@@ -29,6 +29,14 @@
 // m = -1/2 (Hertz pressure ~ rho^-1/2: the seed's "rho stands in for pressure"), n = 1, and U_max
 // taken from Archard's largest depth per pass on the unworn pair, so that the two laws have the
 // same scale and differ in shape only.
+// Steps. Archard's depth rate follows the load each point carries, and wear moves the load
+// (a worn zone unloads and stops wearing): an explicit block that wears deeper than about the
+// teeth's elastic deflection overshoots and the history depends on the number of blocks (measured
+// on an 18/36-tooth m = 3 mm pair at 50 N m, static deflection ~5 um: 4 blocks to 1e7 cycles gave
+// 80 um deepest, 40 blocks 52 um). Each block is therefore integrated in sub-blocks of at most
+// substep_depth_m (1 um) of wear at any point, the load sharing recomputed between them (cheap:
+// the TE and stiffness are measured once per block); the history is then the same whatever the
+// number of blocks.
 // The profile update is the normal depth applied to the generated flank (diag::apply_normal_depth,
 // the exact form of the seed's d theta = U / r; see the correction noted there).
 #pragma once
@@ -63,6 +71,9 @@ struct WearOptions {
   double seed_max_depth_per_cycle_m = 0.0;  // U_max [m] per pass; 0: Archard's on the new pair
   double depth_limit_m = 100e-6;            // stop once a flank point has worn this deep, > 0
   int te_points_per_mesh = 64;              // driver angles per mesh period for the TE, >= 16
+  // Largest Archard wear [m] at any point between two load sharings: a block is split into
+  // sub-blocks that wear at most this much (header, "Steps").
+  double substep_depth_m = 1e-6;
   double input_torque_nm = -1.0;  // load: torque on the gearbox's input shaft [N m]; < 0: the
                                   // description's input.torque_nm
 
