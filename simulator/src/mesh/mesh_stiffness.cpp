@@ -102,9 +102,11 @@ struct Tooth {
     // option's default ratio. A solid disc (bore 0) or a bore below 0.2 x the root diameter is
     // held at h_fi = 5: Sainsot's table is a fit over finite rims and its B h_fi^2 term grows
     // without bound as the bore closes (h_fi -> infinity at bore 0); 0.2 is the smallest ratio
-    // checked here. Not checked here against FE: the fit's trend in h_fi (the seed pair's mean
-    // stiffness falls from 20.6 N/(mm um) at ratio 0.5 to 13.5 at 0.2, a thicker rim giving a
-    // softer mesh), see docs/notes/seed000.md.
+    // checked here. The fit's trend in h_fi (the seed pair's mean stiffness falls from 20.6
+    // N/(mm um) at ratio 0.5 to 13.5 at 0.2: a smaller bore, a softer mesh) is physical: the FE
+    // body is clamped at the bore (the shaft) and lies in series with the teeth, so a thicker rim
+    // is a longer, more compliant path; the compliance change is 0.62..0.68 of an annular disc's
+    // torsion between the same radii (tests/simulator/bore_test.cpp), not a stiffening.
     const double ratio =
         sp.bore_diameter_m >= 0 ? sp.bore_diameter_m / (2 * rf) : o.bore_radius_ratio;
     hfi = 1.0 / std::max(ratio, kMinBoreRadiusRatio);
