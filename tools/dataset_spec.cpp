@@ -117,9 +117,11 @@ DatasetFault parse_fault(const json& j, const std::string& where, const std::str
       {"crack", {"depth_mm"}},
       {"chip", {"size_mm"}},
       {"missing", {}},
-      {"spall", {"length_mm", "depth_um", "position_mm"}}};
+      {"spall", {"length_mm", "depth_um", "position_mm"}},
+      {"wear", {"depth_um"}}};  // worn flanks of the gear's mesh (scenario faults[] type wear)
   const auto it = fields.find(d.type);
-  if (it == fields.end()) f.fail("type", "'" + d.type + "' is not crack, chip, missing or spall");
+  if (it == fields.end())
+    f.fail("type", "'" + d.type + "' is not crack, chip, missing, spall or wear");
   for (const char* key : {"depth_mm", "size_mm", "length_mm", "depth_um", "position_mm"}) {
     if (f.has(key) && !it->second.count(key)) {
       f.fail(key, "is not a field of a " + d.type + " fault");
@@ -137,6 +139,10 @@ DatasetFault parse_fault(const json& j, const std::string& where, const std::str
       d.has_position = true;
       d.position_mm = parse_range(f, "position_mm", -kBig, kBig, false);
     }
+  }
+  if (d.type == "wear") {
+    if (!f.has("depth_um")) f.fail("depth_um", "required number or range is missing");
+    d.depth_um = parse_range(f, "depth_um", 0, 999, true);  // the scenario's limit (< 1000 um)
   }
   if ((d.type == "crack" && !f.has("depth_mm")) || (d.type == "chip" && !f.has("size_mm"))) {
     f.fail(d.type == "crack" ? "depth_mm" : "size_mm", "required number or range is missing");
@@ -168,6 +174,7 @@ const std::set<std::string> kDrawnScenarioFields = {
     "speed", "torque_nm", "faults", "accuracy_grade", "runout_um", "duration_s", "fs_hz", "seed"};
 
 json fault_json(const DrawnFault& f) {
+  if (f.type == "wear") return {{"type", f.type}, {"gear", f.gear}, {"depth_um", f.depth_um}};
   json j = {{"type", f.type}, {"gear", f.gear}, {"tooth", f.tooth}};
   if (f.type == "crack") j["depth_mm"] = f.size_mm;
   if (f.type == "chip") j["size_mm"] = f.size_mm;
@@ -534,8 +541,8 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
       if (!taken) break;
       d.tooth = (d.tooth + 1) % teeth;
     }
-    d.size_mm = f.type == "missing" ? 0.0 : rng.draw(f.size_mm);
-    d.has_depth = f.type == "spall";
+    d.size_mm = f.type == "missing" || f.type == "wear" ? 0.0 : rng.draw(f.size_mm);
+    d.has_depth = f.type == "spall" || f.type == "wear";
     d.depth_um = rng.draw(f.depth_um);
     d.has_position = f.has_position;
     d.position_mm = rng.draw(f.position_mm);
@@ -612,8 +619,9 @@ nlohmann::json manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
     row[p + "type"] = f ? json(f->type) : json(nullptr);
     row[p + "gear"] = f ? json(f->gear) : json(nullptr);
     row[p + "shaft"] = f ? json(f->shaft) : json(nullptr);
-    row[p + "tooth"] = f ? json(f->tooth) : json(nullptr);
-    row[p + "size_mm"] = f && f->type != "missing" ? json(f->size_mm) : json(nullptr);
+    row[p + "tooth"] = f && f->type != "wear" ? json(f->tooth) : json(nullptr);
+    row[p + "size_mm"] =
+        f && f->type != "missing" && f->type != "wear" ? json(f->size_mm) : json(nullptr);
     row[p + "depth_um"] = f && f->has_depth ? json(f->depth_um) : json(nullptr);
     row[p + "position_mm"] = f && f->has_position ? json(f->position_mm) : json(nullptr);
     row[p + "width_fraction"] = f ? json(f->width_fraction) : json(nullptr);

@@ -17,6 +17,8 @@
 //                        size fields of its type as numbers or [lo, hi]}; gear: a name, an array
 //                        of names, or "any" (drawn per recording among the gearbox's gears);
 //                        tooth: an integer, [lo, hi] or "any" (default)
+//                        type wear: depth_um only, the deepest worn point of the gear's mesh
+//                        (scenario faults[] type wear; no tooth)
 //   simulator            "dynamic" (default: the fields above), "kinematic" (seed 003) or
 //                        "face_gear" (seed 002; implied by a face-gear gearbox): their fields in
 //                        tools/dataset_modes.hpp
@@ -51,7 +53,7 @@ struct IntRange {
 };
 
 struct DatasetFault {
-  std::string type;                // crack, chip, missing, spall
+  std::string type;                // crack, chip, missing, spall, wear
   std::vector<std::string> gears;  // empty: any gear
   bool any_tooth = true;
   IntRange tooth;

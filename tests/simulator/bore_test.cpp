@@ -4,7 +4,10 @@
 // says; the ISO 6336 cross-check is restated for the bores it covers.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
+#include <numbers>
+#include <utility>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -83,6 +86,47 @@ TEST(Bore, MovesTheSeedPairsMeshStiffnessAndIsoDoesNotSeeIt) {
       sim::to_n_per_mm_um(sim::iso6336_method_b(gb.meshes()[0].pair).c_gamma_alpha_n_per_m2);
   EXPECT_NEAR(k05 / iso, 0.94, 0.01);
   EXPECT_NEAR(k02 / iso, 0.61, 0.01);
+}
+
+// The trend is physical (issue 16 asked whether a smaller bore should not give a stiffer mesh).
+// Sainsot's FE models clamp the gear body at the bore (the shaft holds the gear there), and the
+// mesh stiffness relates the contact to the rotation of that shaft: the body between the root
+// circle and the bore is in series with the teeth. A thicker rim is a longer path, so a smaller
+// bore gives a softer mesh, as the fit says. The elementary check: an annular disc (thickness
+// b, shear modulus G) clamped at r_i and twisted at r_f turns by
+//     theta = T / (4 pi G b) (1 / r_i^2 - 1 / r_f^2)        (plane stress, axisymmetric shear)
+// i.e. along the line of action a compliance r_b^2 (1/r_i^2 - 1/r_f^2) / (4 pi G b) per gear.
+// Between bore ratios 0.5 and r, the change in the seed pair's mesh compliance from Sainsot's
+// fit must have the disc's sign (more compliant for a smaller bore, at every ratio checked) and
+// be of its size: measured 0.68 (r = 0.4), 0.66 (0.3), 0.62 (0.2) of the disc's change; bound
+// [0.4, 1.0] (the fit is local, its rim not the whole disc: the same order, not equality).
+TEST(Bore, SmallerBoreSoftensTheMeshAsTheClampedDiscTwists) {
+  const double b = 0.020, G = 206e9 / (2 * 1.3);
+  const double rf1 = 4.0 * (49 / 2.0 - 1.25) * 1e-3, rf2 = 4.0 * (51 / 2.0 - 1.25) * 1e-3;
+  const double rb1 = 2.0 * 49 * std::cos(20 * std::numbers::pi / 180) * 1e-3;
+  const double rb2 = rb1 * 51 / 49;
+  auto disc = [&](double ratio) {  // both gears' disc compliance along the LOA [m/N]
+    double c = 0;
+    for (const auto& [rb, rf] : {std::pair{rb1, rf1}, {rb2, rf2}}) {
+      const double ri = ratio * rf;
+      c += rb * rb * (1 / (ri * ri) - 1 / (rf * rf)) / (4 * std::numbers::pi * G * b);
+    }
+    return c;
+  };
+  auto mesh = [&](double ratio) {  // mesh compliance [m/N]
+    return 1.0 / (mean_stiffness_n_per_mm_um(ratio) * 1e9 * b);
+  };
+  double previous = mesh(0.9);
+  for (double r : {0.8, 0.7, 0.6, 0.5, 0.4, 0.3, 0.2}) {
+    const double c = mesh(r);
+    EXPECT_GT(c, previous) << "ratio " << r;
+    previous = c;
+    if (r < 0.5) {
+      const double share = (c - mesh(0.5)) / (disc(r) - disc(0.5));
+      EXPECT_GT(share, 0.4) << "ratio " << r;
+      EXPECT_LT(share, 1.0) << "ratio " << r;
+    }
+  }
 }
 
 }  // namespace

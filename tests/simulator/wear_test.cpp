@@ -116,7 +116,10 @@ TEST(Wear, TransmissionErrorAndItsMeshHarmonicsGrowWithCycles) {
 TEST(Wear, ArchardAndTheSeedLawAgreeInShape) {
   for (const auto& [z1, z2] : {std::pair{18, 36}, {23, 61}}) {
     const diag::Gearbox gb = pair_box(50.0, z1, z2);
-    const auto a = sim::simulate_wear(gb, 0, quick(sim::WearLaw::kArchard, 1, 1e5));
+    // One explicit block (no sub-blocks): both laws at the new pair's per-pass rates.
+    sim::WearOptions oa = quick(sim::WearLaw::kArchard, 1, 1e5);
+    oa.substep_depth_m = 1e-3;
+    const auto a = sim::simulate_wear(gb, 0, oa);
     sim::WearOptions o = quick(sim::WearLaw::kSeed004, 1, 1e5);
     const auto s = sim::simulate_wear(gb, 0, o);
     EXPECT_GT(sim::shape_correlation(a.depth_driver_m[0], s.depth_driver_m[0]), 0.9);

@@ -54,11 +54,75 @@ struct Link {  // torsional spring-damper between two gears on one shaft
   double k = 0, c = 0;
 };
 
+// The mesh index of each MeshWear (by mesh name, or the one mesh of its gear); one per mesh.
+std::vector<int> wear_meshes(const diag::Gearbox& gb, const std::vector<MeshWear>& wear) {
+  std::vector<int> out;
+  for (const MeshWear& w : wear) {
+    std::vector<int> hits;
+    std::string names;
+    for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+      const diag::Mesh& me = gb.meshes()[j];
+      const std::string name = diag::mesh_name(gb, static_cast<int>(j));
+      names += (names.empty() ? "" : ", ") + name;
+      const bool by_gear = w.mesh.empty() && (gb.gears()[me.driver].name == w.gear ||
+                                              gb.gears()[me.driven].name == w.gear);
+      if (name == w.mesh || by_gear) hits.push_back(static_cast<int>(j));
+    }
+    const std::string field = w.mesh.empty() ? "gear" : "mesh";
+    const std::string value = w.mesh.empty() ? w.gear : w.mesh;
+    if (hits.empty()) {
+      throw diag::InputError(diag::format_error(
+          w.where, field,
+          "'" + value + "' is not " + (w.mesh.empty() ? "a gear of a mesh" : "a mesh") +
+              " of the gearbox (meshes: " + names + ")"));
+    }
+    if (hits.size() > 1) {
+      throw diag::InputError(diag::format_error(
+          w.where, "gear", "'" + w.gear + "' is in more than one mesh: name it with mesh"));
+    }
+    if (std::find(out.begin(), out.end(), hits[0]) != out.end()) {
+      throw diag::InputError(
+          diag::format_error(w.where, field, "a mesh can be worn only once per scenario"));
+    }
+    out.push_back(hits[0]);
+  }
+  return out;
+}
+
+// Resolves one mesh's wear (computing the worn state when not given) and applies its gap.
+AppliedWear apply_wear(const diag::Gearbox& gb, int mesh, const MeshWear& w, double torque_nm,
+                       MeshStiffness& stiffness) {
+  AppliedWear a;
+  a.mesh = mesh;
+  a.law = w.law;
+  if (!w.state.depth_driver_m.empty()) {
+    a.state = w.state;
+  } else {
+    WearOptions o;
+    o.law = w.law;
+    o.steps = w.steps;
+    o.cycles = w.cycles > 0 ? w.cycles : 1.0;
+    o.depth_limit_m = 0.0099;  // no limit: the state asked for is the one wanted
+    o.input_torque_nm = torque_nm;
+    try {
+      a.state = wear_pair(gb, mesh, o, w.depth_m);
+    } catch (const diag::InputError& e) {
+      throw diag::InputError(w.where + ": " + e.what());
+    }
+  }
+  std::vector<double> s, g;
+  worn_profile_gap(gb.meshes()[static_cast<std::size_t>(mesh)].pair, a.state, s, g);
+  stiffness.set_profile_gap(s, g);
+  a.max_gap_m = *std::max_element(g.begin(), g.end());
+  return a;
+}
+
 }  // namespace
 
 struct GearboxModel::Impl {
   const diag::Gearbox* gb = nullptr;
   DynamicsOptions opt;
+  std::vector<AppliedWear> wear;
   int n = 0;  // DOFs
   int gears = 0;
   std::vector<int> shaft_x;  // per shaft: x DOF or -1
@@ -291,6 +355,8 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
   std::vector<double> runout_phase(m.gears);
   for (double& p : runout_phase) p = uniform_phase(rng);
 
+  const std::vector<int> wear_mesh = wear_meshes(gb, m.opt.wear);
+
   // Meshes.
   m.meshes.resize(gb.meshes().size());
   for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
@@ -378,9 +444,19 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
       d.stiffness =
           std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
     }
+    for (std::size_t w = 0; w < m.opt.wear.size(); ++w) {
+      if (wear_mesh[w] != static_cast<int>(j)) continue;
+      if (table) {
+        throw diag::InputError(
+            diag::format_error(m.opt.wear[w].where, "mesh " + name,
+                               "a tabulated mesh (stiffness.tables) cannot also be worn"));
+      }
+      m.wear.push_back(
+          apply_wear(gb, static_cast<int>(j), m.opt.wear[w], m.opt.input_torque_nm, *d.stiffness));
+    }
     d.faulty = d.stiffness->has_faults();
     d.per_tooth = d.faulty || !errors_a.empty() || !errors_b.empty();
-    d.gap_free = !d.per_tooth;
+    d.gap_free = !d.per_tooth && !d.stiffness->has_profile_gap();
     d.k_mean = d.stiffness->mean_mesh_stiffness();
     d.inv_k_mean = 1.0 / d.k_mean;
     const double inv_je = d.rba * d.rba / m.mass[d.a] + d.rbb * d.rbb / m.mass[d.b];
@@ -478,6 +554,7 @@ int GearboxModel::dofs() const { return impl_->n; }
 int GearboxModel::shaft_x_dof(int shaft) const { return impl_->shaft_x.at(shaft); }
 const DynamicsOptions& GearboxModel::options() const { return impl_->opt; }
 const diag::Gearbox& GearboxModel::gearbox() const { return *impl_->gb; }
+const std::vector<AppliedWear>& GearboxModel::applied_wear() const { return impl_->wear; }
 double GearboxModel::gear_speed_ratio(int gear) const { return impl_->ratio.at(gear); }
 int GearboxModel::input_gear() const { return impl_->in_gear; }
 int GearboxModel::output_gear() const { return impl_->out_gear; }

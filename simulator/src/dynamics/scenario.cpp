@@ -74,9 +74,38 @@ GearFault parse_fault(const json& j, const std::string& where, const std::string
     if (!f.has("profile")) f.fail("profile", "required for type profile");
     g.profile_json = f.raw("profile").dump();
   } else {
-    f.fail("type", "'" + type + "' is not one of crack, chip, missing, spall, profile");
+    f.fail("type", "'" + type + "' is not one of crack, chip, missing, spall, profile, wear");
   }
   return g;
+}
+
+// {"type": "wear", "mesh": "A_B" | "gear": NAME, "cycles": N | "depth_um": D,
+//  "law": "archard" | "seed004", "steps": K}: worn flanks of one mesh (sim::MeshWear).
+MeshWear parse_wear(const json& j, const std::string& where, const std::string& path) {
+  diag::Fields f(j, where, path, {"type", "gear", "mesh", "cycles", "depth_um", "law", "steps"});
+  MeshWear w;
+  w.where = where + ": " + path;
+  if (f.has("gear") == f.has("mesh")) f.fail("mesh", "give exactly one of mesh, gear");
+  w.gear = f.str("gear", "");
+  w.mesh = f.str("mesh", "");
+  if (f.has("cycles") == f.has("depth_um"))
+    f.fail("cycles", "give exactly one of cycles, depth_um");
+  if (f.has("cycles")) {
+    w.cycles = f.positive("cycles");
+    if (!(w.cycles <= 1e15)) f.fail("cycles", "must be <= 1e15");
+  } else {
+    w.depth_m = f.positive("depth_um") * 1e-6;
+    if (!(w.depth_m < 1e-3)) f.fail("depth_um", "must be < 1000 um");
+  }
+  const std::string law = f.str("law", "archard");
+  if (law != "archard" && law != "seed004")
+    f.fail("law", "'" + law + "' is not archard or seed004");
+  w.law = parse_wear_law(law, "law");
+  if (f.has("steps")) {
+    w.steps = f.integer("steps");
+    if (w.steps < 1 || w.steps > 1000) f.fail("steps", "must be in [1, 1000]");
+  }
+  return w;
 }
 
 }  // namespace
@@ -166,7 +195,11 @@ Scenario parse_scenario(const json& j, const std::string& where) {
     if (!f.raw("faults").is_array()) f.fail("faults", "must be an array");
     const json& arr = f.raw("faults");
     for (std::size_t i = 0; i < arr.size(); ++i) {
-      d.faults.push_back(parse_fault(arr[i], where, indexed("faults", i)));
+      if (arr[i].is_object() && arr[i].value("type", json()) == "wear") {
+        d.wear.push_back(parse_wear(arr[i], where, indexed("faults", i)));
+      } else {
+        d.faults.push_back(parse_fault(arr[i], where, indexed("faults", i)));
+      }
     }
   }
   if (f.has("accuracy_grade")) d.accuracy_grade = f.integer("accuracy_grade");

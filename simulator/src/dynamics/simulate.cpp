@@ -601,6 +601,22 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
                       {"shaft_frequency_hz", gb.shaft_speed_hz(gb.shaft_of_gear(g))}});
   }
   truth["faults"] = faults;
+  nlohmann::json wear = nlohmann::json::array();
+  for (const AppliedWear& a : model.applied_wear()) {
+    const diag::Mesh& me = gb.meshes()[static_cast<std::size_t>(a.mesh)];
+    wear.push_back({{"mesh", mesh_name(gb, a.mesh)},
+                    {"law", wear_law_name(a.law)},
+                    {"cycles", a.state.cycles},
+                    {"max_depth_um",
+                     {{gb.gears()[static_cast<std::size_t>(me.driver)].name,
+                       a.state.max_depth_driver_m() * 1e6},
+                      {gb.gears()[static_cast<std::size_t>(me.driven)].name,
+                       a.state.max_depth_driven_m() * 1e6}}},
+                    {"max_gap_um", a.max_gap_m * 1e6},
+                    {"te_peak_to_peak_rad", a.state.te_peak_to_peak_rad},
+                    {"mesh_frequency_hz", gb.mesh_frequency_hz(a.mesh)}});
+  }
+  truth["wear"] = wear;
   truth["accuracy_grade"] = opt.accuracy_grade;
   truth["runout_m"] = opt.runout_m;
   truth["integrator"] = {{"method", run.method == RunOptions::Method::kRk4 ? "rk4" : "gsl_rk8pd"},

@@ -102,9 +102,11 @@ struct Tooth {
     // option's default ratio. A solid disc (bore 0) or a bore below 0.2 x the root diameter is
     // held at h_fi = 5: Sainsot's table is a fit over finite rims and its B h_fi^2 term grows
     // without bound as the bore closes (h_fi -> infinity at bore 0); 0.2 is the smallest ratio
-    // checked here. Not checked here against FE: the fit's trend in h_fi (the seed pair's mean
-    // stiffness falls from 20.6 N/(mm um) at ratio 0.5 to 13.5 at 0.2, a thicker rim giving a
-    // softer mesh), see docs/notes/seed000.md.
+    // checked here. The fit's trend in h_fi (the seed pair's mean stiffness falls from 20.6
+    // N/(mm um) at ratio 0.5 to 13.5 at 0.2: a smaller bore, a softer mesh) is physical: the FE
+    // body is clamped at the bore (the shaft) and lies in series with the teeth, so a thicker rim
+    // is a longer, more compliant path; the compliance change is 0.62..0.68 of an annular disc's
+    // torsion between the same radii (tests/simulator/bore_test.cpp), not a stiffening.
     const double ratio =
         sp.bore_diameter_m >= 0 ? sp.bore_diameter_m / (2 * rf) : o.bore_radius_ratio;
     hfi = 1.0 / std::max(ratio, kMinBoreRadiusRatio);
@@ -501,19 +503,44 @@ double MeshStiffness::faulty_pair_gap(double s_m, int i, int j) const {
   if (n == 0) return kInf;
   double g = kInf;
   for (int k = 0; k < n; ++k) g = std::min(g, p[k].gap_m);
-  return gap1_[i] + gap2_[j] + g;
+  return gap1_[i] + gap2_[j] + profile_gap(s_m) + g;
 }
 
 double MeshStiffness::pair_force(double s_m, int i, int j, double compression_m) const {
   const double x = (s_m - s0_) * inv_ds_;
   if (!(x >= -kEdgeCells && x <= last_ + kEdgeCells)) return 0.0;
-  const double d = compression_m - gap1_[i] - gap2_[j];
+  const double d = compression_m - gap1_[i] - gap2_[j] - profile_gap(s_m);
   if (!(faulty1_[i] | faulty2_[j])) return d > 0 ? interpolate(k_pair_, x) * d : 0.0;
   std::array<Part, 16> p;
   const int n = parts(s_m, i, j, p);
   double f = 0;
   for (int k = 0; k < n; ++k) f += p[k].fraction * std::max(d - p[k].gap_m, 0.0);
   return f > 0 ? f * full_width_pair_stiffness(s_m, i, j) : 0.0;
+}
+
+void MeshStiffness::set_profile_gap(const std::vector<double>& s_m,
+                                    const std::vector<double>& gap_m) {
+  const char* where = "MeshStiffness::set_profile_gap";
+  if (s_m.size() != gap_m.size() || s_m.size() < 2) {
+    throw InputError(format_error(where, "s_m", "needs as many gaps as positions, at least 2"));
+  }
+  for (std::size_t i = 0; i < s_m.size(); ++i) {
+    if (!std::isfinite(s_m[i]) || (i > 0 && !(s_m[i] > s_m[i - 1]))) {
+      throw InputError(format_error(where, "s_m", "must be finite and strictly increasing"));
+    }
+    if (!(gap_m[i] >= 0) || !std::isfinite(gap_m[i])) {
+      throw InputError(format_error(where, "gap_m", "must be finite and >= 0"));
+    }
+  }
+  profile_gap_.resize(k_pair_.size());
+  for (std::size_t i = 0; i < profile_gap_.size(); ++i) {
+    const double s = s0_ + static_cast<double>(i) * ds_;
+    const auto hi = static_cast<std::size_t>(
+        std::clamp<std::ptrdiff_t>(std::upper_bound(s_m.begin(), s_m.end(), s) - s_m.begin(), 1,
+                                   static_cast<std::ptrdiff_t>(s_m.size()) - 1));
+    const double t = std::clamp((s - s_m[hi - 1]) / (s_m[hi] - s_m[hi - 1]), 0.0, 1.0);
+    profile_gap_[i] = gap_m[hi - 1] + t * (gap_m[hi] - gap_m[hi - 1]);
+  }
 }
 
 MeshContacts MeshStiffness::contacts(double phi1) const {

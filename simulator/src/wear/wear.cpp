@@ -48,7 +48,35 @@ std::vector<double> share_load(const std::vector<double>& k, const std::vector<d
   return f;
 }
 
+// Unloaded TE [rad, driven] of the pair with every tooth's flank worn by the given depths.
+std::vector<double> worn_unloaded_te(const diag::GearPair& p, const diag::Flank& new1,
+                                     const diag::Flank& new2, const std::vector<double>& roll1,
+                                     const std::vector<double>& d1,
+                                     const std::vector<double>& roll2,
+                                     const std::vector<double>& d2,
+                                     const std::vector<double>& phis) {
+  const auto f1 = std::make_shared<const diag::Flank>(diag::apply_normal_depth(new1, roll1, d1));
+  const auto f2 = std::make_shared<const diag::Flank>(diag::apply_normal_depth(new2, roll2, d2));
+  const diag::MeshFlanks mf{
+      std::vector<std::shared_ptr<const diag::Flank>>(p.driver().teeth(), f1),
+      std::vector<std::shared_ptr<const diag::Flank>>(p.driven().teeth(), f2)};
+  return diag::unloaded_transmission_error(p, mf, phis);
+}
+
+double peak_to_peak(const std::vector<double>& v) {
+  return *std::max_element(v.begin(), v.end()) - *std::min_element(v.begin(), v.end());
+}
+
 }  // namespace
+
+const char* wear_law_name(WearLaw law) { return law == WearLaw::kArchard ? "archard" : "seed004"; }
+
+WearLaw parse_wear_law(const std::string& name, const std::string& field) {
+  if (name == "archard") return WearLaw::kArchard;
+  if (name == "seed004") return WearLaw::kSeed004;
+  throw diag::InputError(
+      diag::format_error(field, "", "must be archard or seed004 (got '" + name + "')"));
+}
 
 void WearOptions::validate() const {
   require(cycles > 0 && std::isfinite(cycles), "cycles", "must be > 0");
@@ -63,6 +91,9 @@ void WearOptions::validate() const {
   require(seed_max_depth_per_cycle_m >= 0 && seed_max_depth_per_cycle_m < 1e-3,
           "seed_max_depth_per_cycle", "must be in [0, 1e-3) m");
   require(depth_limit_m > 0 && depth_limit_m < 0.01, "depth_limit", "must be in (0, 10) mm");
+  require(std::isfinite(input_torque_nm), "input_torque_nm", "must be finite");
+  require(substep_depth_m >= 1e-8 && substep_depth_m <= 1e-3, "substep_depth",
+          "must be in [0.01, 1000] um");
   require(te_points_per_mesh >= 16 && te_points_per_mesh <= 4096, "te_points_per_mesh",
           "must be in [16, 4096]");
 }
@@ -94,7 +125,8 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   // Load: the input torque carried to the driver's shaft (no losses).
   const double shaft_ratio =
       std::abs(gb.shafts()[static_cast<std::size_t>(gb.shaft_of_gear(me.driver))].speed_ratio);
-  const double torque = gb.input().torque_nm / shaft_ratio;
+  const double torque =
+      (o.input_torque_nm >= 0 ? o.input_torque_nm : gb.input().torque_nm) / shaft_ratio;
   if (!(torque > 0)) {
     throw diag::InputError(
         diag::format_error("gearbox", "input.torque_nm", "must be > 0 for a wear history"));
@@ -195,14 +227,9 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   };
   auto measure = [&]() {
     State st{};
-    const auto f1 =
-        std::make_shared<const diag::Flank>(diag::apply_normal_depth(new1, h.roll_driver_m, d1));
-    const auto f2 =
-        std::make_shared<const diag::Flank>(diag::apply_normal_depth(new2, h.roll_driven_m, d2));
-    const diag::MeshFlanks mf{std::vector<std::shared_ptr<const diag::Flank>>(g1.teeth(), f1),
-                              std::vector<std::shared_ptr<const diag::Flank>>(g2.teeth(), f2)};
-    const std::vector<double> te = diag::unloaded_transmission_error(p, mf, phis);
-    st.te_pp = *std::max_element(te.begin(), te.end()) - *std::min_element(te.begin(), te.end());
+    const std::vector<double> te =
+        worn_unloaded_te(p, new1, new2, h.roll_driver_m, d1, h.roll_driven_m, d2, phis);
+    st.te_pp = peak_to_peak(te);
     for (int hmn = 1; hmn <= 3; ++hmn) {
       double re = 0, im = 0;
       for (int i = 0; i < nt; ++i) {
@@ -232,10 +259,22 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   const double block = o.cycles / o.steps;
   std::vector<double> w1, w2;
   for (int k = 0; k < o.steps; ++k) {
-    per_pass(o.law, w1, w2, umax);
-    for (std::size_t i = 0; i < np; ++i) {
-      d1[i] += block * w1[i];
-      d2[i] += block / u * w2[i];
+    // Sub-blocks (header): at most o.substep_depth_m of wear at any point between two load
+    // sharings; the seed's law does not depend on the load, so one sub-block is exact for it.
+    for (double left = block; left > 0;) {
+      per_pass(o.law, w1, w2, umax);
+      const double peak = std::max(*std::max_element(w1.begin(), w1.end()),
+                                   *std::max_element(w2.begin(), w2.end()) / u);
+      double dc = left;
+      if (o.law == WearLaw::kArchard && peak * dc > o.substep_depth_m) {
+        dc = o.substep_depth_m / peak;
+        if (left - dc < 1e-9 * block) dc = left;
+      }
+      for (std::size_t i = 0; i < np; ++i) {
+        d1[i] += dc * w1[i];
+        d2[i] += dc / u * w2[i];
+      }
+      left = dc == left ? 0.0 : left - dc;
     }
     const State st = measure();
     h.cycles.push_back(block * (k + 1));
@@ -254,6 +293,103 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
     }
   }
   return h;
+}
+
+double WornPair::max_depth_driver_m() const {
+  return depth_driver_m.empty() ? 0.0
+                                : *std::max_element(depth_driver_m.begin(), depth_driver_m.end());
+}
+
+double WornPair::max_depth_driven_m() const {
+  return depth_driven_m.empty() ? 0.0
+                                : *std::max_element(depth_driven_m.begin(), depth_driven_m.end());
+}
+
+WornPair worn_pair(const WearHistory& h, std::size_t step) {
+  if (step >= h.cycles.size()) {
+    throw diag::InputError(diag::format_error("wear history", "step", "out of range"));
+  }
+  WornPair w;
+  w.cycles = h.cycles[step];
+  w.roll_driver_m = h.roll_driver_m;
+  w.roll_driven_m = h.roll_driven_m;
+  w.depth_driver_m = h.depth_driver_m[step];
+  w.depth_driven_m = h.depth_driven_m[step];
+  w.te_peak_to_peak_rad = h.te_peak_to_peak_rad[step];
+  return w;
+}
+
+WornPair wear_pair(const diag::Gearbox& gb, int mesh, WearOptions o, double target_depth_m) {
+  if (!(target_depth_m >= 0) || !(target_depth_m < 0.01)) {
+    throw diag::InputError(diag::format_error("wear", "target depth", "must be in [0, 10) mm"));
+  }
+  if (target_depth_m == 0) {
+    const WearHistory h = simulate_wear(gb, mesh, o);
+    return worn_pair(h, h.cycles.size() - 1);
+  }
+  // The new pair's rate sets the first length tried: one block of one revolution.
+  WearOptions probe = o;
+  probe.cycles = 1;
+  probe.steps = 1;
+  const WornPair one = worn_pair(simulate_wear(gb, mesh, probe), 0);
+  const double rate = std::max(one.max_depth_driver_m(), one.max_depth_driven_m());
+  o.depth_limit_m = target_depth_m;
+  o.cycles = rate > 0 ? 2.0 * target_depth_m / rate : 1e6;
+  for (; o.cycles <= 1e15; o.cycles *= 4) {
+    const WearHistory h = simulate_wear(gb, mesh, o);
+    const std::size_t k = h.cycles.size() - 1;
+    WornPair hi = worn_pair(h, k);
+    const double d_hi = std::max(hi.max_depth_driver_m(), hi.max_depth_driven_m());
+    if (d_hi < target_depth_m) continue;
+    WornPair lo;  // the state before: the previous step, or the new pair
+    if (k > 0) {
+      lo = worn_pair(h, k - 1);
+    } else {
+      lo = hi;
+      lo.cycles = 0;
+      std::fill(lo.depth_driver_m.begin(), lo.depth_driver_m.end(), 0.0);
+      std::fill(lo.depth_driven_m.begin(), lo.depth_driven_m.end(), 0.0);
+    }
+    // The deepest point of the blend lo + t (hi - lo) grows with t (depths only grow); where it
+    // equals the target is found by bisection (the deepest point may move between lo and hi).
+    WornPair w = hi;
+    auto blend = [&](double t) {
+      w.cycles = lo.cycles + t * (hi.cycles - lo.cycles);
+      for (std::size_t i = 0; i < w.depth_driver_m.size(); ++i) {
+        w.depth_driver_m[i] =
+            lo.depth_driver_m[i] + t * (hi.depth_driver_m[i] - lo.depth_driver_m[i]);
+        w.depth_driven_m[i] =
+            lo.depth_driven_m[i] + t * (hi.depth_driven_m[i] - lo.depth_driven_m[i]);
+      }
+      return std::max(w.max_depth_driver_m(), w.max_depth_driven_m());
+    };
+    double a = 0, b = 1;
+    for (int it = 0; it < 60; ++it) {
+      const double mid = 0.5 * (a + b);
+      (blend(mid) < target_depth_m ? a : b) = mid;
+    }
+    blend(0.5 * (a + b));
+    const diag::GearPair& p = gb.meshes()[static_cast<std::size_t>(mesh)].pair;
+    std::vector<double> phis;
+    for (int i = 0; i < o.te_points_per_mesh; ++i)
+      phis.push_back(p.mesh_period_rad() * (i + 0.5) / o.te_points_per_mesh);
+    w.te_peak_to_peak_rad = peak_to_peak(worn_unloaded_te(
+        p, diag::generate_tooth(p.driver()).flank, diag::generate_tooth(p.driven()).flank,
+        w.roll_driver_m, w.depth_driver_m, w.roll_driven_m, w.depth_driven_m, phis));
+    return w;
+  }
+  throw diag::InputError(
+      diag::format_error("wear", "depth", "not reached within 1e15 cycles (is the pair loaded?)"));
+}
+
+void worn_profile_gap(const diag::GearPair& pair, const WornPair& w, std::vector<double>& s_m,
+                      std::vector<double>& gap_m) {
+  const double L = pair.loa_length_m();
+  s_m = w.roll_driver_m;
+  gap_m.resize(s_m.size());
+  for (std::size_t i = 0; i < s_m.size(); ++i) {
+    gap_m[i] = w.depth_driver_m[i] + interp(w.roll_driven_m, w.depth_driven_m, L - s_m[i]);
+  }
 }
 
 }  // namespace sim

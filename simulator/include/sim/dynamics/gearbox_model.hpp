@@ -49,6 +49,7 @@
 #include "sim/dynamics/speed_profile.hpp"
 #include "sim/mesh/friction.hpp"
 #include "sim/mesh/mesh_stiffness.hpp"
+#include "sim/wear/wear.hpp"
 
 namespace sim {
 
@@ -71,6 +72,31 @@ struct StiffnessTable {
   std::vector<double> angle_deg;
   std::vector<double> load_n;
   std::vector<std::vector<double>> k_n_per_m;
+};
+
+// Worn flanks of one mesh (SPEC section 4, sim/wear.hpp): the scenario's faults[] entry
+// {"type": "wear"} or a point of life of `geardiag wear --record-every`. Every tooth pair of the
+// mesh gets the worn flanks' separation g(s) (sim::worn_profile_gap) as a gap on the line of
+// action (MeshStiffness::set_profile_gap), the same path as a profile defect's gap on one tooth:
+// load sharing, the loaded mesh stiffness (pairs losing contact) and the transmission error then
+// follow from the worn profiles.
+struct MeshWear {
+  std::string mesh;  // "<driver>_<driven>"; or empty, with `gear` a gear of exactly one mesh
+  std::string gear;
+  std::string where;  // for messages, e.g. "sc.json: faults[2]"
+  WornPair state;     // given (state.depth_driver_m non-empty), or computed from the fields below
+  WearLaw law = WearLaw::kArchard;
+  double cycles = 0;   // > 0: the wear of this many driver revolutions at the run's input torque
+  double depth_m = 0;  // > 0: worn until the deepest flank point reaches this depth
+  int steps = 10;      // blocks of the wear history that computes the state
+};
+
+// A mesh's wear as the model applied it (for the truth).
+struct AppliedWear {
+  int mesh = 0;
+  WearLaw law = WearLaw::kArchard;
+  WornPair state;
+  double max_gap_m = 0;  // largest pair separation g(s) over the path of contact
 };
 
 struct DynamicsOptions {
@@ -99,6 +125,7 @@ struct DynamicsOptions {
                                                  // (no faults or pitch errors on those meshes)
   FrictionOptions friction;                      // law, mu, oil and temperature
   std::vector<GearFault> faults;                 // tooth faults
+  std::vector<MeshWear> wear;                    // worn flanks, at most one per mesh
   int accuracy_grade = 0;                        // ISO 1328-1 grade of pitch errors, 0: none, 1..12
   double runout_m = 0.0;                         // eccentricity of every gear [m], >= 0
   // Static transmission error of every mesh, harmonic h = 1, 2, ... of the mesh frequency:
@@ -180,6 +207,7 @@ class GearboxModel {
   std::pair<double, double> normal_direction(int mesh) const;
   const DynamicsOptions& options() const;
   const diag::Gearbox& gearbox() const;
+  const std::vector<AppliedWear>& applied_wear() const;  // DynamicsOptions::wear, resolved
   // Updates the friction tables for the speed at time t (called by the integrator when the
   // speed has changed by more than 2 % since the last update; cheap to call).
   void update_speed(double t);

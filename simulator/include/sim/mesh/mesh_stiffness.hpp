@@ -34,6 +34,7 @@
 // numbered in the order they enter the mesh.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -162,7 +163,20 @@ class MeshStiffness {
     if (faulty1_[driver_tooth] | faulty2_[driven_tooth]) {
       return faulty_pair_gap(s_m, driver_tooth, driven_tooth);
     }
-    return gap1_[driver_tooth] + gap2_[driven_tooth];
+    return gap1_[driver_tooth] + gap2_[driven_tooth] + profile_gap(s_m);
+  }
+
+  // A flank deviation shared by every tooth pair (worn profiles: sim::worn_profile_gap): pair
+  // separation g(s) [m] along the LOA at position s, given at increasing s_m (linear in between,
+  // held at the ends), resampled on the stiffness grid and added to every pair's gap. Throws
+  // diag::InputError for unequal lengths, fewer than 2 points, non-increasing s or a g that is
+  // negative or not finite.
+  void set_profile_gap(const std::vector<double>& s_m, const std::vector<double>& gap_m);
+  bool has_profile_gap() const { return !profile_gap_.empty(); }
+  // The shared gap at s [m] (0 without one).
+  double profile_gap(double s_m) const {
+    if (profile_gap_.empty()) return 0.0;
+    return interpolate(profile_gap_, std::clamp((s_m - s0_) * inv_ds_, 0.0, last_));
   }
 
   // Normal force [N] of the pair at compression delta [m] (tooth separation gives 0): the
@@ -224,6 +238,7 @@ class MeshStiffness {
   double k_max_ = 0;
   std::vector<std::uint8_t> faulty1_, faulty2_;  // per tooth: has a fault
   std::vector<double> gap1_, gap2_;              // per tooth: pitch error gap [m]
+  std::vector<double> profile_gap_;              // shared by all pairs, on the grid [m]; or empty
   bool has_pitch_errors_ = false;
   std::vector<int> state1_, state2_;  // per tooth: index into states_ or -1
   std::vector<ToothState> states_;
