@@ -129,6 +129,7 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
   rec.gearbox_json = diag::load_json_file(a.gearbox).dump(2);
   rec.speed_rpm = d.operating.speed_rpm;
   nlohmann::json truth;
+  truth["kind"] = "face_gear";  // diag::SimulationTruth (diag/io/truth.hpp): the rest is extra
   truth["model"] = "face-gear pair torsional (seed 002)";
   truth["input_speed_rpm"] = d.operating.speed_rpm;
   truth["input_torque_nm"] = d.operating.torque_nm;
