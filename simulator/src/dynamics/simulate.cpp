@@ -568,7 +568,12 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     d.size_m = f.fault.size_m;
     d.depth_m = f.fault.depth_m;
     d.width_fraction = f.fault.width_fraction;
-    d.shaft_frequency_hz = gb.shaft_speed_hz(gb.shaft_of_gear(g));
+    // At the run's speed (the description's input speed is only its nominal: --rpm and a
+    // scenario's speed replace it); left out at a varying speed (no one value).
+    if (opt.speed.min_rpm() == opt.speed.max_rpm()) {
+      d.shaft_frequency_hz =
+          std::abs(gb.shafts()[gb.shaft_of_gear(g)].speed_ratio) * opt.speed.max_rpm() / 60.0;
+    }
     st.defects.push_back(std::move(d));
   }
   nlohmann::json& truth = st.extra;
