@@ -36,6 +36,7 @@
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/io/truth.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
@@ -295,6 +296,14 @@ PYBIND11_MODULE(_geardiag, m) {
   py::register_exception<diag::InputError>(m, "InputError", PyExc_ValueError);
 
   // ---- recordings ----
+  m.def(
+      "parse_truth",
+      [](const std::string& truth_json) -> py::object {
+        // diag/io/truth.hpp: checked (InputError naming the field) and in its one layout.
+        const auto t = diag::parse_truth(truth_json, "truth");
+        return t ? json_to_py(t->to_json()) : py::none();
+      },
+      py::arg("truth_json"));
   m.def(
       "read_recording",
       [](const std::string& path, std::optional<double> fs_hz) {

@@ -2,6 +2,7 @@
 // output shaft angles (seed 003). Exit 0 when every event is explained (or none is found), 1 when
 // some events match no recurrence period (multiplicity: several defects, not separable).
 #include <boost/program_options.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -16,6 +17,7 @@
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/io/truth.hpp"
 #include "diag/units.hpp"
 #include "output.hpp"
 
@@ -44,29 +46,20 @@ bool csv_has_time_column(const std::filesystem::path& p) {
 
 namespace {
 
-// The simulated truth stored with a recording, read defensively: a /truth that is not JSON or
+// The simulated truth stored with a recording (diag/io/truth.hpp): a /truth that is not JSON or
 // whose defects have other types is an InputError naming the recording, never a crash.
 void print_truth(const std::string& text, const std::string& recording) {
-  const nlohmann::json truth = diag::parse_json_text(text, recording + ": /truth");
-  if (!truth.is_object() || !truth.contains("defects")) return;
-  const nlohmann::json& defects = truth["defects"];
-  if (!defects.is_array()) {
-    throw diag::InputError(recording + ": /truth: defects: must be an array");
-  }
+  const auto truth = diag::parse_truth(text, recording);
+  if (!truth || truth->defects.empty()) return;
   std::cout << "truth (simulated recording):\n";
-  for (std::size_t i = 0; i < defects.size(); ++i) {
-    const nlohmann::json& d = defects[i];
-    const std::string path = "defects[" + std::to_string(i) + "]";
-    auto field = [&](const char* key, bool text) -> const nlohmann::json& {
-      if (!d.is_object() || !d.contains(key) || (text ? !d[key].is_string() : !d[key].is_number()))
-        throw diag::InputError(diag::format_error(recording + ": /truth", path + "." + key,
-                                                  text ? "must be a string" : "must be a number"));
-      return d[key];
-    };
-    std::cout << "  " << field("gear", true).get<std::string>() << " on "
-              << field("shaft", true).get<std::string>() << ": period "
-              << field("period_input_rev", false).get<double>() << " input rev, size at output "
-              << diag::units::rad_to_deg(field("size_output_rad", false).get<double>()) << " deg\n";
+  for (const diag::TruthDefect& d : truth->defects) {
+    std::cout << "  " << d.gear << " on " << d.shaft << ": " << diag::to_string(d.kind);
+    if (!std::isnan(d.period_input_rev))
+      std::cout << ", period " << d.period_input_rev << " input rev";
+    if (!std::isnan(d.size_output_rad)) {
+      std::cout << ", size at output " << diag::units::rad_to_deg(d.size_output_rad) << " deg";
+    }
+    std::cout << "\n";
   }
 }
 

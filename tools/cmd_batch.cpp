@@ -94,13 +94,13 @@ std::string time_stamp(const diag::Recording& rec, const std::string& file) {
 
 std::string short_findings(const detect::AnalysisResult& r) {
   std::string out;
-  for (const detect::AnalysisFinding& f : r.findings) {
+  for (const detect::Finding& f : r.findings) {
     std::ostringstream s;
     s << f.kind;
     if (!f.shaft.empty()) s << " " << f.shaft;
     for (const std::string& g : f.gears) s << " " << g;
     if (!f.bearing.empty()) s << " " << f.bearing;
-    if (!f.fault.empty()) s << " " << f.fault;
+    if (!f.bearing.empty()) s << " " << diag::to_string(f.fault);
     s << " (" << std::lround(100 * f.confidence) << " %)";
     out += (out.empty() ? "" : "; ") + s.str();
   }

@@ -18,6 +18,7 @@
 #include "diag/io/hdf5.hpp"
 #include "diag/io/import.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/io/truth.hpp"
 #include "facegear_cmd.hpp"
 #include "output.hpp"
 
@@ -91,7 +92,13 @@ nlohmann::json truth_of(const Description& d) {
   if (d.truth_json.empty()) return nullptr;
   // Shown as text when it is not JSON within the limits (depth, size): never parsed unbounded.
   try {
-    return diag::parse_json_text(d.truth_json, d.file + ": /truth");
+    // Typed and checked (diag/io/truth.hpp), written back in its one layout; a truth that is JSON
+    // but not a simulator's (another tool's, hand-written) is shown as it is.
+    try {
+      return diag::parse_truth(d.truth_json, d.file)->to_json();
+    } catch (const diag::InputError&) {
+      return diag::parse_json_text(d.truth_json, d.file + ": /truth");
+    }
   } catch (const diag::InputError&) {
     return nlohmann::json(d.truth_json);
   }

@@ -133,6 +133,7 @@ diag::Recording face_gear_recording(const fg::Description& d, const std::string&
   rec.gearbox_json = gearbox_json;
   rec.speed_rpm = d.operating.speed_rpm;
   nlohmann::json truth;
+  truth["kind"] = "face_gear";  // diag::SimulationTruth (diag/io/truth.hpp): the rest is extra
   truth["model"] = "face-gear pair torsional (seed 002)";
   truth["input_speed_rpm"] = d.operating.speed_rpm;
   truth["input_torque_nm"] = d.operating.torque_nm;

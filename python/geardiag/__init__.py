@@ -73,7 +73,8 @@ class Recording:
 
     ``signals`` and ``tachos``: dicts channel name -> :class:`Signal`; ``gearbox``: the stored
     description as a :class:`Gearbox` (None when absent); ``gearbox_json``; ``truth``: the
-    simulator's ground truth as a dict (None for measurements); ``metadata`` (root attributes);
+    simulator's ground truth as a dict, checked and in its one layout
+    (diag/io/truth.hpp; None for measurements); ``metadata`` (root attributes);
     ``speed_rpm`` (the input speed recorded with the data, 0 when unknown); ``notes``;
     ``roles_stated``.
     """
@@ -102,7 +103,9 @@ class Recording:
 
     @property
     def truth(self):
-        return _json.loads(self.truth_json) if self.truth_json else None
+        # Typed and checked by the library (diag/io/truth.hpp): one layout, the fault vocabulary's
+        # names; an older file's layout is read too.
+        return _g.parse_truth(self.truth_json) if self.truth_json else None
 
     @classmethod
     def _from_dict(cls, d):

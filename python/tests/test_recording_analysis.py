@@ -54,7 +54,7 @@ def test_simulation_is_deterministic_and_has_roles(sim_recording):
         np.testing.assert_array_equal(once.signals[n], again.signals[n])
     roles = {s.role for s in sim_recording.signals.values()}
     assert "vibration" in roles and sim_recording.tachos
-    fault = sim_recording.truth["faults"][0]
+    fault = sim_recording.truth["defects"][0]
     assert (fault["gear"], fault["shaft"], fault["type"]) == ("z2", "counter", "crack")
     assert sim_recording.truth["input_speed_rpm_min"] == 1500
 

@@ -50,8 +50,8 @@ CwruAnalysis analyse(const std::string& file, double fs_hz) {
   return r;
 }
 
-std::vector<detect::AnalysisFinding> bearing_findings(const CwruAnalysis& r) {
-  std::vector<detect::AnalysisFinding> f;
+std::vector<detect::Finding> bearing_findings(const CwruAnalysis& r) {
+  std::vector<detect::Finding> f;
   for (const auto& x : r.result.findings)
     if (x.kind == "bearing") f.push_back(x);
   return f;
@@ -65,7 +65,7 @@ void expect_fault(const CwruAnalysis& r, const std::string& fault, double multip
   const auto f = bearing_findings(r);
   ASSERT_EQ(f.size(), 1u) << detect::to_json(r.result)["findings"].dump(1);
   EXPECT_EQ(f[0].bearing, "drive_end");
-  EXPECT_EQ(f[0].fault, fault);
+  EXPECT_EQ(diag::to_string(f[0].fault), fault);
   EXPECT_EQ(f[0].shaft, "input");
   constexpr double kTableRelTol = 1e-4;
   EXPECT_NEAR(f[0].frequency_hz, multiple * r.shaft_hz, multiple * r.shaft_hz * kTableRelTol);
@@ -92,7 +92,7 @@ void expect_fault(const CwruAnalysis& r, const std::string& fault, double multip
     EXPECT_EQ(c.bearings[0].diagnosis.fault, direct.bearings[0].fault);
     EXPECT_EQ(c.bearings[0].band_centre_hz, direct.band_centre_hz);
     ASSERT_EQ(direct.findings.size(), 1u);
-    EXPECT_EQ(direct.findings[0].fault, fault);
+    EXPECT_EQ(diag::to_string(direct.findings[0].fault), fault);
   }
 }
 
@@ -156,7 +156,7 @@ TEST_F(AnalyzeCwru, HealthyBearingGivesNoBearingFinding) {
 // race fault, on two of its three channels.)
 TEST_F(AnalyzeCwru, BallFaultFileGivesRollingElementOrNothingNeverAnotherFault) {
   const CwruAnalysis r = analyse("B007_0.mat", 12000.0);
-  for (const auto& f : bearing_findings(r)) EXPECT_EQ(f.fault, "rolling_element");
+  for (const auto& f : bearing_findings(r)) EXPECT_EQ(diag::to_string(f.fault), "rolling_element");
   // One fault vocabulary in the whole report: the families and decisions of every channel name
   // the rolling-element fault as the findings do, never "ball".
   int named = 0;

@@ -247,7 +247,7 @@ TEST(Analyze, OuterRaceImpactsAtBpfoAreReportedAsABearingFinding) {
     if (f.kind != "bearing") continue;
     found = true;
     EXPECT_EQ(f.bearing, "bearing1");
-    EXPECT_EQ(f.fault, "outer_race");
+    EXPECT_EQ(diag::to_string(f.fault), "outer_race");
     EXPECT_NEAR(f.frequency_hz, bpfo, 1e-3 * bpfo);  // tacho speed to 1e-5
     EXPECT_EQ(f.channel, "bearing1_vertical");
   }

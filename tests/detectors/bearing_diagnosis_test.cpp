@@ -69,7 +69,7 @@ TEST(BearingDiagnosis, OuterRaceImpactTrainUnderShaftLinesIsOuterRace) {
   add_outer_race_impacts(s, f.bpfo_hz, 2);
   const auto d = detect::diagnose_bearings(s, kShaftHz, std::span(&b, 1));
   ASSERT_EQ(d.findings.size(), 1u) << detect::to_json(d).dump(1);
-  EXPECT_EQ(d.findings[0].fault, "outer_race");
+  EXPECT_EQ(diag::to_string(d.findings[0].fault), "outer_race");
   EXPECT_EQ(d.findings[0].bearing, "de");
   EXPECT_EQ(d.findings[0].channel, "acc");
   EXPECT_DOUBLE_EQ(d.findings[0].frequency_hz, f.bpfo_hz);

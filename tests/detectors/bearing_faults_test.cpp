@@ -256,7 +256,7 @@ TEST(DiagnoseBearing, NamesInnerRaceAndBallCombs) {
   // Sidebands at a third of the carrier: 30 x median / 3 = 20 dB over the floor.
   const auto ball = detect::diagnose_bearing(
       {f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 30.0, bf.ftf_hz}})}, bf);
-  EXPECT_EQ(ball.fault, BearingFault::kBall);
+  EXPECT_EQ(ball.fault, BearingFault::kRollingElement);
   EXPECT_GE(ball.families[3].sidebands_detected, 2);
 }
 
@@ -299,7 +299,7 @@ TEST(DiagnoseBearing, BallModulationExplainsCoincidentInnerRaceLines) {
       f, 12,
       {{bf.ball_fault_hz, 30.0, bf.ftf_hz}, {bf.bpfi_hz, 12.0, 0.0}, {bf.ftf_hz, 10.0, 0.0}});
   const auto d = detect::diagnose_bearing({f, a}, bf);
-  EXPECT_EQ(d.fault, BearingFault::kBall);
+  EXPECT_EQ(d.fault, BearingFault::kRollingElement);
   EXPECT_TRUE(d.families[2].passes);
   EXPECT_TRUE(d.families[2].explained);
   // With shaft sidebands of its own the inner-race family is not explained away: a tie, nothing.

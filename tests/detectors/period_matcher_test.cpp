@@ -54,11 +54,11 @@ TEST(PeriodMatcher, AttributesADefectOnZ2ToTheCountershaftWithItsSize) {
   const auto& f = a.findings[0];
   EXPECT_EQ(f.shaft, "counter");
   EXPECT_EQ(f.gears, (std::vector<std::string>{"z2", "z3"}));  // one shaft: either gear
-  EXPECT_DOUBLE_EQ(f.period_input_rev, 2.0);
-  EXPECT_NEAR(f.measured_period_input_rev, 2.0, 1e-3);
-  EXPECT_NEAR(f.size_output_rad / deg_to_rad(0.5), 1.0, kSizeTol);
-  EXPECT_NEAR(f.size_gear_rad / deg_to_rad(1.0), 1.0, kSizeTol);
-  EXPECT_NEAR(f.first_event_input_rad, deg_to_rad(20.0), deg_to_rad(0.2));
+  EXPECT_DOUBLE_EQ(f.evidence_value("period_input_rev"), 2.0);
+  EXPECT_NEAR(f.evidence_value("measured_period_input_rev"), 2.0, 1e-3);
+  EXPECT_NEAR(f.evidence_value("size_output_rad") / deg_to_rad(0.5), 1.0, kSizeTol);
+  EXPECT_NEAR(f.size / deg_to_rad(1.0), 1.0, kSizeTol);
+  EXPECT_NEAR(f.evidence_value("first_event_input_rad"), deg_to_rad(20.0), deg_to_rad(0.2));
   EXPECT_GT(f.confidence, 0.9);
 }
 
@@ -71,8 +71,10 @@ TEST(PeriodMatcher, FindsTheSeedsTwoCoincidingDefectsAndNamesTheAlternative) {
   std::map<std::string, const detect::Finding*> by_shaft;
   for (const auto& f : a.findings) by_shaft[f.shaft] = &f;
   ASSERT_TRUE(by_shaft.count("counter") && by_shaft.count("output"));
-  EXPECT_NEAR(by_shaft["counter"]->size_output_rad / deg_to_rad(0.5), 1.0, kSizeTol);
-  EXPECT_NEAR(by_shaft["output"]->size_output_rad / deg_to_rad(1.0), 1.0, kSizeTol);
+  EXPECT_NEAR(by_shaft["counter"]->evidence_value("size_output_rad") / deg_to_rad(0.5), 1.0,
+              kSizeTol);
+  EXPECT_NEAR(by_shaft["output"]->evidence_value("size_output_rad") / deg_to_rad(1.0), 1.0,
+              kSizeTol);
   EXPECT_FALSE(by_shaft["output"]->note.empty());
 }
 
@@ -82,8 +84,8 @@ TEST(PeriodMatcher, SeparatesTwoDefectsOnOneShaftByPhase) {
   const auto a = run(gb, rig());
   ASSERT_EQ(a.findings.size(), 2u);
   for (const auto& f : a.findings) EXPECT_EQ(f.shaft, "counter");
-  EXPECT_NEAR(a.findings[0].size_gear_rad / deg_to_rad(0.8), 1.0, kSizeTol);
-  EXPECT_NEAR(a.findings[1].size_gear_rad / deg_to_rad(0.6), 1.0, kSizeTol);
+  EXPECT_NEAR(a.findings[0].size / deg_to_rad(0.8), 1.0, kSizeTol);
+  EXPECT_NEAR(a.findings[1].size / deg_to_rad(0.6), 1.0, kSizeTol);
 }
 
 TEST(PeriodMatcher, HealthyRecordingGivesNoFinding) {
@@ -145,9 +147,9 @@ TEST(PeriodMatcher, SizesTwoOverlappingDefectsFromTheirClearEventsWithoutMultipl
   std::map<std::string, const detect::Finding*> by_shaft;
   for (const auto& f : a.findings) by_shaft[f.shaft] = &f;
   ASSERT_TRUE(by_shaft.count("input") && by_shaft.count("counter"));
-  EXPECT_NEAR(by_shaft["input"]->size_gear_rad / deg_to_rad(3.0), 1.0, kSizeTol);
-  EXPECT_NEAR(by_shaft["counter"]->size_gear_rad / deg_to_rad(0.6), 1.0, kSizeTol);
-  EXPECT_GT(by_shaft["input"]->coincident_events, 0);
+  EXPECT_NEAR(by_shaft["input"]->size / deg_to_rad(3.0), 1.0, kSizeTol);
+  EXPECT_NEAR(by_shaft["counter"]->size / deg_to_rad(0.6), 1.0, kSizeTol);
+  EXPECT_GT(by_shaft["input"]->evidence_value("coincident_events"), 0);
 }
 
 // The overlap handling must not swallow a real further defect: the same pair plus a train every

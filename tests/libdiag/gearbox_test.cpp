@@ -187,4 +187,18 @@ TEST(Gearbox, DefectSizeInMicrometresIsTheSameLossAsTheAngleOnTheBaseCircle) {
   EXPECT_NE(error_of(j).find("defects[0].gear: unknown gear 'z7'"), std::string::npos);
 }
 
+// A defect's type is the fault vocabulary's (diag/faults/fault_kind.hpp): an alias is stored by
+// the one name, a word outside it or a bearing kind is refused naming the field.
+TEST(Gearbox, DefectTypeIsAGearKindOfTheFaultVocabulary) {
+  json j = three_shaft();
+  j["defects"] = {{{"gear", "z2"}, {"size_deg", 1.0}, {"type", "breakage"}}};
+  EXPECT_EQ(diag::parse_gearbox(j, "gb").defects()[0].type, "missing");
+  j["defects"][0]["type"] = "scuffing";
+  EXPECT_NE(error_of(j).find("defects[0].type: 'scuffing' is not a gear fault kind"),
+            std::string::npos)
+      << error_of(j);
+  j["defects"][0]["type"] = "outer_race";
+  EXPECT_NE(error_of(j).find("defects[0].type"), std::string::npos);
+}
+
 }  // namespace

@@ -11,6 +11,7 @@
 #include "detect/gear/fault_bands.hpp"
 #include "detect/spectral/envelope.hpp"
 #include "diag/error.hpp"
+#include "diag/io/truth.hpp"
 
 namespace {
 
@@ -33,6 +34,19 @@ sim::BearingSignal clean(sim::BearingFaultKind k, std::uint64_t seed = 1) {
   o.duration_s = 4.0;
   o.seed = seed;
   return sim::simulate_bearing_signal(skf6205(), o);
+}
+
+// The truth names the fault in the vocabulary (diag/io/truth.hpp), the healthy signal none.
+TEST(BearingSignal, TheTruthIsTypedWithTheVocabularysName) {
+  const auto t = diag::SimulationTruth::from_json(
+      clean(sim::BearingFaultKind::kRollingElement).truth, "bearing");
+  EXPECT_EQ(t.kind, "bearing");
+  ASSERT_EQ(t.defects.size(), 1u);
+  EXPECT_EQ(t.defects[0].kind, diag::FaultKind::kRollingElement);
+  EXPECT_EQ(t.defects[0].bearing, skf6205().name);
+  EXPECT_TRUE(t.extra.contains("rates"));
+  EXPECT_TRUE(diag::SimulationTruth::from_json(clean(sim::BearingFaultKind::kNone).truth, "b")
+                  .defects.empty());
 }
 
 // Prominence of the squared-envelope line near f_hz over its local floor [dB], the envelope

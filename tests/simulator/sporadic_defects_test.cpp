@@ -9,6 +9,7 @@
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "diag/io/truth.hpp"
 #include "diag/units.hpp"
 
 namespace {
@@ -70,6 +71,23 @@ TEST(SporadicDefects, DefectOnZ2ReproducesTheSeedFigure7a) {
   }
   EXPECT_DOUBLE_EQ(r.truth["defects"][0]["first_event_input_rad"].get<double>(), deg_to_rad(20.0));
   EXPECT_NEAR(r.truth["defects"][0]["size_output_rad"].get<double>(), deg_to_rad(0.5), 1e-15);
+}
+
+// The recording's truth reads back typed (diag/io/truth.hpp) with the vocabulary's kind.
+TEST(SporadicDefects, TheRecordingsTruthIsTyped) {
+  const auto gb = diag::parse_gearbox(
+      seed_gearbox({{{"gear", "z2"}, {"size_deg", 1.0}, {"phase_deg", 10.0}, {"type", "pitting"}}}),
+      "gb");
+  const auto t = diag::parse_truth(sim::to_recording(gb, sim::simulate_kinematic(gb, exact(0.1))),
+                                   "kinematic");
+  ASSERT_TRUE(t.has_value());
+  EXPECT_EQ(t->kind, "kinematic");
+  ASSERT_EQ(t->defects.size(), 1u);
+  EXPECT_EQ(t->defects[0].kind, diag::FaultKind::kPit);  // the alias, stored by its one name
+  EXPECT_EQ(t->defects[0].shaft, "counter");
+  EXPECT_DOUBLE_EQ(t->defects[0].period_input_rev, 2.0);
+  EXPECT_NEAR(t->defects[0].size_gear_rad, deg_to_rad(1.0), 1e-15);
+  EXPECT_TRUE(t->extra.contains("revolutions"));  // model-specific: kept as written
 }
 
 // Fig. 7b: 1 deg on z4, f_40 = 5 deg -> 1 deg every 1440 deg, first at 20 deg.

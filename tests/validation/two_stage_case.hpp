@@ -77,9 +77,9 @@ inline diag::Recording simulate(const diag::Gearbox& gb, const sim::SpeedProfile
   return sim::to_recording(gb, sim::simulate_dynamic(gb, dyn, run));
 }
 
-inline std::vector<detect::AnalysisFinding> of_kind(const detect::AnalysisResult& r,
-                                                    const std::string& kind) {
-  std::vector<detect::AnalysisFinding> out;
+inline std::vector<detect::Finding> of_kind(const detect::AnalysisResult& r,
+                                            const std::string& kind) {
+  std::vector<detect::Finding> out;
   for (const auto& f : r.findings) {
     if (f.kind == kind) out.push_back(f);
   }

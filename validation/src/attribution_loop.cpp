@@ -222,12 +222,14 @@ LoopReport run_attribution_loop(const diag::Gearbox& gb_in, const AttributionLoo
         const auto& fd = a.findings[f];
         if (used[f] || fd.shaft.find(t.shaft) == std::string::npos) continue;
         const double p = kTwoPi * t.period_input_rev;
-        double d = std::fmod(std::abs(fd.first_event_input_rad - t.first_event_input_rad), p);
+        double d = std::fmod(
+            std::abs(fd.evidence_value("first_event_input_rad") - t.first_event_input_rad), p);
         d = std::min(d, p - d);
         if (d > pos_tol) continue;
         used[f] = 1;
         ++matched;
-        const double err = std::abs(fd.size_output_rad - t.size_output_rad) / t.size_output_rad;
+        const double err =
+            std::abs(fd.evidence_value("size_output_rad") - t.size_output_rad) / t.size_output_rad;
         ++rep.sizes_checked;
         ++cr.sizes_checked;
         if (err <= opt.size_tolerance) {

@@ -30,7 +30,7 @@ diag::BearingSpec skf6205() {
 
 // What the detector said, in the loop's terms.
 std::string answer_of(const detect::BearingDiagnosis& d) {
-  if (!d.findings.empty()) return d.findings.front().fault;
+  if (!d.findings.empty()) return std::string(diag::to_string(d.findings.front().fault));
   for (const auto& s : d.bearings)
     if (s.note == "cage") return "cage_note";
   return "";

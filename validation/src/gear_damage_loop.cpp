@@ -99,7 +99,7 @@ GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearbox
   if (gearboxes.empty()) fail("gearboxes", "none given");
   std::mt19937_64 rng(opt.seed);
   std::vector<std::string> kinds;
-  if (opt.root_crack) kinds.push_back("root_crack");
+  if (opt.root_crack) kinds.push_back("crack");
   if (opt.chip) kinds.push_back("chip");
   if (opt.missing) kinds.push_back("missing");
   if (opt.spall) kinds.push_back("spall");
@@ -148,7 +148,7 @@ GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearbox
       f.gear = ge.name;
       f.fault.tooth = c.tooth;
       auto lerp = [u](double lo, double hi) { return lo + u * (hi - lo); };
-      if (c.kind == "root_crack") {
+      if (c.kind == "crack") {
         f.fault.kind = sim::ToothFault::Kind::kRootCrack;
         const double max_crack =
             1.8 * root_half_thickness_m(gear, ge.spec) / std::sin(stiffness.crack_angle_rad);
@@ -250,7 +250,7 @@ std::string group_of(const GearDamageCase& c) {
 
 std::vector<std::pair<std::string, OutcomeCounts>> outcome_table(const GearDamageLoopReport& r) {
   std::vector<std::pair<std::string, OutcomeCounts>> t;
-  for (const char* kind : {"root_crack", "chip", "spall"}) {
+  for (const char* kind : {"crack", "chip", "spall"}) {
     for (const char* third : {"small", "medium", "large"}) {
       t.emplace_back(std::string(kind) + " " + third, OutcomeCounts{});
     }

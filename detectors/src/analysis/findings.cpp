@@ -1,7 +1,6 @@
 // analyze's findings: the damaged-shaft locator's stage, and the fusion of every source of
-// evidence into one list of AnalysisFinding (one vocabulary: kind "gear_damage",
-// "gear_sidebands", "bearing"; bearing faults by finding_name(): "outer_race", "inner_race",
-// "rolling_element", "cage") (stages.hpp).
+// evidence into one list of Finding (detect/finding.hpp; kind "gear_damage", "gear_sidebands",
+// "bearing"; faults in the one vocabulary of diag/faults/fault_kind.hpp) (stages.hpp).
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -46,13 +45,8 @@ std::pair<Key, int> plurality(const std::map<Key, int>& votes) {
 // The locator's findings, said with the source of the shaft angles.
 void gear_damage_findings(AnalysisResult& r) {
   if (r.gear_damage) {
-    for (const GearDamageFinding& g : r.gear_damage->findings) {
-      AnalysisFinding f;
-      f.kind = "gear_damage";
-      f.shaft = g.shaft;
-      f.gears = g.gears;
-      f.channel = g.channel;
-      f.confidence = g.confidence;
+    for (const Finding& g : r.gear_damage->findings) {
+      Finding f = g;  // kind "gear_damage", fault tooth_damage, the locator's evidence
       f.note =
           "a localised fault once per revolution of " + g.shaft + " (TSA per shaft, " +
           r.gear_damage->status + "): " + g.note +
@@ -100,8 +94,9 @@ void sideband_findings(const AnalysisContext& ctx, AnalysisResult& r) {
                         " channels: no finding");
       continue;
     }
-    AnalysisFinding f;
+    Finding f;
     f.kind = "gear_sidebands";
+    f.fault = diag::FaultKind::kGearModulation;
     f.shaft = winner;
     const diag::Mesh& m = ctx.gb->meshes()[j];
     for (int g : {m.driver, m.driven}) {
@@ -115,6 +110,10 @@ void sideband_findings(const AnalysisContext& ctx, AnalysisResult& r) {
     // The mean prominence of the best channel's detected lines; at the detector's cap the
     // spectrum has no noise floor (a noise-free simulation): said so, not a number.
     const double mean_db = best_mean_db[winner];
+    f.evidence = {{"channels_pointing", top},
+                  {"channels_analysed", analysed},
+                  {"score_db", best[winner].first},
+                  {"mean_line_db", mean_db}};
     const std::string prominence = mean_db >= ctx.opt.sidebands.dynamic_range_db
                                        ? "at the " + fmt(ctx.opt.sidebands.dynamic_range_db) +
                                              " dB dynamic-range cap: no noise floor"
@@ -156,15 +155,18 @@ void bearing_findings(const AnalysisContext& ctx, AnalysisResult& r) {
     }
     const auto [winner, top] = plurality(votes);
     if (top == 0) continue;
-    AnalysisFinding f;
+    Finding f;
     f.kind = "bearing";
     f.bearing = b.name;
     f.shaft = b.shaft;
-    f.fault = finding_name(winner);  // the findings' vocabulary: rolling_element, not ball
+    f.fault = fault_kind(winner);
     f.frequency_hz = freq[winner];
     f.channel = best[winner].second;
     f.confidence = 0.3 + 0.4 * top / analysed;
-    f.note = f.fault + " fault lines at " + fmt(f.frequency_hz, 5) +
+    f.evidence = {{"channels_pointing", top},
+                  {"channels_analysed", analysed},
+                  {"score_db", best[winner].first}};
+    f.note = std::string(to_string(winner)) + " fault lines at " + fmt(f.frequency_hz, 5) +
              " Hz and harmonics in the prewhitened squared envelope spectrum (kurtogram band "
              "and whole band agree) of " +
              std::to_string(top) + " of " + std::to_string(analysed) + " channels (best " +
@@ -199,9 +201,7 @@ void fuse_findings(const AnalysisContext& ctx, AnalysisResult& r) {
   sideband_findings(ctx, r);
   bearing_findings(ctx, r);
   std::stable_sort(r.findings.begin(), r.findings.end(),
-                   [](const AnalysisFinding& a, const AnalysisFinding& b) {
-                     return a.confidence > b.confidence;
-                   });
+                   [](const Finding& a, const Finding& b) { return a.confidence > b.confidence; });
 }
 
 }  // namespace detect::analysis_stages

@@ -67,11 +67,16 @@ std::string anchor(const std::string& prefix, const std::string& name) {
   return a;
 }
 
+// A bearing finding's fault name (the vocabulary of diag/faults/fault_kind.hpp); "" for gears.
+std::string fault_name(const Finding& f) {
+  return f.bearing.empty() ? "" : std::string(diag::to_string(f.fault));
+}
+
 // One line of evidence for a finding.
-std::string finding_line(const AnalysisFinding& f) {
+std::string finding_line(const Finding& f) {
   std::string gears;
   for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
-  std::string what = f.kind == "bearing"       ? "bearing " + f.bearing + ": " + f.fault
+  std::string what = f.kind == "bearing"       ? "bearing " + f.bearing + ": " + fault_name(f)
                      : f.kind == "gear_damage" ? "damaged gear on shaft " + f.shaft
                                                : f.kind + " on shaft " + f.shaft;
   if (!gears.empty() && f.kind != "bearing") what += " (" + gears + ")";
@@ -544,7 +549,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
       o << "<tr><td class=l><span class=bad>" << html_escape(f.kind) << "</span></td><td class=l>"
         << html_escape(f.shaft) << (gears.empty() ? "" : " (" + html_escape(gears) + ")")
-        << "</td><td class=l>" << html_escape(f.bearing) << " " << html_escape(f.fault)
+        << "</td><td class=l>" << html_escape(f.bearing) << " " << html_escape(fault_name(f))
         << "</td><td>" << f3(f.frequency_hz) << "</td><td class=l>" << channel_link(f.channel)
         << "</td><td>" << f3(f.confidence) << "</td><td class=l>" << html_escape(f.note)
         << "</td></tr>";
@@ -764,7 +769,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         const char* named = ba.diagnosed && ba.diagnosis.status == BearingDecisionStatus::kFault
                                 ? finding_name(ba.diagnosis.fault)
                                 : "";
-        const char* fault_of[] = {"", "outer_race", "inner_race", "rolling_element"};
+        const char* fault_of[] = {"", to_string(BearingFault::kOuterRace),
+                                  to_string(BearingFault::kInnerRace),
+                                  to_string(BearingFault::kRollingElement)};
         for (int f = 0; f < 4; ++f) {
           const bool seen = std::string(named) == fault_of[f] && f > 0;
           for (int h = 1; h <= (f == 0 ? 1 : 3); ++h) {  // FTF: the fundamental only

@@ -16,11 +16,8 @@ namespace {
 // Points of the speed trace in the JSON (a tacho gives one estimate per revolution).
 constexpr std::size_t kSpeedTracePoints = 200;
 
-// One fault vocabulary in the report: the findings' names ("rolling_element", not "ball"), and
-// "none".
-std::string fault_name(BearingFault f) {
-  return f == BearingFault::kNone ? "none" : finding_name(f);
-}
+// One fault vocabulary in the report (diag/faults/fault_kind.hpp), "none" for no fault.
+std::string fault_name(BearingFault f) { return to_string(f); }
 
 nlohmann::json peaks_json(const std::vector<SpectralPeak>& p) {
   nlohmann::json a = nlohmann::json::array();
@@ -268,16 +265,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
     j["gear_damage"]["angles"] = r.gear_damage_angles;
   }
   j["findings"] = json::array();
-  for (const auto& f : r.findings) {
-    json fj{{"kind", f.kind}, {"confidence", f.confidence}, {"note", f.note}};
-    if (!f.shaft.empty()) fj["shaft"] = f.shaft;
-    if (!f.gears.empty()) fj["gears"] = f.gears;
-    if (!f.bearing.empty()) fj["bearing"] = f.bearing;
-    if (!f.fault.empty()) fj["fault"] = f.fault;
-    if (std::isfinite(f.frequency_hz)) fj["frequency_hz"] = f.frequency_hz;
-    if (!f.channel.empty()) fj["channel"] = f.channel;
-    j["findings"].push_back(std::move(fj));
-  }
+  for (const auto& f : r.findings) j["findings"].push_back(to_json(f));
   if (r.baseline) {
     j["anomaly_score"] = r.baseline->anomaly_score;
     j["alarm"] = r.baseline->alarm;

@@ -68,7 +68,8 @@ std::string format_summary(const AnalysisResult& r) {
   o << "\n";
   for (const auto& f : r.findings) {
     o << "  [" << fmt(f.confidence, 2) << "] " << f.kind << ": "
-      << (f.bearing.empty() ? f.shaft : f.bearing + " " + f.fault) << " - " << f.note << "\n";
+      << (f.bearing.empty() ? f.shaft : f.bearing + " " + std::string(diag::to_string(f.fault)))
+      << " - " << f.note << "\n";
   }
   if (r.baseline) {
     o << "anomaly score " << fmt(r.baseline->anomaly_score) << " (threshold "

@@ -551,26 +551,32 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     }
     f.shaft = shaft_names.front();
     for (std::size_t k = 1; k < shaft_names.size(); ++k) f.shaft += " or " + shaft_names[k];
-    f.period_input_rev = a.train.period_rad / kTwoPi;
-    f.measured_period_input_rev = a.train.measured_period_rad / kTwoPi;
     std::vector<double> heights;
     if (a.train.size_events.empty()) {
       for (auto [k, ev] : a.train.hits) heights.push_back(events[ev].height);
     } else {
       for (int ev : a.train.size_events) heights.push_back(events[ev].height);
     }
+    f.kind = "attribution";
+    f.fault = diag::FaultKind::kToothDamage;
     f.note = a.train.note;
-    f.size_output_rad = median_of(heights);
-    f.size_gear_rad = f.size_output_rad * std::abs(gb.shafts()[a.shafts.front()].speed_ratio /
-                                                   gb.shafts()[gb.output_shaft()].speed_ratio);
-    f.first_event_input_rad = a.train.first_onset;
-    f.coincident_events = a.train.coincident;
-    f.events = static_cast<int>(a.train.hits.size());
-    f.expected_events = std::max(a.train.expected, f.events);
+    const double size_output_rad = median_of(heights);
+    f.size = size_output_rad * std::abs(gb.shafts()[a.shafts.front()].speed_ratio /
+                                        gb.shafts()[gb.output_shaft()].speed_ratio);
+    f.size_unit = "rad";
+    const int seen = static_cast<int>(a.train.hits.size());
+    f.evidence = {{"period_input_rev", a.train.period_rad / kTwoPi},
+                  {"measured_period_input_rev", a.train.measured_period_rad / kTwoPi},
+                  {"size_output_rad", size_output_rad},
+                  {"size_gear_rad", f.size},
+                  {"first_event_input_rad", a.train.first_onset},
+                  {"events", seen},
+                  {"expected_events", std::max(a.train.expected, seen)},
+                  {"coincident_events", a.train.coincident}};
     std::vector<double> dev;
-    for (double h : heights) dev.push_back(std::abs(h - f.size_output_rad));
-    const double cv = f.size_output_rad > 0 ? 1.4826 * median_of(dev) / f.size_output_rad : 1.0;
-    const double coverage = std::min(1.0, double(f.events) / std::max(1, a.train.expected));
+    for (double h : heights) dev.push_back(std::abs(h - size_output_rad));
+    const double cv = size_output_rad > 0 ? 1.4826 * median_of(dev) / size_output_rad : 1.0;
+    const double coverage = std::min(1.0, double(seen) / std::max(1, a.train.expected));
     const double period_match =
         std::max(0.0, 1.0 - std::abs(a.train.measured_period_rad - a.train.period_rad) /
                                 (opt.period_tolerance * a.train.period_rad));
@@ -579,7 +585,7 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     res.findings.push_back(f);
   }
   std::sort(res.findings.begin(), res.findings.end(), [](const Finding& a, const Finding& b) {
-    return a.first_event_input_rad < b.first_event_input_rad;
+    return a.evidence_value("first_event_input_rad") < b.evidence_value("first_event_input_rad");
   });
   for (std::size_t k = 0; k < events.size(); ++k) {
     if (!assigned[k]) res.unexplained.push_back({events[k].onset, events[k].height});
@@ -608,18 +614,7 @@ nlohmann::json to_json(const AttributionResult& r) {
   j["status"] = std::string(to_string(r.status));
   j["findings"] = nlohmann::json::array();
   for (const auto& f : r.findings) {
-    j["findings"].push_back({{"shaft", f.shaft},
-                             {"gears", f.gears},
-                             {"period_input_rev", f.period_input_rev},
-                             {"measured_period_input_rev", f.measured_period_input_rev},
-                             {"size_output_rad", f.size_output_rad},
-                             {"size_gear_rad", f.size_gear_rad},
-                             {"first_event_input_rad", f.first_event_input_rad},
-                             {"confidence", f.confidence},
-                             {"events", f.events},
-                             {"expected_events", f.expected_events},
-                             {"coincident_events", f.coincident_events},
-                             {"note", f.note}});
+    j["findings"].push_back(to_json(f));
   }
   j["multiplicity"] = r.multiplicity;
   j["unexplained"] = nlohmann::json::array();
@@ -649,16 +644,17 @@ std::string format_table(const AttributionResult& r) {
     for (const auto& f : r.findings) {
       std::string gears;
       for (const auto& g : f.gears) gears += (gears.empty() ? "" : ",") + g;
+      const auto e = [&f](const char* name) { return f.evidence_value(name); };
       o << "  " << std::left << std::setw(13) << f.shaft << std::setw(17) << gears << std::right
-        << std::setprecision(3) << std::setw(15) << f.period_input_rev << std::setprecision(4)
-        << std::setw(19) << rad_to_deg(f.size_output_rad) << std::setw(17)
-        << rad_to_deg(f.size_gear_rad) << std::setprecision(2) << std::setw(22)
-        << rad_to_deg(f.first_event_input_rad) << std::setw(10) << f.events << "/" << std::left
-        << std::setw(5) << f.expected_events << std::right << std::setprecision(2) << std::setw(10)
-        << f.confidence << "\n";
+        << std::setprecision(3) << std::setw(15) << e("period_input_rev") << std::setprecision(4)
+        << std::setw(19) << rad_to_deg(e("size_output_rad")) << std::setw(17)
+        << rad_to_deg(e("size_gear_rad")) << std::setprecision(2) << std::setw(22)
+        << rad_to_deg(e("first_event_input_rad")) << std::setw(10) << int(e("events")) << "/"
+        << std::left << std::setw(5) << int(e("expected_events")) << std::right
+        << std::setprecision(2) << std::setw(10) << f.confidence << "\n";
       if (!f.note.empty()) o << "      note: " << f.note << "\n";
-      if (f.coincident_events > 0) {
-        o << "      " << f.coincident_events
+      if (e("coincident_events") > 0) {
+        o << "      " << int(e("coincident_events"))
           << " event(s) coincide with another train's: not used for the size\n";
       }
     }

@@ -5,6 +5,7 @@
 #include <complex>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 #include "detect/spectral/envelope.hpp"
 #include "detect/spectral/fft.hpp"
@@ -75,7 +76,7 @@ const char* family_label(BearingFault f) {
       return "BPFO";
     case BearingFault::kInnerRace:
       return "BPFI";
-    case BearingFault::kBall:
+    case BearingFault::kRollingElement:
       return "2xBSF";
     case BearingFault::kCage:
       return "FTF";
@@ -169,18 +170,21 @@ nlohmann::json families_json(const BearingDecision& d) {
   return a;
 }
 
+// The evidence's numbers, as a finding carries them (finding.hpp).
+std::vector<std::pair<std::string, double>> evidence_numbers(const BearingEvidence& e) {
+  return {{"harmonics_seen", e.harmonics_seen}, {"harmonics_scored", e.harmonics_scored},
+          {"sideband_hz", e.sideband_hz},       {"sidebands_seen", e.sidebands_seen},
+          {"ftf_lines_seen", e.ftf_lines_seen}, {"other_view_score_db", e.other_view_score_db},
+          {"support_db", e.support_db},         {"support_null_db", e.support_null_db}};
+}
+
 nlohmann::json evidence_json(const BearingEvidence& e) {
-  return {{"family", e.family},
-          {"basis", e.basis},
-          {"harmonics_seen", e.harmonics_seen},
-          {"harmonics_scored", e.harmonics_scored},
-          {"line_db", e.line_db},
-          {"sideband_hz", e.sideband_hz},
-          {"sidebands_seen", e.sidebands_seen},
-          {"ftf_lines_seen", e.ftf_lines_seen},
-          {"other_view_score_db", e.other_view_score_db},
-          {"support_db", e.support_db},
-          {"support_null_db", e.support_null_db}};
+  nlohmann::json j = {{"family", e.family}, {"basis", e.basis}, {"line_db", e.line_db}};
+  for (const auto& [key, value] : evidence_numbers(e)) j[key] = value;
+  // Counts stay integers.
+  for (const char* key : {"harmonics_seen", "harmonics_scored", "sidebands_seen", "ftf_lines_seen"})
+    j[key] = static_cast<int>(j[key].get<double>());
+  return j;
 }
 
 }  // namespace
@@ -198,10 +202,8 @@ void BearingDiagnosisOptions::validate() const {
 }
 
 const char* finding_name(BearingFault f) {
-  // to_string's names (fault_bands.hpp) but the findings' "rolling_element" and no "none".
-  if (f == BearingFault::kNone) return "";
-  if (f == BearingFault::kBall) return "rolling_element";
-  return to_string(f);
+  // The fault vocabulary's names (diag/faults/fault_kind.hpp), "" for no fault.
+  return f == BearingFault::kNone ? "" : to_string(f);
 }
 
 BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
@@ -277,17 +279,24 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
       s.whole_decision = diagnose_bearing(whole_view, s.frequencies, options.decision);
     combine(s, options.whole_band_check, band_view, whole_view, options);
     if (s.status != BearingDecisionStatus::kFault) continue;
-    BearingFinding f;
+    s.evidence = evidence(s);
+    Finding f;
+    f.kind = "bearing";
+    f.fault = fault_kind(s.fault);
     f.bearing = s.bearing;
-    f.fault = finding_name(s.fault);
     f.channel = channel.name;
     const FamilyScore* fam = family(s.band_decision, s.fault);
     const FamilyScore* whole =
         options.whole_band_check ? family(s.whole_decision, s.fault) : nullptr;
     f.frequency_hz = fam != nullptr ? fam->fundamental_hz : 0.0;
-    f.score_db =
-        std::max(fam != nullptr ? fam->score_db : 0.0, whole != nullptr ? whole->score_db : 0.0);
-    f.evidence = evidence(s);
+    // Both views name it: sure; one view with the comb's support in the other: half as sure.
+    f.confidence = s.evidence.basis == "both_views" ? 1.0 : 0.5;
+    const BearingEvidence& e = s.evidence;
+    f.evidence = evidence_numbers(e);
+    f.evidence.insert(f.evidence.begin(),
+                      {"score_db", std::max(fam != nullptr ? fam->score_db : 0.0,
+                                            whole != nullptr ? whole->score_db : 0.0)});
+    f.note = e.family + " (" + e.basis + ")";
     out.findings.push_back(std::move(f));
   }
   out.band_ses_frequency_hz = band_ses.frequency_hz;
@@ -303,13 +312,15 @@ nlohmann::json to_json(const BearingDiagnosis& d) {
                {"level", d.band_level},
                {"kurtosis", d.band_kurtosis}};
   nlohmann::json findings = nlohmann::json::array();
-  for (const BearingFinding& f : d.findings)
-    findings.push_back({{"bearing", f.bearing},
-                        {"fault", f.fault},
-                        {"frequency_hz", f.frequency_hz},
-                        {"channel", f.channel},
-                        {"score_db", f.score_db},
-                        {"evidence", evidence_json(f.evidence)}});
+  for (const Finding& f : d.findings) {
+    nlohmann::json fj = to_json(f);
+    // The module's own evidence object (family, basis, line_db: not only numbers) replaces the
+    // generic one; the numbers stay at the top level.
+    for (const BearingStatus& s : d.bearings) {
+      if (s.bearing == f.bearing) fj["evidence"] = evidence_json(s.evidence);
+    }
+    findings.push_back(std::move(fj));
+  }
   j["findings"] = findings;
   nlohmann::json bearings = nlohmann::json::array();
   for (const BearingStatus& s : d.bearings) {

@@ -227,21 +227,23 @@ LineMeasurement measure_line(const SpectrumView& s, double expected_hz, double s
 
 // ---- Bearing decision ---------------------------------------------------------------------------
 
-const char* to_string(BearingFault f) {
+diag::FaultKind fault_kind(BearingFault f) {
   switch (f) {
-    case BearingFault::kNone:
-      return "none";
     case BearingFault::kCage:
-      return "cage";
+      return diag::FaultKind::kCage;
     case BearingFault::kOuterRace:
-      return "outer_race";
+      return diag::FaultKind::kOuterRace;
     case BearingFault::kInnerRace:
-      return "inner_race";
-    case BearingFault::kBall:
-      return "ball";
+      return diag::FaultKind::kInnerRace;
+    case BearingFault::kRollingElement:
+      return diag::FaultKind::kRollingElement;
+    case BearingFault::kNone:
+      break;
   }
-  return "?";
+  return diag::FaultKind::kNone;
 }
+
+const char* to_string(BearingFault f) { return diag::to_string(fault_kind(f)).data(); }
 
 const char* to_string(BearingDecisionStatus s) {
   switch (s) {
@@ -333,11 +335,11 @@ void measure_sidebands(const SpectrumView& env, FamilyScore& fs, double spacing,
 // Whether family a's modulation signature explains family b's lines (see the header).
 bool explains(const FamilyScore& a, const FamilyScore& b) {
   using F = BearingFault;
-  if (a.fault == F::kBall && b.fault == F::kInnerRace)
+  if (a.fault == F::kRollingElement && b.fault == F::kInnerRace)
     return a.sidebands_detected >= 2 && a.modulation_lines >= 1 && b.sidebands_detected <= 1;
-  if (a.fault == F::kBall && b.fault == F::kOuterRace)
+  if (a.fault == F::kRollingElement && b.fault == F::kOuterRace)
     return a.sidebands_detected >= 2 && a.modulation_lines >= 2;
-  if (a.fault == F::kInnerRace && b.fault == F::kBall)
+  if (a.fault == F::kInnerRace && b.fault == F::kRollingElement)
     return a.sidebands_detected >= 2 && b.sidebands_detected == 0;
   return false;
 }
@@ -366,7 +368,7 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
   const std::pair<BearingFault, double> fams[] = {{BearingFault::kCage, f.ftf_hz},
                                                   {BearingFault::kOuterRace, f.bpfo_hz},
                                                   {BearingFault::kInnerRace, f.bpfi_hz},
-                                                  {BearingFault::kBall, f.ball_fault_hz}};
+                                                  {BearingFault::kRollingElement, f.ball_fault_hz}};
   int ftf_detected = 0;
   bool ftf_lines_pass = false;
   for (const auto& [fault, f0] : fams) {
@@ -382,7 +384,7 @@ BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequenci
         measure_sidebands(env, fs, f.shaft_hz, df, min_floor, opt);
         fs.passes = fs.lines_pass;
         break;
-      case BearingFault::kBall:
+      case BearingFault::kRollingElement:
         measure_sidebands(env, fs, f.ftf_hz, df, min_floor, opt);
         fs.modulation_lines = ftf_detected;
         fs.passes = fs.lines_pass && fs.sidebands_detected + fs.modulation_lines >= 1;

@@ -530,11 +530,16 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
     return res.shafts[a].frequency_hz < res.shafts[b].frequency_hz;
   });
   auto make_finding = [&](const ShaftDamage& sd, const std::string& why) {
-    GearDamageFinding f;
+    Finding f;
+    f.kind = "gear_damage";
+    f.fault = diag::FaultKind::kToothDamage;
     f.shaft = sd.shaft;
     for (int g : shafts[gb.shaft_index(sd.shaft)].gears) f.gears.push_back(gb.gears()[g].name);
     f.channel = sd.channel;
-    f.score = sd.score;
+    f.evidence = {{"score", sd.score},
+                  {"snr", sd.snr},
+                  {"exclusive_share", sd.exclusive_share},
+                  {"angle_deg", sd.angle_deg}};
     f.confidence = std::clamp(
         (sd.score - options.healthy_fm4) / (2.0 * (options.damaged_fm4 - options.healthy_fm4)), 0.0,
         1.0);
@@ -682,8 +687,8 @@ GearDamageResult fuse_with_alone(GearDamageResult cmp, const GearDamageResult& a
   const bool alone_flags = !alone.findings.empty();
   std::string why;
   if (cmp_flags && alone_flags && cmp.findings.front().shaft != alone.findings.front().shaft) {
-    GearDamageFinding a = cmp.findings.front();
-    GearDamageFinding b = alone.findings.front();
+    Finding a = cmp.findings.front();
+    Finding b = alone.findings.front();
     a.note = "against the baseline: " + a.note;
     b.note = "the recording alone: " + b.note;
     a.confidence = 0.5 * std::min(a.confidence, 1.0);
@@ -760,14 +765,7 @@ nlohmann::json to_json(const GearDamageResult& r) {
                            {"ser", num(s.indicators.ser)}});
   }
   j["findings"] = nlohmann::json::array();
-  for (const auto& f : r.findings) {
-    j["findings"].push_back({{"shaft", f.shaft},
-                             {"gears", f.gears},
-                             {"channel", f.channel},
-                             {"score", f.score},
-                             {"confidence", f.confidence},
-                             {"note", f.note}});
-  }
+  for (const auto& f : r.findings) j["findings"].push_back(to_json(f));
   return j;
 }
 

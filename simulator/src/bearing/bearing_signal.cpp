@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "diag/error.hpp"
+#include "diag/io/truth.hpp"
 #include "diag/units.hpp"
 
 namespace sim {
@@ -57,21 +58,23 @@ std::vector<double> impact_times(double rate_hz, double jitter, double duration_
 
 }  // namespace
 
-const char* to_string(BearingFaultKind k) {
+diag::FaultKind fault_kind(BearingFaultKind k) {
   switch (k) {
-    case BearingFaultKind::kNone:
-      return "none";
     case BearingFaultKind::kOuterRace:
-      return "outer_race";
+      return diag::FaultKind::kOuterRace;
     case BearingFaultKind::kInnerRace:
-      return "inner_race";
+      return diag::FaultKind::kInnerRace;
     case BearingFaultKind::kRollingElement:
-      return "rolling_element";
+      return diag::FaultKind::kRollingElement;
     case BearingFaultKind::kCage:
-      return "cage";
+      return diag::FaultKind::kCage;
+    case BearingFaultKind::kNone:
+      break;
   }
-  return "?";
+  return diag::FaultKind::kNone;
 }
+
+const char* to_string(BearingFaultKind k) { return diag::to_string(fault_kind(k)).data(); }
 
 BearingRates bearing_rates(const diag::BearingSpec& b, double shaft_hz) {
   require(b.rolling_elements >= 3, "rolling_elements", "must be >= 3");
@@ -237,24 +240,32 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
   out.signal.unit = "m/s^2";
   out.signal.location = bearing.name;
   out.signal.samples = std::move(x);
-  out.truth = {{"fault", to_string(opt.fault)},
-               {"bearing", bearing.name},
-               {"rates",
-                {{"shaft_hz", r.shaft_hz},
-                 {"cage_hz", r.cage_hz},
-                 {"bpfo_hz", r.bpfo_hz},
-                 {"bpfi_hz", r.bpfi_hz},
-                 {"spin_hz", r.spin_hz},
-                 {"ball_fault_hz", r.ball_fault_hz}}},
-               {"impacts", out.impacts},
-               {"fault_rms", out.fault_rms},
-               {"noise_rms", out.noise_rms},
-               {"snr_db", opt.snr_db},
-               {"impact_amplitude", a},
-               {"mean_slip", opt.mean_slip},
-               {"jitter", opt.jitter},
-               {"resonance_hz", opt.resonance_hz},
-               {"seed", opt.seed}};
+  diag::SimulationTruth truth;  // diag/io/truth.hpp
+  truth.kind = "bearing";
+  if (opt.fault != BearingFaultKind::kNone) {
+    diag::TruthDefect d;
+    d.kind = fault_kind(opt.fault);
+    d.bearing = bearing.name;
+    truth.defects.push_back(std::move(d));
+  }
+  truth.extra = {{"bearing", bearing.name},
+                 {"rates",
+                  {{"shaft_hz", r.shaft_hz},
+                   {"cage_hz", r.cage_hz},
+                   {"bpfo_hz", r.bpfo_hz},
+                   {"bpfi_hz", r.bpfi_hz},
+                   {"spin_hz", r.spin_hz},
+                   {"ball_fault_hz", r.ball_fault_hz}}},
+                 {"impacts", out.impacts},
+                 {"fault_rms", out.fault_rms},
+                 {"noise_rms", out.noise_rms},
+                 {"snr_db", opt.snr_db},
+                 {"impact_amplitude", a},
+                 {"mean_slip", opt.mean_slip},
+                 {"jitter", opt.jitter},
+                 {"resonance_hz", opt.resonance_hz},
+                 {"seed", opt.seed}};
+  out.truth = truth.to_json();
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/io/truth.hpp"
 #include "sim/dynamics/rk4.hpp"
 
 namespace sim {
@@ -550,14 +551,33 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   }
   for (Channel& tc : result.tachos) tc.samples.resize(static_cast<std::size_t>(n_out), 0.0);
 
-  // ---- truth ----
-  nlohmann::json truth;
-  truth["kind"] = "dynamic";
+  // ---- truth (diag/io/truth.hpp) ----
+  diag::SimulationTruth st;
+  st.kind = "dynamic";
+  st.input_speed_rpm_max = opt.speed.max_rpm();
+  st.input_speed_rpm_min = opt.speed.min_rpm();
+  st.input_torque_nm = model.input_torque_nm();
+  st.load_torque_nm = model.load_torque_nm();
+  for (const GearFault& f : opt.faults) {
+    const int g = gb.gear_index(f.gear);
+    diag::TruthDefect d;
+    d.kind = f.profile_json.empty() ? fault_kind(f.fault.kind) : diag::FaultKind::kProfile;
+    d.gear = f.gear;
+    d.shaft = gb.shafts()[gb.shaft_of_gear(g)].name;
+    d.tooth = f.fault.tooth;
+    d.size_m = f.fault.size_m;
+    d.depth_m = f.fault.depth_m;
+    d.width_fraction = f.fault.width_fraction;
+    // At the run's speed (the description's input speed is only its nominal: --rpm and a
+    // scenario's speed replace it); left out at a varying speed (no one value).
+    if (opt.speed.min_rpm() == opt.speed.max_rpm()) {
+      d.shaft_frequency_hz =
+          std::abs(gb.shafts()[gb.shaft_of_gear(g)].speed_ratio) * opt.speed.max_rpm() / 60.0;
+    }
+    st.defects.push_back(std::move(d));
+  }
+  nlohmann::json& truth = st.extra;
   truth["model"] = "lumped gearbox dynamics (SPEC section 1): rotations + shaft translations";
-  truth["input_speed_rpm_max"] = opt.speed.max_rpm();
-  truth["input_speed_rpm_min"] = opt.speed.min_rpm();
-  truth["input_torque_nm"] = model.input_torque_nm();
-  truth["load_torque_nm"] = model.load_torque_nm();
   truth["friction_law"] = static_cast<int>(opt.friction.law);
   truth["oil_temperature_c"] = opt.friction.oil_temperature_c;
   truth["mesh_damping_ratio"] = opt.mesh_damping_ratio;
@@ -573,34 +593,6 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
                       {"mesh_frequency_hz", gb.mesh_frequency_hz(jj)}});
   }
   truth["meshes"] = meshes;
-  nlohmann::json faults = nlohmann::json::array();
-  for (const GearFault& f : opt.faults) {
-    const int g = gb.gear_index(f.gear);
-    const char* kind = "";
-    switch (f.fault.kind) {
-      case ToothFault::Kind::kRootCrack:
-        kind = "crack";
-        break;
-      case ToothFault::Kind::kChip:
-        kind = "chip";
-        break;
-      case ToothFault::Kind::kMissing:
-        kind = "missing";
-        break;
-      case ToothFault::Kind::kSpall:
-        kind = "spall";
-        break;
-    }
-    faults.push_back({{"gear", f.gear},
-                      {"shaft", gb.shafts()[gb.shaft_of_gear(g)].name},
-                      {"tooth", f.fault.tooth},
-                      {"type", kind},
-                      {"size_m", f.fault.size_m},
-                      {"depth_m", f.fault.depth_m},
-                      {"width_fraction", f.fault.width_fraction},
-                      {"shaft_frequency_hz", gb.shaft_speed_hz(gb.shaft_of_gear(g))}});
-  }
-  truth["faults"] = faults;
   nlohmann::json wear = nlohmann::json::array();
   for (const AppliedWear& a : model.applied_wear()) {
     const diag::Mesh& me = gb.meshes()[static_cast<std::size_t>(a.mesh)];
@@ -628,7 +620,7 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   // noise (run), so that the recording can be reproduced.
   truth["seed"] = run.seed;
   truth["dynamics_seed"] = opt.seed;
-  result.truth = truth;
+  result.truth = st.to_json();
   return result;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/io/truth.hpp"
 #include "diag/units.hpp"
 
 namespace sim {
@@ -103,9 +104,8 @@ KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptio
 
   KinematicResult out;
   out.step_rad = opt.step_rad;
-  out.truth = json::object();
-  out.truth["kind"] = "kinematic";
-  out.truth["defects"] = json::array();
+  diag::SimulationTruth truth;  // diag/io/truth.hpp
+  truth.kind = "kinematic";
 
   std::vector<ActiveDefect> active;
   for (const auto& d : gb.defects()) {
@@ -113,19 +113,18 @@ KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptio
     const int shaft = gb.shaft_of_gear(g);
     const double u_i = gb.ratio_to_output(g);
     const double period_rev = gb.recurrence_period_input_rev(g);
-    json t;
-    t["gear"] = d.gear;
-    t["shaft"] = gb.shafts()[shaft].name;
-    t["type"] = d.type;
-    t["size_gear_rad"] = d.size_rad;
-    t["size_output_rad"] = d.size_rad / u_i;
-    t["phase_rad"] = d.phase_rad;
-    t["period_input_rev"] = period_rev;
-    t["first_event_input_rad"] = d.phase_rad * period_rev;
-    t["gears_on_shaft"] = json::array();
-    for (int o : gb.gears_sharing_shaft(g)) t["gears_on_shaft"].push_back(gb.gears()[o].name);
-    t["on_power_path"] = gb.on_power_path(g);
-    out.truth["defects"].push_back(t);
+    diag::TruthDefect t;
+    t.kind = diag::parse_fault_kind(d.type, "simulate_kinematic", "defects.type");
+    t.gear = d.gear;
+    t.shaft = gb.shafts()[shaft].name;
+    t.size_gear_rad = d.size_rad;
+    t.size_output_rad = d.size_rad / u_i;
+    t.phase_rad = d.phase_rad;
+    t.period_input_rev = period_rev;
+    t.first_event_input_rad = d.phase_rad * period_rev;
+    for (int o : gb.gears_sharing_shaft(g)) t.gears_on_shaft.push_back(gb.gears()[o].name);
+    t.on_power_path = gb.on_power_path(g);
+    truth.defects.push_back(std::move(t));
     for (std::size_t k = 0; k < path.size(); ++k) {
       const auto& st = path[k];
       if (st.up_gear != g && st.down_gear != g) continue;
@@ -227,15 +226,17 @@ KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptio
     out.irregularity_rad[i] = measured_in / u_total - measured_out;
   }
 
-  out.truth["step_rad"] = opt.step_rad;
-  out.truth["revolutions"] = revs;
-  out.truth["total_ratio"] = u_total;
-  out.truth["runout_output_rad"] = opt.runout_output_rad;
-  out.truth["mesh_te_output_rad"] = opt.mesh_te_output_rad;
-  out.truth["noise_output_rad"] = opt.noise_output_rad;
-  out.truth["noise_input_rad"] = opt.noise_input_rad;
-  out.truth["encoder_counts_per_rev"] = opt.encoder_counts_per_rev;
-  out.truth["seed"] = opt.seed;
+  json& extra = truth.extra;
+  extra["step_rad"] = opt.step_rad;
+  extra["revolutions"] = revs;
+  extra["total_ratio"] = u_total;
+  extra["runout_output_rad"] = opt.runout_output_rad;
+  extra["mesh_te_output_rad"] = opt.mesh_te_output_rad;
+  extra["noise_output_rad"] = opt.noise_output_rad;
+  extra["noise_input_rad"] = opt.noise_input_rad;
+  extra["encoder_counts_per_rev"] = opt.encoder_counts_per_rev;
+  extra["seed"] = opt.seed;
+  out.truth = truth.to_json();
   return out;
 }
 

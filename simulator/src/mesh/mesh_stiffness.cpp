@@ -11,6 +11,20 @@
 
 namespace sim {
 
+diag::FaultKind fault_kind(ToothFault::Kind k) {
+  switch (k) {
+    case ToothFault::Kind::kChip:
+      return diag::FaultKind::kChip;
+    case ToothFault::Kind::kMissing:
+      return diag::FaultKind::kMissing;
+    case ToothFault::Kind::kSpall:
+      return diag::FaultKind::kSpall;
+    case ToothFault::Kind::kRootCrack:
+      break;
+  }
+  return diag::FaultKind::kCrack;
+}
+
 namespace {
 
 using diag::format_error;

@@ -80,7 +80,7 @@ struct GearDamageCase {
   std::string gearbox;  // Gearbox::name()
   bool faulty = false;
   std::string gear, truth_shaft;  // empty when healthy
-  std::string kind;               // "root_crack" | "chip" | "missing" | "spall" | "" (healthy)
+  std::string kind;  // the fault vocabulary's "crack" | "chip" | "missing" | "spall"; "" healthy
   int tooth = 0;
   double size_m = 0;    // crack length, chip depth, spall length; 0 for a missing tooth
   double severity = 0;  // position of the size in its range [0, 1]; missing tooth: 1

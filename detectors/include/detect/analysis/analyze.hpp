@@ -38,14 +38,16 @@
 //    kurtosis of the orders no faster shaft shares; validated in the closed loop with the
 //    simulator), from the shaft angles above: the tacho's, else the nominal speed (a speed off
 //    the nominal smears the averages: no finding rather than a wrong one).
-// Findings (AnalysisFinding, the one finding type of the analysis: the locator's, the sideband
-// vote's and the bearing vote's, one fault vocabulary) summarise what points at a shaft, gear or
-// bearing, each with a confidence and a note; only sensor channels (sensor_channels below) vote.
-// The code is in stages (detectors/src/analysis/stages.hpp lists them, one file each: kinematics,
-// angle plans, per-channel spectra / envelope and bearings / sidebands / TSA, two directions,
-// findings, baseline, JSON and text writers). Steps that cannot run
-// on this record (too few revolutions for a TSA, a record too short for the kurtogram) are skipped
-// with a note, not an error: they are outcomes.
+// Findings (Finding, finding.hpp: the one finding type of every module; here the locator's, the
+// sideband vote's (fault gear_modulation; evidence channels_pointing, channels_analysed, score_db,
+// mean_line_db) and the bearing vote's (evidence channels_pointing, channels_analysed, score_db);
+// faults in the one vocabulary of diag/faults/fault_kind.hpp) summarise what points at a shaft,
+// gear or bearing, each with a confidence and a note; only sensor channels (sensor_channels below)
+// vote. The code is in stages (detectors/src/analysis/stages.hpp lists them, one file each:
+// kinematics, angle plans, per-channel spectra / envelope and bearings / sidebands / TSA, two
+// directions, findings, baseline, JSON and text writers). Steps that cannot run on this record (too
+// few revolutions for a TSA, a record too short for the kurtogram) are skipped with a note, not an
+// error: they are outcomes.
 #pragma once
 
 #include <cstddef>
@@ -61,6 +63,7 @@
 
 #include "detect/angular/tsa.hpp"
 #include "detect/baseline/baseline.hpp"
+#include "detect/finding.hpp"
 #include "detect/gear/bearing_diagnosis.hpp"
 #include "detect/gear/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
@@ -267,20 +270,6 @@ struct AnalysisMesh {
   double frequency_hz = 0;
 };
 
-// One conclusion, in the shape of `geardiag attribute --json` findings. Fields that do not apply
-// stay empty (strings), empty (gears) or NaN (frequency_hz) and are left out of the JSON.
-struct AnalysisFinding {
-  std::string kind;  // "gear_damage", "gear_sidebands", "bearing"
-  std::string shaft;
-  std::vector<std::string> gears;
-  std::string bearing;
-  std::string fault;  // bearing: "outer_race", "inner_race", "rolling_element", "cage"
-  double frequency_hz = std::numeric_limits<double>::quiet_NaN();
-  std::string channel;    // the channel that shows it best
-  double confidence = 0;  // [0, 1]
-  std::string note;
-};
-
 // Comparison with healthy baseline recordings (score_against_baseline below). Rendered in the
 // report and the JSON ("anomaly_score", "alarm", "anomaly_threshold", "baseline_deviations",
 // "baseline").
@@ -311,7 +300,7 @@ struct AnalysisResult {
   std::vector<AnalysisMesh> meshes;
   std::vector<ChannelAnalysis> channels;
   std::vector<TwoDirectionRow> two_direction;
-  std::vector<AnalysisFinding> findings;  // every finding, most confident first
+  std::vector<Finding> findings;  // every finding, most confident first
   std::optional<AnalysisBaseline> baseline;
   std::optional<GearDamageResult> gear_damage;  // the locator's result (absent: not run, notes
                                                 // say why)

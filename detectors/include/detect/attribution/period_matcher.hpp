@@ -37,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "detect/finding.hpp"
 #include "diag/gearbox/gearbox.hpp"
 
 namespace detect {
@@ -57,21 +58,18 @@ struct AttributionOptions {
   void validate() const;  // throws diag::InputError naming the field
 };
 
-struct Finding {
-  std::string shaft;                     // shaft carrying the defective gear
-  std::vector<std::string> gears;        // every path gear on that shaft (one when determined)
-  double period_input_rev = 0;           // the matched recurrence period T_i [input revolutions]
-  double measured_period_input_rev = 0;  // least-squares period of the train
-  double size_output_rad = 0;            // median event height at the output [rad]
-  double size_gear_rad = 0;              // size in the gear's own rotation: size_output * u_i [rad]
-  double first_event_input_rad = 0;      // onset of the train's first recurrence [rad of input]
-  double confidence = 0;                 // coverage x period match x height consistency, [0, 1]
-  int events = 0;                        // recurrences seen
-  int expected_events = 0;               // recurrences the record holds
-  int coincident_events = 0;  // events where another train passes too: not used for the size
-  std::string note;           // when another reading fits the same events, it is named here
-};
-
+// The findings (finding.hpp) are kind "attribution", fault tooth_damage, one per train: shaft
+// (several joined by " or " when they share the period), gears (every path gear on it), size the
+// size in the gear's own rotation [rad] (size_output_rad x u_i), confidence = coverage x period
+// match x height consistency, note (another reading of the same events, when one fits), and the
+// evidence:
+//   period_input_rev           the matched recurrence period T_i [input revolutions]
+//   measured_period_input_rev  least-squares period of the train
+//   size_output_rad            median event height at the output [rad]
+//   size_gear_rad              = size
+//   first_event_input_rad      onset of the train's first recurrence [rad of input]
+//   events, expected_events    recurrences seen / that the record holds
+//   coincident_events          events where another train passes too (not used for the size)
 struct UnexplainedEvent {
   double input_angle_rad = 0;  // onset
   double size_output_rad = 0;  // height

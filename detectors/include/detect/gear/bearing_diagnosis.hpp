@@ -44,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "detect/finding.hpp"
 #include "detect/gear/fault_bands.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/recording.hpp"
@@ -88,15 +89,14 @@ struct BearingEvidence {
   double support_null_db = 0;      // the largest detuned comb there [dB]
 };
 
-struct BearingFinding {
-  std::string bearing;      // BearingSpec::name
-  std::string fault;        // "outer_race" | "inner_race" | "rolling_element"
-  double frequency_hz = 0;  // the family's nominal fundamental (BPFO, BPFI or 2 BSF) [Hz]
-  std::string channel;      // the channel's name
-  double score_db = 0;      // the family's score in the naming view(s), the larger [dB]
-  BearingEvidence evidence;
-};
-
+// The findings (finding.hpp) are kind "bearing": fault (outer_race, inner_race,
+// rolling_element), bearing (BearingSpec::name), channel, frequency_hz (the family's nominal
+// fundamental: BPFO, BPFI or 2 BSF), confidence 1 when both views name it, 0.5 for one view with
+// the comb's support in the other, note "<family> (<basis>)", and the evidence's numbers:
+// "score_db" (the family's score in the naming view(s), the larger [dB]), "harmonics_seen",
+// "harmonics_scored", "sideband_hz", "sidebands_seen", "ftf_lines_seen", "other_view_score_db",
+// "support_db", "support_null_db" (BearingEvidence; its family, basis and line_db are in the
+// bearing's BearingStatus::evidence).
 struct BearingStatus {
   std::string bearing;
   BearingDecisionStatus status = BearingDecisionStatus::kNoFault;  // the combined decision:
@@ -106,14 +106,15 @@ struct BearingStatus {
   BearingFrequencies frequencies;
   BearingDecision band_decision;   // on the SES of the kurtogram band
   BearingDecision whole_decision;  // on the SES of the whole band (empty when not checked)
-  CombSupport support;  // of the one view's fault in the other view, when one view alone names
-                        // it (see the combination above); empty otherwise
-  std::string note;     // "cage": FTF lines pass (in both views) and no fault is named, a
-                        // weak note of a load modulated at the cage rate; "" otherwise
+  CombSupport support;       // of the one view's fault in the other view, when one view alone names
+                             // it (see the combination above); empty otherwise
+  BearingEvidence evidence;  // the evidence behind the fault, when status == kFault
+  std::string note;          // "cage": FTF lines pass (in both views) and no fault is named, a
+                             // weak note of a load modulated at the cage rate; "" otherwise
 };
 
 struct BearingDiagnosis {
-  std::vector<BearingFinding> findings;  // one per bearing with status kFault
+  std::vector<Finding> findings;  // one per bearing with status kFault
   std::string channel;
   double band_centre_hz = 0;  // the demodulation band chosen from the kurtogram [Hz]
   double band_width_hz = 0;

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "detect/gear/bearing_faults.hpp"
+#include "diag/faults/fault_kind.hpp"
 
 namespace detect {
 
@@ -134,7 +135,10 @@ LineMeasurement measure_line(const SpectrumView& spectrum, double expected_hz,
 
 // ---- Bearing fault decision from an envelope spectrum -------------------------------------------
 
-enum class BearingFault { kNone, kCage, kOuterRace, kInnerRace, kBall };
+enum class BearingFault { kNone, kCage, kOuterRace, kInnerRace, kRollingElement };
+// The fault vocabulary's kind (diag/faults/fault_kind.hpp) and name: "none", "cage",
+// "outer_race", "inner_race", "rolling_element".
+diag::FaultKind fault_kind(BearingFault f);
 const char* to_string(BearingFault f);
 
 enum class BearingDecisionStatus {

@@ -90,6 +90,7 @@
 #include <vector>
 
 #include "detect/angular/pulse_refine.hpp"
+#include "detect/finding.hpp"
 #include "detect/indicators/indicators.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/recording.hpp"
@@ -210,19 +211,15 @@ struct ShaftDamage {
   bool uncertain = false;    // snr >= min_snr and healthy_fm4 < score <= damaged_fm4
 };
 
-struct GearDamageFinding {
-  std::string shaft;
-  std::vector<std::string> gears;  // every gear on the shaft (they share its revolution)
-  std::string channel;
-  double score = 0;       // the shaft's tooth score
-  double confidence = 0;  // [0, 1]: min(1, (score - healthy_fm4) / (2 (damaged_fm4 -
-                          // healthy_fm4))), halved when ambiguous
-  std::string note;
-};
+// The locator's findings (finding.hpp) are kind "gear_damage", fault tooth_damage: shaft, gears
+// (every gear on the shaft: they share its revolution), channel (the one that gave the score),
+// confidence = min(1, (score - healthy_fm4) / (2 (damaged_fm4 - healthy_fm4))), halved when
+// ambiguous, note; evidence "score" (the shaft's tooth score), "snr", "exclusive_share" and
+// "angle_deg" (ShaftDamage's).
 
 struct GearDamageResult {
   std::vector<ShaftDamage> shafts;  // in gearbox order
-  std::vector<GearDamageFinding> findings;
+  std::vector<Finding> findings;
   // "healthy": no shaft flagged; "damaged": one shaft; "ambiguous": two candidate shafts, both
   // reported (a slower shaft in the uncertain band below the flagged one).
   std::string status = "healthy";
@@ -262,9 +259,9 @@ GearDamageBaseline gear_damage_baseline(const diag::Recording& healthy, const di
                                         std::span<const double> pulse_times_s,
                                         const GearDamageOptions& options = {});
 
-// {"status", "reference_shaft", "note", "shafts": [...], "findings": [{"shaft", "gears",
-// "channel", "score", "confidence", "note"}]}: the findings share "shaft", "gears",
-// "confidence" and "note" with `geardiag attribute`'s.
+// {"status", "reference_shaft", "note", "shafts": [...], "findings": [Finding's JSON
+// (finding.hpp): "kind", "fault", "shaft", "gears", "channel", "confidence", "note", "evidence"
+// and the evidence's "score", ...]}: the findings share their keys with `geardiag attribute`'s.
 nlohmann::json to_json(const GearDamageResult& r);
 
 }  // namespace detect

@@ -61,6 +61,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "diag/faults/fault_kind.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/recording.hpp"
 
@@ -73,7 +74,9 @@ enum class BearingFaultKind {
   kRollingElement,  // spall on one ball
   kCage,            // damaged cage pocket
 };
-// "none", "outer_race", "inner_race", "rolling_element", "cage" (the detectors' finding names).
+// The fault vocabulary's kind and name (diag/faults/fault_kind.hpp): "none", "outer_race",
+// "inner_race", "rolling_element", "cage", as the detectors' findings name them.
+diag::FaultKind fault_kind(BearingFaultKind k);
 const char* to_string(BearingFaultKind k);
 
 // The contact rates of the model above [Hz], derived from the geometry independently of the
@@ -122,7 +125,9 @@ struct BearingSignal {
   int impacts = 0;       // impacts generated (0 for kNone and kCage)
   double fault_rms = 0;  // RMS of the fault component
   double noise_rms = 0;  // RMS of the added noise (set from snr_db)
-  nlohmann::json truth;  // {"fault", "rates", "impacts", "fault_rms", "noise_rms", options}
+  nlohmann::json truth;  // diag::SimulationTruth's JSON: kind "bearing", the defect (none
+                         // when healthy); extra: "bearing", "rates", "impacts", "fault_rms",
+                         // "noise_rms", options
 };
 
 // Throws diag::InputError for invalid options or geometry.

@@ -41,6 +41,7 @@
 #include <numbers>
 #include <vector>
 
+#include "diag/faults/fault_kind.hpp"
 #include "diag/geometry/gear.hpp"
 #include "diag/geometry/gear_pair.hpp"
 
@@ -76,6 +77,10 @@ struct ToothFault {
   double s_center_m = std::numeric_limits<double>::quiet_NaN();  // spall centre on the LOA [m];
                                                                  // NaN: the pitch point
 };
+
+// The fault vocabulary's kind of a tooth fault (diag/faults/fault_kind.hpp): crack, chip, missing,
+// spall.
+diag::FaultKind fault_kind(ToothFault::Kind k);
 
 struct StiffnessOptions {
   bool fillet_foundation = true;  // add Sainsot's fillet-foundation compliance (off: stiffer)
