@@ -59,7 +59,7 @@ void judge(json& r, const detect::AttributionResult& a) {
       ++wrong;
     } else if (truth.count(f.shaft) == 1) {
       ++sizes;
-      const double found = diag::units::rad_to_deg(f.size_output_rad);
+      const double found = diag::units::rad_to_deg(f.evidence_value("size_output_rad"));
       sizes_ok += std::abs(found - size_of[f.shaft]) <= kSizeTolerance * size_of[f.shaft];
     }
   }

@@ -168,6 +168,12 @@ TEST(DatasetModesCli, BadModeSpecsExit2NamingTheFieldBeforeWriting) {
        "classes[0].defects[0].size_deg: 12 deg at gear 'z1'"},
       {kinematic_spec(R"([{"name": "c", "defects": [{"gear": "z1"}]}])"),
        "classes[0].defects[0].size_deg: give exactly one of"},
+      {kinematic_spec(
+           R"([{"name": "c", "defects": [{"gear": "z1", "size_deg": 0.5, "type": "dent"}]}])"),
+       "classes[0].defects[0].type: 'dent' is not a gear fault kind"},
+      {kinematic_spec(
+           R"([{"name": "c", "defects": [{"gear": "z1", "size_deg": 0.5, "type": "cage"}]}])"),
+       "classes[0].defects[0].type: 'cage' is not a gear fault kind"},
       {R"({"simulator": "kinematic", "duration_s": 1, "gearbox": ")" + gearbox("three_shaft.json") +
            R"(", "seed": 1, "recordings_per_class": 1, "classes": [{"name": "h"}]})",
        "duration_s: is not a field of a kinematic dataset"},
