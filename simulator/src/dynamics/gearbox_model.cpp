@@ -431,16 +431,6 @@ GearboxModel::GearboxModel(const diag::Gearbox& gb, const DynamicsOptions& optio
       d.stiffness = std::make_unique<MeshStiffness>(MeshStiffness::from_table(
           pair, table->angle_deg, table->load_n, table->k_n_per_m, f_static, m.opt.stiffness));
     } else {
-      for (int g : {d.a, d.b}) {
-        if (!diag::Gear(gb.gears()[g].spec).undercut()) continue;
-        throw diag::InputError(diag::format_error(
-            where, "mesh " + name,
-            "gear '" + gb.gears()[g].name +
-                "' is undercut; the dynamic simulation's stiffness model (potential energy) "
-                "needs teeth without undercut: give it a profile shift (see `geardiag info "
-                "--gearbox`), or a measured stiffness table for this mesh (stiffness.tables), or "
-                "use `simulate --mode kinematic` / `attribute`, which need only tooth counts"));
-      }
       d.stiffness =
           std::make_unique<MeshStiffness>(pair, m.opt.stiffness, faults, errors_a, errors_b);
     }

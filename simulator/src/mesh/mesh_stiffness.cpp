@@ -7,6 +7,7 @@
 #include <string>
 
 #include "diag/error.hpp"
+#include "diag/geometry/profile.hpp"
 #include "diag/units.hpp"
 
 namespace sim {
@@ -83,6 +84,10 @@ struct Tooth {
   double y_tip;           // centre of the top land
   double theta_f, hfi;    // Sainsot's half tooth angle at the root circle, r_f / r_int
   double rho_tip;
+  // Generated section (StiffnessOptions::tooth_section): the beam from y_f up to the form
+  // radius as Gauss nodes (y, h, weight dy) with h = min(model h, generated h); t_lo then starts
+  // the involute part at the form radius. Empty otherwise.
+  std::vector<std::array<double, 3>> tab;
 
   Tooth(const diag::Gear& g, const StiffnessOptions& o) {
     const diag::GearSpec& sp = g.spec();
@@ -125,6 +130,58 @@ struct Tooth {
         sp.bore_diameter_m >= 0 ? sp.bore_diameter_m / (2 * rf) : o.bore_radius_ratio;
     hfi = 1.0 / std::max(ratio, kMinBoreRadiusRatio);
     rho_tip = std::sqrt(ra * ra - rb * rb);
+    using TS = StiffnessOptions::ToothSection;
+    if (o.tooth_section == TS::kProfile ||
+        (o.tooth_section == TS::kProfileWhenUndercut && g.undercut())) {
+      tabulate_generated(g);
+    }
+  }
+  // The section below the form radius from the rack-generated flank (diag::generate_tooth): at
+  // each height y the half thickness is the smaller of the model's (h_b below the base circle,
+  // the involute above) and the generated tooth's (+inf below the generated outline's lowest
+  // point, so the beam still starts at y_f on the root circle as in the model). The root
+  // quantities (y_root, h_root, theta_f for Sainsot's fillet term) stay the model's.
+  void tabulate_generated(const diag::Gear& g) {
+    const diag::Flank fl = diag::generate_tooth(g).flank;
+    const double r_form = std::max(g.form_radius_m(), rb);
+    const double t_form = std::sqrt(r_form * r_form / (rb * rb) - 1.0);
+    const double y_lo = has_rect ? y_f : y(t_lo), y_hi = y(t_form);
+    // The generated outline as h(y): y = r cos(psi) rises with r on a rack-generated flank (a
+    // vertex that would break that is skipped).
+    std::vector<double> gy, gh;
+    for (std::size_t i = 0; i < fl.radius_m.size(); ++i) {
+      const double rr = fl.radius_m[i], ps = fl.half_angle_rad[i];
+      if (!gy.empty() && rr * std::cos(ps) <= gy.back()) continue;  // keep y strictly increasing
+      gy.push_back(rr * std::cos(ps));
+      gh.push_back(rr * std::sin(ps));
+    }
+    auto h_gen = [&](double yy) {
+      if (gy.empty() || yy < gy.front() || yy > gy.back()) return kInf;
+      const auto it = std::upper_bound(gy.begin(), gy.end(), yy);
+      const std::size_t k = std::clamp<std::size_t>(it - gy.begin(), 1, gy.size() - 1);
+      const double u = (yy - gy[k - 1]) / (gy[k] - gy[k - 1]);
+      return gh[k - 1] + u * (gh[k] - gh[k - 1]);
+    };
+    auto h_model = [&](double yy) {
+      if (has_rect && yy <= y_b) return h_b;
+      double lo = t_lo, hi = t_form;  // invert y(t) = yy on the involute: y rises with t there
+      for (int it = 0; it < 60; ++it) (y(0.5 * (lo + hi)) < yy ? lo : hi) = 0.5 * (lo + hi);
+      const double t = 0.5 * (lo + hi);
+      return h(t);
+    };
+    // 96 panels of 16 Gauss nodes: the generated h(y) is piecewise linear on its vertices (the
+    // fillet arc's 200 points), so the panels resolve it to well below the nm chords.
+    constexpr int kTabPanels = 96;
+    const GaussLegendre& gl = gauss();
+    const double dy = (y_hi - y_lo) / kTabPanels;
+    for (int p = 0; p < kTabPanels; ++p) {
+      const double mid = y_lo + (p + 0.5) * dy;
+      for (int k = 0; k < GaussLegendre::kN; ++k) {
+        const double yy = mid + 0.5 * dy * gl.x[k];
+        tab.push_back({yy, std::min(h_model(yy), h_gen(yy)), 0.5 * dy * gl.w[k]});
+      }
+    }
+    t_lo = t_form;
   }
   double psi(double t) const { return alpha2 - (t - std::atan(t)); }
   double r(double t) const { return rb * std::sqrt(1.0 + t * t); }
@@ -157,7 +214,9 @@ ToothCompliance compliance_at(const Tooth& T, double t_c, const StiffnessOptions
     is += dy * 1.2 * ca * ca / (T.G * T.b * H);
     ia += dy * sa * sa / (T.E * T.b * H);
   };
-  if (T.has_rect) {
+  if (!T.tab.empty()) {
+    for (const auto& [yy, hh, w] : T.tab) add(yy, hh, w);
+  } else if (T.has_rect) {
     // The section is constant (or, for a case-2 crack, linear) in y: polynomial or smooth
     // rational integrands, one panel is enough.
     const double mid = 0.5 * (T.y_b + T.y_f), half = 0.5 * (T.y_b - T.y_f);
@@ -296,20 +355,8 @@ MeshStiffness::MeshStiffness(const diag::GearPair& pair, const StiffnessOptions&
                              TabulateOnly)
     : pair_(pair), options_(options) {
   options_.validate();
-  // The potential-energy tooth takes the flank below the base circle as a straight line down to
-  // the root circle (Chen & Shao 2011); an undercut tooth is thinner there (the rack's trochoid),
-  // so the model would overestimate its stiffness by an amount it cannot bound. Refused.
-  for (const diag::Gear* g : {&pair_.driver(), &pair_.driven()}) {
-    if (!g->undercut()) continue;
-    std::ostringstream m;
-    m << "a gear with z = " << g->teeth() << " and profile_shift " << g->spec().profile_shift
-      << " is undercut; the potential-energy stiffness model assumes a tooth without undercut. "
-         "Give it profile_shift >= "
-      << g->min_profile_shift_without_undercut()
-      << " for the dynamic simulation; `attribute` and `simulate --mode kinematic` need only the "
-         "tooth counts and accept it";
-    throw InputError(format_error("mesh stiffness", "profile_shift", m.str()));
-  }
+  // An undercut gear's tooth below its form radius comes from the rack-generated profile (Tooth::
+  // tabulate_generated), unless StiffnessOptions::tooth_section says otherwise.
   if (pair_.contact_ratio() >= 4.0) {
     throw InputError(format_error("MeshStiffness", "contact_ratio",
                                   fail_value(pair_.contact_ratio(), "< 4 for a spur pair")));
