@@ -90,16 +90,9 @@ KinematicDefect parse_defect(const json& j, const std::string& where, const std:
                        {"gear", "type", "size_deg", "size_output_deg", "phase_deg"});
   KinematicDefect d;
   d.gears = gear_names(f);
-  d.type = f.has("type") ? f.name("type") : "chip";
-  // The gearbox description's rule (diag/faults/fault_kind.hpp): a gear kind, by its one name,
-  // refused here, before anything is written, rather than by the simulator per recording.
-  const auto kind = diag::fault_kind_from_string(d.type);
-  if (!kind || diag::site_of(*kind) != diag::FaultSite::kGear) {
-    f.fail("type", "'" + d.type +
-                       "' is not a gear fault kind (crack, chip, spall, pit, missing, "
-                       "broken_tip, profile, wear, tooth_damage)");
-  }
-  d.type = std::string(diag::to_string(*kind));
+  // The gearbox description's rule: a gear kind of the vocabulary, by its one name, refused
+  // here, before anything is written, rather than by the simulator per recording.
+  d.type = std::string(diag::to_string(diag::parse_gear_fault_kind(f, "type", "chip")));
   if (f.has("size_deg") == f.has("size_output_deg")) {
     f.fail("size_deg",
            "give exactly one of size_deg (the gear's own rotation) or "

@@ -110,6 +110,32 @@ std::string html_report(const json& rep) {
 
 }  // namespace
 
+void judge_dataset_recordings(const std::string& dir, const std::vector<json>& rows, int jobs,
+                              const std::function<diag::Recording(const std::string&)>& read,
+                              const DatasetJudge& judge) {
+  Progress progress("validate", rows.size(), true);
+  std::vector<std::optional<diag::Recording>> recs(rows.size());
+  std::vector<std::string> read_error(rows.size());
+  auto path_of = [&](std::size_t i) {
+    return (fs::path(dir) / rows[i]["file"].get<std::string>()).string();
+  };
+  run_in_rounds(
+      rows.size(), jobs,
+      [&](std::size_t i) {
+        try {
+          recs[i] = read(path_of(i));
+        } catch (const std::exception& e) {
+          read_error[i] = e.what();
+        }
+      },
+      [&](std::size_t i) {
+        judge(i, recs[i], path_of(i), read_error[i]);
+        recs[i].reset();
+        progress.tick();
+      });
+  progress.finish();
+}
+
 int validate_dataset(int argc, char** argv) {
   std::string dir, json_out, html_out;
   int jobs = 0;
@@ -158,30 +184,15 @@ int validate_dataset(int argc, char** argv) {
                            " dataset: no detector reads these recordings yet (the manifest holds "
                            "each recording's simulated outcome)");
   }
-  Progress progress("validate", rows.size(), true);
-  // Each file read on the main thread (run_in_rounds: the HDF5 reader forks), analysed on a
-  // worker.
-  std::vector<std::optional<diag::Recording>> read(rows.size());
-  std::vector<std::string> read_error(rows.size());
-  auto path_of = [&](std::size_t i) {
-    return (fs::path(dir) / rows[i]["file"].get<std::string>()).string();
-  };
-  run_in_rounds(
-      rows.size(), jobs,
-      [&](std::size_t i) {
-        try {
-          read[i] = load_recording(path_of(i), std::nullopt);
-        } catch (const std::exception& e) {
-          read_error[i] = e.what();
-        }
-      },
-      [&](std::size_t i) {
+  judge_dataset_recordings(
+      dir, rows, jobs, [](const std::string& path) { return load_recording(path, std::nullopt); },
+      [&](std::size_t i, std::optional<diag::Recording>& rec, const std::string& path,
+          const std::string& read_error) {
         json& r = rows[i];
         std::string named = "none";
         try {
-          if (!read[i]) throw diag::InputError(read_error[i]);
-          const FileAnalysis a = analyse_file(std::move(*read[i]), path_of(i), std::nullopt, {});
-          read[i].reset();
+          if (!rec) throw diag::InputError(read_error);
+          const FileAnalysis a = analyse_file(std::move(*rec), path, std::nullopt, {});
           for (const auto& f : a.result.findings) {
             if (f.kind == "gear_damage") {
               named = f.shaft;
@@ -197,9 +208,7 @@ int validate_dataset(int argc, char** argv) {
         r["located"] = r.value("faults", 0) > 0 && r["fault1_shaft"].is_string() &&
                        named == r["fault1_shaft"].get<std::string>();
         r["size_mm"] = r.contains("fault1_size_mm") ? r["fault1_size_mm"] : json(nullptr);
-        progress.tick();
       });
-  progress.finish();
   std::set<std::string> columns = {"none"};
   json classes = json::object();
   std::vector<json> faulty;

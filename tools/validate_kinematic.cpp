@@ -90,40 +90,23 @@ const std::vector<std::string> kVerdicts = {"right", "partial", "silent", "wrong
 
 int validate_kinematic_dataset(const std::string& dir, std::vector<json>& rows,
                                const std::string& json_out, const std::string& html_out, int jobs) {
-  Progress progress("validate", rows.size(), true);
-  std::vector<std::optional<diag::Recording>> read(rows.size());
-  std::vector<std::string> read_error(rows.size());
-  auto path_of = [&](std::size_t i) {
-    return (fs::path(dir) / rows[i]["file"].get<std::string>()).string();
-  };
-  run_in_rounds(
-      rows.size(), jobs,
-      [&](std::size_t i) {
-        try {
-          read[i] = diag::read_recording(path_of(i));
-        } catch (const std::exception& e) {
-          read_error[i] = e.what();
-        }
-      },
-      [&](std::size_t i) {
+  judge_dataset_recordings(
+      dir, rows, jobs, [](const std::string& path) { return diag::read_recording(path); },
+      [&](std::size_t i, std::optional<diag::Recording>& rec, const std::string& path,
+          const std::string& read_error) {
         json& r = rows[i];
         try {
-          if (!read[i]) throw diag::InputError(read_error[i]);
-          const diag::Recording& rec = *read[i];
-          const diag::Gearbox gb = diag::parse_gearbox_text(rec.gearbox_json, path_of(i));
-          const detect::AttributionResult a =
-              detect::attribute_defects(rec.require("input_angle_rad", path_of(i)).samples,
-                                        rec.require("output_angle_rad", path_of(i)).samples, gb,
-                                        detect::AttributionOptions{});
+          if (!rec) throw diag::InputError(read_error);
+          const diag::Gearbox gb = diag::parse_gearbox_text(rec->gearbox_json, path);
+          const detect::AttributionResult a = detect::attribute_defects(
+              rec->require("input_angle_rad", path).samples,
+              rec->require("output_angle_rad", path).samples, gb, detect::AttributionOptions{});
           judge(r, a);
         } catch (const std::exception& e) {
           r["verdict"] = "error";
           r["error"] = e.what();
         }
-        read[i].reset();
-        progress.tick();
       });
-  progress.finish();
   json classes = json::object();
   for (const json& r : rows) {
     json& c = classes[r["class"].get<std::string>()];

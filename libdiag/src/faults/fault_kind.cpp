@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "diag/error.hpp"
+#include "diag/io/json_fields.hpp"
 
 namespace diag {
 namespace {
@@ -101,6 +102,21 @@ FaultKind parse_fault_kind(std::string_view name, const std::string& where,
     list += (list.empty() ? "" : ", ") + std::string(kEntries[i].name);
   }
   fail(where, field, "'" + std::string(name) + "' is not a fault kind (one of " + list + ")");
+}
+
+FaultKind parse_gear_fault_kind(const Fields& fields, const std::string& key,
+                                std::string_view dflt) {
+  const std::string name = fields.has(key) ? fields.name(key) : std::string(dflt);
+  const std::optional<FaultKind> kind = fault_kind_from_string(name);
+  if (!kind || site_of(*kind) != FaultSite::kGear) {
+    std::string kinds;
+    for (const FaultKind k : all_fault_kinds()) {
+      if (site_of(k) != FaultSite::kGear || k == FaultKind::kGearModulation) continue;
+      kinds += (kinds.empty() ? "" : ", ") + std::string(to_string(k));
+    }
+    fields.fail(key, "'" + name + "' is not a gear fault kind (" + kinds + ")");
+  }
+  return *kind;
 }
 
 }  // namespace diag

@@ -393,15 +393,8 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     d.gear = f.str("gear");
     const int g = gb.gear_index(d.gear);
     if (g < 0) f.fail("gear", "unknown gear '" + d.gear + "'");
-    d.type = f.str("type", "chip");
     // The fault vocabulary (diag/faults/fault_kind.hpp): a gear kind, stored by its one name.
-    const auto kind = diag::fault_kind_from_string(d.type);
-    if (!kind || diag::site_of(*kind) != diag::FaultSite::kGear) {
-      f.fail("type", "'" + d.type +
-                         "' is not a gear fault kind (crack, chip, spall, pit, missing, "
-                         "broken_tip, profile, wear, tooth_damage)");
-    }
-    d.type = std::string(diag::to_string(*kind));
+    d.type = std::string(diag::to_string(diag::parse_gear_fault_kind(f, "type", "chip")));
     const Gear gear(gb.gears_[g].spec);
     if (f.has("size_deg") + f.has("size_um") + f.has("profile") != 1) {
       f.fail("size_deg",

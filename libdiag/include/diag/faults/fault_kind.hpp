@@ -76,4 +76,11 @@ std::optional<FaultKind> fault_kind_from_string(std::string_view name);
 FaultKind parse_fault_kind(std::string_view name, const std::string& where,
                            const std::string& field);
 
+class Fields;
+// The gear fault kind in `fields[key]` (default `dflt` when absent), a name or an alias; refuses
+// with fields.fail(key, ...) a word that is not a kind or a kind that does not sit on a gear.
+// What a gearbox description's defects[].type and a kinematic dataset class's defect type take.
+FaultKind parse_gear_fault_kind(const Fields& fields, const std::string& key,
+                                std::string_view dflt);
+
 }  // namespace diag
