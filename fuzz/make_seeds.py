@@ -63,13 +63,6 @@ def main():
             ds.attrs["ppr"] = np.int32(ppr)
         f.create_dataset("gearbox", data=json.dumps({"name": "x"}), dtype=h5py.string_dtype())
     shutil.copy(os.path.join(ROOT, "testdata/recordings/format1_three_shaft.h5"), d["hdf5"])
-    # A face-gear stiffness table (sim/facegear/description.hpp's HDF5 layout).
-    with h5py.File(os.path.join(d["hdf5"], "face_gear_table.h5"), "w", libver=("v108", "v108")) as f:
-        f["angle_deg"] = np.arange(8) * 3.0
-        f["load_nm"] = np.array([10, 300], dtype=np.int32)
-        for flank in ("drive", "coast"):
-            f[flank + "/stiffness_nm_per_rad"] = np.full((8, 2), 9e5)
-            f[flank + "/e0_urad"] = np.cos(np.arange(8) * 0.785).astype(np.float32)
 
     for name in os.listdir(os.path.join(ROOT, "testdata/gearbox")):
         shutil.copy(os.path.join(ROOT, "testdata/gearbox", name), d["gearbox_json"])
