@@ -14,14 +14,7 @@
 
 namespace {
 
-diag::BearingSpec skf6205() {
-  diag::BearingSpec b;
-  b.name = "de";
-  b.rolling_elements = 9;
-  b.pitch_diameter_m = 39.04e-3;
-  b.element_diameter_m = 7.94e-3;
-  return b;
-}
+diag::BearingSpec skf6205() { return diag::skf6205("de"); }
 
 // Rolling without sliding: the ball's centre moves at the mean of the race surface speeds at the
 // contacts (outer 0, inner w_r (P_d - B_d cos phi) / 2), so the cage turns at

@@ -10,18 +10,12 @@
 #include "detect/gear/fault_bands.hpp"
 #include "detect/spectral/envelope.hpp"
 #include "diag/error.hpp"
+#include "diag/gearbox/bearing_rates.hpp"
 #include "diag/io/truth.hpp"
 
 namespace {
 
-diag::BearingSpec skf6205() {
-  diag::BearingSpec b;
-  b.name = "de";
-  b.rolling_elements = 9;
-  b.pitch_diameter_m = 39.04e-3;
-  b.element_diameter_m = 7.94e-3;
-  return b;
-}
+diag::BearingSpec skf6205() { return diag::skf6205("de"); }
 
 // Noise-free signal of one class: impacts (or the cage's modulated noise) and nothing else.
 sim::BearingSignal clean(sim::BearingFaultKind k, std::uint64_t seed = 1) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "diag/error.hpp"
 
@@ -35,6 +36,17 @@ BearingRates bearing_rates(const BearingSpec& b, double shaft_hz, const std::str
   f.bsf_hz = 0.5 * shaft_hz * b.pitch_diameter_m / b.element_diameter_m * (1.0 - rho * rho);
   f.ball_fault_hz = 2.0 * f.bsf_hz;
   return f;
+}
+
+BearingSpec skf6205(std::string name, std::string shaft) {
+  BearingSpec b;
+  b.name = std::move(name);
+  b.shaft = std::move(shaft);
+  b.rolling_elements = 9;
+  b.pitch_diameter_m = 39.04e-3;
+  b.element_diameter_m = 7.94e-3;
+  b.contact_angle_rad = 0.0;
+  return b;
 }
 
 }  // namespace diag

@@ -50,4 +50,9 @@ struct BearingRates {
 BearingRates bearing_rates(const BearingSpec& bearing, double shaft_hz,
                            const std::string& where = "bearing_rates");
 
+// The CWRU drive-end bearing, SKF 6205-2RS JEM, as the data centre gives it: 9 balls, pitch
+// diameter 1.537 in = 39.04 mm, ball diameter 0.3126 in = 7.94 mm, contact angle 0 (the reference
+// bearing of validate --bearings and of the bearing tests), named `name` on shaft `shaft`.
+BearingSpec skf6205(std::string name = "drive_end", std::string shaft = "");
+
 }  // namespace diag
