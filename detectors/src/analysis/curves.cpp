@@ -19,27 +19,34 @@ diag::DataGroup trace_group(std::string path, std::string description, const Plo
   return g;
 }
 
-// One row per fault band or scored line of a bearing: six numeric columns (name, unit) read from
-// each item by `row`, the items' labels joined by ';' (text "labels") and the legend of the
-// family column (text "families").
+// One row per fault band or scored line of a bearing (Item: FaultBand, BearingLine): three
+// leading columns (name, unit) and a last unit-free one read from each item by `row`, between
+// them the item's family and harmonic; the items' labels joined by ';' (text "labels") and the
+// legend of the family column (text "families").
 template <class Item, class Row>
 diag::DataGroup family_rows(std::string path, std::string description,
                             const std::vector<Item>& items,
-                            const std::array<std::pair<const char*, const char*>, 6>& columns,
-                            Row row) {
+                            const std::array<std::pair<const char*, const char*>, 3>& leading,
+                            const char* last, Row row) {
   diag::DataGroup g;
   g.path = std::move(path);
   g.description = std::move(description);
   std::array<std::vector<double>, 6> values;
   std::string labels;
   for (const Item& item : items) {
-    const std::array<double, 6> r = row(item);
-    for (std::size_t k = 0; k < r.size(); ++k) values[k].push_back(r[k]);
+    const std::array<double, 4> r = row(item);
+    const std::array<double, 6> all = {
+        r[0], r[1], r[2], static_cast<double>(item.family), static_cast<double>(item.harmonic),
+        r[3]};
+    for (std::size_t k = 0; k < all.size(); ++k) values[k].push_back(all[k]);
     labels += (labels.empty() ? "" : ";") + item.label;
   }
-  for (std::size_t k = 0; k < columns.size(); ++k) {
-    g.columns.push_back({columns[k].first, columns[k].second, std::move(values[k])});
+  for (std::size_t k = 0; k < leading.size(); ++k) {
+    g.columns.push_back({leading[k].first, leading[k].second, std::move(values[k])});
   }
+  g.columns.push_back({"family", "", std::move(values[3])});
+  g.columns.push_back({"harmonic", "", std::move(values[4])});
+  g.columns.push_back({last, "", std::move(values[5])});
   g.texts = {{"labels", labels}, {"families", "0 FTF;1 BPFO;2 BPFI;3 BALL (2 BSF)"}};
   return g;
 }
@@ -51,19 +58,9 @@ void bearing_groups(const std::string& prefix, const ChannelAnalysis& c,
         family_rows(prefix + "/bearings/" + b.bearing + "/fault_bands",
                     "fault bands of bearing " + b.bearing +
                         " drawn on the envelope spectrum (families FTF, BPFO, BPFI, 2 BSF)",
-                    b.bands,
-                    {{{"centre_hz", "Hz"},
-                      {"low_hz", "Hz"},
-                      {"high_hz", "Hz"},
-                      {"family", ""},
-                      {"harmonic", ""},
-                      {"sideband", ""}}},
-                    [](const FaultBand& fb) {
-                      return std::array<double, 6>{fb.centre_hz,
-                                                   fb.low_hz,
-                                                   fb.high_hz,
-                                                   static_cast<double>(fb.family),
-                                                   static_cast<double>(fb.harmonic),
+                    b.bands, {{{"centre_hz", "Hz"}, {"low_hz", "Hz"}, {"high_hz", "Hz"}}},
+                    "sideband", [](const FaultBand& fb) {
+                      return std::array<double, 4>{fb.centre_hz, fb.low_hz, fb.high_hz,
                                                    static_cast<double>(fb.sideband)};
                     });
     const BearingFrequencies& f = b.frequencies;
@@ -113,23 +110,13 @@ void decision_groups(const std::string& prefix, const ChannelAnalysis& c,
     out.back().texts["status"] = b.diagnosis.status == BearingDecisionStatus::kFault
                                      ? finding_name(b.diagnosis.fault)
                                      : to_string(b.diagnosis.status);
-    out.push_back(family_rows(p + "/decision_lines",
-                              "every harmonic the bearing decision scored on that spectrum",
-                              b.lines,
-                              {{{"expected_hz", "Hz"},
-                                {"found_hz", "Hz"},
-                                {"prominence_db", "dB"},
-                                {"family", ""},
-                                {"harmonic", ""},
-                                {"seen", ""}}},
-                              [](const BearingLine& l) {
-                                return std::array<double, 6>{l.expected_hz,
-                                                             l.found_hz,
-                                                             l.prominence_db,
-                                                             static_cast<double>(l.family),
-                                                             static_cast<double>(l.harmonic),
-                                                             l.seen ? 1.0 : 0.0};
-                              }));
+    out.push_back(family_rows(
+        p + "/decision_lines", "every harmonic the bearing decision scored on that spectrum",
+        b.lines, {{{"expected_hz", "Hz"}, {"found_hz", "Hz"}, {"prominence_db", "dB"}}}, "seen",
+        [](const BearingLine& l) {
+          return std::array<double, 4>{l.expected_hz, l.found_hz, l.prominence_db,
+                                       l.seen ? 1.0 : 0.0};
+        }));
   }
 }
 
