@@ -22,10 +22,6 @@ using diag::units::rad_to_deg;
 using nlohmann::json;
 namespace fg = sim::facegear;
 
-std::string indexed(const std::string& key, std::size_t i) {
-  return key + "[" + std::to_string(i) + "]";
-}
-
 // Kinematic datasets: what sim::simulate_kinematic needs (its defaults).
 constexpr double kDefaultStepRad = 0.001;  // KinematicOptions::step_rad
 constexpr double kStepsPerPulse = 24;      // auto step: the simulator requires >= 20
@@ -387,23 +383,9 @@ void load_mode_spec(DatasetSpec& s) {
     if (s.fs_hz > 1e6) f.fail("fs_hz", "must be <= 1e6 Hz");
     parse_face_gear_fields(f, top);
   }
-  if (!f.has("classes") || !f.raw("classes").is_array() || f.raw("classes").empty()) {
-    f.fail("classes", "required: a non-empty array of classes");
-  }
-  std::set<std::string> names;
-  for (std::size_t c = 0; c < f.raw("classes").size(); ++c) {
-    const diag::Fields cf(
-        f.raw("classes")[c], where, indexed("classes", c),
-        kin ? std::set<std::string>{"name", "recordings", "defects"}
-            : std::set<std::string>{"name", "recordings", "operating_points", "face_gear"});
-    DatasetClass cls;
-    cls.name = class_name(cf);
-    if (!names.insert(cls.name).second) cf.fail("name", "'" + cls.name + "' is used twice");
-    cls.recordings = per_class;
-    if (cf.has("recordings")) {
-      cls.recordings = cf.integer("recordings");
-      if (cls.recordings < 0) cf.fail("recordings", "must be >= 0");
-    }
+  const std::set<std::string> fields = kin ? std::set<std::string>{"defects"}
+                                           : std::set<std::string>{"operating_points", "face_gear"};
+  parse_classes(f, per_class, fields, s, [&](const diag::Fields& cf, DatasetClass& cls) {
     if (kin && cf.has("defects")) {
       if (!cf.raw("defects").is_array()) cf.fail("defects", "must be an array");
       for (std::size_t i = 0; i < cf.raw("defects").size(); ++i) {
@@ -415,12 +397,7 @@ void load_mode_spec(DatasetSpec& s) {
       cls.face_gear = top;
       parse_face_gear_fields(cf, cls.face_gear);
     }
-    s.max_faults = std::max(s.max_faults, cls.defects.size());
-    s.total += static_cast<std::size_t>(cls.recordings);
-    s.classes.push_back(std::move(cls));
-  }
-  if (s.total == 0) f.fail("classes", "no recordings to generate");
-  if (s.total > 100000000) f.fail("classes", "more than 1e8 recordings");
+  });
   if (kin) {
     check_kinematic(s);
   } else {

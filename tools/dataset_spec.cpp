@@ -19,15 +19,11 @@
 
 namespace geardiag {
 
-namespace {
-
 using nlohmann::json;
 
 std::string indexed(const std::string& key, std::size_t i) {
   return key + "[" + std::to_string(i) + "]";
 }
-
-}  // namespace
 
 // A number or [lo, hi] (lo <= hi), each within [min, max] (and > min when `open_min`).
 Range parse_range(const diag::Fields& f, const std::string& key, double min, double max,
@@ -83,6 +79,33 @@ std::string class_name(const diag::Fields& f) {
                   });
   if (!ok) f.fail("name", "'" + name + "' may hold only letters, digits, '_' and '-' (<= 64)");
   return name;
+}
+
+void parse_classes(const diag::Fields& f, int per_class, const std::set<std::string>& fields,
+                   DatasetSpec& s,
+                   const std::function<void(const diag::Fields&, DatasetClass&)>& parse_fields) {
+  if (!f.has("classes") || !f.raw("classes").is_array() || f.raw("classes").empty()) {
+    f.fail("classes", "required: a non-empty array of classes");
+  }
+  std::set<std::string> allowed = fields, names;
+  allowed.insert({"name", "recordings"});
+  for (std::size_t c = 0; c < f.raw("classes").size(); ++c) {
+    const diag::Fields cf(f.raw("classes")[c], f.where(), indexed("classes", c), allowed);
+    DatasetClass cls;
+    cls.name = class_name(cf);
+    if (!names.insert(cls.name).second) cf.fail("name", "'" + cls.name + "' is used twice");
+    cls.recordings = per_class;
+    if (cf.has("recordings")) {
+      cls.recordings = cf.integer("recordings");
+      if (cls.recordings < 0) cf.fail("recordings", "must be >= 0");
+    }
+    parse_fields(cf, cls);
+    s.max_faults = std::max({s.max_faults, cls.faults.size(), cls.defects.size()});
+    s.total += static_cast<std::size_t>(cls.recordings);
+    s.classes.push_back(std::move(cls));
+  }
+  if (s.total == 0) f.fail("classes", "no recordings to generate");
+  if (s.total > 100000000) f.fail("classes", "more than 1e8 recordings");
 }
 
 std::vector<std::string> parse_gearbox_paths(const diag::Fields& f) {
@@ -463,33 +486,13 @@ DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
     }
     sim::parse_scenario(s.scenario, where + ": scenario");
   }
-  if (!f.has("classes") || !f.raw("classes").is_array() || f.raw("classes").empty()) {
-    f.fail("classes", "required: a non-empty array of classes");
-  }
-  std::set<std::string> names;
-  for (std::size_t c = 0; c < f.raw("classes").size(); ++c) {
-    const diag::Fields cf(f.raw("classes")[c], where, indexed("classes", c),
-                          {"name", "recordings", "faults"});
-    DatasetClass cls;
-    cls.name = class_name(cf);
-    if (!names.insert(cls.name).second) cf.fail("name", "'" + cls.name + "' is used twice");
-    cls.recordings = per_class;
-    if (cf.has("recordings")) {
-      cls.recordings = cf.integer("recordings");
-      if (cls.recordings < 0) cf.fail("recordings", "must be >= 0");
+  parse_classes(f, per_class, {"faults"}, s, [&](const diag::Fields& cf, DatasetClass& cls) {
+    if (!cf.has("faults")) return;
+    if (!cf.raw("faults").is_array()) cf.fail("faults", "must be an array");
+    for (std::size_t i = 0; i < cf.raw("faults").size(); ++i) {
+      cls.faults.push_back(parse_fault(cf.raw("faults")[i], where, cf.sub(indexed("faults", i))));
     }
-    if (cf.has("faults")) {
-      if (!cf.raw("faults").is_array()) cf.fail("faults", "must be an array");
-      for (std::size_t i = 0; i < cf.raw("faults").size(); ++i) {
-        cls.faults.push_back(parse_fault(cf.raw("faults")[i], where, cf.sub(indexed("faults", i))));
-      }
-    }
-    s.max_faults = std::max(s.max_faults, cls.faults.size());
-    s.total += static_cast<std::size_t>(cls.recordings);
-    s.classes.push_back(std::move(cls));
-  }
-  if (s.total == 0) f.fail("classes", "no recordings to generate");
-  if (s.total > 100000000) f.fail("classes", "more than 1e8 recordings");
+  });
   check_sampling_rate(s);
   check_classes(s);
   warn_revolutions(s);

@@ -35,7 +35,9 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -219,6 +221,16 @@ IntRange parse_int_range(const diag::Fields& f, const std::string& key, int min,
 std::string class_name(const diag::Fields& f);
 std::vector<std::string> parse_gearbox_paths(const diag::Fields& f);
 std::string fnv1a64_hex(const std::string& text);
+// "key[i]", the path of an array element in errors.
+std::string indexed(const std::string& key, std::size_t i);
+
+// The spec's `classes` (every simulator's): a non-empty array of objects holding `name` (unique,
+// class_name), `recordings` (>= 0, default `per_class`) and the simulator's own `fields`, which
+// `parse_fields` reads into the class. Appends to s.classes and counts s.total and s.max_faults
+// (the most faults or defects of one class); refuses a spec with no recording or more than 1e8.
+void parse_classes(const diag::Fields& f, int per_class, const std::set<std::string>& fields,
+                   DatasetSpec& s,
+                   const std::function<void(const diag::Fields&, DatasetClass&)>& parse_fields);
 
 // Reads and checks a spec. Throws diag::InputError naming the file and field: unknown fields,
 // bad values, a fault on a gear no gearbox has, a tooth beyond a gear's teeth, a fault size the

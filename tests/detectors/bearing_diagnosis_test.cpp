@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "diag/error.hpp"
+#include "diag/gearbox/bearing_rates.hpp"
 
 namespace {
 
@@ -18,14 +19,7 @@ constexpr double kFsHz = 12000.0;
 constexpr double kShaftHz = 25.0;
 constexpr std::size_t kSamples = 1 << 16;  // 5.5 s: 0.18 Hz envelope-spectrum bins
 
-diag::BearingSpec skf6205() {
-  diag::BearingSpec b;
-  b.name = "de";
-  b.rolling_elements = 9;
-  b.pitch_diameter_m = 39.04e-3;
-  b.element_diameter_m = 7.94e-3;
-  return b;
-}
+diag::BearingSpec skf6205() { return diag::skf6205("de"); }
 
 diag::Signal noise_and_shaft_lines(unsigned seed) {
   diag::Signal s;

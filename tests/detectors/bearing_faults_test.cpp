@@ -10,6 +10,7 @@
 
 #include "detect/gear/fault_bands.hpp"
 #include "diag/error.hpp"
+#include "diag/gearbox/bearing_rates.hpp"
 
 namespace {
 
@@ -18,15 +19,7 @@ using detect::BearingFault;
 
 constexpr double kRoundOff = 1e-12;
 
-diag::BearingSpec cwru_6205() {
-  diag::BearingSpec b;
-  b.name = "SKF 6205-2RS JEM (CWRU drive end)";
-  b.rolling_elements = 9;
-  b.pitch_diameter_m = 39.04e-3;
-  b.element_diameter_m = 7.94e-3;
-  b.contact_angle_rad = 0.0;
-  return b;
-}
+diag::BearingSpec cwru_6205() { return diag::skf6205("SKF 6205-2RS JEM (CWRU drive end)"); }
 
 // ---- Fault frequencies
 // ------------------------------------------------------------------------------

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "detect/gear/bearing_diagnosis.hpp"
+#include "diag/gearbox/bearing_rates.hpp"
 #include "diag/io/import.hpp"
 
 namespace {
@@ -16,18 +17,7 @@ namespace fs = std::filesystem;
 
 fs::path data_dir() { return fs::path(GEARDIAG_SHARED_DATA_DIR) / "cwru-bearing"; }
 
-// Drive-end bearing SKF 6205-2RS JEM as the data centre gives it: 9 balls, pitch diameter
-// 1.537 in = 39.04 mm, ball diameter 0.3126 in = 7.94 mm, contact angle 0.
-diag::BearingSpec skf6205() {
-  diag::BearingSpec b;
-  b.name = "drive_end";
-  b.shaft = "motor";
-  b.rolling_elements = 9;
-  b.pitch_diameter_m = 39.04e-3;
-  b.element_diameter_m = 7.94e-3;
-  b.contact_angle_rad = 0.0;
-  return b;
-}
+diag::BearingSpec skf6205() { return diag::skf6205("drive_end", "motor"); }
 
 struct CwruRun {
   detect::BearingDiagnosis diagnosis;

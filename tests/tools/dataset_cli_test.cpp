@@ -16,21 +16,17 @@
 #include <vector>
 
 #include "cli_run.hpp"
+#include "dataset_files.hpp"
 #include "diag/io/hdf5.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using cli_test::run;
+using cli_test::slurp;
+using cli_test::write_text;
 
 fs::path scratch(const std::string& name) { return cli_test::scratch("dataset_cli", name); }
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // The tiny spec: the issue's minimal form at 0.2 s, the gearbox given relative to the spec's
 // folder, plus noise, pitch errors, runout and a class with two faults at once. `extra` adds
@@ -44,7 +40,7 @@ const char* const kClasses =
 fs::path write_spec(const std::string& name, int seed = 42, const std::string& extra = "",
                     const std::string& classes = kClasses) {
   const fs::path spec = scratch(name);
-  const fs::path gb = fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox/three_shaft.json";
+  const fs::path gb = cli_test::testdata_gearbox("three_shaft.json");
   std::ofstream(spec) << R"({"gearbox": ")" << fs::relative(gb, spec.parent_path()).string()
                       << R"(", "seed": )" << seed << R"(, "recordings_per_class": 2,
  "duration_s": 0.2, "fs_hz": 20000,
@@ -54,30 +50,14 @@ fs::path write_spec(const std::string& name, int seed = 42, const std::string& e
   return spec;
 }
 
-// Every file of a folder (relative name -> bytes), the lock file left out.
-std::map<std::string, std::string> files(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file() || e.path().filename() == ".lock") continue;
-    out[fs::relative(e.path(), dir).string()] = slurp(e.path());
-  }
-  return out;
-}
-
 // geardiag under `mpirun -np 2` (GEARDIAG_MPIRUN; the caller skips when it is empty). As root
 // OpenMPI needs --allow-run-as-root. Leak detection is off for it: OpenMPI's start-up leaks by
 // design, which LeakSanitizer would report in the sanitizer build.
 cli_test::Run run_mpi(const std::string& args) {
-  const std::string cmd = "ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " +
-                          std::string(GEARDIAG_MPIRUN) + " -np 2 --oversubscribe " +
-                          (::geteuid() == 0 ? "--allow-run-as-root " : "") + GEARDIAG_BINARY + " " +
-                          args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return cli_test::run_command("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " +
+                               std::string(GEARDIAG_MPIRUN) + " -np 2 --oversubscribe " +
+                               (::geteuid() == 0 ? "--allow-run-as-root " : "") + GEARDIAG_BINARY +
+                               " " + args + " 2>&1");
 }
 
 // A reference dataset made once with one thread.
@@ -93,7 +73,7 @@ const fs::path& reference() {
 }
 
 TEST(DatasetCli, ManifestTruthAndClassBalance) {
-  const auto ref = files(reference());
+  const auto ref = cli_test::folder_files(reference());
   // 6 recordings, dataset.json, manifest.csv, manifest.jsonl, summary.json.
   ASSERT_EQ(ref.size(), 10u);
   std::istringstream csv(ref.at("manifest.csv"));
@@ -136,12 +116,12 @@ TEST(DatasetCli, ManifestTruthAndClassBalance) {
 }
 
 TEST(DatasetCli, ByteIdenticalWhateverTheThreadsAndResumable) {
-  const auto ref = files(reference());
+  const auto ref = cli_test::folder_files(reference());
   const fs::path spec = write_spec("spec.json");
   const fs::path two = scratch("two_threads");
   auto r = run("dataset " + spec.string() + " -o " + two.string() + " --jobs 2");
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(files(two), ref);
+  EXPECT_EQ(cli_test::folder_files(two), ref);
   // Two recordings and the manifest deleted, a temporary file of a killed run left: the same
   // command regenerates exactly what was there.
   fs::remove(two / "recordings/000001-healthy.h5");
@@ -151,11 +131,11 @@ TEST(DatasetCli, ByteIdenticalWhateverTheThreadsAndResumable) {
   r = run("dataset " + spec.string() + " -o " + two.string() + " --jobs 2");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("resuming: 4 of 6"), std::string::npos) << r.out;
-  EXPECT_EQ(files(two), ref);
+  EXPECT_EQ(cli_test::folder_files(two), ref);
 }
 
 TEST(DatasetCli, KilledRunLeavesOnlyCompleteFilesAndResumes) {
-  const auto ref = files(reference());
+  const auto ref = cli_test::folder_files(reference());
   const fs::path spec = write_spec("spec.json");
   const fs::path dir = scratch("killed");
   // SIGKILL part-way (wherever it lands: the assertions hold for any moment).
@@ -172,16 +152,16 @@ TEST(DatasetCli, KilledRunLeavesOnlyCompleteFilesAndResumes) {
   }
   const auto r = run("dataset " + spec.string() + " -o " + dir.string());
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(files(dir), ref);
+  EXPECT_EQ(cli_test::folder_files(dir), ref);
 }
 
 TEST(DatasetCli, FolderOfAnotherSpecIsRefused) {
-  const auto before = files(reference());
+  const auto before = cli_test::folder_files(reference());
   const auto r =
       run("dataset " + write_spec("spec43.json", 43).string() + " -o " + reference().string());
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("different spec"), std::string::npos) << r.out;
-  EXPECT_EQ(files(reference()), before);
+  EXPECT_EQ(cli_test::folder_files(reference()), before);
   // A non-empty folder that is not a dataset is refused too.
   const fs::path other = scratch("not_a_dataset");
   fs::create_directories(other);
@@ -217,8 +197,7 @@ TEST(DatasetCli, BadSpecsExit2NamingTheFieldBeforeWriting) {
     for (const char* key : {"\"recordings_per_class\"", "\"fs_hz\""}) {
       if (c.extra.find(key) != std::string::npos) text.replace(text.find(key), 1, "\"_");
     }
-    const fs::path spec = scratch("bad" + std::to_string(i) + ".json");
-    std::ofstream(spec) << text;
+    const fs::path spec = write_text(scratch("bad" + std::to_string(i) + ".json"), text);
     const fs::path out = scratch("bad_out" + std::to_string(i++));
     const auto r = run("dataset " + spec.string() + " -o " + out.string());
     EXPECT_EQ(r.code, 2) << r.out;
@@ -230,11 +209,11 @@ TEST(DatasetCli, BadSpecsExit2NamingTheFieldBeforeWriting) {
 TEST(DatasetCli, MpiTwoRanksGiveTheSingleProcessBytes) {
   const std::string mpirun = GEARDIAG_MPIRUN;
   if (mpirun.empty()) GTEST_SKIP() << "geardiag built without MPI";
-  const auto ref = files(reference());
+  const auto ref = cli_test::folder_files(reference());
   const fs::path dir = scratch("mpi");
   const auto r = run_mpi("dataset " + write_spec("spec.json").string() + " -o " + dir.string());
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(files(dir), ref);
+  EXPECT_EQ(cli_test::folder_files(dir), ref);
 }
 
 }  // namespace

@@ -15,48 +15,24 @@
 #include <vector>
 
 #include "cli_run.hpp"
+#include "dataset_files.hpp"
 #include "diag/io/hdf5.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using cli_test::run;
+using cli_test::slurp;
 using nlohmann::json;
 
 fs::path scratch(const std::string& name) { return cli_test::scratch("dataset_modes_cli", name); }
 
-std::string gearbox(const std::string& name) {
-  return (fs::path(GEARDIAG_TESTDATA_DIR) / "gearbox" / name).string();
-}
-
+// A spec (or gearbox) file in the scratch folder.
 fs::path write(const std::string& name, const std::string& text) {
-  const fs::path p = scratch(name);
-  std::ofstream(p) << text;
-  return p;
+  return cli_test::write_text(scratch(name), text);
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-std::map<std::string, std::string> files(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (!e.is_regular_file() || e.path().filename() == ".lock") continue;
-    out[fs::relative(e.path(), dir).string()] = slurp(e.path());
-  }
-  return out;
-}
-
-std::vector<json> manifest(const fs::path& dir) {
-  std::vector<json> rows;
-  std::ifstream in(dir / "manifest.jsonl");
-  for (std::string line; std::getline(in, line);) rows.push_back(json::parse(line));
-  return rows;
-}
+std::string gearbox(const std::string& name) { return cli_test::testdata_gearbox(name).string(); }
 
 // The seed-003 rig of the attribution closed loop (runout 0.05 deg, mesh TE 0.005 deg, noise
 // 0.002 deg, 16-bit encoders) on two gearboxes, one with non-integer ratios; defects of 0.3-1 deg
@@ -83,8 +59,9 @@ TEST(DatasetModesCli, KinematicClassesCarryTheirDefectTruthAndAreAttributed) {
   ASSERT_EQ(r.code, 0) << r.out;
   r = run("dataset " + spec.string() + " -o " + two.string() + " --jobs 2");
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(files(one), files(two));  // recording k depends on (seed, k) only
-  const std::vector<json> rows = manifest(one);
+  EXPECT_EQ(cli_test::folder_files(one),
+            cli_test::folder_files(two));  // recording k depends on (seed, k) only
+  const std::vector<json> rows = cli_test::manifest_rows(one);
   ASSERT_EQ(rows.size(), 3u);
   for (const json& row : rows) {
     EXPECT_EQ(row["simulator"], "kinematic");
@@ -134,8 +111,8 @@ TEST(DatasetModesCli, FaceGearClassesRecordTheDteAndTheirDynamicOutcome) {
   ASSERT_EQ(r.code, 0) << r.out;
   r = run("dataset " + spec.string() + " -o " + two.string() + " --jobs 2");
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(files(one), files(two));
-  const std::vector<json> rows = manifest(one);
+  EXPECT_EQ(cli_test::folder_files(one), cli_test::folder_files(two));
+  const std::vector<json> rows = cli_test::manifest_rows(one);
   ASSERT_EQ(rows.size(), 2u);
   for (const json& row : rows) {
     EXPECT_EQ(row["simulator"], "face_gear");
@@ -237,7 +214,7 @@ TEST(DatasetModesCli, SensorSetsKeepTheirChannelsOnly) {
   auto r = run("dataset " + spec.string() + " -o " + dir.string());
   ASSERT_EQ(r.code, 0) << r.out;
   std::set<std::string> drawn;
-  for (const json& row : manifest(dir)) {
+  for (const json& row : cli_test::manifest_rows(dir)) {
     const std::string set = row["sensor_set"];
     drawn.insert(set);
     const diag::RecordingReader reader(dir / row["file"].get<std::string>());

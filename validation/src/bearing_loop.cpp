@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/gearbox/bearing_rates.hpp"
 #include "diag/units.hpp"
 
 namespace validate {
@@ -16,17 +17,7 @@ namespace {
 constexpr const char* kWhere = "bearing loop";
 constexpr double kInterference = 2.0;  // shaft-order and mesh amplitude, in units of A
 
-// The CWRU drive-end bearing, SKF 6205-2RS JEM.
-diag::BearingSpec skf6205() {
-  diag::BearingSpec b;
-  b.name = "drive_end";
-  b.shaft = "input";
-  b.rolling_elements = 9;
-  b.pitch_diameter_m = 39.04e-3;
-  b.element_diameter_m = 7.94e-3;
-  b.contact_angle_rad = 0.0;
-  return b;
-}
+diag::BearingSpec skf6205() { return diag::skf6205("drive_end", "input"); }
 
 // What the detector said, in the loop's terms.
 std::string answer_of(const detect::BearingDiagnosis& d) {

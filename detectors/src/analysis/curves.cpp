@@ -1,6 +1,7 @@
 // analysis_curves (curves.hpp): the report's traces as named columns with units.
 #include "detect/analysis/curves.hpp"
 
+#include <array>
 #include <utility>
 
 namespace detect {
@@ -18,29 +19,50 @@ diag::DataGroup trace_group(std::string path, std::string description, const Plo
   return g;
 }
 
+// One row per fault band or scored line of a bearing (Item: FaultBand, BearingLine): three
+// leading columns (name, unit) and a last unit-free one read from each item by `row`, between
+// them the item's family and harmonic; the items' labels joined by ';' (text "labels") and the
+// legend of the family column (text "families").
+template <class Item, class Row>
+diag::DataGroup family_rows(std::string path, std::string description,
+                            const std::vector<Item>& items,
+                            const std::array<std::pair<const char*, const char*>, 3>& leading,
+                            const char* last, Row row) {
+  diag::DataGroup g;
+  g.path = std::move(path);
+  g.description = std::move(description);
+  std::array<std::vector<double>, 6> values;
+  std::string labels;
+  for (const Item& item : items) {
+    const std::array<double, 4> r = row(item);
+    const std::array<double, 6> all = {
+        r[0], r[1], r[2], static_cast<double>(item.family), static_cast<double>(item.harmonic),
+        r[3]};
+    for (std::size_t k = 0; k < all.size(); ++k) values[k].push_back(all[k]);
+    labels += (labels.empty() ? "" : ";") + item.label;
+  }
+  for (std::size_t k = 0; k < leading.size(); ++k) {
+    g.columns.push_back({leading[k].first, leading[k].second, std::move(values[k])});
+  }
+  g.columns.push_back({"family", "", std::move(values[3])});
+  g.columns.push_back({"harmonic", "", std::move(values[4])});
+  g.columns.push_back({last, "", std::move(values[5])});
+  g.texts = {{"labels", labels}, {"families", "0 FTF;1 BPFO;2 BPFI;3 BALL (2 BSF)"}};
+  return g;
+}
+
 void bearing_groups(const std::string& prefix, const ChannelAnalysis& c,
                     std::vector<diag::DataGroup>& out) {
   for (const BearingAnalysis& b : c.bearings) {
-    diag::DataGroup g;
-    g.path = prefix + "/bearings/" + b.bearing + "/fault_bands";
-    g.description = "fault bands of bearing " + b.bearing +
-                    " drawn on the envelope spectrum (families FTF, BPFO, BPFI, 2 BSF)";
-    std::vector<double> centre, low, high, family, harmonic, sideband;
-    std::string labels;
-    for (const FaultBand& fb : b.bands) {
-      centre.push_back(fb.centre_hz);
-      low.push_back(fb.low_hz);
-      high.push_back(fb.high_hz);
-      family.push_back(fb.family);
-      harmonic.push_back(fb.harmonic);
-      sideband.push_back(fb.sideband);
-      labels += (labels.empty() ? "" : ";") + fb.label;
-    }
-    g.columns = {{"centre_hz", "Hz", centre}, {"low_hz", "Hz", low},
-                 {"high_hz", "Hz", high},     {"family", "", family},
-                 {"harmonic", "", harmonic},  {"sideband", "", sideband}};
-    g.texts["labels"] = labels;
-    g.texts["families"] = "0 FTF;1 BPFO;2 BPFI;3 BALL (2 BSF)";
+    diag::DataGroup g =
+        family_rows(prefix + "/bearings/" + b.bearing + "/fault_bands",
+                    "fault bands of bearing " + b.bearing +
+                        " drawn on the envelope spectrum (families FTF, BPFO, BPFI, 2 BSF)",
+                    b.bands, {{{"centre_hz", "Hz"}, {"low_hz", "Hz"}, {"high_hz", "Hz"}}},
+                    "sideband", [](const FaultBand& fb) {
+                      return std::array<double, 4>{fb.centre_hz, fb.low_hz, fb.high_hz,
+                                                   static_cast<double>(fb.sideband)};
+                    });
     const BearingFrequencies& f = b.frequencies;
     g.numbers = {{"shaft_hz", f.shaft_hz}, {"ftf_hz", f.ftf_hz},
                  {"bpfo_hz", f.bpfo_hz},   {"bpfi_hz", f.bpfi_hz},
@@ -88,25 +110,13 @@ void decision_groups(const std::string& prefix, const ChannelAnalysis& c,
     out.back().texts["status"] = b.diagnosis.status == BearingDecisionStatus::kFault
                                      ? finding_name(b.diagnosis.fault)
                                      : to_string(b.diagnosis.status);
-    diag::DataGroup g;
-    g.path = p + "/decision_lines";
-    g.description = "every harmonic the bearing decision scored on that spectrum";
-    std::vector<double> expected, found, prominence, family, harmonic, seen;
-    std::string labels;
-    for (const BearingLine& l : b.lines) {
-      expected.push_back(l.expected_hz);
-      found.push_back(l.found_hz);
-      prominence.push_back(l.prominence_db);
-      family.push_back(l.family);
-      harmonic.push_back(l.harmonic);
-      seen.push_back(l.seen ? 1 : 0);
-      labels += (labels.empty() ? "" : ";") + l.label;
-    }
-    g.columns = {{"expected_hz", "Hz", expected},     {"found_hz", "Hz", found},
-                 {"prominence_db", "dB", prominence}, {"family", "", family},
-                 {"harmonic", "", harmonic},          {"seen", "", seen}};
-    g.texts = {{"labels", labels}, {"families", "0 FTF;1 BPFO;2 BPFI;3 BALL (2 BSF)"}};
-    out.push_back(std::move(g));
+    out.push_back(family_rows(
+        p + "/decision_lines", "every harmonic the bearing decision scored on that spectrum",
+        b.lines, {{{"expected_hz", "Hz"}, {"found_hz", "Hz"}, {"prominence_db", "dB"}}}, "seen",
+        [](const BearingLine& l) {
+          return std::array<double, 4>{l.expected_hz, l.found_hz, l.prominence_db,
+                                       l.seen ? 1.0 : 0.0};
+        }));
   }
 }
 

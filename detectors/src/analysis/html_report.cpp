@@ -72,8 +72,9 @@ std::string fault_name(const Finding& f) {
   return f.bearing.empty() ? "" : std::string(diag::to_string(f.fault));
 }
 
-// One line of evidence for a finding.
-std::string finding_line(const Finding& f) {
+// One line of evidence for a finding; `channel` is the link to (or the label of) the channel that
+// shows it best.
+std::string finding_line(const Finding& f, const std::string& channel) {
   std::string gears;
   for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
   std::string what = f.kind == "bearing"       ? "bearing " + f.bearing + ": " + fault_name(f)
@@ -82,10 +83,7 @@ std::string finding_line(const Finding& f) {
   if (!gears.empty() && f.kind != "bearing") what += " (" + gears + ")";
   std::string line = "<b>" + html_escape(what) + "</b>, confidence " + f3(f.confidence);
   if (std::isfinite(f.frequency_hz)) line += ", at " + f3(f.frequency_hz) + " Hz";
-  if (!f.channel.empty()) {
-    line += ", best seen on <a href=\"#" + anchor("ch-", f.channel) + "\">" +
-            html_escape(f.channel) + "</a>";
-  }
+  if (!f.channel.empty()) line += ", best seen on " + channel;
   if (!f.note.empty()) line += ". " + html_escape(f.note);
   return line;
 }
@@ -374,8 +372,8 @@ std::string decision_envelope_html(const ChannelAnalysis& c, const PlotOptions& 
   return o.str();
 }
 
-// What a channel is, for people: "drive end accelerometer (X105_DE_time)", from its role, unit,
-// location and direction (the channel contract, diag/io/channels.hpp), never from its name.
+}  // namespace
+
 std::string channel_label(const ChannelAnalysis& c) {
   std::string kind;
   if (c.role == diag::Role::kVibration) {
@@ -397,7 +395,12 @@ std::string channel_label(const ChannelAnalysis& c) {
   return label + " (" + c.name + ")";
 }
 
-}  // namespace
+std::string channel_label(const AnalysisResult& r, const std::string& name) {
+  for (const ChannelAnalysis& c : r.channels) {
+    if (c.name == name) return channel_label(c);
+  }
+  return name;
+}
 
 void HtmlReportOptions::validate() const {
   if (max_channel_sections < 0) {
@@ -420,13 +423,13 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       plotted.push_back(&c);
     }
   }
+  // A channel as the reports name it (channel_label), linked to its section when it has one.
   const auto channel_link = [&](const std::string& name) {
+    const std::string label = html_escape(channel_label(r, name));
     for (const ChannelAnalysis* c : plotted) {
-      if (c->name == name) {
-        return "<a href=\"#" + anchor("ch-", name) + "\">" + html_escape(name) + "</a>";
-      }
+      if (c->name == name) return "<a href=\"#" + anchor("ch-", name) + "\">" + label + "</a>";
     }
-    return html_escape(name);
+    return label;
   };
   const bool alarm = r.baseline && r.baseline->alarm;
   bool uncertain = false;
@@ -469,7 +472,9 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       }
       o << " (<a href=\"#baseline\">baseline</a>)</li>";
     }
-    for (const auto& f : r.findings) o << "<li>" << finding_line(f) << "</li>";
+    for (const auto& f : r.findings) {
+      o << "<li>" << finding_line(f, channel_link(f.channel)) << "</li>";
+    }
     o << "</ol>\n";
   }
   if (r.baseline && !alarm) {
@@ -603,7 +608,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         << html_escape(t.mesh) << "</td><td>" << f3(t.comparison.mesh_hz) << "</td><td>"
         << f3(t.comparison.along_energy) << "</td><td>" << f3(t.comparison.normal_energy)
         << "</td><td><b>" << f3(t.comparison.normal_to_along_db) << "</b></td><td class=l>"
-        << html_escape(t.along_channel) << " / " << html_escape(t.normal_channel) << "</td></tr>";
+        << channel_link(t.along_channel) << " / " << channel_link(t.normal_channel) << "</td></tr>";
     }
     o << "</table>\n";
   }
@@ -630,7 +635,7 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
       << ". Baseline: " << b.recordings.size() << " recordings, " << b.samples
       << " samples; channels compared: ";
     for (std::size_t k = 0; k < b.channels.size(); ++k)
-      o << (k ? ", " : "") << html_escape(b.channels[k]);
+      o << (k ? ", " : "") << channel_link(b.channels[k]);
     o << ".</p>\n";
     for (const auto& n : b.notes) o << "<p class=note>" << html_escape(n) << "</p>\n";
     o << "<p class=note>z = (value &minus; baseline median) / robust spread (1.4826 MAD, at "

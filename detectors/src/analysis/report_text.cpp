@@ -10,6 +10,11 @@ using analysis_stages::fmt;
 using analysis_stages::joined;
 
 std::string format_summary(const AnalysisResult& r) {
+  const auto labels = [&](const std::vector<std::string>& names) {
+    std::vector<std::string> out;
+    for (const std::string& n : names) out.push_back(channel_label(r, n));
+    return joined(out);
+  };
   std::ostringstream o;
   o << "recording: " << r.channels.size() << " channels, " << fmt(r.duration_s, 6) << " s";
   if (!r.gearbox_name.empty()) o << ", gearbox " << r.gearbox_name;
@@ -31,9 +36,9 @@ std::string format_summary(const AnalysisResult& r) {
   }
   o << "channels:\n";
   for (const auto& c : r.channels) {
-    o << "  " << c.name << " [" << (c.unit.empty() ? "-" : c.unit) << "] rms " << fmt(c.time.rms)
-      << " peak " << fmt(c.time.peak) << " crest " << fmt(c.time.crest_factor) << " kurtosis "
-      << fmt(c.time.kurtosis);
+    o << "  " << channel_label(c) << " [" << (c.unit.empty() ? "-" : c.unit) << "] rms "
+      << fmt(c.time.rms) << " peak " << fmt(c.time.peak) << " crest " << fmt(c.time.crest_factor)
+      << " kurtosis " << fmt(c.time.kurtosis);
     if (c.vibration && !c.spectrum_peaks.empty()) {
       o << "; top line " << fmt(c.spectrum_peaks.front().frequency_hz, 6) << " Hz";
     }
@@ -43,7 +48,8 @@ std::string format_summary(const AnalysisResult& r) {
     o << "two directions (normal / along at the mesh harmonics):\n";
     for (const auto& t : r.two_direction) {
       o << "  " << t.location << " mesh " << t.mesh << ": " << fmt(t.comparison.normal_to_along_db)
-        << " dB\n";
+        << " dB (" << channel_label(r, t.along_channel) << " / "
+        << channel_label(r, t.normal_channel) << ")\n";
     }
   }
   if (r.gear_damage) {
@@ -56,7 +62,7 @@ std::string format_summary(const AnalysisResult& r) {
         continue;
       }
       o << "score " << fmt(s.score) << ", SNR " << fmt(s.snr) << ", level " << fmt(s.level)
-        << " on " << s.channel << " (" << s.revolutions << " revolutions)"
+        << " on " << channel_label(r, s.channel) << " (" << s.revolutions << " revolutions)"
         << (s.damaged     ? ": DAMAGED"
             : s.uncertain ? ": uncertain"
                           : "")
@@ -69,7 +75,8 @@ std::string format_summary(const AnalysisResult& r) {
   for (const auto& f : r.findings) {
     o << "  [" << fmt(f.confidence, 2) << "] " << f.kind << ": "
       << (f.bearing.empty() ? f.shaft : f.bearing + " " + std::string(diag::to_string(f.fault)))
-      << " - " << f.note << "\n";
+      << (f.channel.empty() ? "" : ", best seen on " + channel_label(r, f.channel)) << " - "
+      << f.note << "\n";
   }
   if (r.baseline) {
     o << "anomaly score " << fmt(r.baseline->anomaly_score) << " (threshold "
@@ -77,7 +84,7 @@ std::string format_summary(const AnalysisResult& r) {
     const auto& ch = r.baseline->channels;
     o << "  against " << r.baseline->recordings.size() << " baseline recordings ("
       << r.baseline->samples << " samples), "
-      << (ch.size() <= 6 ? "channels " + joined(ch) : std::to_string(ch.size()) + " channels")
+      << (ch.size() <= 6 ? "channels " + labels(ch) : std::to_string(ch.size()) + " channels")
       << "\n";
     for (std::size_t k = 0; k < std::min<std::size_t>(3, r.baseline->deviations.size()); ++k) {
       const auto& d = r.baseline->deviations[k];

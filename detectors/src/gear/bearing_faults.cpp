@@ -1,41 +1,9 @@
 #include "detect/gear/bearing_faults.hpp"
 
-#include <cmath>
-#include <numbers>
-#include <sstream>
-#include <string>
-
-#include "diag/error.hpp"
-
 namespace detect {
 
 BearingFrequencies bearing_frequencies(const diag::BearingSpec& b, double shaft_hz) {
-  auto fail = [&](const std::string& field, double value, const std::string& range) {
-    std::ostringstream os;
-    os << value << " (valid " << range << ")";
-    throw diag::InputError(diag::format_error(
-        "bearing_frequencies" + (b.name.empty() ? std::string() : " '" + b.name + "'"), field,
-        os.str()));
-  };
-  if (b.rolling_elements < 3) fail("rolling_elements", b.rolling_elements, ">= 3");
-  if (!(b.pitch_diameter_m > 0) || !std::isfinite(b.pitch_diameter_m))
-    fail("pitch_diameter_m", b.pitch_diameter_m, "> 0");
-  if (!(b.element_diameter_m > 0 && b.element_diameter_m < b.pitch_diameter_m))
-    fail("element_diameter_m", b.element_diameter_m, "0 < B_d < pitch_diameter_m");
-  if (!(b.contact_angle_rad >= 0 && b.contact_angle_rad < std::numbers::pi / 2))
-    fail("contact_angle_rad", b.contact_angle_rad, "[0, pi/2)");
-  if (!(shaft_hz > 0) || !std::isfinite(shaft_hz)) fail("shaft_hz", shaft_hz, "> 0");
-
-  const double rho = b.element_diameter_m / b.pitch_diameter_m * std::cos(b.contact_angle_rad);
-  const double n = b.rolling_elements;
-  BearingFrequencies f;
-  f.shaft_hz = shaft_hz;
-  f.ftf_hz = 0.5 * shaft_hz * (1.0 - rho);
-  f.bpfo_hz = n * f.ftf_hz;
-  f.bpfi_hz = 0.5 * n * shaft_hz * (1.0 + rho);
-  f.bsf_hz = 0.5 * shaft_hz * b.pitch_diameter_m / b.element_diameter_m * (1.0 - rho * rho);
-  f.ball_fault_hz = 2.0 * f.bsf_hz;
-  return f;
+  return diag::bearing_rates(b, shaft_hz, "bearing_frequencies");
 }
 
 }  // namespace detect

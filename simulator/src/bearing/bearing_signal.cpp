@@ -76,34 +76,6 @@ diag::FaultKind fault_kind(BearingFaultKind k) {
 
 const char* to_string(BearingFaultKind k) { return diag::to_string(fault_kind(k)).data(); }
 
-BearingRates bearing_rates(const diag::BearingSpec& b, double shaft_hz) {
-  require(b.rolling_elements >= 3, "rolling_elements", "must be >= 3");
-  require(b.pitch_diameter_m > 0 && std::isfinite(b.pitch_diameter_m), "pitch_diameter_m",
-          "must be finite and > 0");
-  require(b.element_diameter_m > 0 && b.element_diameter_m < b.pitch_diameter_m,
-          "element_diameter_m", "must be in (0, pitch_diameter_m)");
-  require(b.contact_angle_rad >= 0 && b.contact_angle_rad < kTwoPi / 4, "contact_angle_rad",
-          "must be in [0, pi/2)");
-  require(shaft_hz > 0 && std::isfinite(shaft_hz), "shaft_hz", "must be finite and > 0");
-  // Rolling without sliding: the ball's centre moves at the mean of the race surface speeds at
-  // the contacts (outer 0, inner w_r (P_d - B_d cos phi) / 2), so the cage turns at
-  // f_r (1 - rho) / 2; the ball's surface speed at the inner contact equals the inner race's
-  // speed relative to the cage, which gives its spin f_s.
-  const double rho = b.element_diameter_m / b.pitch_diameter_m * std::cos(b.contact_angle_rad);
-  BearingRates r;
-  r.shaft_hz = shaft_hz;
-  r.cage_hz = 0.5 * shaft_hz * (1 - rho);
-  r.bpfo_hz = b.rolling_elements * r.cage_hz;
-  r.bpfi_hz = b.rolling_elements * (shaft_hz - r.cage_hz);
-  const double inner_relative_hz = shaft_hz - r.cage_hz;  // inner race seen from the cage
-  const double inner_radius_over_ball =
-      (b.pitch_diameter_m - b.element_diameter_m * std::cos(b.contact_angle_rad)) /
-      b.element_diameter_m;
-  r.spin_hz = inner_relative_hz * inner_radius_over_ball;
-  r.ball_fault_hz = 2 * r.spin_hz;
-  return r;
-}
-
 void BearingSignalOptions::validate() const {
   require(std::isfinite(fs_hz) && fs_hz > 0, "fs_hz", "must be finite and > 0");
   require(duration_s > 0 && duration_s <= 600, "duration_s", "must be in (0, 600]");
@@ -133,7 +105,7 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
                                       const BearingSignalOptions& opt) {
   opt.validate();
   BearingSignal out;
-  out.rates = bearing_rates(bearing, opt.shaft_hz);
+  out.rates = diag::bearing_rates(bearing, opt.shaft_hz, kWhere);
   const BearingRates& r = out.rates;
   const double fs = opt.fs_hz;
   const auto n = static_cast<std::size_t>(std::llround(opt.duration_s * fs));
@@ -169,7 +141,7 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
       break;
     }
     case BearingFaultKind::kRollingElement: {
-      const double fc = r.cage_hz * slip;
+      const double fc = r.ftf_hz * slip;
       std::bernoulli_distribution in_track(opt.ball_track_probability);
       std::vector<char> track;  // per cage revolution
       const auto revs = static_cast<std::size_t>(std::ceil(opt.duration_s * fc)) + 2;
@@ -193,7 +165,7 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
       // white-noise force), modulated by the pocket's load. Equivalent to filtering modulated
       // white noise through h; done as a recursive two-pole resonator for speed.
       std::normal_distribution<double> g(0.0, 1.0);
-      const double fc = r.cage_hz * slip;
+      const double fc = r.ftf_hz * slip;
       const double rr = std::exp(-zeta * wn / fs);
       const double wd = wn * std::sqrt(1 - zeta * zeta) / fs;
       const double c1 = 2 * rr * std::cos(wd), c2 = -rr * rr;
@@ -251,10 +223,10 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
   truth.extra = {{"bearing", bearing.name},
                  {"rates",
                   {{"shaft_hz", r.shaft_hz},
-                   {"cage_hz", r.cage_hz},
+                   {"cage_hz", r.ftf_hz},
                    {"bpfo_hz", r.bpfo_hz},
                    {"bpfi_hz", r.bpfi_hz},
-                   {"spin_hz", r.spin_hz},
+                   {"spin_hz", r.bsf_hz},
                    {"ball_fault_hz", r.ball_fault_hz}}},
                  {"impacts", out.impacts},
                  {"fault_rms", out.fault_rms},

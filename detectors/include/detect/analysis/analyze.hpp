@@ -365,6 +365,13 @@ nlohmann::json to_json(const AnalysisResult& r);
 // A readable multi-line summary for the terminal.
 std::string format_summary(const AnalysisResult& r);
 
+// What a channel is, for people, wherever a report names a channel (html_report.cpp,
+// report_text.cpp): "drive end accelerometer (X105_DE_time)", from its role, unit, location and
+// direction (the channel contract, diag/io/channels.hpp), never parsed from its name. By name: the
+// label of that channel of r, the name itself when r has no such channel.
+std::string channel_label(const ChannelAnalysis& c);
+std::string channel_label(const AnalysisResult& r, const std::string& name);
+
 // SpectralPeak-hold decimation for plotting. kMinMax (waveforms): at most max_points / 2 buckets,
 // each bucket's min and max kept in x order; kMax (spectra): max_points buckets, each bucket's max,
 // so that narrow lines survive and a dB plot does not fill down to the floor. max_points >= 4.

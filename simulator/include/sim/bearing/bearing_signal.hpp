@@ -62,6 +62,7 @@
 #include <string>
 
 #include "diag/faults/fault_kind.hpp"
+#include "diag/gearbox/bearing_rates.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/recording.hpp"
 
@@ -79,19 +80,9 @@ enum class BearingFaultKind {
 diag::FaultKind fault_kind(BearingFaultKind k);
 const char* to_string(BearingFaultKind k);
 
-// The contact rates of the model above [Hz], derived from the geometry independently of the
-// detectors' bearing_frequencies (tests/simulator/bearing_signal_test.cpp compares the two).
-struct BearingRates {
-  double shaft_hz = 0;       // f_r
-  double cage_hz = 0;        // f_c (FTF)
-  double bpfo_hz = 0;        // n f_c
-  double bpfi_hz = 0;        // n (f_r - f_c)
-  double spin_hz = 0;        // f_s, the ball's spin relative to the cage
-  double ball_fault_hz = 0;  // 2 f_s: strikes per second of a ball spall (CWRU's "BSF")
-};
-// Throws diag::InputError naming the field when the geometry is outside BearingSpec's ranges or
-// shaft_hz is not finite and > 0.
-BearingRates bearing_rates(const diag::BearingSpec& bearing, double shaft_hz);
+// The contact rates of the model above [Hz]: diag::bearing_rates (FTF, BPFO, BPFI, BSF, 2 BSF),
+// the implementation the detectors use too.
+using BearingRates = diag::BearingRates;
 
 struct BearingSignalOptions {
   double fs_hz = 12000.0;   // sampling rate [Hz], finite, > 0 (and > resonance_hz / 0.45)
