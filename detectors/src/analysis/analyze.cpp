@@ -100,15 +100,23 @@ PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y
   t.y.reserve(2 * buckets);
   for (std::size_t b = 0; b < buckets; ++b) {
     const std::size_t i0 = b * x.size() / buckets, i1 = (b + 1) * x.size() / buckets;
+    if (max_only) {  // the first largest value of the bucket
+      std::size_t hi = i0;
+      double top = y[i0];
+      for (std::size_t i = i0 + 1; i < i1; ++i) {
+        if (y[i] > top) {
+          top = y[i];
+          hi = i;
+        }
+      }
+      t.x.push_back(x[hi]);
+      t.y.push_back(top);
+      continue;
+    }
     std::size_t lo = i0, hi = i0;
     for (std::size_t i = i0; i < i1; ++i) {
       if (y[i] < y[lo]) lo = i;
       if (y[i] > y[hi]) hi = i;
-    }
-    if (max_only) {
-      t.x.push_back(x[hi]);
-      t.y.push_back(y[hi]);
-      continue;
     }
     const std::size_t a = std::min(lo, hi), c = std::max(lo, hi);
     t.x.push_back(x[a]);
