@@ -113,10 +113,18 @@ PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y
       t.y.push_back(top);
       continue;
     }
-    std::size_t lo = i0, hi = i0;
-    for (std::size_t i = i0; i < i1; ++i) {
-      if (y[i] < y[lo]) lo = i;
-      if (y[i] > y[hi]) hi = i;
+    std::size_t lo = i0, hi = i0;  // the first smallest and the first largest value
+    double low = y[i0], top = y[i0];
+    for (std::size_t i = i0 + 1; i < i1; ++i) {
+      const double v = y[i];
+      if (v < low) {
+        low = v;
+        lo = i;
+      }
+      if (v > top) {
+        top = v;
+        hi = i;
+      }
     }
     const std::size_t a = std::min(lo, hi), c = std::max(lo, hi);
     t.x.push_back(x[a]);

@@ -34,20 +34,26 @@ Spectrum amplitude_spectrum(std::span<const double> x, const SpectrumOptions& op
   if (nfft < n)
     fail("nfft", std::to_string(nfft) + " is shorter than the record (" + std::to_string(n) +
                      " samples); 0 or >= the record length");
-  double mean = 0.0;
-  for (std::size_t j = 0; j < n; ++j) {
-    if (!std::isfinite(x[j])) fail("x", "sample " + std::to_string(j) + " is not finite");
-    mean += x[j];
+  // The sum with four partial sums (no dependency chain); the samples are checked one by one
+  // only when the sum is not finite (a non-finite sample makes it so).
+  double part[4] = {0, 0, 0, 0};
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    for (std::size_t q = 0; q < 4; ++q) part[q] += x[i + q];
   }
-  mean = options.remove_mean ? mean / static_cast<double>(n) : 0.0;
+  for (; i < n; ++i) part[0] += x[i];
+  const double total = (part[0] + part[1]) + (part[2] + part[3]);
+  if (!std::isfinite(total)) {
+    for (i = 0; i < n; ++i) {
+      if (!std::isfinite(x[i])) fail("x", "sample " + std::to_string(i) + " is not finite");
+    }
+    if (options.remove_mean) fail("x", "the sum of the samples overflows (no finite mean)");
+  }
+  const double mean = options.remove_mean ? total / static_cast<double>(n) : 0.0;
 
-  const std::shared_ptr<const std::vector<double>> window = shared_window(options.window, n);
-  const std::vector<double>& w = *window;
-  double wsum = 0.0, wsum2 = 0.0;
-  for (double v : w) {
-    wsum += v;
-    wsum2 += v * v;
-  }
+  const SharedWindow window = shared_window_sums(options.window, n);
+  const std::vector<double>& w = *window.values;
+  const double wsum = window.sum, wsum2 = window.sum_sq;
   // The windowed record goes straight into the transform's own buffer (no zero-initialised
   // copy): samples, then the zero padding.
   RealFft fft(nfft);
