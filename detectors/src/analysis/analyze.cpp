@@ -234,6 +234,12 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   r.channels.resize(nc);
   run_parallel(nc, opt.threads, [&](std::size_t ci) {
     r.channels[ci] = analyse_channel(ctx, ang, ci, spectra[ci]);
+    // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or
+    // normal-LOA channel's: any other is freed now (two record-length vectors per channel).
+    const diag::Direction d = r.channels[ci].direction;
+    if (!gb || (d != diag::Direction::kAlongLoa && d != diag::Direction::kNormalLoa)) {
+      spectra[ci] = Spectrum{};
+    }
   });
   lap("channels");
   if (!opt.whole_recording.empty()) {
