@@ -3,9 +3,13 @@
 // checks and the plot decimation they share.
 #include "detect/analysis/analyze.hpp"
 
+#include <time.h>
+
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <string_view>
 
 #include "diag/error.hpp"
@@ -23,15 +27,48 @@ void require(bool ok, const std::string& field, const std::string& reason) {
   if (!ok) throw diag::InputError("analyze: " + field + ": " + reason);
 }
 
+// The per-channel stages, in order, as named in timing_s ("channel_cpu.<stage>").
+constexpr const char* kChannelStages[] = {"time",        "spectral_record", "spectra",
+                                          "spectrogram", "envelope",        "bearing",
+                                          "sidebands",   "order_spectrum",  "tsa"};
+constexpr std::size_t kChannelStageCount = std::size(kChannelStages);
+using ChannelStageCpu = std::array<double, kChannelStageCount>;
+
+// CPU time of the calling thread [s]: a channel's stages run on one worker thread, so this is
+// the stage's own CPU whatever the thread count.
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Adds the CPU time since the previous lap to a stage's slot (AnalyzeOptions::timing only).
+class StageClock {
+ public:
+  explicit StageClock(ChannelStageCpu* cpu) : cpu_(cpu), t0_(cpu ? thread_cpu_s() : 0.0) {}
+  void lap(std::size_t stage) {
+    if (!cpu_) return;
+    const double t = thread_cpu_s();
+    (*cpu_)[stage] += t - t0_;
+    t0_ = t;
+  }
+
+ private:
+  ChannelStageCpu* cpu_;
+  double t0_;
+};
+
 // One channel through the per-channel stages. Channels are independent, so they run in parallel
 // (FFT plans are shared and thread-safe, fft.hpp) and each writes only its own slots: same bytes
 // whatever the thread count. `spectrum` keeps the channel's whole amplitude spectrum (the
-// two-direction stage reads it).
+// two-direction stage reads it); `cpu` (null unless timed) gets each stage's CPU time.
 ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords& ang,
-                                std::size_t ci, Spectrum& spectrum) {
+                                std::size_t ci, Spectrum& spectrum, ChannelStageCpu* cpu) {
   const diag::Signal& sig = ctx.rec.signals[ci];
+  StageClock clock(cpu);
   ChannelAnalysis c;
   time_stage(sig, ctx.sensor[ci], c);
+  clock.lap(0);
   if (!c.vibration) return c;
   if (sig.samples.size() < 64) {
     c.notes.push_back("fewer than 64 samples: no spectra");
@@ -39,16 +76,24 @@ ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords
   }
   SpectralRecord rec;
   spectral_record(ctx, ang, ci, rec, c);
+  clock.lap(1);
   const diag::Signal* spectral = rec.spectral();
   if (!spectral) return c;  // the order domain without the channel at uniform angles
   spectrum = spectra_stage(ctx, *spectral, c);
+  clock.lap(2);
   spectrogram_stage(sig, c);
+  clock.lap(3);
   const Spectrum env = envelope_stage(ctx, ang, rec, c);
+  clock.lap(4);
   bearing_stage(ctx, *spectral, env, c);
+  clock.lap(5);
   if (!ctx.gb) return c;
   sideband_stage(ctx, spectrum, c);
+  clock.lap(6);
   order_spectrum_stage(ctx, rec, c);
+  clock.lap(7);
   tsa_stage(ctx, ang, ci, sig, c);
+  clock.lap(8);
   return c;
 }
 
@@ -232,8 +277,10 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
           ctx.located[b] || (ctx.sensor[i] && rec.signals[i].location == gb->bearings()[b].name);
   std::vector<Spectrum> spectra(nc);
   r.channels.resize(nc);
+  std::vector<ChannelStageCpu> stage_cpu(opt.timing ? nc : 0, ChannelStageCpu{});
   run_parallel(nc, opt.threads, [&](std::size_t ci) {
-    r.channels[ci] = analyse_channel(ctx, ang, ci, spectra[ci]);
+    r.channels[ci] =
+        analyse_channel(ctx, ang, ci, spectra[ci], opt.timing ? &stage_cpu[ci] : nullptr);
     // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or
     // normal-LOA channel's: any other is freed now (two record-length vectors per channel).
     const diag::Direction d = r.channels[ci].direction;
@@ -242,6 +289,13 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     }
   });
   lap("channels");
+  // The CPU time of each per-channel stage summed over the channels (the "channels" lap is wall
+  // time, shared by the threads).
+  for (std::size_t k = 0; k < kChannelStageCount && opt.timing; ++k) {
+    double total = 0;
+    for (const ChannelStageCpu& t : stage_cpu) total += t[k];
+    r.timing_s[std::string("channel_cpu.") + kChannelStages[k]] = total;
+  }
   if (!opt.whole_recording.empty()) {
     if (opt.progress) opt.progress("whole_record");
     whole_record_stage(ctx, r);
