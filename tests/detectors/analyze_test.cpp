@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
@@ -415,12 +416,18 @@ TEST(SvgPlot, MaxOnlyDecimationKeepsEachBucketsLargestValue) {
 }
 
 // Both modes against the plain definition (each bucket's first smallest and first largest
-// value, in index order; max-only: the first largest), on values with many ties.
+// value, in index order; max-only: the first largest), on values with many ties, infinities
+// and NaNs (skipped, except a NaN first in its bucket, which a scan in index order keeps).
 TEST(SvgPlot, DecimationTakesTheFirstExtremesOfEachBucket) {
   std::mt19937 rng(5);
   std::uniform_int_distribution<int> level(0, 9);
   std::vector<double> x(10007), y(10007);
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i), y[i] = level(rng);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  y[0] = nan;  // first of bucket 0 in both modes
+  y[501] = nan;
+  y[777] = std::numeric_limits<double>::infinity();
+  y[778] = -std::numeric_limits<double>::infinity();
   for (const auto mode : {detect::Decimation::kMax, detect::Decimation::kMinMax}) {
     const std::size_t max_points = 300;
     const auto t = detect::decimate_for_plot(x, y, max_points, mode);
@@ -443,7 +450,12 @@ TEST(SvgPlot, DecimationTakesTheFirstExtremesOfEachBucket) {
     }
     EXPECT_EQ(t.x, want);
     for (std::size_t k = 0; k < t.x.size(); ++k) {
-      EXPECT_EQ(t.y[k], y[static_cast<std::size_t>(t.x[k])]);
+      const double want_y = y[static_cast<std::size_t>(t.x[k])];
+      if (std::isnan(want_y)) {
+        EXPECT_TRUE(std::isnan(t.y[k]));
+      } else {
+        EXPECT_EQ(t.y[k], want_y);
+      }
     }
   }
 }

@@ -97,6 +97,28 @@ ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords
   return c;
 }
 
+// The first index of the largest (largest) or smallest value of y[i0, i1), i0 < i1, as a scan
+// in index order that replaces its pick only by a strictly larger (smaller) value: NaNs are
+// skipped, and a NaN at i0 is kept. Two passes, for speed: the extreme over four independent
+// lanes (no loop-carried compare-and-select chain), then the first index holding it.
+std::size_t first_extreme(std::span<const double> y, std::size_t i0, std::size_t i1, bool largest) {
+  if (std::isnan(y[i0])) return i0;
+  const double s = largest ? 1.0 : -1.0;  // compare s y: the largest of s y
+  double m[4] = {s * y[i0], s * y[i0], s * y[i0], s * y[i0]};
+  std::size_t i = i0 + 1;
+  for (; i + 4 <= i1; i += 4) {
+    for (std::size_t q = 0; q < 4; ++q) {
+      const double v = s * y[i + q];
+      m[q] = v > m[q] ? v : m[q];
+    }
+  }
+  for (; i < i1; ++i) m[0] = s * y[i] > m[0] ? s * y[i] : m[0];
+  const double top = std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+  i = i0;
+  while (s * y[i] != top) ++i;
+  return i;
+}
+
 }  // namespace
 
 void AnalyzeOptions::validate() const {
@@ -145,32 +167,13 @@ PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y
   t.y.reserve(2 * buckets);
   for (std::size_t b = 0; b < buckets; ++b) {
     const std::size_t i0 = b * x.size() / buckets, i1 = (b + 1) * x.size() / buckets;
-    if (max_only) {  // the first largest value of the bucket
-      std::size_t hi = i0;
-      double top = y[i0];
-      for (std::size_t i = i0 + 1; i < i1; ++i) {
-        if (y[i] > top) {
-          top = y[i];
-          hi = i;
-        }
-      }
+    const std::size_t hi = first_extreme(y, i0, i1, true);
+    if (max_only) {
       t.x.push_back(x[hi]);
-      t.y.push_back(top);
+      t.y.push_back(y[hi]);
       continue;
     }
-    std::size_t lo = i0, hi = i0;  // the first smallest and the first largest value
-    double low = y[i0], top = y[i0];
-    for (std::size_t i = i0 + 1; i < i1; ++i) {
-      const double v = y[i];
-      if (v < low) {
-        low = v;
-        lo = i;
-      }
-      if (v > top) {
-        top = v;
-        hi = i;
-      }
-    }
+    const std::size_t lo = first_extreme(y, i0, i1, false);
     const std::size_t a = std::min(lo, hi), c = std::max(lo, hi);
     t.x.push_back(x[a]);
     t.y.push_back(y[a]);
