@@ -4,7 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <ctime>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
@@ -307,6 +310,32 @@ TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
             detect::to_json(detect::analyze_recording(rec, &gearbox(), four)).dump());
 }
 
+// --timing: the wall time per stage and the CPU time of each per-channel stage summed over the
+// channels (channel_cpu.*, every one of the nine stages, >= 0, together at most the process's
+// CPU time since the start); without it no timing_s at all (the JSON stays byte-deterministic).
+TEST(Analyze, TimingGivesEachChannelStagesCpuAndIsAbsentOtherwise) {
+  const auto rec = pair_recording(kInputHz);
+  detect::AnalyzeOptions opt;
+  opt.threads = 1;
+  EXPECT_FALSE(
+      detect::to_json(detect::analyze_recording(rec, &gearbox(), opt)).contains("timing_s"));
+  opt.timing = true;
+  const detect::AnalysisResult r = detect::analyze_recording(rec, &gearbox(), opt);
+  double sum = 0;
+  for (const char* stage : {"time", "spectral_record", "spectra", "spectrogram", "envelope",
+                            "bearing", "sidebands", "order_spectrum", "tsa"}) {
+    const auto it = r.timing_s.find(std::string("channel_cpu.") + stage);
+    ASSERT_NE(it, r.timing_s.end()) << stage;
+    EXPECT_GE(it->second, 0.0) << stage;
+    sum += it->second;
+  }
+  EXPECT_GT(r.timing_s.at("channel_cpu.spectra"), 0.0);
+  EXPECT_LE(sum, static_cast<double>(std::clock()) / CLOCKS_PER_SEC + 0.01);
+  for (const char* stage : {"kinematics", "angle_plans", "channels", "findings"}) {
+    EXPECT_TRUE(r.timing_s.contains(stage)) << stage;
+  }
+}
+
 TEST(Analyze, HtmlReportIsOneSelfContainedDocument) {
   const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
   const std::string h = detect::render_html_report(r);
@@ -384,6 +413,51 @@ TEST(SvgPlot, MaxOnlyDecimationKeepsEachBucketsLargestValue) {
   const auto t = detect::decimate_for_plot(x, y, 100, detect::Decimation::kMax);
   ASSERT_EQ(t.y.size(), 100u);
   for (double v : t.y) EXPECT_EQ(v, 6.0);  // every 10-sample bucket holds a 6
+}
+
+// Both modes against the plain definition (each bucket's first smallest and first largest
+// value, in index order; max-only: the first largest), on values with many ties, infinities
+// and NaNs (skipped, except a NaN first in its bucket, which a scan in index order keeps).
+TEST(SvgPlot, DecimationTakesTheFirstExtremesOfEachBucket) {
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> level(0, 9);
+  std::vector<double> x(10007), y(10007);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<double>(i), y[i] = level(rng);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  y[0] = nan;  // first of bucket 0 in both modes
+  y[501] = nan;
+  y[777] = std::numeric_limits<double>::infinity();
+  y[778] = -std::numeric_limits<double>::infinity();
+  for (const auto mode : {detect::Decimation::kMax, detect::Decimation::kMinMax}) {
+    const std::size_t max_points = 300;
+    const auto t = detect::decimate_for_plot(x, y, max_points, mode);
+    const bool max_only = mode == detect::Decimation::kMax;
+    const std::size_t buckets = max_only ? max_points : max_points / 2;
+    std::vector<double> want;
+    for (std::size_t b = 0; b < buckets; ++b) {
+      const std::size_t i0 = b * x.size() / buckets, i1 = (b + 1) * x.size() / buckets;
+      std::size_t lo = i0, hi = i0;
+      for (std::size_t i = i0; i < i1; ++i) {
+        if (y[i] < y[lo]) lo = i;
+        if (y[i] > y[hi]) hi = i;
+      }
+      if (max_only) {
+        want.push_back(x[hi]);
+      } else {
+        want.push_back(x[std::min(lo, hi)]);
+        if (lo != hi) want.push_back(x[std::max(lo, hi)]);
+      }
+    }
+    EXPECT_EQ(t.x, want);
+    for (std::size_t k = 0; k < t.x.size(); ++k) {
+      const double want_y = y[static_cast<std::size_t>(t.x[k])];
+      if (std::isnan(want_y)) {
+        EXPECT_TRUE(std::isnan(t.y[k]));
+      } else {
+        EXPECT_EQ(t.y[k], want_y);
+      }
+    }
+  }
 }
 
 TEST(SvgPlot, NiceTicksAreOneTwoFiveSteps) {

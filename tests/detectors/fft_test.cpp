@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cfloat>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <numbers>
+#include <random>
 #include <vector>
 
 namespace {
@@ -37,6 +40,51 @@ TEST(RealFft, RejectsWrongSizes) {
   std::vector<double> x(15);
   std::vector<std::complex<double>> X(9);
   EXPECT_THROW(fft.forward(x, X), std::invalid_argument);
+}
+
+// The zero-copy path (input() then forward_input()) gives the same bytes as forward() (the same
+// plan on the same aligned buffer), keeps its input (so a zero padding written once stays), and
+// an object used only for inverse transforms works without a forward plan.
+TEST(RealFft, InPlaceInputMatchesForwardAndIsKept) {
+  for (std::size_t n : {9u, 256u, 1000u}) {
+    std::mt19937 rng(7);
+    std::normal_distribution<double> g;
+    std::vector<double> x(n);
+    for (double& v : x) v = g(rng);
+    detect::RealFft a(n), b(n);
+    std::vector<std::complex<double>> X(a.bins());
+    a.forward(x, X);
+    std::copy(x.begin(), x.end(), b.input().begin());
+    const std::span<const std::complex<double>> Y = b.forward_input();
+    ASSERT_EQ(Y.size(), X.size());
+    for (std::size_t k = 0; k < X.size(); ++k) {
+      EXPECT_EQ(Y[k], X[k]) << "n=" << n << " bin " << k;
+    }
+    for (std::size_t j = 0; j < n; ++j) EXPECT_EQ(b.input()[j], x[j]);
+    detect::RealFft inv(n);  // inverse only
+    std::vector<double> back(n);
+    inv.inverse(X, back);
+    for (std::size_t j = 0; j < n; ++j) EXPECT_NEAR(back[j], x[j], 1e-12 * 8);
+  }
+}
+
+// magnitude() against std::abs (hypot): within 2 ulp (sqrt of a sum of two rounded squares:
+// relative error <= 1.5 eps, hypot's own <= 1 ulp) over magnitudes from 1e-300 to 1e300,
+// through the fallback below sqrt(DBL_MIN) and above sqrt(DBL_MAX); exact at 0, NaN stays NaN.
+TEST(Magnitude, MatchesHypotEverywhere) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> expo(-300, 300), ang(0, 2 * std::numbers::pi);
+  for (int i = 0; i < 20000; ++i) {
+    const double r = std::pow(10.0, expo(rng)), t = ang(rng);
+    const std::complex<double> z(r * std::cos(t), r * std::sin(t));
+    const double want = std::abs(z);
+    EXPECT_NEAR(detect::magnitude(z), want, 2 * DBL_EPSILON * want) << z;
+  }
+  EXPECT_EQ(detect::magnitude({0.0, 0.0}), 0.0);
+  EXPECT_EQ(detect::magnitude({3.0, -4.0}), 5.0);
+  EXPECT_EQ(detect::magnitude({1e200, 1e200}), std::abs(std::complex<double>(1e200, 1e200)));
+  EXPECT_EQ(detect::magnitude({1e-200, 0.0}), 1e-200);
+  EXPECT_TRUE(std::isnan(detect::magnitude({std::numeric_limits<double>::quiet_NaN(), 1.0})));
 }
 
 }  // namespace

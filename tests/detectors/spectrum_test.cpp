@@ -142,6 +142,20 @@ TEST(AmplitudeSpectrum, RejectsShortNonFiniteAndBadOptions) {
     EXPECT_NE(std::string(e.what()).find("sample 5"), std::string::npos) << e.what();
   }
   x[5] = 0;
+  // The check runs on the sum first: a non-finite sample in the tail of the 4-wide sum, and a
+  // sum that overflows with finite samples when the mean is removed.
+  std::vector<double> y(17, 1.0);
+  y[16] = -std::numeric_limits<double>::infinity();
+  try {
+    detect::amplitude_spectrum(y, o);
+    FAIL();
+  } catch (const diag::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("sample 16"), std::string::npos) << e.what();
+  }
+  y.assign(17, 1e308);
+  SpectrumOptions mean_removed;
+  mean_removed.remove_mean = true;
+  EXPECT_THROW(detect::amplitude_spectrum(y, mean_removed), diag::InputError);
   o.nfft = 8;
   EXPECT_THROW(detect::amplitude_spectrum(x, o), diag::InputError);
   o.nfft = 0;

@@ -108,4 +108,27 @@ TEST(Window, NamesRoundTripAndUnknownNamesAreRejected) {
   }
 }
 
+// shared_window_sums: the values of make_window and their sums in index order, bit for bit (the
+// amplitude spectrum's scaling and ENBW read them instead of summing again), for every type and
+// after the cache has moved on to other lengths and back.
+TEST(Window, SharedWindowSumsAreMakeWindowsExactly) {
+  for (int round = 0; round < 2; ++round) {
+    for (std::size_t n : {7u, 256u, 4096u, 200000u, 300u, 12u, 5000u, 64u}) {
+      for (WindowType t : {WindowType::kHann, WindowType::kFlatTop, WindowType::kRectangular}) {
+        const std::vector<double> w = detect::make_window(t, n);
+        double s = 0, s2 = 0;
+        for (double v : w) {
+          s += v;
+          s2 += v * v;
+        }
+        const detect::SharedWindow sw = detect::shared_window_sums(t, n);
+        ASSERT_EQ(*sw.values, w);
+        EXPECT_EQ(sw.sum, s);
+        EXPECT_EQ(sw.sum_sq, s2);
+        EXPECT_EQ(*detect::shared_window(t, n), w);
+      }
+    }
+  }
+}
+
 }  // namespace

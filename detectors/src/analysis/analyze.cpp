@@ -3,9 +3,13 @@
 // checks and the plot decimation they share.
 #include "detect/analysis/analyze.hpp"
 
+#include <time.h>
+
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <string_view>
 
 #include "diag/error.hpp"
@@ -23,15 +27,48 @@ void require(bool ok, const std::string& field, const std::string& reason) {
   if (!ok) throw diag::InputError("analyze: " + field + ": " + reason);
 }
 
+// The per-channel stages, in order, as named in timing_s ("channel_cpu.<stage>").
+constexpr const char* kChannelStages[] = {"time",        "spectral_record", "spectra",
+                                          "spectrogram", "envelope",        "bearing",
+                                          "sidebands",   "order_spectrum",  "tsa"};
+constexpr std::size_t kChannelStageCount = std::size(kChannelStages);
+using ChannelStageCpu = std::array<double, kChannelStageCount>;
+
+// CPU time of the calling thread [s]: a channel's stages run on one worker thread, so this is
+// the stage's own CPU whatever the thread count.
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Adds the CPU time since the previous lap to a stage's slot (AnalyzeOptions::timing only).
+class StageClock {
+ public:
+  explicit StageClock(ChannelStageCpu* cpu) : cpu_(cpu), t0_(cpu ? thread_cpu_s() : 0.0) {}
+  void lap(std::size_t stage) {
+    if (!cpu_) return;
+    const double t = thread_cpu_s();
+    (*cpu_)[stage] += t - t0_;
+    t0_ = t;
+  }
+
+ private:
+  ChannelStageCpu* cpu_;
+  double t0_;
+};
+
 // One channel through the per-channel stages. Channels are independent, so they run in parallel
 // (FFT plans are shared and thread-safe, fft.hpp) and each writes only its own slots: same bytes
 // whatever the thread count. `spectrum` keeps the channel's whole amplitude spectrum (the
-// two-direction stage reads it).
+// two-direction stage reads it); `cpu` (null unless timed) gets each stage's CPU time.
 ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords& ang,
-                                std::size_t ci, Spectrum& spectrum) {
+                                std::size_t ci, Spectrum& spectrum, ChannelStageCpu* cpu) {
   const diag::Signal& sig = ctx.rec.signals[ci];
+  StageClock clock(cpu);
   ChannelAnalysis c;
   time_stage(sig, ctx.sensor[ci], c);
+  clock.lap(0);
   if (!c.vibration) return c;
   if (sig.samples.size() < 64) {
     c.notes.push_back("fewer than 64 samples: no spectra");
@@ -39,17 +76,47 @@ ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords
   }
   SpectralRecord rec;
   spectral_record(ctx, ang, ci, rec, c);
+  clock.lap(1);
   const diag::Signal* spectral = rec.spectral();
   if (!spectral) return c;  // the order domain without the channel at uniform angles
   spectrum = spectra_stage(ctx, *spectral, c);
+  clock.lap(2);
   spectrogram_stage(sig, c);
+  clock.lap(3);
   const Spectrum env = envelope_stage(ctx, ang, rec, c);
+  clock.lap(4);
   bearing_stage(ctx, *spectral, env, c);
+  clock.lap(5);
   if (!ctx.gb) return c;
   sideband_stage(ctx, spectrum, c);
+  clock.lap(6);
   order_spectrum_stage(ctx, rec, c);
+  clock.lap(7);
   tsa_stage(ctx, ang, ci, sig, c);
+  clock.lap(8);
   return c;
+}
+
+// The first index of the largest (largest) or smallest value of y[i0, i1), i0 < i1, as a scan
+// in index order that replaces its pick only by a strictly larger (smaller) value: NaNs are
+// skipped, and a NaN at i0 is kept. Two passes, for speed: the extreme over four independent
+// lanes (no loop-carried compare-and-select chain), then the first index holding it.
+std::size_t first_extreme(std::span<const double> y, std::size_t i0, std::size_t i1, bool largest) {
+  if (std::isnan(y[i0])) return i0;
+  const double s = largest ? 1.0 : -1.0;  // compare s y: the largest of s y
+  double m[4] = {s * y[i0], s * y[i0], s * y[i0], s * y[i0]};
+  std::size_t i = i0 + 1;
+  for (; i + 4 <= i1; i += 4) {
+    for (std::size_t q = 0; q < 4; ++q) {
+      const double v = s * y[i + q];
+      m[q] = v > m[q] ? v : m[q];
+    }
+  }
+  for (; i < i1; ++i) m[0] = s * y[i] > m[0] ? s * y[i] : m[0];
+  const double top = std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
+  i = i0;
+  while (s * y[i] != top) ++i;
+  return i;
 }
 
 }  // namespace
@@ -100,16 +167,13 @@ PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y
   t.y.reserve(2 * buckets);
   for (std::size_t b = 0; b < buckets; ++b) {
     const std::size_t i0 = b * x.size() / buckets, i1 = (b + 1) * x.size() / buckets;
-    std::size_t lo = i0, hi = i0;
-    for (std::size_t i = i0; i < i1; ++i) {
-      if (y[i] < y[lo]) lo = i;
-      if (y[i] > y[hi]) hi = i;
-    }
+    const std::size_t hi = first_extreme(y, i0, i1, true);
     if (max_only) {
       t.x.push_back(x[hi]);
       t.y.push_back(y[hi]);
       continue;
     }
+    const std::size_t lo = first_extreme(y, i0, i1, false);
     const std::size_t a = std::min(lo, hi), c = std::max(lo, hi);
     t.x.push_back(x[a]);
     t.y.push_back(y[a]);
@@ -216,10 +280,25 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
           ctx.located[b] || (ctx.sensor[i] && rec.signals[i].location == gb->bearings()[b].name);
   std::vector<Spectrum> spectra(nc);
   r.channels.resize(nc);
+  std::vector<ChannelStageCpu> stage_cpu(opt.timing ? nc : 0, ChannelStageCpu{});
   run_parallel(nc, opt.threads, [&](std::size_t ci) {
-    r.channels[ci] = analyse_channel(ctx, ang, ci, spectra[ci]);
+    r.channels[ci] =
+        analyse_channel(ctx, ang, ci, spectra[ci], opt.timing ? &stage_cpu[ci] : nullptr);
+    // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or
+    // normal-LOA channel's: any other is freed now (two record-length vectors per channel).
+    const diag::Direction d = r.channels[ci].direction;
+    if (!gb || (d != diag::Direction::kAlongLoa && d != diag::Direction::kNormalLoa)) {
+      spectra[ci] = Spectrum{};
+    }
   });
   lap("channels");
+  // The CPU time of each per-channel stage summed over the channels (the "channels" lap is wall
+  // time, shared by the threads).
+  for (std::size_t k = 0; k < kChannelStageCount && opt.timing; ++k) {
+    double total = 0;
+    for (const ChannelStageCpu& t : stage_cpu) total += t[k];
+    r.timing_s[std::string("channel_cpu.") + kChannelStages[k]] = total;
+  }
   if (!opt.whole_recording.empty()) {
     if (opt.progress) opt.progress("whole_record");
     whole_record_stage(ctx, r);

@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "detect/spectral/spectrogram.hpp"
+#include "detect/spectral/welch.hpp"
 #include "stages.hpp"
 
 namespace detect::analysis_stages {
@@ -12,22 +12,24 @@ void spectrogram_stage(const diag::Signal& sig, ChannelAnalysis& c) {
   const std::size_t n = sig.samples.size();
   const std::size_t columns = std::min(kSpectrogramColumns, n / nperseg);
   if (columns < 2) return;  // shorter than two segments: nothing to show over time
-  SpectrogramOptions so;
-  so.fs_hz = sig.fs_hz;
-  so.nperseg = nperseg;
+  // Each span's column is the Welch PSD of the span (the mean of its segments' periodograms, as
+  // the spectrogram's PSD mode gives them, analyze.hpp), from one accumulator reused across the
+  // spans: one window, one transform, no per-span allocation of segments.
+  WelchOptions wo;
+  wo.fs_hz = sig.fs_hz;
+  wo.nperseg = nperseg;
+  WelchAccumulator acc(wo);
   SpectrogramTrace& t = c.spectrogram;
+  t.psd_db.reserve(columns * (nperseg / 2 + 1));
   const std::span<const double> x(sig.samples);
   for (std::size_t j = 0; j < columns; ++j) {
     // Span j: samples [j n / columns, (j + 1) n / columns), at least nperseg long.
     const std::size_t b = j * n / columns, e = (j + 1) * n / columns;
-    const Spectrogram s = spectrogram(x.subspan(b, e - b), so);
-    if (j == 0) t.frequency_hz = s.frequency_hz;
-    const std::size_t bins = s.frequency_hz.size(), segs = s.time_s.size();
-    for (std::size_t k = 0; k < bins; ++k) {
-      double mean = 0;
-      for (std::size_t m = 0; m < segs; ++m) mean += s.at(m, k);
-      t.psd_db.push_back(mean / static_cast<double>(segs));
-    }
+    acc.reset();
+    acc.push(x.subspan(b, e - b));
+    const Psd p = acc.result();
+    if (j == 0) t.frequency_hz = p.frequency_hz;
+    t.psd_db.insert(t.psd_db.end(), p.value.begin(), p.value.end());
     t.time_s.push_back(0.5 * static_cast<double>(b + e) / sig.fs_hz);
   }
   const double top = *std::max_element(t.psd_db.begin(), t.psd_db.end());

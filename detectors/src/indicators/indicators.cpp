@@ -182,7 +182,7 @@ std::vector<double> order_amplitudes(std::span<const double> tsa_rev) {
   const double inv_n = 1.0 / static_cast<double>(n);
   for (std::size_t k = 0; k < spec.size(); ++k) {
     const bool unpaired = k == 0 || (n % 2 == 0 && k == n / 2);  // bins without a mirror image
-    a[k] = std::abs(spec[k]) * inv_n * (unpaired ? 1.0 : 2.0);
+    a[k] = magnitude(spec[k]) * inv_n * (unpaired ? 1.0 : 2.0);
   }
   return a;
 }

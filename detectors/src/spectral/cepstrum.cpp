@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <string>
 
 #include "detect/spectral/fft.hpp"
@@ -33,7 +34,8 @@ Cepstrum real_cepstrum(std::span<const double> x, const CepstrumOptions& options
   if (nfft < n)
     fail("nfft", std::to_string(nfft) + " is shorter than the record (" + std::to_string(n) +
                      " samples); 0 or >= the record length");
-  const std::vector<double> w = make_window(options.window, n);
+  const std::shared_ptr<const std::vector<double>> window = shared_window(options.window, n);
+  const std::vector<double>& w = *window;
   std::vector<double> buf(nfft, 0.0);
   for (std::size_t j = 0; j < n; ++j) {
     if (!std::isfinite(x[j])) fail("x", "sample " + std::to_string(j) + " is not finite");
@@ -43,10 +45,10 @@ Cepstrum real_cepstrum(std::span<const double> x, const CepstrumOptions& options
   std::vector<std::complex<double>> X(fft.bins());
   fft.forward(buf, X);
   double peak = 0.0;
-  for (const auto& v : X) peak = std::max(peak, std::abs(v));
+  for (const auto& v : X) peak = std::max(peak, magnitude(v));
   if (peak == 0.0) fail("x", "all samples are zero (the log spectrum is undefined)");
   const double floor = options.floor_relative * peak;
-  for (auto& v : X) v = std::log(std::max(std::abs(v), floor));
+  for (auto& v : X) v = std::log(std::max(magnitude(v), floor));
   fft.inverse(X, buf);
 
   Cepstrum c;

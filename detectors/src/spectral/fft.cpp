@@ -11,11 +11,6 @@
 namespace detect {
 namespace {
 
-struct Plans {
-  fftw_plan forward = nullptr;
-  fftw_plan inverse = nullptr;
-};
-
 std::mutex& planner_mutex() {
   static std::mutex m;
   return m;
@@ -23,33 +18,30 @@ std::mutex& planner_mutex() {
 
 // Plans live for the process (a few hundred bytes each) and are destroyed at exit; they are made
 // on fftw_malloc'ed arrays and executed with the new-array interface on equally aligned scratch
-// buffers.
+// buffers. Keyed by (length, inverse?).
 struct PlanCache {
-  std::map<std::size_t, Plans> plans;
+  std::map<std::pair<std::size_t, bool>, fftw_plan> plans;
   ~PlanCache() {
-    for (auto& [n, p] : plans) {
-      fftw_destroy_plan(p.forward);
-      fftw_destroy_plan(p.inverse);
-    }
+    for (auto& [key, p] : plans) fftw_destroy_plan(p);
     fftw_cleanup();
   }
 };
 
-Plans plans_for(std::size_t n) {
+fftw_plan plan_for(std::size_t n, bool inverse) {
   static PlanCache store;
   auto& cache = store.plans;
   std::lock_guard<std::mutex> lock(planner_mutex());
-  auto it = cache.find(n);
+  auto it = cache.find({n, inverse});
   if (it != cache.end()) return it->second;
   double* r = fftw_alloc_real(n);
   fftw_complex* c = fftw_alloc_complex(n / 2 + 1);
-  Plans p;
-  p.forward = fftw_plan_dft_r2c_1d(static_cast<int>(n), r, c, FFTW_ESTIMATE);
-  p.inverse = fftw_plan_dft_c2r_1d(static_cast<int>(n), c, r, FFTW_ESTIMATE);
+  const int len = static_cast<int>(n);
+  fftw_plan p = inverse ? fftw_plan_dft_c2r_1d(len, c, r, FFTW_ESTIMATE)
+                        : fftw_plan_dft_r2c_1d(len, r, c, FFTW_ESTIMATE);
   fftw_free(r);
   fftw_free(c);
-  if (!p.forward || !p.inverse) throw std::runtime_error("FFTW could not make a plan");
-  cache.emplace(n, p);
+  if (!p) throw std::runtime_error("FFTW could not make a plan");
+  cache.emplace(std::pair{n, inverse}, p);
   return p;
 }
 
@@ -57,9 +49,6 @@ Plans plans_for(std::size_t n) {
 
 RealFft::RealFft(std::size_t n) : n_(n) {
   if (n == 0) throw std::invalid_argument("RealFft: length must be >= 1");
-  Plans p = plans_for(n);
-  forward_plan_ = p.forward;
-  inverse_plan_ = p.inverse;
   real_ = fftw_alloc_real(n);
   spectrum_ = fftw_alloc_complex(n / 2 + 1);
 }
@@ -93,14 +82,23 @@ void RealFft::forward(std::span<const double> in, std::span<std::complex<double>
   if (in.size() != n_ || out.size() != bins())
     throw std::invalid_argument("RealFft::forward: wrong buffer sizes");
   std::memcpy(real_, in.data(), n_ * sizeof(double));
+  const std::span<const std::complex<double>> X = forward_input();
+  std::memcpy(static_cast<void*>(out.data()), X.data(), bins() * sizeof(fftw_complex));
+}
+
+std::span<const std::complex<double>> RealFft::forward_input() {
+  if (!forward_plan_) forward_plan_ = plan_for(n_, false);
   auto* c = static_cast<fftw_complex*>(spectrum_);
+  // An out-of-place r2c transform keeps its input (FFTW_PRESERVE_INPUT is its default).
   fftw_execute_dft_r2c(static_cast<fftw_plan>(forward_plan_), real_, c);
-  std::memcpy(static_cast<void*>(out.data()), c, bins() * sizeof(fftw_complex));
+  // fftw_complex is double[2], layout-compatible with std::complex<double> ([complex.numbers]/4).
+  return {reinterpret_cast<const std::complex<double>*>(spectrum_), bins()};
 }
 
 void RealFft::inverse(std::span<const std::complex<double>> in, std::span<double> out) {
   if (in.size() != bins() || out.size() != n_)
     throw std::invalid_argument("RealFft::inverse: wrong buffer sizes");
+  if (!inverse_plan_) inverse_plan_ = plan_for(n_, true);
   auto* c = static_cast<fftw_complex*>(spectrum_);
   std::memcpy(c, static_cast<const void*>(in.data()), bins() * sizeof(fftw_complex));
   fftw_execute_dft_c2r(static_cast<fftw_plan>(inverse_plan_), c, real_);  // destroys c

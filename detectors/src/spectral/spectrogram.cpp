@@ -1,8 +1,10 @@
 #include "detect/spectral/spectrogram.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "detect/spectral/fft.hpp"
@@ -48,7 +50,8 @@ Spectrogram spectrogram(std::span<const double> x, const SpectrogramOptions& opt
       throw diag::InputError(
           diag::format_error("spectrogram", "x", "sample " + std::to_string(j) + " is not finite"));
   }
-  const std::vector<double> w = make_window(options.window, nperseg);
+  const std::shared_ptr<const std::vector<double>> window = shared_window(options.window, nperseg);
+  const std::vector<double>& w = *window;
   double wsum = 0, wsum2 = 0;
   for (double v : w) {
     wsum += v;
@@ -57,8 +60,9 @@ Spectrogram spectrogram(std::span<const double> x, const SpectrogramOptions& opt
   const std::size_t segments = (x.size() - nperseg) / step + 1;
   RealFft fft(nfft);
   const std::size_t bins = fft.bins();
-  std::vector<double> work(nfft, 0.0);
-  std::vector<std::complex<double>> X(bins);
+  // Segments are written into the transform's input buffer; its zero padding stays (fft.hpp).
+  const std::span<double> work = fft.input();
+  std::fill(work.begin() + static_cast<std::ptrdiff_t>(nperseg), work.end(), 0.0);
 
   Spectrogram r;
   r.mode = options.mode;
@@ -75,12 +79,12 @@ Spectrogram spectrogram(std::span<const double> x, const SpectrogramOptions& opt
     std::memcpy(work.data(), x.data() + start, nperseg * sizeof(double));
     detrend(std::span<double>(work.data(), nperseg), options.detrend);
     for (std::size_t j = 0; j < nperseg; ++j) work[j] *= w[j];
-    fft.forward(work, X);
+    const std::span<const std::complex<double>> X = fft.forward_input();
     double* row = r.value.data() + m * bins;
     for (std::size_t k = 0; k < bins; ++k) {
       const bool single = k == 0 || (nfft % 2 == 0 && k == bins - 1);
       const double fold = single ? 1.0 : 2.0;
-      row[k] = psd ? fold * std::norm(X[k]) * scale : fold * std::abs(X[k]) * scale;
+      row[k] = psd ? fold * std::norm(X[k]) * scale : fold * magnitude(X[k]) * scale;
     }
   }
   return r;

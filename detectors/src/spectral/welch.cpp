@@ -72,12 +72,15 @@ WelchAccumulator::WelchAccumulator(const WelchOptions& options)
       nperseg_(options.nperseg),
       step_(options.step()),
       nfft_(options.fft_length()),
-      window_(make_window(options.window, options.nperseg)),
+      window_(*shared_window(options.window, options.nperseg)),
       fft_(nfft_),
-      work_(nfft_, 0.0),
-      spectrum_(fft_.bins()),
+      work_(nperseg_),
       power_(fft_.bins(), 0.0),
       pending_(nperseg_, 0.0) {
+  // The windowed segment is written into the transform's input buffer, which no transform
+  // changes: its zero padding beyond nperseg is written once, here.
+  const std::span<double> in = fft_.input();
+  std::fill(in.begin() + static_cast<std::ptrdiff_t>(nperseg_), in.end(), 0.0);
   for (double w : window_) {
     window_sum_ += w;
     window_sum_sq_ += w * w;
@@ -92,14 +95,12 @@ void WelchAccumulator::reset() {
 }
 
 void WelchAccumulator::process(const double* segment) {
-  // `segment` may be work_ itself (a segment assembled across chunks): every loop below reads
-  // element j before writing element j, so working in place is safe.
   const double total = sum4(segment, nperseg_);
   if (!std::isfinite(total))
     fail("x", "non-finite sample (or overflow) in segment " + std::to_string(segments_) +
                   " (samples from " + std::to_string(segments_ * step_) + ")");
   const double* w = window_.data();
-  double* y = work_.data();
+  double* y = fft_.input().data();
   switch (options_.detrend) {
     case Detrend::kNone:
       for (std::size_t j = 0; j < nperseg_; ++j) y[j] = w[j] * segment[j];
@@ -110,14 +111,14 @@ void WelchAccumulator::process(const double* segment) {
       break;
     }
     case Detrend::kLinear:
-      if (segment != y) std::memcpy(y, segment, nperseg_ * sizeof(double));
+      std::memcpy(y, segment, nperseg_ * sizeof(double));
       detrend(std::span<double>(y, nperseg_), Detrend::kLinear);
       for (std::size_t j = 0; j < nperseg_; ++j) y[j] *= w[j];
       break;
   }
-  fft_.forward(work_, spectrum_);
+  const std::span<const std::complex<double>> X = fft_.forward_input();
   // std::complex<double> is layout-compatible with double[2] ([complex.numbers]/4).
-  const double* z = reinterpret_cast<const double*>(spectrum_.data());
+  const double* z = reinterpret_cast<const double*>(X.data());
   double* p = power_.data();
   const std::size_t bins = power_.size();
   for (std::size_t k = 0; k < bins; ++k) p[k] += z[2 * k] * z[2 * k] + z[2 * k + 1] * z[2 * k + 1];
@@ -135,7 +136,7 @@ void WelchAccumulator::push(std::span<const double> chunk) {
     if (s >= P) {
       process(chunk.data() + (s - P));
     } else {
-      // Spans the boundary: assemble it in work_ (its zero padding beyond nperseg is untouched).
+      // Spans the boundary: assemble it in work_.
       const std::size_t head = P - s;
       std::memcpy(work_.data(), pending_.data() + s, head * sizeof(double));
       std::memcpy(work_.data() + head, chunk.data(), (nperseg_ - head) * sizeof(double));

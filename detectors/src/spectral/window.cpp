@@ -57,15 +57,16 @@ std::vector<double> make_window(WindowType type, std::size_t n, WindowSymmetry s
   return w;
 }
 
-std::shared_ptr<const std::vector<double>> shared_window(WindowType type, std::size_t n,
-                                                         WindowSymmetry symmetry) {
+SharedWindow shared_window_sums(WindowType type, std::size_t n, WindowSymmetry symmetry) {
   struct Entry {
     WindowType type;
     std::size_t n;
     WindowSymmetry symmetry;
-    std::shared_ptr<const std::vector<double>> w;
+    SharedWindow w;
   };
-  constexpr std::size_t kKept = 4;  // windows kept, most recent first
+  // Windows kept, most recent first: a channel's spectra use a handful of lengths (the record,
+  // its envelope, Welch and spectrogram segments), the same for every channel of a recording.
+  constexpr std::size_t kKept = 6;
   static std::mutex mutex;
   static std::deque<Entry> kept;
   {
@@ -74,11 +75,21 @@ std::shared_ptr<const std::vector<double>> shared_window(WindowType type, std::s
       if (e.type == type && e.n == n && e.symmetry == symmetry) return e.w;
     }
   }
-  auto w = std::make_shared<const std::vector<double>>(make_window(type, n, symmetry));
+  SharedWindow w;
+  w.values = std::make_shared<const std::vector<double>>(make_window(type, n, symmetry));
+  for (double v : *w.values) {
+    w.sum += v;
+    w.sum_sq += v * v;
+  }
   std::lock_guard<std::mutex> lock(mutex);
   kept.push_front({type, n, symmetry, w});
   if (kept.size() > kKept) kept.pop_back();
   return w;
+}
+
+std::shared_ptr<const std::vector<double>> shared_window(WindowType type, std::size_t n,
+                                                         WindowSymmetry symmetry) {
+  return shared_window_sums(type, n, symmetry).values;
 }
 
 double coherent_gain(std::span<const double> w) {

@@ -306,7 +306,9 @@ struct AnalysisResult {
                                                 // say why)
   std::string gear_damage_angles;  // "tacho", "vibration" or "nominal": the shaft angles used
   std::vector<std::string> notes;  // recording-level notes (speed source, skipped steps)
-  std::map<std::string, double> timing_s;  // wall time per stage [s] (AnalyzeOptions::timing)
+  std::map<std::string, double> timing_s;  // wall time per stage [s] (AnalyzeOptions::timing),
+                                           // and "channel_cpu.<stage>": the CPU time of each
+                                           // per-channel stage summed over the channels
 };
 
 // Throws diag::InputError for bad options, a recording without signals, or a signal that fails

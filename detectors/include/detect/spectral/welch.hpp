@@ -90,8 +90,7 @@ class WelchAccumulator {
   std::vector<double> window_;
   double window_sum_ = 0, window_sum_sq_ = 0;
   RealFft fft_;
-  std::vector<double> work_;  // nfft: windowed (zero-padded) segment
-  std::vector<std::complex<double>> spectrum_;
+  std::vector<double> work_;     // nperseg: a segment assembled across two chunks
   std::vector<double> power_;    // sum over segments of |X_k|^2
   std::vector<double> pending_;  // samples not yet consumed, < nperseg of them
   std::size_t pending_size_ = 0;

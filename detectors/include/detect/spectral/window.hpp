@@ -54,6 +54,16 @@ std::vector<double> make_window(WindowType type, std::size_t n,
 std::shared_ptr<const std::vector<double>> shared_window(
     WindowType type, std::size_t n, WindowSymmetry symmetry = WindowSymmetry::kPeriodic);
 
+// shared_window's values with their sum and sum of squares (summed in index order once, when the
+// window is made: the same bits as summing the values again), for the scalings and the ENBW.
+struct SharedWindow {
+  std::shared_ptr<const std::vector<double>> values;
+  double sum = 0;
+  double sum_sq = 0;
+};
+SharedWindow shared_window_sums(WindowType type, std::size_t n,
+                                WindowSymmetry symmetry = WindowSymmetry::kPeriodic);
+
 // Coherent gain: mean(w) (the factor a bin-centred sine's DFT peak is multiplied by, over n/2).
 double coherent_gain(std::span<const double> w);
 // Equivalent noise bandwidth in bins: n sum(w^2) / (sum w)^2.
