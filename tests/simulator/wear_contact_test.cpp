@@ -134,12 +134,12 @@ TEST(WearContact, NoFlankPointWearsFarOutOfContact) {
 
 // What the history's mesh stiffness is (sim/wear.hpp): the mean sum of the unworn pair stiffnesses
 // of the pairs that carry load, so wear changes it only by unloading pairs. Archard's law never
-// does: the smallest load a pair carries stays > 2 % of F (measured 5.0 % new, 4.0 % after 1e7
+// does: the smallest load a pair carries stays > 2 % of F (measured 5.0 % at 1e6, 4.0 % after 1e7
 // cycles, 52 um deepest, independent sharing above), so the count and the stiffness stay the new
 // pair's to round-off at every step. The seed law (load-blind within contact) leaves pairs at the
-// edge of contact: the count falls (measured 1.17..1.34 from 1.61 at 1e7 cycles, depending on
-// the sub-block depth: ill-conditioned at the edge) and the stiffness with it (bounds: -0.1 and
-// -5 %).
+// edge of contact: the count falls (measured on the default grid 1.14..1.23 from 1.61 at 1e7
+// cycles, depending on the blocks: ill-conditioned at the edge) and the stiffness with it
+// (3.40e8 -> 2.73e8 N/m on the default grid; bounds: -0.1 and -5 %).
 TEST(WearContact, OnlyUnloadedPairsChangeTheMeshStiffness) {
   const diag::Gearbox gb = pair_box(18, 36);
   const diag::GearPair& p = gb.meshes()[0].pair;

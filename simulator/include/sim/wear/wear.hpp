@@ -26,12 +26,13 @@
 //   which wear does not touch, make it smaller still). So wear changes it only when pairs lose
 //   their load. Archard's law never unloads a pair: a point's wear rate falls with its load, so a
 //   worn zone unloads partially and its partner catches up; over 1e7 cycles (52 um) of the pair
-//   above the smallest load any pair carries stays at 4.0 % of F (new: 5.0 %), so the count and
-//   the stiffness stay those of the new pair while the sharing between the pairs moves. The seed
-//   law's intensity does not fall with the load, so a point in double contact wears until it
+//   above the smallest load any pair carries stays at 4.0 % of F (1e6 cycles: 5.0 %), so the count
+//   and the stiffness stay those of the new pair while the sharing between the pairs moves. The
+//   seed law's intensity does not fall with the load, so a point in double contact wears until it
 //   stands at the edge of contact (F_j ~ 0, held there by the contact condition below): the count
-//   falls, and where pairs sit at the edge it is ill-conditioned (+-0.03 over sub-block depths
-//   0.25..2 um at 1e7 cycles on that pair, while the depths and the TE agree to 1 %);
+//   falls, and where pairs sit at the edge it is ill-conditioned (that pair at 1e7
+//   cycles: 1.14..1.17 in 10 blocks over sub-block depths 0.25..2 um, 1.23 in 100 blocks, while the
+//   deepest wear agrees to 1 % and the TE p-p is 2.5e-4 rad in all);
 // - largest Hertz pressure, with the unworn flanks' curvature radii.
 // Archard (Archard 1953; per pass as in Flodin & Andersson 1997, Wear 207:16): wear depth
 //     h = k_w p s, with p = F' / (2 a) the mean Hertz pressure over the contact band, half width
