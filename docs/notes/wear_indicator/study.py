@@ -1,8 +1,9 @@
 # Wear indicator study (docs/notes/wear-s9.md): growth [dB] of the worn mesh's harmonics 1-3 on
-# every vibration channel (role, horizontal/vertical) against the median of a healthy baseline of
-# the same gears (3 recordings at 0.95, 1.0, 1.05 x the torque), for worn pairs (the `wear` fault,
-# depth_um 5..54, Archard) and for healthy-vs-healthy variation: the same gears at 1.1 x the torque,
-# and other gears of the same ISO 1328 grade (6, runout 8 um, another seed).
+# every vibration channel (role vibration: what diag::sensor_channels gives) against the median of
+# a healthy baseline of the same gears (3 recordings at 0.95, 1.0, 1.05 x the torque), for worn
+# pairs (the `wear` fault, depth_um 5..54, Archard) and for healthy-vs-healthy variation: the same
+# gears at 1.1 x the torque and at 0.95 and 1.05 x the speed, and other gears of the same ISO 1328
+# grade (6, runout 8 um, another seed).
 # Run from the checkout's root (1 s at 20 kHz per recording, ~1.5 s of CPU each):
 #   /usr/bin/python3 docs/notes/wear_indicator/study.py 1 13 29_47 > s29.jsonl
 #   /usr/bin/python3 docs/notes/wear_indicator/study.py 1 7 23_41 > s23.jsonl
@@ -51,8 +52,7 @@ def harmonics(path, mesh):
     for name, ds in f["signals"].items():
         a = dict(ds.attrs)
         role = a.get("role"); role = role.decode() if isinstance(role, bytes) else role
-        direc = a.get("direction"); direc = direc.decode() if isinstance(direc, bytes) else direc
-        if role != "vibration" or direc not in ("vertical", "horizontal"):
+        if role != "vibration":
             continue
         x = ds[:]; fs = float(a["fs_hz"])
         w = np.hanning(len(x)); X = np.abs(np.fft.rfft((x - x.mean()) * w)) * 2 / w.sum()
