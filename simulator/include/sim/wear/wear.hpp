@@ -22,15 +22,15 @@
 //   stiffness dF/dd the dynamics sees at the operating point. k(s) is the unworn pair's: the
 //   thinning of a worn tooth is left out (estimated with the same potential-energy beam, the
 //   loaded side's half thickness less w / cos(alpha1): +0.18..0.53 % pair compliance, mean 0.25 %,
-//   for the 18/36 m = 3 mm pair after 52 um of Archard wear; the fillet-foundation and Hertz terms,
-//   which wear does not touch, make it smaller still). So wear changes it only when pairs lose
-//   their load. Archard's law never unloads a pair: a point's wear rate falls with its load, so a
-//   worn zone unloads partially and its partner catches up; over 1e7 cycles (52 um) of the pair
-//   above the smallest load any pair carries stays at 4.0 % of F (1e6 cycles: 5.0 %), so the count
-//   and the stiffness stay those of the new pair while the sharing between the pairs moves. The
-//   seed law's intensity does not fall with the load, so a point in double contact wears until it
-//   stands at the edge of contact (F_j ~ 0, held there by the contact condition below): the count
-//   falls, and where pairs sit at the edge it is ill-conditioned (that pair at 1e7
+//   for the 18/36 m = 3 mm pair after 52 um of Archard wear; Hertz included; the fillet-foundation
+//   term, left out of it and untouched by wear, makes it smaller still). So wear changes it only
+//   when pairs lose their load. Archard's law never unloads a pair: a point's wear rate falls with
+//   its load, so a worn zone unloads partially and its partner catches up; over 1e7 cycles (52 um)
+//   of the pair above the smallest load any pair carries stays at 4.0 % of F (1e6 cycles: 5.0 %),
+//   so the count and the stiffness stay those of the new pair while the sharing between the pairs
+//   moves. The seed law's intensity does not fall with the load, so a point in double contact wears
+//   until it stands at the edge of contact (F_j ~ 0, held there by the contact condition below):
+//   the count falls, and where pairs sit at the edge it is ill-conditioned (that pair at 1e7
 //   cycles: 1.14..1.17 in 10 blocks over sub-block depths 0.25..2 um, 1.23 in 100 blocks, while the
 //   deepest wear agrees to 1 % and the TE p-p is 2.5e-4 rad in all);
 // - largest Hertz pressure, with the unworn flanks' curvature radii.
