@@ -136,7 +136,8 @@ int cmd_wear(int argc, char** argv) {
       "/wear/cycles\n"
       "(K), /wear/<gear>/radius_mm and /wear/<gear>/depth_um (K x points) for both gears,\n"
       "/wear/te_peak_to_peak_rad, /wear/te_harmonics_rad (K x 3), /wear/loaded_contact_ratio,\n"
-      "/wear/mesh_stiffness_n_per_m and /wear/max_pressure_mpa (K each).\n"
+      "/wear/mesh_stiffness_n_per_m and /wear/max_pressure_mpa (K each), the sharing's pair\n"
+      "stiffness /wear/<driver>/pair_stiffness_n_per_m and the load /wear/normal_force_n.\n"
       "With --record-every M, the dynamic simulator (as `geardiag simulate`, the scenario and\n"
       "options alike) runs the worn pair at steps 0 (new), M, 2M, ... and writes one recording\n"
       "per point of life beside OUT, OUT_step<k>.h5, its truth's \"wear\" entry the state "
@@ -238,7 +239,12 @@ int cmd_wear(int argc, char** argv) {
       {"/wear/te_harmonics_rad", {k, 3}, harm, "rad (driven gear), mesh harmonics 1..3"},
       {"/wear/loaded_contact_ratio", {}, h.loaded_contact_ratio, ""},
       {"/wear/mesh_stiffness_n_per_m", {}, h.mesh_stiffness_n_per_m, "N/m"},
-      {"/wear/max_pressure_mpa", {}, scaled(h.max_pressure_pa, 1e-6), "MPa"}};
+      {"/wear/max_pressure_mpa", {}, scaled(h.max_pressure_pa, 1e-6), "MPa"},
+      {"/wear/" + n1 + "/pair_stiffness_n_per_m",
+       {},
+       h.pair_stiffness_n_per_m,
+       "N/m, unworn pair stiffness k(s) with the contact at these driver points"},
+      {"/wear/normal_force_n", {}, {h.normal_force_n}, "N, total normal force on the mesh"}};
   std::vector<diag::Hdf5Array> all = arrays;
   if (recording) {
     all.push_back({"/wear/recorded_steps", {}, recorded_steps, "steps (0: the new pair)"});
@@ -252,7 +258,8 @@ int cmd_wear(int argc, char** argv) {
         std::to_string(o.input_torque_nm >= 0 ? o.input_torque_nm : gb.input().torque_nm)},
        {"mesh", mesh},
        {"gearbox", gb.description_json()},
-       {"stopped_at_depth_limit", h.stopped_at_limit ? "true" : "false"}});
+       {"stopped_at_depth_limit", h.stopped_at_limit ? "true" : "false"},
+       {"te_points_per_mesh", std::to_string(o.te_points_per_mesh)}});
   const double te_end = h.te_peak_to_peak_rad.back();
   double deepest = 0;
   for (double v : h.depth_driver_m.back()) deepest = std::max(deepest, v);

@@ -151,6 +151,7 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   for (std::size_t i = 0; i < np; ++i) {
     h.roll_driver_m.push_back(s[i]);
     h.radius_driver_m.push_back(std::hypot(rb1, s[i]));
+    h.pair_stiffness_n_per_m.push_back(stiffness.healthy_pair_stiffness(s[i]));
   }
   for (std::size_t i = np; i-- > 0;) {  // driven roll increasing: s decreasing
     h.roll_driven_m.push_back(L - s[i]);
@@ -181,38 +182,42 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
     }
     return 0.0;
   };
-  // Per-pass depth at the grid points (driver grid index i; the driven point is np-1-i).
-  auto per_pass = [&](WearLaw law, std::vector<double>& w1, std::vector<double>& w2, double umax) {
+  // Per-pass depth at the grid points (driver grid index i; the driven point is np-1-i). The
+  // seed's intensity counts only where the flank is in contact under load (header, "Contact"):
+  // seed_scale = U_max / I_max is fixed on the new pair, where every point is loaded.
+  double seed_scale = 1.0;
+  auto per_pass = [&](WearLaw law, std::vector<double>& w1, std::vector<double>& w2) {
     w1.assign(np, 0.0);
     w2.assign(np, 0.0);
     for (std::size_t i = 0; i < np; ++i) {
       const auto k = p.kinematics(s[i], omega1);
       const double lam1 = std::abs(k.specific_sliding_1), lam2 = std::abs(k.specific_sliding_2);
+      const double load = load_at(s[i]);
       if (law == WearLaw::kArchard) {
-        const double fw = load_at(s[i]) / b;
+        const double fw = load / b;
         w1[i] = o.archard_coefficient_m2_per_n * fw * lam1;
         w2[np - 1 - i] = o.archard_coefficient_m2_per_n * fw * lam2;
-      } else {
-        const double common = std::pow(k.reduced_radius_m, o.seed_exponent_m) *
+      } else if (load > 0) {
+        const double common = seed_scale * std::pow(k.reduced_radius_m, o.seed_exponent_m) *
                               std::pow(std::abs(k.sliding_m_per_s), o.seed_exponent_n);
         w1[i] = lam1 * common;
         w2[np - 1 - i] = lam2 * common;
       }
     }
-    if (law == WearLaw::kSeed004) {
-      const double imax = std::max(*std::max_element(w1.begin(), w1.end()),
-                                   *std::max_element(w2.begin(), w2.end()));
-      for (auto* w : {&w1, &w2}) {
-        for (double& v : *w) v = imax > 0 ? umax * v / imax : 0.0;
-      }
-    }
   };
-  double umax = o.seed_max_depth_per_cycle_m;
-  if (o.law == WearLaw::kSeed004 && umax == 0) {
+  auto largest = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return std::max(*std::max_element(a.begin(), a.end()), *std::max_element(b.begin(), b.end()));
+  };
+  if (o.law == WearLaw::kSeed004) {
     std::vector<double> a1, a2;
-    per_pass(WearLaw::kArchard, a1, a2, 0);
-    umax =
-        std::max(*std::max_element(a1.begin(), a1.end()), *std::max_element(a2.begin(), a2.end()));
+    double umax = o.seed_max_depth_per_cycle_m;
+    if (umax == 0) {
+      per_pass(WearLaw::kArchard, a1, a2);
+      umax = largest(a1, a2);
+    }
+    per_pass(WearLaw::kSeed004, a1, a2);
+    const double imax = largest(a1, a2);
+    seed_scale = imax > 0 ? umax / imax : 0.0;
   }
 
   // State measures: unloaded TE by rolling the worn flanks, loaded sharing over a mesh period.
@@ -259,14 +264,14 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   const double block = o.cycles / o.steps;
   std::vector<double> w1, w2;
   for (int k = 0; k < o.steps; ++k) {
-    // Sub-blocks (header): at most o.substep_depth_m of wear at any point between two load
-    // sharings; the seed's law does not depend on the load, so one sub-block is exact for it.
+    // Sub-blocks (header, "Steps"): at most o.substep_depth_m of wear at any point between two
+    // load sharings (both laws: the seed's depends on which points are in contact).
     for (double left = block; left > 0;) {
-      per_pass(o.law, w1, w2, umax);
+      per_pass(o.law, w1, w2);
       const double peak = std::max(*std::max_element(w1.begin(), w1.end()),
                                    *std::max_element(w2.begin(), w2.end()) / u);
       double dc = left;
-      if (o.law == WearLaw::kArchard && peak * dc > o.substep_depth_m) {
+      if (peak * dc > o.substep_depth_m) {
         dc = o.substep_depth_m / peak;
         if (left - dc < 1e-9 * block) dc = left;
       }
@@ -285,9 +290,7 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
     h.loaded_contact_ratio.push_back(st.eps);
     h.mesh_stiffness_n_per_m.push_back(st.k_mean);
     h.max_pressure_pa.push_back(st.p_max);
-    const double deepest =
-        std::max(*std::max_element(d1.begin(), d1.end()), *std::max_element(d2.begin(), d2.end()));
-    if (deepest >= o.depth_limit_m) {
+    if (largest(d1, d2) >= o.depth_limit_m) {
       h.stopped_at_limit = k + 1 < o.steps;
       break;
     }

@@ -15,28 +15,53 @@
 // involute is a rotation of it, see diag/geometry/profile.hpp). With the pair stiffness k(s) of
 // sim::MeshStiffness (potential energy + fillet + Hertz) the compression d solves
 //     F = sum_j k(s_j) max(d - g_j, 0),   F = T_driver / r_b1,
-// and pair j carries F_j = k(s_j) (d - g_j)^+. The loaded contact ratio is the mean number of pairs
-// with F_j > 0; the mesh stiffness the mean of sum_j k(s_j) over the loaded pairs.
-//
+// and pair j carries F_j = k(s_j) (d - g_j)^+.
+// State measures over a mesh period (te_points_per_mesh driver angles):
+// - loaded contact ratio: the mean number of pairs with F_j > 0 (the count, not a load weighting);
+// - mesh stiffness: the mean of sum_j k(s_j) over the pairs with F_j > 0, i.e. the tangent mesh
+//   stiffness dF/dd the dynamics sees at the operating point. k(s) is the unworn pair's: the
+//   thinning of a worn tooth is left out (estimated with the same potential-energy beam, the
+//   loaded side's half thickness less w / cos(alpha1): +0.18..0.53 % pair compliance, mean 0.25 %,
+//   for the 18/36 m = 3 mm pair after 52 um of Archard wear; Hertz included; the fillet-foundation
+//   term, left out of it and untouched by wear, makes it smaller still). So wear changes it only
+//   when pairs lose their load. Archard's law never unloads a pair: a point's wear rate falls with
+//   its load, so a worn zone unloads partially and its partner catches up; over 1e7 cycles (52 um)
+//   of the pair above the smallest load any pair carries stays at 4.0 % of F (1e6 cycles: 5.0 %),
+//   so the count and the stiffness stay those of the new pair while the sharing between the pairs
+//   moves. The seed law's intensity does not fall with the load, so a point in double contact wears
+//   until it stands at the edge of contact (F_j ~ 0, held there by the contact condition below):
+//   the count falls, and where pairs sit at the edge it is ill-conditioned (that pair at 1e7
+//   cycles: 1.14..1.17 in 10 blocks over sub-block depths 0.25..2 um, 1.23 in 100 blocks, while the
+//   deepest wear agrees to 1 % and the TE p-p is 2.5e-4 rad in all);
+// - largest Hertz pressure, with the unworn flanks' curvature radii.
 // Archard (Archard 1953; per pass as in Flodin & Andersson 1997, Wear 207:16): wear depth
 //     h = k_w p s, with p = F' / (2 a) the mean Hertz pressure over the contact band, half width
 //     a = sqrt(4 F' R / (pi E*)), F' = F_j / b, R = rho1 rho2 / (rho1 + rho2), and s the sliding
 //     distance while a flank point crosses the band, 2 a |v1 - v2| / v1 = 2 a |lambda1| on gear 1
 // so h1 = k_w F' |lambda1| per pass (and k_w F' |lambda2| on gear 2).
 // Seed 004, eq. (4)-(5): I_i = k |lambda_i| rho_red^m |V_s|^n at each profile point, with
-// V_s = omega1 (rho1 - u21 rho2) the sliding speed; the depth per pass is U_i = U_max I_i / I_max
-// (I_max over both gears). The seed leaves k, m, n and U_max to experiment; defaults here:
-// m = -1/2 (Hertz pressure ~ rho^-1/2: the seed's "rho stands in for pressure"), n = 1, and U_max
-// taken from Archard's largest depth per pass on the unworn pair, so that the two laws have the
-// same scale and differ in shape only.
+// V_s = omega1 (rho1 - u21 rho2) the sliding speed; the depth per pass is U_i = U_max I_i / I_max.
+// The seed leaves k, m, n and U_max to experiment; defaults here: m = -1/2 (Hertz pressure ~
+// rho^-1/2: the seed's "rho stands in for pressure"), n = 1, and U_max taken from Archard's
+// largest depth per pass on the unworn pair, so that the two laws have the same scale and differ
+// in shape only; I_max is that of the unworn pair (k = U_max / I_max is the material constant of
+// eq. (1) and stays fixed over the life).
+// Contact. The seed's intensity is a geometric stand-in for the pressure of a point in contact;
+// a point that carries no load (its pair's gap exceeds the compression) has no pressure and
+// nothing sliding on it, and does not wear. The seed iterates exactly so: after each cycle the
+// line of contact of the worn profiles is rebuilt and the next cycle wears along it. So U_i = 0
+// where F_j = 0. (An earlier version applied the intensity at every point of the path of
+// contact whatever its load: points at the start of contact went on wearing after they had lost
+// contact, 91..128 um clear of their mate after 1e7 cycles on 23/61 and 18/36 pairs, and the
+// loaded contact ratio of the 18/36 pair fell to 1.30 through wear that cannot happen.)
 // Steps. Archard's depth rate follows the load each point carries, and wear moves the load
-// (a worn zone unloads and stops wearing): an explicit block that wears deeper than about the
-// teeth's elastic deflection overshoots and the history depends on the number of blocks (measured
-// on an 18/36-tooth m = 3 mm pair at 50 N m, static deflection ~5 um: 4 blocks to 1e7 cycles gave
-// 80 um deepest, 40 blocks 52 um). Each block is therefore integrated in sub-blocks of at most
-// substep_depth_m (1 um) of wear at any point, the load sharing recomputed between them (cheap:
-// the TE and stiffness are measured once per block); the history is then the same whatever the
-// number of blocks.
+// (a worn zone unloads and stops wearing); the seed's rate follows whether a point is in contact.
+// An explicit block that wears deeper than about the teeth's elastic deflection overshoots and the
+// history depends on the number of blocks (measured on an 18/36-tooth m = 3 mm pair at 50 N m,
+// static deflection ~5 um: 4 blocks to 1e7 cycles gave 80 um deepest, 40 blocks 52 um). Each
+// block is therefore integrated in sub-blocks of at most substep_depth_m (1 um) of wear at any
+// point, the load sharing recomputed between them (cheap: the TE and stiffness are measured once
+// per block); the history is then the same whatever the number of blocks.
 // The profile update is the normal depth applied to the generated flank (diag::apply_normal_depth,
 // the exact form of the seed's d theta = U / r; see the correction noted there).
 #pragma once
@@ -89,8 +114,10 @@ struct WearHistory {
   std::vector<double> te_peak_to_peak_rad;  // unloaded TE of the worn pair [rad, driven]
   std::vector<std::array<double, 3>> te_harmonics_rad;  // its mesh harmonics 1..3 (amplitudes)
   std::vector<double> loaded_contact_ratio;    // mean number of loaded pairs over a mesh period
-  std::vector<double> mesh_stiffness_n_per_m;  // mean loaded mesh stiffness
+  std::vector<double> mesh_stiffness_n_per_m;  // mean loaded (tangent) mesh stiffness (header)
   std::vector<double> max_pressure_pa;         // largest Hertz pressure over a mesh period
+  // The unworn pair stiffness k(s) [N/m] at the driver's profile points (the sharing's k).
+  std::vector<double> pair_stiffness_n_per_m;
   // The unworn state (before the first step), for comparison.
   double te_peak_to_peak_new_rad = 0, loaded_contact_ratio_new = 0, max_pressure_new_pa = 0;
   double normal_force_n = 0;      // total normal force F on the mesh
