@@ -195,6 +195,10 @@ TEST(SquaredEnvelopeSpectrum, EqualsTheDefinitionAtTheRecordsSamples) {
     EXPECT_LT(worst, 1e-9 * top) << "n " << c.n << " band " << c.low << "-" << c.high;
     // Taken at fewer instants, the spectrum holds no bins above their Nyquist: zeros there.
     EXPECT_EQ(got.amplitude.back() == 0.0, c.decimated) << "n " << c.n;
+    // Given the record itself (Re z of the whole band), the same spectrum.
+    const detect::Spectrum with_x = detect::squared_envelope_spectrum(X, c.n, band, c.window, x);
+    for (std::size_t k = 0; k < want.amplitude.size(); ++k)
+      ASSERT_NEAR(with_x.amplitude[k], want.amplitude[k], 1e-9 * top) << k;
   }
   detect::RealFft fft(64);
   std::vector<std::complex<double>> X(fft.bins());

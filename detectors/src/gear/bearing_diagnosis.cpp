@@ -256,7 +256,8 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
   const double high = std::min(out.band_centre_hz + 0.5 * out.band_width_hz, 0.5 * fs);
   const Spectrum band_ses = squared_envelope_spectrum(X, n, {fs, low, high});
   Spectrum whole_ses;
-  if (options.whole_band_check) whole_ses = squared_envelope_spectrum(X, n, {fs, 0.0, 0.5 * fs});
+  if (options.whole_band_check)
+    whole_ses = squared_envelope_spectrum(X, n, {fs, 0.0, 0.5 * fs}, WindowType::kHann, x);
 
   const SpectrumView band_view{band_ses.frequency_hz, band_ses.amplitude};
   const SpectrumView whole_view{whole_ses.frequency_hz, whole_ses.amplitude};

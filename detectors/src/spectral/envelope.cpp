@@ -44,7 +44,8 @@ std::size_t smooth_length_at_least(std::size_t n) {
 // Hilbert transform). The complex inverse DFT of the length-len sequence Z_q (Z_{k - shift} =
 // (len / n) h_k X_k) is computed as two real inverse DFTs: re = IDFT(A), im = IDFT(B) with the
 // Hermitian parts A_q = (Z_q + conj Z_{-q}) / 2 and B_q = (Z_q - conj Z_{-q}) / (2 i). The two
-// are written to re and im (len samples each); `work` is len/2 + 1 bins of scratch.
+// are written to re and im (len samples each; re empty: not computed); `work` is len/2 + 1 bins
+// of scratch.
 void band_analytic(std::span<const std::complex<double>> X, std::size_t n, BandBins bins,
                    std::size_t shift, RealFft& fft, std::span<std::complex<double>> work,
                    std::span<double> re, std::span<double> im) {
@@ -57,7 +58,7 @@ void band_analytic(std::span<const std::complex<double>> X, std::size_t n, BandB
     const double h = k == 0 || k == nyquist ? 1.0 : 2.0;
     return len == n ? h * X[k] : (h * scale) * X[k];
   };
-  for (int part = 0; part < 2; ++part) {
+  for (int part = re.empty() ? 1 : 0; part < 2; ++part) {
     for (std::size_t q = 0; q < work.size(); ++q) {
       const std::complex<double> zq = z(q), zm = std::conj(z((len - q) % len));
       work[q] = part == 0 ? 0.5 * (zq + zm) : std::complex<double>(0.0, -0.5) * (zq - zm);
@@ -67,13 +68,17 @@ void band_analytic(std::span<const std::complex<double>> X, std::size_t n, BandB
 }
 
 // |c| (squared: |c|^2) of band_analytic at the record's own samples, the band not shifted.
-// `fft` is a RealFft(n).
+// `fft` is a RealFft(n). `record`: empty, or the record itself, which is Re c when the band
+// holds every bin (one inverse DFT fewer).
 std::vector<double> magnitude_at_samples(std::span<const std::complex<double>> X, BandBins bins,
-                                         bool squared, RealFft& fft) {
+                                         bool squared, RealFft& fft,
+                                         std::span<const double> record = {}) {
   const std::size_t n = fft.size();
+  const bool whole = record.size() == n && bins.lo == 0 && bins.hi >= n / 2;
   std::vector<std::complex<double>> work(fft.bins());
   std::vector<double> re(n), im(n);
-  band_analytic(X, n, bins, 0, fft, work, re, im);
+  if (whole) std::copy(record.begin(), record.end(), re.begin());
+  band_analytic(X, n, bins, 0, fft, work, whole ? std::span<double>() : std::span<double>(re), im);
   for (std::size_t j = 0; j < n; ++j) {
     const double p = re[j] * re[j] + im[j] * im[j];  // no overflow: |x| <= DBL_MAX / n
     re[j] = squared ? p : std::sqrt(p);
@@ -155,7 +160,8 @@ Spectrum envelope_spectrum(std::span<const double> x, const EnvelopeSpectrumOpti
 }
 
 Spectrum squared_envelope_spectrum(std::span<const std::complex<double>> X, std::size_t n,
-                                   const BandOptions& band, WindowType window) {
+                                   const BandOptions& band, WindowType window,
+                                   std::span<const double> record) {
   band.validate();
   if (n < 2 || X.size() != n / 2 + 1)
     throw diag::InputError(diag::format_error("squared_envelope_spectrum", "X",
@@ -175,7 +181,7 @@ Spectrum squared_envelope_spectrum(std::span<const std::complex<double>> X, std:
   if (m == 0 || taps >= n || len >= n) {
     // The record's own samples (the definition; a wide band gains nothing from fewer).
     RealFft fft(n);
-    return amplitude_spectrum(magnitude_at_samples(X, bins, true, fft), so);
+    return amplitude_spectrum(magnitude_at_samples(X, bins, true, fft, record), so);
   }
   // |c|^2 at len < n instants (see the header: the same bins, exactly).
   RealFft fft(len);

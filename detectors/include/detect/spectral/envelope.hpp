@@ -65,8 +65,11 @@ Spectrum envelope_spectrum(std::span<const double> x, const EnvelopeSpectrumOpti
 
 // SES of the record of n samples whose DFT is X (RealFft(n).forward: n/2 + 1 bins; throws
 // diag::InputError otherwise) in [band.low_hz, band.upper_hz()], the mean of |z|^2 removed,
-// `window` on it, peak scaling (see the top of this header).
+// `window` on it, peak scaling (see the top of this header). record: empty, or the record x
+// itself (n samples, the inverse DFT of X): with a band holding every bin, Re z = x, and one
+// inverse DFT is saved.
 Spectrum squared_envelope_spectrum(std::span<const std::complex<double>> X, std::size_t n,
-                                   const BandOptions& band, WindowType window = WindowType::kHann);
+                                   const BandOptions& band, WindowType window = WindowType::kHann,
+                                   std::span<const double> record = {});
 
 }  // namespace detect
