@@ -165,6 +165,42 @@ TEST(SpeedEstimate, AForeignLineTakenForTheMeshIsContradictedByItsHarmonics) {
   EXPECT_EQ(e.confirmations, 0);
 }
 
+// require_confirmation: an unconfirmed line (the foreign line above) ends the estimate after the
+// choice, with the same choice and cross-check and no speed; a confirmed one (the steady mesh)
+// is followed exactly as without the option.
+TEST(SpeedEstimate, RequireConfirmationStopsAnUnconfirmedLineOnly) {
+  constexpr double kSpeedHz = 25.0;
+  std::mt19937_64 rng(13);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::vector<double> x(30000);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = static_cast<double>(i) / kFs;
+    x[i] = 2.0 * std::cos(kTwoPi * 22 * kSpeedHz * t) + 0.5 * std::cos(kTwoPi * 46 * kSpeedHz * t) +
+           0.3 * std::cos(kTwoPi * 69 * kSpeedHz * t) + gauss(rng);
+  }
+  detect::SpeedEstimateOptions o;
+  o.require_confirmation = true;
+  const auto full = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
+  const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines(), o);
+  EXPECT_EQ(e.status, detect::SpeedStatus::kUnconfirmed);
+  EXPECT_EQ(detect::to_string(e.status), "unconfirmed");
+  EXPECT_FALSE(e.has_speed());
+  EXPECT_TRUE(e.speed_hz.empty());
+  EXPECT_EQ(e.line.label, full.line.label);
+  EXPECT_EQ(e.line_frequency_hz, full.line_frequency_hz);
+  EXPECT_EQ(e.prominence_db, full.prominence_db);
+  EXPECT_EQ(e.contradictions, 2);
+  EXPECT_EQ(e.confirmations, 0);
+
+  const auto y = mesh_signal([](double t) { return kSpeedHz * t + 0.3; }, 3.0, 1.0, 7);
+  const auto a = detect::estimate_speed(y, kFs, kSpeedHz, mesh_lines());
+  const auto b = detect::estimate_speed(y, kFs, kSpeedHz, mesh_lines(), o);
+  ASSERT_EQ(b.status, detect::SpeedStatus::kTracked);
+  EXPECT_EQ(b.confirmations, 2);
+  EXPECT_EQ(b.mean_speed_hz, a.mean_speed_hz);
+  EXPECT_EQ(b.angle_rev, a.angle_rev);
+}
+
 // White noise has no line: no speed claimed, and no pulses can be taken from the result.
 TEST(SpeedEstimate, WhiteNoiseHasNoLine) {
   std::mt19937_64 rng(3);

@@ -283,6 +283,8 @@ std::string_view to_string(SpeedStatus s) {
       return "no_line";
     case SpeedStatus::kAmbiguous:
       return "ambiguous";
+    case SpeedStatus::kUnconfirmed:
+      return "unconfirmed";
   }
   return "?";
 }
@@ -470,6 +472,11 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
     est.notes.push_back(
         "no other candidate confirms the speed: with a nominal speed off by more than "
         "search_fraction, a neighbouring line of the same family can be taken for the candidate");
+  }
+  if (est.confirmations == 0 && options.require_confirmation) {
+    est.status = SpeedStatus::kUnconfirmed;
+    est.notes.push_back("unconfirmed line not followed (require_confirmation): no speed claimed");
+    return est;
   }
 
   // Step 2: the ridge, forward and backward from `start`.
