@@ -65,6 +65,29 @@ double revolution_error_rev(const std::vector<double>& t,
   return worst;
 }
 
+// Tones sum_i a_i cos(2 pi o_i f t) (amplitude a_i, order o_i of a shaft at speed_hz) in
+// Gaussian noise of RMS `noise`: n samples at kFs.
+std::vector<double> tones_in_noise(double speed_hz,
+                                   const std::vector<std::pair<double, double>>& amp_order,
+                                   double noise, std::size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss(0.0, noise);
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = static_cast<double>(i) / kFs;
+    double v = 0.0;
+    for (const auto& [a, o] : amp_order) v += a * std::cos(kTwoPi * o * speed_hz * t);
+    x[i] = v + gauss(rng);
+  }
+  return x;
+}
+
+// A line at order 22 (foreign) where the mesh candidate's order 23 is searched, with the mesh's
+// 2nd and 3rd harmonics at their true orders 46 and 69, in unit noise: 3 s at kFs.
+std::vector<double> foreign_line_signal(double speed_hz) {
+  return tones_in_noise(speed_hz, {{2.0, 22.0}, {0.5, 46.0}, {0.3, 69.0}}, 1.0, 30000, 13);
+}
+
 class SpeedEstimateSteady : public ::testing::TestWithParam<double> {};
 
 // A steady 1500 rpm machine, 6 s, nominal speed off by the parameter. The mean speed comes from
@@ -149,14 +172,7 @@ TEST(SpeedEstimate, ALineThatFadesGivesLowConfidence) {
 // The other harmonics then imply another speed, and the result says so.
 TEST(SpeedEstimate, AForeignLineTakenForTheMeshIsContradictedByItsHarmonics) {
   constexpr double kSpeedHz = 25.0;
-  std::mt19937_64 rng(13);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::vector<double> x(30000);
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double t = static_cast<double>(i) / kFs;
-    x[i] = 2.0 * std::cos(kTwoPi * 22 * kSpeedHz * t) + 0.5 * std::cos(kTwoPi * 46 * kSpeedHz * t) +
-           0.3 * std::cos(kTwoPi * 69 * kSpeedHz * t) + gauss(rng);
-  }
+  const std::vector<double> x = foreign_line_signal(kSpeedHz);
   const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
   ASSERT_TRUE(e.has_speed());
   EXPECT_EQ(e.line.label, "mesh h1");
@@ -170,14 +186,7 @@ TEST(SpeedEstimate, AForeignLineTakenForTheMeshIsContradictedByItsHarmonics) {
 // is followed exactly as without the option.
 TEST(SpeedEstimate, RequireConfirmationStopsAnUnconfirmedLineOnly) {
   constexpr double kSpeedHz = 25.0;
-  std::mt19937_64 rng(13);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::vector<double> x(30000);
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double t = static_cast<double>(i) / kFs;
-    x[i] = 2.0 * std::cos(kTwoPi * 22 * kSpeedHz * t) + 0.5 * std::cos(kTwoPi * 46 * kSpeedHz * t) +
-           0.3 * std::cos(kTwoPi * 69 * kSpeedHz * t) + gauss(rng);
-  }
+  const std::vector<double> x = foreign_line_signal(kSpeedHz);
   detect::SpeedEstimateOptions o;
   o.require_confirmation = true;
   const auto full = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());

@@ -21,20 +21,6 @@ void check_input(std::span<const double> x, const char* where) {
   }
 }
 
-// The smallest 2^a 3^b 5^c >= n (a length FFTW transforms at full speed).
-std::size_t smooth_length_at_least(std::size_t n) {
-  std::size_t best = std::size_t{1};
-  while (best < n) best <<= 1;
-  for (std::size_t p5 = 1; p5 < best; p5 *= 5) {
-    for (std::size_t p35 = p5; p35 < best; p35 *= 3) {
-      std::size_t v = p35;
-      while (v < n) v <<= 1;
-      best = std::min(best, v);
-    }
-  }
-  return best;
-}
-
 // The analytic signal of a record of n samples whose DFT is X (RealFft::forward), restricted to
 // the bins [lo, hi], moved down by `shift` bins (z(t) exp(-2 pi i shift t / n): |z| unchanged)
 // and evaluated at len equispaced instants t_j = j n / len (in samples of the record):
@@ -95,6 +81,19 @@ std::vector<double> envelope_of(std::span<const double> x, std::size_t lo, std::
 }
 
 }  // namespace
+
+std::size_t smooth_length_at_least(std::size_t n) {
+  std::size_t best = std::size_t{1};
+  while (best < n) best <<= 1;
+  for (std::size_t p5 = 1; p5 < best; p5 *= 5) {
+    for (std::size_t p35 = p5; p35 < best; p35 *= 3) {
+      std::size_t v = p35;
+      while (v < n) v <<= 1;
+      best = std::min(best, v);
+    }
+  }
+  return best;
+}
 
 BandBins band_bins(std::size_t n, const BandOptions& band) {
   band.validate();

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "detect/spectral/envelope.hpp"
 #include "detect/spectral/fft.hpp"
 #include "diag/error.hpp"
 
@@ -41,22 +42,6 @@ double complex_kurtosis(const std::vector<double>& a, const std::vector<double>&
   if (s2 == 0.0) return 0.0;
   const double n = static_cast<double>(a.size());
   return n * s4 / (s2 * s2) - 2.0;
-}
-
-// The smallest 2^a 3^b 5^c >= n: a length FFTW transforms at full speed (a band of m bins has
-// an arbitrary m; 2m = 66668 = 4 x 16667, a prime, took FFTW's slow prime-length path and made
-// the kurtogram half of analyze's time).
-std::size_t smooth_length_at_least(std::size_t n) {
-  std::size_t best = std::size_t{1};
-  while (best < n) best <<= 1;
-  for (std::size_t p5 = 1; p5 < best; p5 *= 5) {
-    for (std::size_t p35 = p5; p35 < best; p35 *= 3) {
-      std::size_t v = p35;
-      while (v < n) v <<= 1;
-      best = std::min(best, v);
-    }
-  }
-  return best;
 }
 
 }  // namespace

@@ -44,6 +44,11 @@ std::vector<double> envelope(std::span<const double> x);
 // Envelope of x band-passed to [band.low_hz, band.upper_hz()] (one forward DFT, two inverse).
 std::vector<double> band_envelope(std::span<const double> x, const BandOptions& band);
 
+// The smallest 2^a 3^b 5^c >= n: a length FFTW transforms at full speed (the band signals here
+// and in kurtogram.hpp are padded to it; a prime-length band took FFTW's slow path). Belongs
+// with fft.hpp.
+std::size_t smooth_length_at_least(std::size_t n);
+
 // The DFT bins k of a record of n samples with band.low_hz <= k fs / n <= band.upper_hz()
 // (lo > hi: none). Validates band.
 struct BandBins {
