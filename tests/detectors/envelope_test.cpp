@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -11,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "detect/spectral/fft.hpp"
 #include "detect/spectral/filter.hpp"
 #include "diag/error.hpp"
 
@@ -139,6 +141,68 @@ TEST(EnvelopeSpectrum, BadBandAndInputsAreNamed) {
   EXPECT_THROW(o.validate(), diag::InputError);
   EXPECT_THROW(detect::envelope(std::vector<double>{1.0}), diag::InputError);
   EXPECT_THROW(detect::envelope(std::vector<double>{1.0, std::nan("")}), diag::InputError);
+}
+
+// squared_envelope_spectrum against its definition computed here at the record's own samples
+// (|z|^2 of band_envelope, mean removed, the window, amplitude_spectrum) on noise with impulses:
+// even and odd lengths, narrow bands (taken at fewer instants: every bin above the band's width
+// plus the window's is then 0, to round-off), a wide band reaching Nyquist and the whole band (the
+// record's own samples),
+// Hann, Hamming and rectangular windows. Tolerance: 1e-9 of the largest line; both are sums of
+// ~1e4 O(1) terms through FFTs of different lengths (round-off ~1e-13 relative), the bound
+// leaves room for it and nothing else (a missing bin or a wrong scale is O(1)).
+TEST(SquaredEnvelopeSpectrum, EqualsTheDefinitionAtTheRecordsSamples) {
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> g;
+  const double fs = 20'000.0;
+  struct Case {
+    std::size_t n;
+    double low, high;
+    detect::WindowType window;
+    bool decimated;
+  };
+  using W = detect::WindowType;
+  for (const Case& c :
+       {Case{20'000, 2'000.0, 2'500.0, W::kHann, true},
+        Case{19'999, 3'137.0, 3'391.5, W::kHann, true},
+        Case{20'000, 6'000.0, 7'000.0, W::kHamming, true},
+        Case{20'001, 1'000.0, 1'400.0, W::kRectangular, true},
+        Case{20'000, 2'000.0, 10'000.0, W::kHann, true}, Case{20'000, 0.0, 0.0, W::kHann, false}}) {
+    std::vector<double> x(c.n);
+    for (std::size_t j = 0; j < c.n; ++j) x[j] = g(rng) + (j % 211 == 0 ? 12.0 : 0.0);
+    const detect::BandOptions band{fs, c.low, c.high};
+    std::vector<double> e = detect::band_envelope(x, band);
+    for (double& v : e) v *= v;
+    detect::SpectrumOptions so;
+    so.fs_hz = fs;
+    so.window = c.window;
+    so.remove_mean = true;
+    const detect::Spectrum want = detect::amplitude_spectrum(e, so);
+
+    detect::RealFft fft(c.n);
+    std::vector<std::complex<double>> X(fft.bins());
+    fft.forward(x, X);
+    const detect::Spectrum got = detect::squared_envelope_spectrum(X, c.n, band, c.window);
+    ASSERT_EQ(got.amplitude.size(), want.amplitude.size());
+    EXPECT_DOUBLE_EQ(got.resolution_hz, want.resolution_hz);
+    EXPECT_NEAR(got.enbw_hz, want.enbw_hz, 1e-9 * want.enbw_hz);
+    const double top = *std::max_element(want.amplitude.begin(), want.amplitude.end());
+    double worst = 0;
+    for (std::size_t k = 0; k < want.amplitude.size(); ++k) {
+      EXPECT_DOUBLE_EQ(got.frequency_hz[k], want.frequency_hz[k]);
+      worst = std::max(worst, std::abs(got.amplitude[k] - want.amplitude[k]));
+    }
+    EXPECT_LT(worst, 1e-9 * top) << "n " << c.n << " band " << c.low << "-" << c.high;
+    // Taken at fewer instants, the spectrum holds no bins above their Nyquist: zeros there.
+    EXPECT_EQ(got.amplitude.back() == 0.0, c.decimated) << "n " << c.n;
+    // Given the record itself (Re z of the whole band), the same spectrum.
+    const detect::Spectrum with_x = detect::squared_envelope_spectrum(X, c.n, band, c.window, x);
+    for (std::size_t k = 0; k < want.amplitude.size(); ++k)
+      ASSERT_NEAR(with_x.amplitude[k], want.amplitude[k], 1e-9 * top) << k;
+  }
+  detect::RealFft fft(64);
+  std::vector<std::complex<double>> X(fft.bins());
+  EXPECT_THROW(detect::squared_envelope_spectrum(X, 66, {fs, 100.0, 200.0}), diag::InputError);
 }
 
 // ---- filter.hpp ----

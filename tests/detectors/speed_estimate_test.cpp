@@ -65,6 +65,29 @@ double revolution_error_rev(const std::vector<double>& t,
   return worst;
 }
 
+// Tones sum_i a_i cos(2 pi o_i f t) (amplitude a_i, order o_i of a shaft at speed_hz) in
+// Gaussian noise of RMS `noise`: n samples at kFs.
+std::vector<double> tones_in_noise(double speed_hz,
+                                   const std::vector<std::pair<double, double>>& amp_order,
+                                   double noise, std::size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> gauss(0.0, noise);
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double t = static_cast<double>(i) / kFs;
+    double v = 0.0;
+    for (const auto& [a, o] : amp_order) v += a * std::cos(kTwoPi * o * speed_hz * t);
+    x[i] = v + gauss(rng);
+  }
+  return x;
+}
+
+// A line at order 22 (foreign) where the mesh candidate's order 23 is searched, with the mesh's
+// 2nd and 3rd harmonics at their true orders 46 and 69, in unit noise: 3 s at kFs.
+std::vector<double> foreign_line_signal(double speed_hz) {
+  return tones_in_noise(speed_hz, {{2.0, 22.0}, {0.5, 46.0}, {0.3, 69.0}}, 1.0, 30000, 13);
+}
+
 class SpeedEstimateSteady : public ::testing::TestWithParam<double> {};
 
 // A steady 1500 rpm machine, 6 s, nominal speed off by the parameter. The mean speed comes from
@@ -149,20 +172,42 @@ TEST(SpeedEstimate, ALineThatFadesGivesLowConfidence) {
 // The other harmonics then imply another speed, and the result says so.
 TEST(SpeedEstimate, AForeignLineTakenForTheMeshIsContradictedByItsHarmonics) {
   constexpr double kSpeedHz = 25.0;
-  std::mt19937_64 rng(13);
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::vector<double> x(30000);
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double t = static_cast<double>(i) / kFs;
-    x[i] = 2.0 * std::cos(kTwoPi * 22 * kSpeedHz * t) + 0.5 * std::cos(kTwoPi * 46 * kSpeedHz * t) +
-           0.3 * std::cos(kTwoPi * 69 * kSpeedHz * t) + gauss(rng);
-  }
+  const std::vector<double> x = foreign_line_signal(kSpeedHz);
   const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
   ASSERT_TRUE(e.has_speed());
   EXPECT_EQ(e.line.label, "mesh h1");
   EXPECT_NEAR(e.mean_speed_hz, kSpeedHz * 22.0 / 23.0, 1e-3);  // the wrong line, followed well
   EXPECT_EQ(e.contradictions, 2);
   EXPECT_EQ(e.confirmations, 0);
+}
+
+// require_confirmation: an unconfirmed line (the foreign line above) ends the estimate after the
+// choice, with the same choice and cross-check and no speed; a confirmed one (the steady mesh)
+// is followed exactly as without the option.
+TEST(SpeedEstimate, RequireConfirmationStopsAnUnconfirmedLineOnly) {
+  constexpr double kSpeedHz = 25.0;
+  const std::vector<double> x = foreign_line_signal(kSpeedHz);
+  detect::SpeedEstimateOptions o;
+  o.require_confirmation = true;
+  const auto full = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
+  const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines(), o);
+  EXPECT_EQ(e.status, detect::SpeedStatus::kUnconfirmed);
+  EXPECT_EQ(detect::to_string(e.status), "unconfirmed");
+  EXPECT_FALSE(e.has_speed());
+  EXPECT_TRUE(e.speed_hz.empty());
+  EXPECT_EQ(e.line.label, full.line.label);
+  EXPECT_EQ(e.line_frequency_hz, full.line_frequency_hz);
+  EXPECT_EQ(e.prominence_db, full.prominence_db);
+  EXPECT_EQ(e.contradictions, 2);
+  EXPECT_EQ(e.confirmations, 0);
+
+  const auto y = mesh_signal([](double t) { return kSpeedHz * t + 0.3; }, 3.0, 1.0, 7);
+  const auto a = detect::estimate_speed(y, kFs, kSpeedHz, mesh_lines());
+  const auto b = detect::estimate_speed(y, kFs, kSpeedHz, mesh_lines(), o);
+  ASSERT_EQ(b.status, detect::SpeedStatus::kTracked);
+  EXPECT_EQ(b.confirmations, 2);
+  EXPECT_EQ(b.mean_speed_hz, a.mean_speed_hz);
+  EXPECT_EQ(b.angle_rev, a.angle_rev);
 }
 
 // White noise has no line: no speed claimed, and no pulses can be taken from the result.

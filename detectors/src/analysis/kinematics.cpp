@@ -155,6 +155,7 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
       auto attempt = [&](double nominal_time_s) {
         SpeedEstimateOptions so;
         so.nominal_time_s = nominal_time_s;
+        so.require_confirmation = lines.size() > 1;  // `usable` takes no other line
         return estimate_speed(channels, fs, nominal_hz, lines, so);
       };
       auto usable = [&](const SpeedEstimate& e) {

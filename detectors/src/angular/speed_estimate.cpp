@@ -166,24 +166,24 @@ Choice search_group(const std::vector<Candidate>& group, std::span<const double>
   return c;
 }
 
-// Zero-phase raised-cosine low-pass of a complex baseband signal (real and imaginary parts by
-// real FFTs of the zero-padded record): 1 up to pass_hz, 0 from stop_hz.
-void lowpass(std::vector<double>& re, std::vector<double>& im, double fs_hz, double pass_hz,
-             double stop_hz) {
-  const std::size_t n = re.size();
-  // The response's tails decay as 1/t^3 on the scale 1 / (stop - pass): 4 of those keep the
-  // circular wrap-around under 1e-4 of the line.
-  const auto pad = static_cast<std::size_t>(std::ceil(4.0 * fs_hz / (stop_hz - pass_hz)));
-  const std::size_t nfft = next_pow2(n + pad);
-  RealFft fft(nfft);
-  std::vector<double> buf(nfft);
-  std::vector<std::complex<double>> spec(fft.bins());
-  const double df = fs_hz / static_cast<double>(nfft);
-  for (std::vector<double>* part : {&re, &im}) {
-    std::fill(buf.begin(), buf.end(), 0.0);
-    std::copy(part->begin(), part->end(), buf.begin());
-    fft.forward(buf, spec);
-    for (std::size_t k = 0; k < spec.size(); ++k) {
+// The demodulation of step 3: z(t) = x(t) exp(-i phi(t)) low-passed (zero-phase raised cosine,
+// 1 up to pass_hz, 0 from stop_hz; real and imaginary parts by real FFTs of the zero-padded
+// record), theta = phi + the unwrapped phase of the result, amp = its modulus. The FFT, the
+// filter's response and the buffers are made once for both passes.
+class Demodulator {
+ public:
+  Demodulator(std::size_t n, double fs_hz, double pass_hz, double stop_hz)
+      // The response's tails decay as 1/t^3 on the scale 1 / (stop - pass): 4 of those keep the
+      // circular wrap-around under 1e-4 of the line.
+      : n_(n),
+        fft_(next_pow2(n + static_cast<std::size_t>(std::ceil(4.0 * fs_hz / (stop_hz - pass_hz))))),
+        response_(fft_.bins()),
+        re_(n),
+        im_(n),
+        buf_(fft_.size()),
+        spec_(fft_.bins()) {
+    const double df = fs_hz / static_cast<double>(fft_.size());
+    for (std::size_t k = 0; k < response_.size(); ++k) {
       const double f = static_cast<double>(k) * df;
       double h = 0.0;
       if (f <= pass_hz) {
@@ -191,37 +191,59 @@ void lowpass(std::vector<double>& re, std::vector<double>& im, double fs_hz, dou
       } else if (f < stop_hz) {
         h = 0.5 * (1.0 + std::cos(std::numbers::pi * (f - pass_hz) / (stop_hz - pass_hz)));
       }
-      spec[k] *= h;
+      response_[k] = h;
     }
-    fft.inverse(spec, buf);
-    std::copy(buf.begin(), buf.begin() + static_cast<std::ptrdiff_t>(n), part->begin());
   }
-}
 
-// One demodulation pass: theta = phi + unwrapped phase of LP{x exp(-i phi)}; amp = |LP{...}|.
-void demodulate(std::span<const double> x, double fs_hz, std::vector<double>& phi, double pass_hz,
-                double stop_hz, std::vector<double>* amp) {
-  const std::size_t n = x.size();
-  std::vector<double> re(n), im(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    re[i] = x[i] * std::cos(phi[i]);
-    im[i] = -x[i] * std::sin(phi[i]);
-  }
-  lowpass(re, im, fs_hz, pass_hz, stop_hz);
-  amp->resize(n);
-  double prev = 0.0, unwrapped = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double a = std::atan2(im[i], re[i]);
-    if (i == 0) {
-      unwrapped = a;
-    } else {
-      unwrapped += std::remainder(a - prev, kTwoPi);
+  // One pass: phi += unwrapped phase of LP{x exp(-i phi)}; amp = |LP{...}|.
+  void pass(std::span<const double> x, std::vector<double>& phi, std::vector<double>& amp) {
+    for (std::size_t i = 0; i < n_; ++i) {
+      double s = 0.0, c = 0.0;
+      sincos(phi[i], &s, &c);  // the same values as std::sin, std::cos (glibc)
+      re_[i] = x[i] * c;
+      im_[i] = -x[i] * s;
     }
-    prev = a;
-    (*amp)[i] = std::hypot(re[i], im[i]);
-    phi[i] += unwrapped;
+    lowpass(re_);
+    lowpass(im_);
+    amp.resize(n_);
+    double prev = 0.0, unwrapped = 0.0;
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double a = std::atan2(im_[i], re_[i]);
+      if (i == 0) {
+        unwrapped = a;
+      } else {
+        // remainder(d, 2 pi) for d in [-2 pi, 2 pi] (a, prev in [-pi, pi]): the same value,
+        // exactly (Sterbenz: d -+ 2 pi is exact for |d| in [pi, 2 pi]).
+        double d = a - prev;
+        if (d > std::numbers::pi) {
+          d -= kTwoPi;
+        } else if (d < -std::numbers::pi) {
+          d += kTwoPi;
+        }
+        unwrapped += d;
+      }
+      prev = a;
+      amp[i] = std::sqrt(re_[i] * re_[i] + im_[i] * im_[i]);  // signal-sized: no overflow
+      phi[i] += unwrapped;
+    }
   }
-}
+
+ private:
+  void lowpass(std::vector<double>& part) {
+    std::copy(part.begin(), part.end(), buf_.begin());
+    std::fill(buf_.begin() + static_cast<std::ptrdiff_t>(n_), buf_.end(), 0.0);
+    fft_.forward(buf_, spec_);
+    for (std::size_t k = 0; k < spec_.size(); ++k) spec_[k] *= response_[k];
+    fft_.inverse(spec_, buf_);
+    std::copy(buf_.begin(), buf_.begin() + static_cast<std::ptrdiff_t>(n_), part.begin());
+  }
+
+  std::size_t n_;
+  RealFft fft_;
+  std::vector<double> response_;
+  std::vector<double> re_, im_, buf_;
+  std::vector<std::complex<double>> spec_;
+};
 
 }  // namespace
 
@@ -261,6 +283,8 @@ std::string_view to_string(SpeedStatus s) {
       return "no_line";
     case SpeedStatus::kAmbiguous:
       return "ambiguous";
+    case SpeedStatus::kUnconfirmed:
+      return "unconfirmed";
   }
   return "?";
 }
@@ -449,6 +473,11 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
         "no other candidate confirms the speed: with a nominal speed off by more than "
         "search_fraction, a neighbouring line of the same family can be taken for the candidate");
   }
+  if (est.confirmations == 0 && options.require_confirmation) {
+    est.status = SpeedStatus::kUnconfirmed;
+    est.notes.push_back("unconfirmed line not followed (require_confirmation): no speed claimed");
+    return est;
+  }
 
   // Step 2: the ridge, forward and backward from `start`.
   const std::span<const double> x = channels[best.channel];
@@ -463,12 +492,14 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
     detrend(std::span<double>(seg.data(), nperseg), Detrend::kConstant);
     for (std::size_t j = 0; j < nperseg; ++j) seg[j] *= window[j];
     frame_fft.forward(seg, bins);
-    for (std::size_t k = 0; k < nbins; ++k) row[k] = std::norm(bins[k]);  // unscaled |X|^2
     // A ridge extrapolated towards 0 Hz or Nyquist (a machine stopping, a wrong line) is held
     // a few frame bins inside, so that the demodulation band stays > 0.
     f_pred = std::clamp(f_pred, kMinRidgeBins * frame_bin_hz, kMaxNyquistFraction * nyquist);
     const double w = options.max_step_fraction * f_pred;
     const BinRange r = bins_of(f_pred - w, f_pred + w, df, nbins);
+    // Unscaled |X|^2 where it is read: the range and a bin either side (the interpolation).
+    for (std::size_t k = r.lo > 0 ? r.lo - 1 : 0; k <= std::min(r.hi + 1, nbins - 1); ++k)
+      row[k] = std::norm(bins[k]);
     std::size_t k = r.lo;
     for (std::size_t j = r.lo; j <= r.hi; ++j) {
       if (row[j] > row[k]) k = j;
@@ -533,7 +564,8 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   const double pass_hz = options.demod_passband * mod_hz;
   const double stop_hz = 2.0 * pass_hz;
   std::vector<double> amp;
-  for (int pass = 0; pass < 2; ++pass) demodulate(x, fs_hz, phi, pass_hz, stop_hz, &amp);
+  Demodulator demodulator(n, fs_hz, pass_hz, stop_hz);
+  for (int pass = 0; pass < 2; ++pass) demodulator.pass(x, phi, amp);
 
   // Fades: amplitude vs the noise the band lets through. The PSD floor P [x^2/Hz] (one-sided) of
   // real noise becomes P/2 two-sided at baseband; the raised-cosine band passes

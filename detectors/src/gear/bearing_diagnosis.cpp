@@ -23,45 +23,38 @@ constexpr const char* kWhere = "diagnose_bearings";
   throw diag::InputError(diag::format_error(kWhere, field, reason));
 }
 
-// x_w = IDFT(X / |X|), DC removed. Bins with |X_k| below 1e-12 max|X| (nothing there to whiten)
-// are set to 0 rather than blown up to unit magnitude.
-std::vector<double> cepstral_prewhiten(std::span<const double> x) {
+// The record to diagnose: x_w = IDFT(X / |X|) with DC removed (prewhiten; bins with |X_k| below
+// 1e-12 max|X|, nothing there to whiten, are set to 0 rather than blown up to unit magnitude), or
+// x with its mean removed; `spectrum` receives its DFT (the squared envelope spectra start from
+// it).
+std::vector<double> diagnosed_record(std::span<const double> x, bool prewhiten,
+                                     std::vector<std::complex<double>>& spectrum) {
   RealFft fft(x.size());
-  std::vector<std::complex<double>> X(fft.bins());
+  std::vector<std::complex<double>>& X = spectrum;
+  X.resize(fft.bins());
   fft.forward(x, X);
   double peak = 0;
-  for (const auto& v : X) peak = std::max(peak, std::abs(v));
-  const double tiny = 1e-12 * peak;
-  X[0] = 0;
-  for (std::size_t k = 1; k < X.size(); ++k) {
-    const double a = std::abs(X[k]);
-    X[k] = a > tiny ? X[k] / a : std::complex<double>(0.0);
+  if (prewhiten) {
+    for (const auto& v : X) peak = std::max(peak, std::abs(v));
+  }
+  X[0] = 0;  // the mean
+  if (prewhiten) {
+    const double tiny = 1e-12 * peak;
+    for (std::size_t k = 1; k < X.size(); ++k) {
+      const double a = std::abs(X[k]);
+      X[k] = a > tiny ? X[k] / a : std::complex<double>(0.0);
+    }
   }
   std::vector<double> y(x.size());
-  fft.inverse(X, y);
-  return y;
-}
-
-// Amplitude spectrum (Hann, peak scaling) of the squared envelope of x in [low, high], mean
-// removed.
-Spectrum squared_envelope_spectrum(std::span<const double> x, double fs_hz, double low_hz,
-                                   double high_hz) {
-  BandOptions band;
-  band.fs_hz = fs_hz;
-  band.low_hz = low_hz;
-  band.high_hz = high_hz;
-  std::vector<double> e = band_envelope(x, band);
-  double mean = 0;
-  for (double& v : e) {
-    v *= v;
-    mean += v;
+  if (prewhiten) {
+    fft.inverse(X, y);
+  } else {
+    double mean = 0;
+    for (double v : x) mean += v;
+    mean /= static_cast<double>(x.size());
+    for (std::size_t j = 0; j < x.size(); ++j) y[j] = x[j] - mean;
   }
-  mean /= static_cast<double>(e.size());
-  for (double& v : e) v -= mean;
-  SpectrumOptions so;
-  so.fs_hz = fs_hz;
-  so.window = WindowType::kHann;
-  return amplitude_spectrum(e, so);
+  return y;
 }
 
 const FamilyScore* family(const BearingDecision& d, BearingFault f) {
@@ -228,15 +221,9 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
     out.bearings.push_back(std::move(s));
   }
 
-  std::vector<double> x = channel.samples;
-  if (options.prewhiten) {
-    x = cepstral_prewhiten(x);
-  } else {
-    double mean = 0;
-    for (double v : x) mean += v;
-    mean /= static_cast<double>(x.size());
-    for (double& v : x) v -= mean;
-  }
+  std::vector<std::complex<double>> X;
+  const std::vector<double> x = diagnosed_record(channel.samples, options.prewhiten, X);
+  const std::size_t n = x.size();
 
   KurtogramOptions ko;
   ko.fs_hz = fs;
@@ -267,9 +254,10 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
 
   const double low = out.band_centre_hz - 0.5 * out.band_width_hz;
   const double high = std::min(out.band_centre_hz + 0.5 * out.band_width_hz, 0.5 * fs);
-  const Spectrum band_ses = squared_envelope_spectrum(x, fs, low, high);
+  const Spectrum band_ses = squared_envelope_spectrum(X, n, {fs, low, high});
   Spectrum whole_ses;
-  if (options.whole_band_check) whole_ses = squared_envelope_spectrum(x, fs, 0.0, 0.5 * fs);
+  if (options.whole_band_check)
+    whole_ses = squared_envelope_spectrum(X, n, {fs, 0.0, 0.5 * fs}, WindowType::kHann, x);
 
   const SpectrumView band_view{band_ses.frequency_hz, band_ses.amplitude};
   const SpectrumView whole_view{whole_ses.frequency_hz, whole_ses.amplitude};

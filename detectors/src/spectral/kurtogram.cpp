@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "detect/spectral/envelope.hpp"
 #include "detect/spectral/fft.hpp"
 #include "diag/error.hpp"
 
@@ -41,22 +42,6 @@ double complex_kurtosis(const std::vector<double>& a, const std::vector<double>&
   if (s2 == 0.0) return 0.0;
   const double n = static_cast<double>(a.size());
   return n * s4 / (s2 * s2) - 2.0;
-}
-
-// The smallest 2^a 3^b 5^c >= n: a length FFTW transforms at full speed (a band of m bins has
-// an arbitrary m; 2m = 66668 = 4 x 16667, a prime, took FFTW's slow prime-length path and made
-// the kurtogram half of analyze's time).
-std::size_t smooth_length_at_least(std::size_t n) {
-  std::size_t best = std::size_t{1};
-  while (best < n) best <<= 1;
-  for (std::size_t p5 = 1; p5 < best; p5 *= 5) {
-    for (std::size_t p35 = p5; p35 < best; p35 *= 3) {
-      std::size_t v = p35;
-      while (v < n) v <<= 1;
-      best = std::min(best, v);
-    }
-  }
-  return best;
 }
 
 }  // namespace
@@ -168,39 +153,52 @@ Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& opti
     row.level = level;
     row.bandwidth_hz = 0.5 * options.fs_hz / static_cast<double>(bands);
     row.kurtosis.resize(bands);
+    // Bins with i B <= k df < (i + 1) B, B / df = n / (2 bands); the last band also takes bin
+    // `half`.
+    auto first_bin = [&](std::size_t i) {
+      return i == bands ? half + 1 : (i * n + 2 * bands - 1) / (2 * bands);
+    };
+    // The complex band signal c(t) = sum_{q<m} Z_q e^{2 pi i q t / len}, sampled at len >= 2m
+    // points (oversampled by at least 2, as the paper's complex decimated signals). The kurtosis
+    // is the ratio of the means of |c|^4 and |c|^2 over the samples; |c|^4 is a trigonometric
+    // polynomial of degree 2(m - 1), so any len >= 2m - 1 equispaced points give its exact mean
+    // over a period (and of |c|^2's): K does not depend on len beyond 2m - 1, and len is taken as
+    // the smallest fast FFT length >= 2m (smooth_length_at_least). Same value as len = 2m up to
+    // round-off.
+    std::size_t len = 0, filled = 0;  // A and B hold nonzero bins below `filled`
+    RealFft* f = nullptr;
     for (std::size_t i = 0; i < bands; ++i) {
-      // Bins with i B <= k df < (i + 1) B, B / df = n / (2 bands).
-      const std::size_t k_lo = (i * n + 2 * bands - 1) / (2 * bands);
-      const std::size_t k_hi =
-          i + 1 == bands ? half + 1 : ((i + 1) * n + 2 * bands - 1) / (2 * bands);
-      const std::size_t m = k_hi - k_lo;
-      // The complex band signal c(t) = sum_{q<m} Z_q e^{2 pi i q t / len}, sampled at len >= 2m
-      // points (oversampled by at least 2, as the paper's complex decimated signals). The
-      // kurtosis is the ratio of the means of |c|^4 and |c|^2 over the samples; |c|^4 is a
-      // trigonometric polynomial of degree 2(m - 1), so any len >= 2m - 1 equispaced points give
-      // its exact mean over a period (and of |c|^2's): K does not depend on len beyond 2m - 1,
-      // and len is taken as the smallest fast FFT length >= 2m (smooth_length_at_least). Same
-      // value as len = 2m up to round-off.
-      const std::size_t len = smooth_length_at_least(2 * m);
-      auto it = ffts.find(len);
-      if (it == ffts.end()) it = ffts.emplace(len, RealFft(len)).first;
-      RealFft& f = it->second;
+      const std::size_t k_lo = first_bin(i);
+      const std::size_t m = first_bin(i + 1) - k_lo;
+      if (const std::size_t want = smooth_length_at_least(2 * m); want != len) {
+        len = want;
+        auto it = ffts.find(len);
+        if (it == ffts.end()) it = ffts.emplace(len, RealFft(len)).first;
+        f = &it->second;
+        A.assign(f->bins(), 0.0);
+        B.assign(f->bins(), 0.0);
+        a.resize(len);
+        b.resize(len);
+        filled = 0;
+      }
       // Z_q = X_{k_lo + q} for q < m, 0 for m <= q < len. The complex inverse DFT of Z is
       // IDFT(A) + i IDFT(B) with the Hermitian parts A_q = (Z_q + conj Z_{-q}) / 2 and
-      // B_q = (Z_q - conj Z_{-q}) / (2 i), each a real inverse DFT.
-      A.assign(f.bins(), 0.0);
-      B.assign(f.bins(), 0.0);
-      a.resize(len);
-      b.resize(len);
-      for (std::size_t q = 0; q < f.bins(); ++q) {
-        const std::complex<double> zq = q < m ? X[k_lo + q] : 0.0;
-        const std::size_t mq = (len - q) % len;
-        const std::complex<double> zm = mq < m ? std::conj(X[k_lo + mq]) : 0.0;
-        A[q] = 0.5 * (zq + zm);
-        B[q] = std::complex<double>(0.0, -0.5) * (zq - zm);
+      // B_q = (Z_q - conj Z_{-q}) / (2 i), each a real inverse DFT. As len >= 2m, Z_{-q} =
+      // Z_{len - q} = 0 for 0 < q <= len / 2: A_q = Z_q / 2, B_q = -i Z_q / 2, and at q = 0
+      // A_0 = Re Z_0, B_0 = Im Z_0.
+      for (std::size_t q = m; q < filled; ++q) A[q] = B[q] = 0.0;
+      filled = m;
+      if (m > 0) {
+        A[0] = X[k_lo].real();
+        B[0] = X[k_lo].imag();
       }
-      f.inverse(A, a);
-      f.inverse(B, b);
+      for (std::size_t q = 1; q < m; ++q) {
+        const std::complex<double> zq = X[k_lo + q];
+        A[q] = 0.5 * zq;
+        B[q] = {0.5 * zq.imag(), -0.5 * zq.real()};
+      }
+      f->inverse(A, a);
+      f->inverse(B, b);
       const double k = complex_kurtosis(a, b);
       row.kurtosis[i] = k;
       if (k > r.kurtosis) {

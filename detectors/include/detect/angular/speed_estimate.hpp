@@ -103,6 +103,10 @@ struct SpeedEstimateOptions {
                                        // steady, > 0
   int points_per_rev = 100;            // angle samples kept per revolution at the top speed,
                                        // >= 8 (linear interpolation between them)
+  // A caller that uses only confirmed lines (SpeedEstimate::confirmations > 0) sets this: a line
+  // no other candidate confirms then ends the estimate after step 1 (kUnconfirmed), without the
+  // ridge and the demodulation it would not use (most of the cost).
+  bool require_confirmation = false;
 
   void validate() const;  // throws diag::InputError naming the field
 };
@@ -114,6 +118,8 @@ enum class SpeedStatus {
   kNoLine,         // no candidate stands min_prominence_db over its band: no speed claimed
   kAmbiguous,      // prominent lines only in groups of overlapping candidates that cannot be
                    // told apart: no speed claimed
+  kUnconfirmed,    // require_confirmation and no other candidate confirms the chosen line: not
+                   // followed, no speed claimed (line, frequency, prominence, contradictions set)
 };
 std::string_view to_string(SpeedStatus s);
 

@@ -16,7 +16,9 @@
 //     sits clear of the low-frequency shaft and fault lines, low edge >= min_band_low_factor *
 //     f_max; f_max is the largest fault fundamental scored (BPFI or 2 BSF of any bearing).
 //  3. Squared envelope spectrum (SES) of x_w in that band (Randall & Antoni 2011, sec. 3.2: the
-//     squared envelope puts the fault rate's harmonics above the noise better than |z|).
+//     squared envelope puts the fault rate's harmonics above the noise better than |z|), from
+//     the prewhitening's own DFT X / |X| (envelope.hpp squared_envelope_spectrum: exact at fewer
+//     samples, |z|^2 being band-limited).
 //  4. diagnose_bearing (fault_bands.hpp) on the SES, for each bearing.
 //  Steps 3-4 are repeated on the whole band of x_w (Smith & Randall's "CPW + SES" benchmark
 //  method, which needs no band selection). The two decisions are combined conservatively:
