@@ -329,6 +329,48 @@ TEST(AnglePlan, EqualsTheDocumentedFormulaOnARunUp) {
   expect_plan_matches_formula(Ramp{0.1, 10.0, 20.0}, 10e3, 1.5, 256, 3);
 }
 
+// One cutoff at every output makes the plan take its taps from the polyphase table
+// (resample.hpp): a steady speed (37 rev/s x 512 samples/rev, below fs), or a speed whose angular
+// Nyquist lies above fs / 2 all along (37 -> 37.75 rev/s x 1024: the cutoff is fs / 2). The
+// stated bound: an output within 3.3e-6 of max|x| of the formula (the table's 3.1e-9 and the
+// quadratic's 3.7e-9 per tap over 2 (K + 1) taps, the kink's 1.5e-6 at two taps); white noise of
+// unit RMS has max|x| < 5.5 over 3e4 samples: kTol = 3.3e-6 x 5.5. The slow ramp at 512
+// samples/rev (the cutoff follows the speed: per-tap table) is the control.
+TEST(AnglePlan, PolyphaseTapsAreWithinTheirStatedErrorOfTheFormula) {
+  const double fs = 20e3, duration = 1.5;
+  const auto x = white_noise(static_cast<std::size_t>(duration * fs), 5);
+  const double max_x = std::abs(*std::max_element(
+      x.begin(), x.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }));
+  ASSERT_LT(max_x, 5.5);
+  constexpr double kTol = 3.3e-6 * 5.5;
+  struct Case {
+    Ramp ramp;
+    int spr;
+    bool polyphase;
+  };
+  for (const Case& c :
+       {Case{Ramp{0.3, 37.0, 0.0}, 512, true}, Case{Ramp{0.3, 37.0, 0.5}, 1024, true},
+        Case{Ramp{0.3, 37.0, 0.5}, 512, false}}) {
+    const auto p = c.ramp.pulses(duration);
+    detect::ResampleOptions o;
+    o.samples_per_rev = c.spr;
+    const detect::ShaftAngle a(p, 1);
+    const auto plan = detect::make_angle_plan(a, fs, x.size(), o);
+    EXPECT_EQ(plan.polyphase(), c.polyphase) << c.spr;
+    const auto y = detect::resample_by_angle(x, plan);
+    double worst = 0;
+    for (std::size_t m = 0; m < y.samples.size(); m += 11) {
+      double u = 0, g = 0;
+      const double want =
+          naive_output(x, fs, a, o, y.first_rev + static_cast<double>(m) / c.spr, &u, &g);
+      worst = std::max(worst, std::abs(y.samples[m] - want));
+    }
+    EXPECT_LT(worst, kTol) << c.spr;
+    std::cout << "  " << c.spr << " samples/rev, " << (c.polyphase ? "polyphase" : "per-tap table")
+              << ": worst |fast - formula| = " << worst << " (max|x| " << max_x << ")\n";
+  }
+}
+
 // The table against the formula sinc(v) w(v / Z) over [0, Z] (v on and between the table's
 // points), within the cubic Hermite bound h(0) / (384 x 64^4) (resample.hpp): h(0) =
 // pi^4 / 5 + 2 pi^2 beta I1(beta) / (I0(beta) Z^2) + 3 beta^2 I2(beta) / (I0(beta) Z^4), from the

@@ -1,7 +1,10 @@
 #include "detect/angular/resample.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
+#include <mutex>
 #include <numbers>
 #include <string>
 
@@ -72,6 +75,36 @@ std::vector<double> kernel_table(int z, double beta) {
   }
   return table;
 }
+
+// The table of each Z, built once per process (it does not depend on the plan).
+const std::vector<double>& shared_kernel_table(int z) {
+  static std::array<std::once_flag, 65> once;
+  static std::array<std::vector<double>, 65> tables;
+  const auto i = static_cast<std::size_t>(z);
+  std::call_once(once[i], [&] { tables[i] = kernel_table(z, kKaiserBeta); });
+  return tables[i];
+}
+
+double table_kernel(const double* table, int z, double v) {
+  const double p = std::abs(v) * kCellsPerZeroCrossing;
+  const auto i =
+      std::min(static_cast<std::size_t>(p), static_cast<std::size_t>(z) * kCellsPerZeroCrossing);
+  const double f = p - static_cast<double>(i);
+  const double* c = table + 4 * i;
+  return c[0] + f * (c[1] + f * (c[2] + f * c[3]));
+}
+
+// Polyphase form of the kernel for a plan whose cutoff g is the same for every output (see
+// resample.hpp): the taps of an output at u = b + phi (b = floor(u)) are c_j = h(g (phi - j)),
+// j = lo .. lo + T - 1 (lo = -floor(K), T = 2 floor(K) + 2: every n with |u - n| <= K), smooth
+// functions of phi. The phase range [0, 1) is cut into kPhases cells; in each, c_j(phi) is the
+// quadratic through the kernel (the cubic table) at the cell's ends and middle.
+constexpr int kPhases = 256;
+// Relative spread of the cutoffs below which a plan counts as one cutoff (the taps then move by
+// at most this much times max |v h'(v)| < 1: far below the table's own 3e-9).
+constexpr double kSameCutoff = 1e-10;
+// Largest polyphase table [doubles]; larger (a cutoff far below fs / 2, many taps): per tap.
+constexpr std::size_t kMaxPolyphase = std::size_t{1} << 17;
 
 // Safeguarded Newton on the monotone cubic hermite(s, m0, m1) = q in [0, 1], from s.
 double solve_hermite(double q, double m0, double m1, double s) {
@@ -315,40 +348,144 @@ AnglePlan::AnglePlan(const ShaftAngle& angle, double fs_hz, std::size_t n_sample
     position_[m] *= fs_hz;
     cutoff_[m] = cutoff_at_speed(cutoff_[m]);
   }
-  table_ = kernel_table(z_, kKaiserBeta);
+  table_ = shared_kernel_table(z_).data();
+
+  // One cutoff for every output (the angular Nyquist above fs / 2 all along, or a constant
+  // speed): the polyphase table.
+  const auto [g_lo, g_hi] = std::minmax_element(cutoff_.begin(), cutoff_.end());
+  if (outputs > 0 && *g_hi - *g_lo <= kSameCutoff * *g_hi) {
+    const double g = *g_hi;
+    const double k_half = std::floor(z_ / g);
+    const auto taps = static_cast<std::size_t>(2 * k_half + 2);
+    if (3 * taps * kPhases <= kMaxPolyphase) {
+      poly_lo_ = -static_cast<long>(k_half);
+      poly_taps_ = taps;
+      poly_.resize(3 * taps * kPhases);
+      auto h = [&](double phi, std::size_t j) {
+        return table_kernel(table_, z_,
+                            g * (phi - static_cast<double>(poly_lo_ + static_cast<long>(j))));
+      };
+      for (int a = 0; a < kPhases; ++a) {
+        const double phi0 = static_cast<double>(a) / kPhases;
+        const double phim = (a + 0.5) / kPhases, phi1 = static_cast<double>(a + 1) / kPhases;
+        double* row = poly_.data() + 3 * taps * static_cast<std::size_t>(a);
+        for (std::size_t j = 0; j < taps; ++j) {
+          const double y0 = h(phi0, j), ym = h(phim, j), y1 = h(phi1, j);
+          const double c2 = 2 * (y0 + y1 - 2 * ym);
+          row[j] = y0;
+          row[taps + j] = y1 - y0 - c2;
+          row[2 * taps + j] = c2;
+        }
+      }
+    }
+  }
 }
 
-double AnglePlan::kernel(double v) const {
-  const double p = std::abs(v) * kCellsPerZeroCrossing;
-  const auto i =
-      std::min(static_cast<std::size_t>(p), static_cast<std::size_t>(z_) * kCellsPerZeroCrossing);
-  const double f = p - static_cast<double>(i);
-  const double* c = table_.data() + 4 * i;
-  return c[0] + f * (c[1] + f * (c[2] + f * c[3]));
+double AnglePlan::kernel(double v) const { return table_kernel(table_, z_, v); }
+
+namespace {
+
+// The inner loops, written once for 2- and 4-wide vectors (SSE2, the x86-64 baseline, and AVX2
+// where the CPU has it, chosen at run time). Each vector lane does what the scalar code would
+// do for its elements, and no fused multiply-add is enabled for either, so both give the same
+// bytes.
+using V2 = double __attribute__((vector_size(16)));
+using V4 = double __attribute__((vector_size(32)));
+
+// x[k] c[k] for the kW elements from k into acc (by reference: a 32-byte vector by value
+// would be passed differently with and without AVX).
+template <class V>
+[[gnu::always_inline]] inline void multiply_add(V& acc, const double* x, const double* c) {
+  V a, b;
+  std::memcpy(&a, x, sizeof(V));
+  std::memcpy(&b, c, sizeof(V));
+  acc += a * b;
 }
+
+// sum_k x[k] c[k] in sixteen interleaved partial sums (lane l takes k = l mod 16 of the whole
+// blocks of 16; then one block of 8, if left, into lanes 0..7; then the rest one by one into
+// lanes 0..), reduced in a fixed order. Sixteen sums keep the vector units busy (the adds are
+// not one dependent chain).
+template <class V>
+[[gnu::always_inline]] inline double dot16(const double* x, const double* c, std::size_t count) {
+  constexpr std::size_t kW = sizeof(V) / sizeof(double), kRegs = 16 / kW;
+  V acc[kRegs] = {};
+  std::size_t k = 0;
+  for (; k + 16 <= count; k += 16) {
+    for (std::size_t r = 0; r < kRegs; ++r) multiply_add(acc[r], x + k + r * kW, c + k + r * kW);
+  }
+  if (k + 8 <= count) {
+    for (std::size_t r = 0; r < kRegs / 2; ++r)
+      multiply_add(acc[r], x + k + r * kW, c + k + r * kW);
+    k += 8;
+  }
+  double lane[16];
+  std::memcpy(lane, acc, sizeof lane);
+  for (std::size_t l = 0; k < count; ++k, ++l) lane[l] += x[k] * c[k];
+  double half[8];
+  for (int l = 0; l < 8; ++l) half[l] = lane[l] + lane[l + 8];
+  return ((half[0] + half[4]) + (half[1] + half[5])) + ((half[2] + half[6]) + (half[3] + half[7]));
+}
+
+// c[k] = c0[k] + f (c1[k] + f c2[k]): the polyphase taps of one output.
+template <class V>
+[[gnu::always_inline]] inline void poly_taps(const double* c0, const double* c1, const double* c2,
+                                             double f, double* c, std::size_t count) {
+  constexpr std::size_t kW = sizeof(V) / sizeof(double);
+  V vf;
+  for (std::size_t l = 0; l < kW; ++l) vf[l] = f;
+  std::size_t k = 0;
+  for (; k + kW <= count; k += kW) {
+    V a0, a1, a2;
+    std::memcpy(&a0, c0 + k, sizeof(V));
+    std::memcpy(&a1, c1 + k, sizeof(V));
+    std::memcpy(&a2, c2 + k, sizeof(V));
+    const V v = a0 + vf * (a1 + vf * a2);
+    std::memcpy(c + k, &v, sizeof(V));
+  }
+  for (; k < count; ++k) c[k] = c0[k] + f * (c1[k] + f * c2[k]);
+}
+
+}  // namespace
 
 // The taps of one output sample and the dot products with them: y_m = g_m sum_k x[n0 + k] c_k.
 struct AnglePlanAccess {
   struct Taps {
     std::size_t n0 = 0, count = 0;
   };
-  // Fills taps[0 .. count) for output m (taps grows as needed).
-  static Taps taps(const AnglePlan& plan, std::size_t m, std::vector<double>& taps) {
+  using PolyTaps = void (*)(const double*, const double*, const double*, double, double*,
+                            std::size_t);
+  // Writes the taps of output m to c[0 .. count) (c holds at least max_taps(plan) values).
+  static Taps taps(const AnglePlan& plan, std::size_t m, double* c, PolyTaps poly) {
     const double u = plan.position_[m], g = plan.cutoff_[m];
-    const double half = plan.z_ / g;
     const long n_max = static_cast<long>(plan.n_samples_) - 1;
+    if (!plan.poly_.empty()) {
+      // Polyphase: the cell of u's phase, quadratic in the position within the cell.
+      const double b = std::floor(u);
+      const double ph = (u - b) * kPhases;
+      const int a = std::min(static_cast<int>(ph), kPhases - 1);
+      const double f = ph - a;
+      const long first = static_cast<long>(b) + plan.poly_lo_;
+      const long last = first + static_cast<long>(plan.poly_taps_) - 1;
+      const long n0 = std::max<long>(0, first), n1 = std::min(n_max, last);
+      const std::size_t count = n1 >= n0 ? static_cast<std::size_t>(n1 - n0 + 1) : 0;
+      const std::size_t t = plan.poly_taps_;
+      const double* c0 = plan.poly_.data() + 3 * t * static_cast<std::size_t>(a) +
+                         static_cast<std::size_t>(n0 - first);
+      poly(c0, c0 + t, c0 + 2 * t, f, c, count);
+      return {static_cast<std::size_t>(n0), count};
+    }
+    const double half = plan.z_ / g;
     const long n0 = std::max<long>(0, static_cast<long>(std::ceil(u - half)));
     const long n1 = std::min<long>(n_max, static_cast<long>(std::floor(u + half)));
     const std::size_t count = n1 >= n0 ? static_cast<std::size_t>(n1 - n0 + 1) : 0;
-    if (taps.size() < count) taps.resize(count);
     // p_k = g |u - n0 - k| kCellsPerZeroCrossing, the table position of tap k; taps with
     // |u - n| <= K only, so p <= Z kCellsPerZeroCrossing up to rounding (the zero cell).
     const double step = g * kCellsPerZeroCrossing;
     const double p0 = (u - static_cast<double>(n0)) * step;
     // int, not size_t: x86-64 converts a double to a signed integer in one instruction.
     const int last_cell = plan.z_ * kCellsPerZeroCrossing;
-    const double* table = plan.table_.data();
-    double* c = taps.data();
+    const double* table = plan.table_;
     for (std::size_t k = 0; k < count; ++k) {
       const double p = std::abs(p0 - static_cast<double>(k) * step);
       const int i = std::min(static_cast<int>(p), last_cell);
@@ -356,24 +493,63 @@ struct AnglePlanAccess {
       const double* a = table + 4 * static_cast<std::ptrdiff_t>(i);
       c[k] = a[0] + f * (a[1] + f * (a[2] + f * a[3]));
     }
-    return {static_cast<std::size_t>(std::max<long>(n0, 0)), count};
+    return {static_cast<std::size_t>(n0), count};
   }
-
-  // sum_k x[k] c[k] in four interleaved partial sums (a fixed order: the same bytes on every
-  // call, and a loop the compiler can keep in vector registers).
-  static double dot(const double* x, const double* c, std::size_t count) {
-    double a0 = 0, a1 = 0, a2 = 0, a3 = 0;
-    std::size_t k = 0;
-    for (; k + 4 <= count; k += 4) {
-      a0 += x[k] * c[k];
-      a1 += x[k + 1] * c[k + 1];
-      a2 += x[k + 2] * c[k + 2];
-      a3 += x[k + 3] * c[k + 3];
-    }
-    for (; k < count; ++k) a0 += x[k] * c[k];
-    return (a0 + a1) + (a2 + a3);
+  // An upper bound of the taps of any output of the plan.
+  static std::size_t max_taps(const AnglePlan& plan) {
+    if (!plan.poly_.empty()) return plan.poly_taps_;
+    const double g_min =
+        plan.cutoff_.empty() ? 1.0 : *std::min_element(plan.cutoff_.begin(), plan.cutoff_.end());
+    return static_cast<std::size_t>(2 * std::floor(plan.z_ / g_min) + 3);
   }
 };
+
+namespace {
+
+// y[m] = g[m] dot(x + n0_m, taps_m) for a block of outputs.
+using BlockDot = void (*)(const double* x, const double* taps, const AnglePlanAccess::Taps* where,
+                          const double* g, double* y, std::size_t outputs);
+template <class V>
+[[gnu::always_inline]] inline void block_dot(const double* x, const double* t,
+                                             const AnglePlanAccess::Taps* where, const double* g,
+                                             double* y, std::size_t outputs) {
+  for (std::size_t m = 0; m < outputs; ++m) {
+    y[m] = g[m] * dot16<V>(x + where[m].n0, t, where[m].count);
+    t += where[m].count;
+  }
+}
+void block_dot_sse2(const double* x, const double* t, const AnglePlanAccess::Taps* where,
+                    const double* g, double* y, std::size_t outputs) {
+  block_dot<V2>(x, t, where, g, y, outputs);
+}
+void poly_taps_sse2(const double* c0, const double* c1, const double* c2, double f, double* c,
+                    std::size_t count) {
+  poly_taps<V2>(c0, c1, c2, f, c, count);
+}
+struct Kernels {
+  BlockDot dot;
+  AnglePlanAccess::PolyTaps poly;
+};
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+[[gnu::target("avx2")]] void block_dot_avx2(const double* x, const double* t,
+                                            const AnglePlanAccess::Taps* where, const double* g,
+                                            double* y, std::size_t outputs) {
+  block_dot<V4>(x, t, where, g, y, outputs);
+}
+[[gnu::target("avx2")]] void poly_taps_avx2(const double* c0, const double* c1, const double* c2,
+                                            double f, double* c, std::size_t count) {
+  poly_taps<V4>(c0, c1, c2, f, c, count);
+}
+Kernels kernels() {
+  static const Kernels k = __builtin_cpu_supports("avx2") ? Kernels{block_dot_avx2, poly_taps_avx2}
+                                                          : Kernels{block_dot_sse2, poly_taps_sse2};
+  return k;
+}
+#else
+Kernels kernels() { return {block_dot_sse2, poly_taps_sse2}; }
+#endif
+
+}  // namespace
 
 AnglePlan make_angle_plan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
                           const ResampleOptions& options) {
@@ -411,26 +587,23 @@ std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const do
   // at a time keeps the hardware prefetcher on one stream).
   constexpr std::size_t kBlockTaps = 4096;
   const std::span<const double> g = plan.cutoffs();
-  std::vector<double> taps, one;
+  const std::size_t most = AnglePlanAccess::max_taps(plan);
+  std::vector<double> taps(kBlockTaps + most);
   std::vector<AnglePlanAccess::Taps> where;
+  const Kernels kern = kernels();
   for (std::size_t m0 = 0; m0 < plan.size();) {
-    taps.clear();
     where.clear();
-    std::size_t m1 = m0;
-    for (; m1 < plan.size() && (m1 == m0 || taps.size() < kBlockTaps); ++m1) {
-      const AnglePlanAccess::Taps w = AnglePlanAccess::taps(plan, m1, one);
-      where.push_back({w.n0, w.count});
-      taps.insert(taps.end(), one.begin(), one.begin() + static_cast<std::ptrdiff_t>(w.count));
+    std::size_t used = 0, m1 = m0;
+    for (; m1 < plan.size() && (m1 == m0 || used < kBlockTaps); ++m1) {
+      if (taps.size() < used + most) taps.resize(used + most);
+      const AnglePlanAccess::Taps w =
+          AnglePlanAccess::taps(plan, m1, taps.data() + used, kern.poly);
+      where.push_back(w);
+      used += w.count;
     }
     for (std::size_t c = 0; c < channels.size(); ++c) {
-      const double* x = channels[c].data();
-      double* y = out[c].samples.data();
-      const double* t = taps.data();
-      for (std::size_t m = m0; m < m1; ++m) {
-        const AnglePlanAccess::Taps& w = where[m - m0];
-        y[m] = g[m] * AnglePlanAccess::dot(x + w.n0, t, w.count);
-        t += w.count;
-      }
+      kern.dot(channels[c].data(), taps.data(), where.data(), g.data() + m0,
+               out[c].samples.data() + m0, m1 - m0);
     }
     m0 = m1;
   }
