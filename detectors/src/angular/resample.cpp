@@ -392,39 +392,80 @@ namespace {
 using V2 = double __attribute__((vector_size(16)));
 using V4 = double __attribute__((vector_size(32)));
 
-// x[k] c[k] for the kW elements from k into acc (by reference: a 32-byte vector by value
-// would be passed differently with and without AVX).
+// acc += x[0 .. kW) t (by reference: a 32-byte vector by value would be passed differently with
+// and without AVX).
 template <class V>
-[[gnu::always_inline]] inline void multiply_add(V& acc, const double* x, const double* c) {
-  V a, b;
+[[gnu::always_inline]] inline void multiply_add(V& acc, const double* x, const V& t) {
+  V a;
   std::memcpy(&a, x, sizeof(V));
-  std::memcpy(&b, c, sizeof(V));
-  acc += a * b;
+  acc += a * t;
 }
 
-// sum_k x[k] c[k] in sixteen interleaved partial sums (lane l takes k = l mod 16 of the whole
-// blocks of 16; then one block of 8, if left, into lanes 0..7; then the rest one by one into
-// lanes 0..), reduced in a fixed order. Sixteen sums keep the vector units busy (the adds are
-// not one dependent chain).
+// Keeps v in a register: otherwise the compiler may load it again from memory for each use (as
+// an operand of each multiply), which costs the loads that sharing it saves.
 template <class V>
-[[gnu::always_inline]] inline double dot16(const double* x, const double* c, std::size_t count) {
+[[gnu::always_inline]] inline void keep_in_register(V& v) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  asm("" : "+x"(v));
+#else
+  (void)v;
+#endif
+}
+
+// sum_k x_i[k] c[k] for G channels i at once (the taps loaded once for all of them), each in
+// sixteen interleaved partial sums (lane l takes k = l mod 16 of the whole blocks of 16; then one
+// block of 8, if left, into lanes 0..7; then the rest, if any, into lanes 0..), reduced in a
+// fixed order: a channel's sum does not depend on G or on the vector width. Sixteen sums keep
+// the vector units busy (the adds are not one dependent chain).
+template <class V, std::size_t G>
+[[gnu::always_inline]] inline void dot16(const double* const* x, const double* c, std::size_t count,
+                                         double* out) {
   constexpr std::size_t kW = sizeof(V) / sizeof(double), kRegs = 16 / kW;
-  V acc[kRegs] = {};
+  V acc[G][kRegs] = {};
   std::size_t k = 0;
   for (; k + 16 <= count; k += 16) {
-    for (std::size_t r = 0; r < kRegs; ++r) multiply_add(acc[r], x + k + r * kW, c + k + r * kW);
+#pragma GCC unroll 8
+    for (std::size_t r = 0; r < kRegs; ++r) {
+      V t;  // the taps loaded once for the G channels
+      std::memcpy(&t, c + k + r * kW, sizeof(V));
+      keep_in_register(t);
+#pragma GCC unroll 4
+      for (std::size_t i = 0; i < G; ++i) multiply_add(acc[i][r], x[i] + k + r * kW, t);
+    }
   }
   if (k + 8 <= count) {
-    for (std::size_t r = 0; r < kRegs / 2; ++r)
-      multiply_add(acc[r], x + k + r * kW, c + k + r * kW);
+#pragma GCC unroll 8
+    for (std::size_t r = 0; r < kRegs / 2; ++r) {
+      V t;  // the taps loaded once for the G channels
+      std::memcpy(&t, c + k + r * kW, sizeof(V));
+      keep_in_register(t);
+#pragma GCC unroll 4
+      for (std::size_t i = 0; i < G; ++i) multiply_add(acc[i][r], x[i] + k + r * kW, t);
+    }
     k += 8;
   }
-  double lane[16];
-  std::memcpy(lane, acc, sizeof lane);
-  for (std::size_t l = 0; k < count; ++k, ++l) lane[l] += x[k] * c[k];
-  double half[8];
-  for (int l = 0; l < 8; ++l) half[l] = lane[l] + lane[l + 8];
-  return ((half[0] + half[4]) + (half[1] + half[5])) + ((half[2] + half[6]) + (half[3] + half[7]));
+  for (std::size_t i = 0; i < G; ++i) {
+    if (k < count) {  // the rest into lanes 0..: the other lanes add +0
+      double rest[8] = {};
+      for (std::size_t j = k; j < count; ++j) rest[j - k] = x[i][j] * c[j];
+      for (std::size_t r = 0; r < 8 / kW; ++r) {
+        V v;
+        std::memcpy(&v, rest + r * kW, sizeof(V));
+        acc[i][r] += v;
+      }
+    }
+    // half_l = lane l + lane l + 8, then ((h0 + h4) + (h1 + h5)) + ((h2 + h6) + (h3 + h7)), in
+    // the vector registers.
+    if constexpr (kW == 4) {
+      const V q = (acc[i][0] + acc[i][2]) + (acc[i][1] + acc[i][3]);
+      out[i] = (q[0] + q[1]) + (q[2] + q[3]);
+    } else {
+      static_assert(kW == 2);
+      const V q0 = (acc[i][0] + acc[i][4]) + (acc[i][2] + acc[i][6]);
+      const V q1 = (acc[i][1] + acc[i][5]) + (acc[i][3] + acc[i][7]);
+      out[i] = (q0[0] + q0[1]) + (q1[0] + q1[1]);
+    }
+  }
 }
 
 // c[k] = c0[k] + f (c1[k] + f c2[k]): the polyphase taps of one output.
@@ -473,7 +514,7 @@ struct AnglePlanAccess {
       const double* c0 = plan.poly_.data() + 3 * t * static_cast<std::size_t>(a) +
                          static_cast<std::size_t>(n0 - first);
       poly(c0, c0 + t, c0 + 2 * t, f, c, count);
-      return {static_cast<std::size_t>(n0), count};
+      return padded(plan, static_cast<std::size_t>(n0), count, c);
     }
     const double half = plan.z_ / g;
     const long n0 = std::max<long>(0, static_cast<long>(std::ceil(u - half)));
@@ -493,34 +534,50 @@ struct AnglePlanAccess {
       const double* a = table + 4 * static_cast<std::ptrdiff_t>(i);
       c[k] = a[0] + f * (a[1] + f * (a[2] + f * a[3]));
     }
-    return {static_cast<std::size_t>(n0), count};
+    return padded(plan, static_cast<std::size_t>(n0), count, c);
+  }
+  // The taps padded with zeros to a multiple of 8 where the record goes on that far, so that the
+  // dot product has no remainder to take one by one (x[n] 0 adds nothing: x is finite).
+  static Taps padded(const AnglePlan& plan, std::size_t n0, std::size_t count, double* c) {
+    const std::size_t up = (count + 7) / 8 * 8;
+    if (n0 + up > plan.n_samples_) return {n0, count};
+    std::fill(c + count, c + up, 0.0);
+    return {n0, up};
   }
   // An upper bound of the taps of any output of the plan.
   static std::size_t max_taps(const AnglePlan& plan) {
-    if (!plan.poly_.empty()) return plan.poly_taps_;
+    if (!plan.poly_.empty()) return plan.poly_taps_ + 7;
     const double g_min =
         plan.cutoff_.empty() ? 1.0 : *std::min_element(plan.cutoff_.begin(), plan.cutoff_.end());
-    return static_cast<std::size_t>(2 * std::floor(plan.z_ / g_min) + 3);
+    return static_cast<std::size_t>(2 * std::floor(plan.z_ / g_min) + 3) + 7;
   }
 };
 
 namespace {
 
-// y[m] = g[m] dot(x + n0_m, taps_m) for a block of outputs.
-using BlockDot = void (*)(const double* x, const double* taps, const AnglePlanAccess::Taps* where,
-                          const double* g, double* y, std::size_t outputs);
-template <class V>
-[[gnu::always_inline]] inline void block_dot(const double* x, const double* t,
+// y_i[m] = g[m] dot(x_i + n0_m, taps_m) for a block of outputs, channels i < G.
+template <class V, std::size_t G>
+[[gnu::always_inline]] inline void block_dot(const double* const* x, const double* t,
                                              const AnglePlanAccess::Taps* where, const double* g,
-                                             double* y, std::size_t outputs) {
+                                             double* const* y, std::size_t outputs) {
   for (std::size_t m = 0; m < outputs; ++m) {
-    y[m] = g[m] * dot16<V>(x + where[m].n0, t, where[m].count);
+    const double* xs[G];
+    for (std::size_t i = 0; i < G; ++i) xs[i] = x[i] + where[m].n0;
+    double d[G];
+    dot16<V, G>(xs, t, where[m].count, d);
+    for (std::size_t i = 0; i < G; ++i) y[i][m] = g[m] * d[i];
     t += where[m].count;
   }
 }
-void block_dot_sse2(const double* x, const double* t, const AnglePlanAccess::Taps* where,
-                    const double* g, double* y, std::size_t outputs) {
-  block_dot<V2>(x, t, where, g, y, outputs);
+// Channels [0, n) through a block: in pairs where the vector registers hold two channels'
+// partial sums (AVX2: 8 of 16), else one by one.
+using BlockDot = void (*)(const double* const* x, std::size_t n, const double* taps,
+                          const AnglePlanAccess::Taps* where, const double* g, double* const* y,
+                          std::size_t outputs);
+void block_dot_sse2(const double* const* x, std::size_t n, const double* t,
+                    const AnglePlanAccess::Taps* where, const double* g, double* const* y,
+                    std::size_t outputs) {
+  for (std::size_t i = 0; i < n; ++i) block_dot<V2, 1>(x + i, t, where, g, y + i, outputs);
 }
 void poly_taps_sse2(const double* c0, const double* c1, const double* c2, double f, double* c,
                     std::size_t count) {
@@ -531,10 +588,12 @@ struct Kernels {
   AnglePlanAccess::PolyTaps poly;
 };
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-[[gnu::target("avx2")]] void block_dot_avx2(const double* x, const double* t,
+[[gnu::target("avx2")]] void block_dot_avx2(const double* const* x, std::size_t n, const double* t,
                                             const AnglePlanAccess::Taps* where, const double* g,
-                                            double* y, std::size_t outputs) {
-  block_dot<V4>(x, t, where, g, y, outputs);
+                                            double* const* y, std::size_t outputs) {
+  std::size_t i = 0;
+  for (; i + 2 <= n; i += 2) block_dot<V4, 2>(x + i, t, where, g, y + i, outputs);
+  for (; i < n; ++i) block_dot<V4, 1>(x + i, t, where, g, y + i, outputs);
 }
 [[gnu::target("avx2")]] void poly_taps_avx2(const double* c0, const double* c1, const double* c2,
                                             double f, double* c, std::size_t count) {
@@ -591,6 +650,9 @@ std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const do
   std::vector<double> taps(kBlockTaps + most);
   std::vector<AnglePlanAccess::Taps> where;
   const Kernels kern = kernels();
+  std::vector<const double*> x(channels.size());
+  std::vector<double*> y(channels.size());
+  for (std::size_t c = 0; c < channels.size(); ++c) x[c] = channels[c].data();
   for (std::size_t m0 = 0; m0 < plan.size();) {
     where.clear();
     std::size_t used = 0, m1 = m0;
@@ -601,10 +663,8 @@ std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const do
       where.push_back(w);
       used += w.count;
     }
-    for (std::size_t c = 0; c < channels.size(); ++c) {
-      kern.dot(channels[c].data(), taps.data(), where.data(), g.data() + m0,
-               out[c].samples.data() + m0, m1 - m0);
-    }
+    for (std::size_t c = 0; c < channels.size(); ++c) y[c] = out[c].samples.data() + m0;
+    kern.dot(x.data(), x.size(), taps.data(), where.data(), g.data() + m0, y.data(), m1 - m0);
     m0 = m1;
   }
   return out;
