@@ -402,6 +402,38 @@ TEST(AnglePlan, KernelTableIsWithinItsStatedErrorOfTheFormula) {
   }
 }
 
+// A plan that keeps its taps gives the same bytes as one that computes them on every application
+// (both cutoff paths: a run-up, the per-tap table; a steady speed, the polyphase table), keeps
+// them from its first application (copies share them), and keeps none above its limit.
+TEST(AnglePlan, KeptTapsGiveTheSameBytes) {
+  const double fs = 8e3, duration = 2.0;
+  const auto a = white_noise(static_cast<std::size_t>(duration * fs), 3);
+  const auto b = white_noise(static_cast<std::size_t>(duration * fs), 4);
+  for (const Ramp& r : {Ramp{0.25, 20.0, 8.0}, Ramp{0.25, 20.0, 0.0}}) {
+    detect::ResampleOptions o;
+    o.samples_per_rev = 128;
+    const auto p = r.pulses(duration);
+    const auto plain = detect::make_angle_plan(p, fs, a.size(), o);
+    auto keeping = plain;
+    keeping.keep_taps(std::size_t{1} << 22);
+    const auto copy = keeping;
+    EXPECT_EQ(keeping.kept_taps(), 0u);
+    EXPECT_EQ(detect::resample_by_angle(a, keeping).samples,
+              detect::resample_by_angle(a, plain).samples);
+    EXPECT_GT(copy.kept_taps(), keeping.size());  // several taps per output, shared by the copy
+    EXPECT_EQ(detect::resample_by_angle(b, copy).samples,
+              detect::resample_by_angle(b, plain).samples);
+    const std::vector<std::span<const double>> both{a, b};
+    const auto together = detect::resample_by_angle(both, keeping);
+    EXPECT_EQ(together[1].samples, detect::resample_by_angle(b, plain).samples);
+    auto small = plain;
+    small.keep_taps(keeping.kept_taps() - 1);
+    EXPECT_EQ(detect::resample_by_angle(a, small).samples,
+              detect::resample_by_angle(a, plain).samples);
+    EXPECT_EQ(small.kept_taps(), 0u);
+  }
+}
+
 TEST(AnglePlan, AppliedToTwoChannelsEqualsTwoSeparateCalls) {
   const Ramp r{0.25, 20.0, 8.0};
   const double fs = 8e3, duration = 2.0;

@@ -544,6 +544,7 @@ struct AnglePlanAccess {
     std::fill(c + count, c + up, 0.0);
     return {n0, up};
   }
+  static AnglePlan::KeptTaps* kept(const AnglePlan& plan) { return plan.kept_.get(); }
   // An upper bound of the taps of any output of the plan.
   static std::size_t max_taps(const AnglePlan& plan) {
     if (!plan.poly_.empty()) return plan.poly_taps_ + 7;
@@ -610,6 +611,21 @@ Kernels kernels() { return {block_dot_sse2, poly_taps_sse2}; }
 
 }  // namespace
 
+struct AnglePlan::KeptTaps {
+  std::size_t max_values = 0;
+  std::once_flag once;
+  std::unique_ptr<double[]> taps;            // every output's, one after the other
+  std::size_t count = 0;                     // of them
+  std::vector<AnglePlanAccess::Taps> where;  // per output; empty: none kept
+};
+
+void AnglePlan::keep_taps(std::size_t max_values) {
+  kept_ = std::make_shared<KeptTaps>();
+  kept_->max_values = max_values;
+}
+
+std::size_t AnglePlan::kept_taps() const { return kept_ ? kept_->count : 0; }
+
 AnglePlan make_angle_plan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
                           const ResampleOptions& options) {
   return AnglePlan(angle, fs_hz, n_samples, options);
@@ -647,12 +663,46 @@ std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const do
   constexpr std::size_t kBlockTaps = 4096;
   const std::span<const double> g = plan.cutoffs();
   const std::size_t most = AnglePlanAccess::max_taps(plan);
-  std::vector<double> taps(kBlockTaps + most);
-  std::vector<AnglePlanAccess::Taps> where;
   const Kernels kern = kernels();
   std::vector<const double*> x(channels.size());
   std::vector<double*> y(channels.size());
   for (std::size_t c = 0; c < channels.size(); ++c) x[c] = channels[c].data();
+  if (auto* kept_taps = AnglePlanAccess::kept(plan)) {
+    auto& kept = *kept_taps;
+    std::call_once(kept.once, [&] {
+      // An upper bound of the taps first (max_taps per output): more than max_values keeps none.
+      std::size_t bound = 0;
+      for (std::size_t m = 0; m < plan.size(); ++m) {
+        bound += plan.polyphase() ? most
+                                  : static_cast<std::size_t>(
+                                        2 * std::floor(plan.kernel_zero_crossings() / g[m]) + 10);
+      }
+      if (bound > kept.max_values) return;
+      kept.taps.reset(new double[bound]);  // no zero-filling: every value used is written
+      kept.where.resize(plan.size());
+      std::size_t used = 0;
+      for (std::size_t m = 0; m < plan.size(); ++m) {
+        kept.where[m] = AnglePlanAccess::taps(plan, m, kept.taps.get() + used, kern.poly);
+        used += kept.where[m].count;
+      }
+      kept.count = used;
+    });
+    if (!kept.where.empty()) {
+      const double* t = kept.taps.get();
+      for (std::size_t m0 = 0; m0 < plan.size();) {
+        std::size_t used = 0, m1 = m0;
+        for (; m1 < plan.size() && (m1 == m0 || used < kBlockTaps); ++m1)
+          used += kept.where[m1].count;
+        for (std::size_t c = 0; c < channels.size(); ++c) y[c] = out[c].samples.data() + m0;
+        kern.dot(x.data(), x.size(), t, kept.where.data() + m0, g.data() + m0, y.data(), m1 - m0);
+        t += used;
+        m0 = m1;
+      }
+      return out;
+    }
+  }
+  std::vector<double> taps(kBlockTaps + most);
+  std::vector<AnglePlanAccess::Taps> where;
   for (std::size_t m0 = 0; m0 < plan.size();) {
     where.clear();
     std::size_t used = 0, m1 = m0;

@@ -63,6 +63,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -153,6 +154,14 @@ class AnglePlan {
   // Whether the taps come from the polyphase table (one cutoff for every output, see above).
   bool polyphase() const { return !poly_.empty(); }
 
+  // Keeps the taps of every output once the plan is first applied, for a plan applied again one
+  // channel at a time (each application then only takes the dot products; the same bytes as
+  // computing the taps again): at most max_values taps (8 bytes each); a plan with more keeps
+  // none. Call before the plan is shared; copies share what is kept. Thread-safe applications.
+  void keep_taps(std::size_t max_values);
+  // The taps kept (0 until the first application, or when there were more than max_values).
+  std::size_t kept_taps() const;
+
  private:
   friend struct AnglePlanAccess;
   int spr_ = 0, z_ = 0, revolutions_ = 0;
@@ -167,6 +176,8 @@ class AnglePlan {
   long poly_lo_ = 0;
   std::size_t poly_taps_ = 0;
   std::vector<double> poly_;
+  struct KeptTaps;  // resample.cpp
+  std::shared_ptr<KeptTaps> kept_;
 };
 
 // Builds the plan from pulse times (pulses_per_rev from the options). Throws like AnglePlan().
