@@ -670,18 +670,25 @@ std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const do
   if (auto* kept_taps = AnglePlanAccess::kept(plan)) {
     auto& kept = *kept_taps;
     std::call_once(kept.once, [&] {
-      // An upper bound of the taps first (max_taps per output): more than max_values keeps none.
-      std::size_t bound = 0;
-      for (std::size_t m = 0; m < plan.size(); ++m) {
-        bound += plan.polyphase() ? most
-                                  : static_cast<std::size_t>(
-                                        2 * std::floor(plan.kernel_zero_crossings() / g[m]) + 10);
-      }
-      if (bound > kept.max_values) return;
-      kept.taps.reset(new double[bound]);  // no zero-filling: every value used is written
+      // Room for max_values taps (only the pages written are touched); an output that might not
+      // fit (max_taps of it) keeps none.
+      auto bound = [&](std::size_t m) {
+        return plan.polyphase() ? most
+                                : static_cast<std::size_t>(
+                                      2 * std::floor(plan.kernel_zero_crossings() / g[m]) + 10);
+      };
+      std::size_t room = 0;
+      for (std::size_t m = 0; m < plan.size() && room <= kept.max_values; ++m) room += bound(m);
+      room = std::min(room, kept.max_values);
+      kept.taps.reset(new double[room]);
       kept.where.resize(plan.size());
       std::size_t used = 0;
       for (std::size_t m = 0; m < plan.size(); ++m) {
+        if (used + bound(m) > room) {
+          kept.taps.reset();
+          kept.where = {};
+          return;
+        }
         kept.where[m] = AnglePlanAccess::taps(plan, m, kept.taps.get() + used, kern.poly);
         used += kept.where[m].count;
       }
