@@ -333,7 +333,7 @@ TEST(AnglePlan, EqualsTheDocumentedFormulaOnARunUp) {
 // (resample.hpp): a steady speed (37 rev/s x 512 samples/rev, below fs), or a speed whose angular
 // Nyquist lies above fs / 2 all along (37 -> 37.75 rev/s x 1024: the cutoff is fs / 2). The
 // stated bound: an output within 3.3e-6 of max|x| of the formula (the table's 3.1e-9 and the
-// quadratic's 3.7e-9 per tap over 2 (K + 1) taps, the kink's 1.5e-6 at two taps); white noise of
+// quadratic's 3.6e-9 per tap over 2 (K + 1) taps, the kink's 1.5e-6 at two taps); white noise of
 // unit RMS has max|x| < 5.5 over 3e4 samples: kTol = 3.3e-6 x 5.5. The slow ramp at 512
 // samples/rev (the cutoff follows the speed: per-tap table) is the control.
 TEST(AnglePlan, PolyphaseTapsAreWithinTheirStatedErrorOfTheFormula) {

@@ -53,13 +53,14 @@
 // j = -floor(K) .. floor(K) + 1. The plan then tabulates them over 256 phase cells, per cell the
 // quadratic through the table's values at the cell's ends and middle (two multiply-adds per tap
 // on contiguous rows, instead of a table look-up per tap). Its error in a cell of width
-// D = g / 256 (in v) is at most max|h'''| D^3 / (72 sqrt 3) = 3.7e-9 of the peak for g <= 1
-// (|h'''| <= (2 pi)^3 / 32, the sinc's bound; the window's terms are smaller), on top of the
-// table's 3.1e-9; at the two taps where |u - n| crosses K (the kernel's kink: h falls to 0 with
-// slope |h'(Z)| = 1 / (Z I0(beta)) = 1.7e-4 at Z = 16) at most 2.25 |h'(Z)| D = 1.5e-6 (the
-// quadratic's Lebesgue constant is 1.25). In an output: at most 2 g (K + 1) 7e-9 + 2 g 1.5e-6
-// <= 3.3e-6 of max|x| (-110 dB), far below the -80 dB stopband. Otherwise (a cutoff that follows
-// the speed, or a table above 2^17 values: g < 0.19 at Z = 16) the taps come from the table.
+// D = g / 256 (in v) is at most max|h'''| D^3 / (72 sqrt 3) = 3.6e-9 of the peak for g <= 1 at
+// Z = 16 (max|h'''| = 7.5, computed; the sinc alone has (2 pi)^3 / 32 = 7.75; 13.7 and 6.5e-9 at
+// Z = 4), on top of the table's 3.1e-9; at the two taps where |u - n| crosses K (the kernel's
+// kink: h falls to 0 with slope |h'(Z)| = 1 / (Z I0(beta)) = 1.7e-4 at Z = 16) at most
+// 2.25 |h'(Z)| D = 1.5e-6 (the quadratic's Lebesgue constant is 1.25). In an output: at most
+// 2 g (K + 1) 7e-9 + 2 g 1.5e-6 <= 3.3e-6 of max|x| (-110 dB), far below the -80 dB stopband.
+// Otherwise (a cutoff that follows the speed, or a table above 2^17 values: g < 0.19 at Z = 16)
+// the taps come from the table.
 #pragma once
 
 #include <cstddef>
