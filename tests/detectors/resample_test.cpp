@@ -329,6 +329,48 @@ TEST(AnglePlan, EqualsTheDocumentedFormulaOnARunUp) {
   expect_plan_matches_formula(Ramp{0.1, 10.0, 20.0}, 10e3, 1.5, 256, 3);
 }
 
+// One cutoff at every output makes the plan take its taps from the polyphase table
+// (resample.hpp): a steady speed (37 rev/s x 512 samples/rev, below fs), or a speed whose angular
+// Nyquist lies above fs / 2 all along (37 -> 37.75 rev/s x 1024: the cutoff is fs / 2). The
+// stated bound: an output within 3.3e-6 of max|x| of the formula (the table's 3.1e-9 and the
+// quadratic's 3.6e-9 per tap over 2 (K + 1) taps, the kink's 1.5e-6 at two taps); white noise of
+// unit RMS has max|x| < 5.5 over 3e4 samples: kTol = 3.3e-6 x 5.5. The slow ramp at 512
+// samples/rev (the cutoff follows the speed: per-tap table) is the control.
+TEST(AnglePlan, PolyphaseTapsAreWithinTheirStatedErrorOfTheFormula) {
+  const double fs = 20e3, duration = 1.5;
+  const auto x = white_noise(static_cast<std::size_t>(duration * fs), 5);
+  const double max_x = std::abs(*std::max_element(
+      x.begin(), x.end(), [](double a, double b) { return std::abs(a) < std::abs(b); }));
+  ASSERT_LT(max_x, 5.5);
+  constexpr double kTol = 3.3e-6 * 5.5;
+  struct Case {
+    Ramp ramp;
+    int spr;
+    bool polyphase;
+  };
+  for (const Case& c :
+       {Case{Ramp{0.3, 37.0, 0.0}, 512, true}, Case{Ramp{0.3, 37.0, 0.5}, 1024, true},
+        Case{Ramp{0.3, 37.0, 0.5}, 512, false}}) {
+    const auto p = c.ramp.pulses(duration);
+    detect::ResampleOptions o;
+    o.samples_per_rev = c.spr;
+    const detect::ShaftAngle a(p, 1);
+    const auto plan = detect::make_angle_plan(a, fs, x.size(), o);
+    EXPECT_EQ(plan.polyphase(), c.polyphase) << c.spr;
+    const auto y = detect::resample_by_angle(x, plan);
+    double worst = 0;
+    for (std::size_t m = 0; m < y.samples.size(); m += 11) {
+      double u = 0, g = 0;
+      const double want =
+          naive_output(x, fs, a, o, y.first_rev + static_cast<double>(m) / c.spr, &u, &g);
+      worst = std::max(worst, std::abs(y.samples[m] - want));
+    }
+    EXPECT_LT(worst, kTol) << c.spr;
+    std::cout << "  " << c.spr << " samples/rev, " << (c.polyphase ? "polyphase" : "per-tap table")
+              << ": worst |fast - formula| = " << worst << " (max|x| " << max_x << ")\n";
+  }
+}
+
 // The table against the formula sinc(v) w(v / Z) over [0, Z] (v on and between the table's
 // points), within the cubic Hermite bound h(0) / (384 x 64^4) (resample.hpp): h(0) =
 // pi^4 / 5 + 2 pi^2 beta I1(beta) / (I0(beta) Z^2) + 3 beta^2 I2(beta) / (I0(beta) Z^4), from the
@@ -357,6 +399,38 @@ TEST(AnglePlan, KernelTableIsWithinItsStatedErrorOfTheFormula) {
     EXPECT_LT(worst, table_tol) << "Z = " << z;
     std::cout << "  Z = " << z << ": worst table error " << worst << " (bound " << table_tol
               << ")\n";
+  }
+}
+
+// A plan that keeps its taps gives the same bytes as one that computes them on every application
+// (both cutoff paths: a run-up, the per-tap table; a steady speed, the polyphase table), keeps
+// them from its first application (copies share them), and keeps none above its limit.
+TEST(AnglePlan, KeptTapsGiveTheSameBytes) {
+  const double fs = 8e3, duration = 2.0;
+  const auto a = white_noise(static_cast<std::size_t>(duration * fs), 3);
+  const auto b = white_noise(static_cast<std::size_t>(duration * fs), 4);
+  for (const Ramp& r : {Ramp{0.25, 20.0, 8.0}, Ramp{0.25, 20.0, 0.0}}) {
+    detect::ResampleOptions o;
+    o.samples_per_rev = 128;
+    const auto p = r.pulses(duration);
+    const auto plain = detect::make_angle_plan(p, fs, a.size(), o);
+    auto keeping = plain;
+    keeping.keep_taps(std::size_t{1} << 22);
+    const auto copy = keeping;
+    EXPECT_EQ(keeping.kept_taps(), 0u);
+    EXPECT_EQ(detect::resample_by_angle(a, keeping).samples,
+              detect::resample_by_angle(a, plain).samples);
+    EXPECT_GT(copy.kept_taps(), keeping.size());  // several taps per output, shared by the copy
+    EXPECT_EQ(detect::resample_by_angle(b, copy).samples,
+              detect::resample_by_angle(b, plain).samples);
+    const std::vector<std::span<const double>> both{a, b};
+    const auto together = detect::resample_by_angle(both, keeping);
+    EXPECT_EQ(together[1].samples, detect::resample_by_angle(b, plain).samples);
+    auto small = plain;
+    small.keep_taps(keeping.kept_taps() - 1);
+    EXPECT_EQ(detect::resample_by_angle(a, small).samples,
+              detect::resample_by_angle(a, plain).samples);
+    EXPECT_EQ(small.kept_taps(), 0u);
   }
 }
 

@@ -46,6 +46,10 @@ int tsa_samples_per_rev(const diag::Gearbox& gb, std::size_t s, const AnalyzeOpt
       std::clamp<std::size_t>(pow2_at_least(kOrderOversampling * top), 64, kMaxSamplesPerRev));
 }
 
+// The order plan's kept taps at most [values of 8 bytes]: 32 MiB (the two-stage run-up 500 ->
+// 3000 rpm, 10 s at 20 kHz: 3.9 M).
+constexpr std::size_t kKeptTaps = std::size_t{1} << 22;
+
 AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   const diag::Recording& rec = ctx.rec;
   const diag::Gearbox* gb = ctx.gb;
@@ -126,6 +130,10 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
     for (std::size_t k = 0; k < which.size(); ++k) out[which[k]] = std::move(ar[k]);
     return out;
   };
+  // In the order domain the envelope stage applies the order plan again, one channel at a time
+  // (channel_envelope.cpp): the plan keeps its taps from the first application (resample.hpp)
+  // when they fit in kKeptTaps values.
+  if (a.order_plan && ctx.order_domain) a.order_plan->keep_taps(kKeptTaps);
   a.tsa_resampled.resize(tsa_plans.size());
   std::vector<std::function<void()>> jobs;
   if (a.order_plan) jobs.emplace_back([&] { a.order_resampled = through(*a.order_plan); });

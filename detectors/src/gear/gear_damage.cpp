@@ -347,11 +347,35 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
     std::vector<std::complex<double>> mean_spec(fft.bins()), rev_spec(fft.bins());
     std::vector<double> var(fft.bins());
     std::vector<std::vector<std::complex<double>>> rev_specs;
-    for (const diag::Signal* ch : chans) {
+    // The leading channels of the first one's rate and length through one plan (its taps
+    // computed once for all: resample.hpp; the same bytes as one call per channel); the others,
+    // or all when the plan cannot be built, one by one below, where a failure is reported.
+    std::vector<AngleResampled> shared;
+    try {
+      const diag::Signal& first = *chans.front();
+      std::vector<std::span<const double>> same;
+      for (const diag::Signal* ch : chans) {
+        if (ch->fs_hz != first.fs_hz || ch->samples.size() != first.samples.size() ||
+            !std::all_of(ch->samples.begin(), ch->samples.end(),
+                         [](double v) { return std::isfinite(v); })) {
+          break;
+        }
+        same.emplace_back(ch->samples);
+      }
+      if (!same.empty()) {
+        shared =
+            resample_by_angle(same, make_angle_plan(pulses, first.fs_hz, first.samples.size(), ro));
+      }
+    } catch (const diag::InputError&) {
+      shared.clear();
+    }
+    for (std::size_t ci = 0; ci < chans.size(); ++ci) {
+      const diag::Signal* ch = chans[ci];
       AngleResampled ar;
       Tsa t;
       try {
-        ar = resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
+        ar = ci < shared.size() ? std::move(shared[ci])
+                                : resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
         t = tsa(ar, options.min_revolutions);
       } catch (const diag::InputError& e) {
         note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";

@@ -40,13 +40,31 @@
 // exact at 64 points per zero crossing): error <= max|h''''| / (384 x 64^4), the maximum at
 // v = 0: h''''(0) = pi^4 / 5 + 2 pi^2 beta I1(beta) / (I0(beta) Z^2) + 3 beta^2 I2(beta) /
 // (I0(beta) Z^4), so 4.5e-9 of the kernel's peak per tap at Z = 4, 3.1e-9 at Z = 16,
-// far below the -80 dB (1e-4) stopband; no Bessel function per tap. Applying a plan computes the
-// taps of one output sample into a contiguous buffer and takes dot products with it, once per
-// channel: the per-channel work is a plain dot product when many channels share a plan. The
-// result does not depend on whether channels are resampled together or one by one (same bytes).
+// far below the -80 dB (1e-4) stopband; no Bessel function per tap (the table is built once per
+// Z and process). Applying a plan computes the taps of one output sample into a contiguous
+// buffer and takes dot products with it, once per channel: the per-channel work is a plain dot
+// product when many channels share a plan. The result does not depend on whether channels are
+// resampled together or one by one (same bytes), nor on the instruction set (the dot product's
+// sixteen partial sums are the same with 2- or 4-wide vectors; no fused multiply-add).
+// Polyphase kernel. When every output has the same cutoff g (to 1e-10 relative: the angular
+// Nyquist above fs / 2 all along, the case of the TSA resolutions of pulse_refine.hpp and the
+// damaged-shaft locator at a steady speed; or an exactly constant speed), the taps of an output
+// at u = b + phi (b = floor(u)) depend on the phase phi only: c_j(phi) = h(g (phi - j)),
+// j = -floor(K) .. floor(K) + 1. The plan then tabulates them over 256 phase cells, per cell the
+// quadratic through the table's values at the cell's ends and middle (two multiply-adds per tap
+// on contiguous rows, instead of a table look-up per tap). Its error in a cell of width
+// D = g / 256 (in v) is at most max|h'''| D^3 / (72 sqrt 3) = 3.6e-9 of the peak for g <= 1 at
+// Z = 16 (max|h'''| = 7.5, computed; the sinc alone has (2 pi)^3 / 32 = 7.75; 13.7 and 6.5e-9 at
+// Z = 4), on top of the table's 3.1e-9; at the two taps where |u - n| crosses K (the kernel's
+// kink: h falls to 0 with slope |h'(Z)| = 1 / (Z I0(beta)) = 1.7e-4 at Z = 16) at most
+// 2.25 |h'(Z)| D = 1.5e-6 (the quadratic's Lebesgue constant is 1.25). In an output: at most
+// 2 g (K + 1) 7e-9 + 2 g 1.5e-6 <= 3.3e-6 of max|x| (-110 dB), far below the -80 dB stopband.
+// Otherwise (a cutoff that follows the speed, or a table above 2^17 values: g < 0.19 at Z = 16)
+// the taps come from the table.
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -134,6 +152,16 @@ class AnglePlan {
   // The kernel h(v) = sinc(v) w(v / Z) at v in [0, Z] zero crossings, from the table: exposed so
   // the tests can check the table against the formula.
   double kernel(double v) const;
+  // Whether the taps come from the polyphase table (one cutoff for every output, see above).
+  bool polyphase() const { return !poly_.empty(); }
+
+  // Keeps the taps of every output once the plan is first applied, for a plan applied again one
+  // channel at a time (each application then only takes the dot products; the same bytes as
+  // computing the taps again): at most max_values taps (8 bytes each); a plan with more keeps
+  // none. Call before the plan is shared; copies share what is kept. Thread-safe applications.
+  void keep_taps(std::size_t max_values);
+  // The taps kept (0 until the first application, or when there were more than max_values).
+  std::size_t kept_taps() const;
 
  private:
   friend struct AnglePlanAccess;
@@ -141,7 +169,16 @@ class AnglePlan {
   double first_rev_ = 0, fs_hz_ = 0;
   std::size_t n_samples_ = 0;
   std::vector<double> position_, cutoff_;
-  std::vector<double> table_;  // kernel: 4 cubic coefficients per cell, 64 cells per unit v
+  const double* table_ = nullptr;  // kernel: 4 cubic coefficients per cell, 64 cells per unit v
+                                   // (one table per Z, shared by every plan)
+  // Polyphase kernel (one cutoff for every output): per phase cell, 3 x poly_taps_ quadratic
+  // coefficients of the taps at offsets poly_lo_ .. poly_lo_ + poly_taps_ - 1 from floor(u).
+  // Empty: the taps from table_.
+  long poly_lo_ = 0;
+  std::size_t poly_taps_ = 0;
+  std::vector<double> poly_;
+  struct KeptTaps;  // resample.cpp
+  std::shared_ptr<KeptTaps> kept_;
 };
 
 // Builds the plan from pulse times (pulses_per_rev from the options). Throws like AnglePlan().
