@@ -259,6 +259,7 @@ int cmd_analyze(int argc, char** argv) {
   if (!healthy.empty()) {
     try {
       r.baseline = detect::score_against_baseline(rec, healthy, bo, baselines);
+      if (gb) detect::wear_against_baseline(r, rec, *gb, healthy, opt, baselines);
     } catch (const diag::InputError& e) {
       throw diag::InputError(std::string("--baseline: ") + e.what());
     }

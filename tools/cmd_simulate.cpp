@@ -145,7 +145,9 @@ int cmd_simulate(int argc, char** argv) {
   }
   if (vm.count("friction")) sc.dynamics.friction.law = sim::friction_law_from_string(friction);
   if (vm.count("oil-temp")) sc.dynamics.friction.oil_temperature_c = oil_c;
-  if (vm.count("seed")) sc.dynamics.seed = sc.run.seed = k.seed;
+  // Only an explicit --seed replaces the scenario's "seed" and sensors.noise_seed: vm.count is 1
+  // for the defaulted option too.
+  if (vm.count("seed") && !vm["seed"].defaulted()) sc.dynamics.seed = sc.run.seed = k.seed;
   const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
   print_warnings(r.warnings, "simulate");
   diag::write_recording(output, sim::to_recording(gb, r));

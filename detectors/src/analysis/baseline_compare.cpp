@@ -4,7 +4,9 @@
 #include <numeric>
 
 #include "detect/baseline/baseline.hpp"
+#include "detect/baseline/mesh_harmonic_growth.hpp"
 #include "diag/error.hpp"
+#include "kinematics.hpp"
 #include "stages.hpp"
 
 namespace detect {
@@ -160,6 +162,86 @@ AnalysisBaseline score_against_baseline(const diag::Recording& rec,
                      return std::abs(a.z) > std::abs(b.z);
                    });
   return out;
+}
+
+void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const diag::Gearbox& gb,
+                           std::span<const diag::Recording> baseline, const AnalyzeOptions& opt,
+                           std::span<const std::string> names) {
+  if (!r.baseline) throw std::logic_error("wear_against_baseline: no baseline comparison in r");
+  if (!names.empty() && names.size() != baseline.size())
+    throw diag::InputError("wear_against_baseline: names: " + std::to_string(names.size()) +
+                           " names for " + std::to_string(baseline.size()) +
+                           " baseline recordings");
+  AnalysisBaseline& out = *r.baseline;
+  if (baseline.empty() || r.meshes.size() != gb.meshes().size()) return;
+  auto name_of = [&](std::size_t i) {
+    return names.empty() ? "baseline recording " + std::to_string(i + 1) : names[i];
+  };
+  const std::string what = "wear indicator (mesh-harmonic growth): ";
+  if (!r.speed.stationary) {
+    out.notes.push_back(what + "not read: the recording's speed varies (it compares time spectra)");
+    return;
+  }
+  // Each baseline recording's input speed, estimated as the analysis estimates the recording's.
+  const int input = gb.input_shaft();
+  std::vector<double> scale(baseline.size());  // baseline input speed / gb's nominal
+  for (std::size_t i = 0; i < baseline.size(); ++i) {
+    const diag::Recording& b = baseline[i];
+    const diag::Gearbox gb_b = b.speed_rpm > 0 ? gb.with_input_speed_rpm(b.speed_rpm) : gb;
+    double duration = 0;
+    for (const diag::Signal& s : b.signals) duration = std::max(duration, s.duration_s());
+    std::vector<std::string> ignored;  // the baseline's own speed notes: not the report's
+    const ShaftKinematics kin = shaft_kinematics(b, gb_b, duration, opt, ignored);
+    if (!kin.speed.stationary) {
+      out.notes.push_back(what + "not read: the speed of " + name_of(i) +
+                          " varies (it compares time spectra)");
+      return;
+    }
+    scale[i] = kin.speeds[static_cast<std::size_t>(input)].speed_hz / gb.shaft_speed_hz(input);
+  }
+  const MeshHarmonicGrowthOptions mo;
+  for (std::size_t j = 0; j < r.meshes.size(); ++j) {
+    const AnalysisMesh& m = r.meshes[j];
+    AnalysisMeshWear w;
+    w.mesh = m.name;
+    w.mesh_hz = m.frequency_hz;
+    for (double s : scale)
+      w.baseline_mesh_hz.push_back(gb.mesh_frequency_hz(static_cast<int>(j)) * s);
+    try {
+      const MeshHarmonicGrowth g =
+          mesh_harmonic_growth(rec, w.mesh_hz, baseline, w.baseline_mesh_hz, mo);
+      w.growth_db = g.growth_db;
+      w.threshold_db = g.threshold_db;
+      w.flagged = g.flagged;
+      w.channels = g.channels;
+      w.channel_db = g.channel_db;
+    } catch (const diag::InputError& e) {
+      out.notes.push_back(what + "mesh " + m.name + " not read: " + e.what());
+      continue;
+    }
+    if (w.flagged) {
+      Finding f;
+      f.kind = "wear";
+      f.fault = diag::FaultKind::kWear;
+      f.shaft =
+          gb.shafts()[static_cast<std::size_t>(gb.shaft_of_gear(gb.gear_index(m.driver)))].name;
+      f.gears = {m.driver, m.driven};
+      const auto best = std::max_element(w.channel_db.begin(), w.channel_db.end());
+      f.channel = w.channels[static_cast<std::size_t>(best - w.channel_db.begin())];
+      f.frequency_hz = w.mesh_hz;
+      f.confidence = std::min(1.0, w.growth_db / (2 * w.threshold_db));
+      f.set_evidence("growth_db", w.growth_db);
+      f.set_evidence("threshold_db", w.threshold_db);
+      f.set_evidence("mesh_frequency_hz", w.mesh_hz);
+      f.note = "mesh " + m.name + ": its harmonics " + fmt(w.growth_db, 3) +
+               " dB above the baseline's (threshold " + fmt(w.threshold_db, 3) + " dB, mean over " +
+               std::to_string(w.channels.size()) + " channels): worn flanks";
+      r.findings.push_back(std::move(f));
+    }
+    out.wear.push_back(std::move(w));
+  }
+  std::stable_sort(r.findings.begin(), r.findings.end(),
+                   [](const Finding& a, const Finding& b) { return a.confidence > b.confidence; });
 }
 
 }  // namespace detect

@@ -649,6 +649,22 @@ std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions&
         << (big ? "<span class=bad>" : "") << f3(d.z) << (big ? "</span>" : "") << "</td></tr>";
     }
     o << "</table>\n";
+    if (!b.wear.empty()) {
+      o << "<h4>Wear: mesh harmonics against the baseline</h4>\n<p class=note>Growth = 20 "
+           "log<sub>10</sub> of the RMS of the amplitudes at 1-3 &times; the mesh frequency over "
+           "the baseline's median, each read at its own speed, averaged over the channels; worn "
+           "flanks above the threshold (mesh_harmonic_growth.hpp).</p>"
+           "<table><tr><th class=l>mesh</th><th>mesh frequency [Hz]</th><th>growth [dB]</th>"
+           "<th>threshold [dB]</th><th class=l>verdict</th></tr>";
+      for (const auto& w : b.wear) {
+        o << "<tr><td class=l>" << html_escape(w.mesh) << "</td><td>" << f3(w.mesh_hz)
+          << "</td><td>" << f3(w.growth_db) << "</td><td>" << f3(w.threshold_db)
+          << "</td><td class=l>"
+          << (w.flagged ? "<span class=bad>worn</span>" : "<span class=good>normal</span>")
+          << "</td></tr>";
+      }
+      o << "</table>\n";
+    }
   }
 
   // ---- per channel: folded sections ----

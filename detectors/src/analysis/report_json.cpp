@@ -282,6 +282,20 @@ nlohmann::json to_json(const AnalysisResult& r) {
                      {"samples", r.baseline->samples},
                      {"channels", r.baseline->channels},
                      {"notes", r.baseline->notes}};
+    // The wear indicator per mesh (mesh_harmonic_growth.hpp); empty without a gearbox.
+    json wear = json::array();
+    for (const auto& w : r.baseline->wear) {
+      json per = json::object();
+      for (std::size_t c = 0; c < w.channels.size(); ++c) per[w.channels[c]] = w.channel_db[c];
+      wear.push_back({{"mesh", w.mesh},
+                      {"mesh_frequency_hz", w.mesh_hz},
+                      {"baseline_mesh_frequency_hz", w.baseline_mesh_hz},
+                      {"growth_db", w.growth_db},
+                      {"threshold_db", w.threshold_db},
+                      {"flagged", w.flagged},
+                      {"channel_db", std::move(per)}});
+    }
+    j["baseline"]["wear"] = std::move(wear);
   }
   j["notes"] = r.notes;
   return j;

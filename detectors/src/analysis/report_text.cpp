@@ -91,6 +91,10 @@ std::string format_summary(const AnalysisResult& r) {
       o << "  " << d.feature << ": z " << fmt(d.z) << " (" << fmt(d.value) << " against "
         << fmt(d.baseline_centre) << " +- " << fmt(d.baseline_spread) << ")\n";
     }
+    for (const auto& w : r.baseline->wear)
+      o << "  wear, mesh " << w.mesh << " (" << fmt(w.mesh_hz) << " Hz): harmonics "
+        << fmt(w.growth_db) << " dB against the baseline (threshold " << fmt(w.threshold_db)
+        << " dB)" << (w.flagged ? ": WORN" : "") << "\n";
     for (const auto& n : r.baseline->notes) o << "  note: " << n << "\n";
   }
   for (const auto& n : r.notes) o << "note: " << n << "\n";

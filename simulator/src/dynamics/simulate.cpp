@@ -582,6 +582,15 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   truth["oil_temperature_c"] = opt.friction.oil_temperature_c;
   truth["mesh_damping_ratio"] = opt.mesh_damping_ratio;
   truth["natural_frequencies_hz"] = nat;
+  // Mesh frequencies at the run's mean input speed over the recorded window (the description's
+  // input.speed_rpm is only its nominal: --rpm and a scenario's speed replace it).
+  const double t_first = static_cast<double>(settle_out) / run.fs_hz;
+  const double t_last = static_cast<double>(settle_out + n_out) / run.fs_hz;
+  const double run_rpm = opt.speed.min_rpm() == opt.speed.max_rpm()
+                             ? opt.speed.max_rpm()
+                             : (opt.speed.angle_rad(t_last) - opt.speed.angle_rad(t_first)) /
+                                   (t_last - t_first) * 60.0 / (2 * kPi);
+  const double speed_scale = run_rpm / gb.input().speed_rpm;
   nlohmann::json meshes = nlohmann::json::array();
   for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
     const int jj = static_cast<int>(j);
@@ -590,7 +599,7 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
                       {"torsional_frequency_hz", model.mesh_torsional_frequency_hz(jj)},
                       {"backlash_m", model.mesh_backlash_m(jj)},
                       {"contact_ratio", gb.meshes()[j].pair.contact_ratio()},
-                      {"mesh_frequency_hz", gb.mesh_frequency_hz(jj)}});
+                      {"mesh_frequency_hz", gb.mesh_frequency_hz(jj) * speed_scale}});
   }
   truth["meshes"] = meshes;
   nlohmann::json wear = nlohmann::json::array();
@@ -606,7 +615,7 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
                        a.state.max_depth_driven_m() * 1e6}}},
                     {"max_gap_um", a.max_gap_m * 1e6},
                     {"te_peak_to_peak_rad", a.state.te_peak_to_peak_rad},
-                    {"mesh_frequency_hz", gb.mesh_frequency_hz(a.mesh)}});
+                    {"mesh_frequency_hz", gb.mesh_frequency_hz(a.mesh) * speed_scale}});
   }
   truth["wear"] = wear;
   truth["accuracy_grade"] = opt.accuracy_grade;

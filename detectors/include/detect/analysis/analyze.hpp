@@ -280,6 +280,17 @@ struct AnalysisBaselineDeviation {
   double baseline_spread = 0;  // max(1.4826 MAD, spread_floor): a robust standard deviation
   double z = 0;                // (value - centre) / spread [robust sigmas]
 };
+// The wear indicator of one mesh against the baseline (wear_against_baseline below).
+struct AnalysisMeshWear {
+  std::string mesh;                      // diag::mesh_name
+  double mesh_hz = 0;                    // at the recording's speed (the analysis's kinematics)
+  std::vector<double> baseline_mesh_hz;  // at each baseline recording's speed, in order
+  double growth_db = 0;                  // mesh_harmonic_growth.hpp: mean over the channels
+  double threshold_db = 0;               // flagged above it
+  bool flagged = false;
+  std::vector<std::string> channels;  // the channels compared
+  std::vector<double> channel_db;     // growth per channel [dB], same order
+};
 struct AnalysisBaseline {
   double anomaly_score = 0;  // mean of z^2 over every feature (baseline.hpp)
   double threshold = 0;      // alarm when anomaly_score > threshold
@@ -289,6 +300,7 @@ struct AnalysisBaseline {
   std::vector<std::string> recordings;  // the baseline recordings' names, in the order given
   std::size_t samples = 0;              // baseline feature sets fitted (recordings x segments)
   std::vector<std::string> notes;       // channels left out and why, segment counts lowered
+  std::vector<AnalysisMeshWear> wear;   // per mesh (wear_against_baseline); empty without one
 };
 
 struct AnalysisResult {
@@ -352,6 +364,24 @@ AnalysisBaseline score_against_baseline(const diag::Recording& rec,
                                         std::span<const diag::Recording> baseline,
                                         const BaselineComparisonOptions& opt = {},
                                         std::span<const std::string> names = {});
+
+// ---- Wear against the baseline (detect/baseline/mesh_harmonic_growth.hpp) ----
+// Per mesh of gb: the growth of the mesh harmonics against the baseline recordings, the mesh
+// frequency read at the recording's speed (r.meshes: the analysis's kinematics) and at each
+// baseline recording's own speed, estimated the way the analysis estimates the recording's
+// (shaft_kinematics: tacho, else the vibration's mesh ridge near the nominal speed, the nominal
+// being the baseline file's recorded input_speed_rpm when it has one, else gb's). Fills
+// r.baseline->wear (r.baseline must hold score_against_baseline's result) and, per flagged mesh, a
+// finding: kind "wear", fault kWear, the mesh's gears, the mesh frequency, the channel with the
+// largest growth, evidence growth_db / threshold_db / mesh_frequency_hz, confidence
+// min(1, growth_db / (2 threshold_db)) (0.5 at the threshold, 1 at twice it: the study's worn
+// gears of 20 um and more read 5.3-15.7 dB against 4 dB, healthy ones at most 2.0 dB). A mesh the
+// indicator cannot read (a harmonic above fs / 2, a varying speed in the recording or a baseline
+// recording: the indicator reads time spectra) is left out with a note in r.baseline->notes.
+// `names`: empty or one per baseline recording.
+void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const diag::Gearbox& gb,
+                           std::span<const diag::Recording> baseline,
+                           const AnalyzeOptions& opt = {}, std::span<const std::string> names = {});
 
 // Scalar features by name, "<channel>/<indicator>" (e.g. "bearing1_along_loa/rms",
 // "bearing1_along_loa/tsa/input/z1/fm4", "two_direction/<location>/<mesh>/normal_to_along_db"):
