@@ -5,9 +5,9 @@
 # gears at 1.1 x the torque and at 0.95 and 1.05 x the speed, and other gears of the same ISO 1328
 # grade (6, runout 8 um, another seed).
 # Run from the checkout's root (1 s at 20 kHz per recording, ~1.5 s of CPU each):
-#   /usr/bin/python3 docs/notes/wear_indicator/study.py 1 13 29_47 > s29.jsonl
-#   /usr/bin/python3 docs/notes/wear_indicator/study.py 1 7 23_41 > s23.jsonl
-#   /usr/bin/python3 docs/notes/wear_indicator/roc.py s29.jsonl s23.jsonl
+#   /usr/bin/python3 docs/wear_indicator/study.py 1 13 29_47 > s29.jsonl
+#   /usr/bin/python3 docs/wear_indicator/study.py 1 7 23_41 > s23.jsonl
+#   /usr/bin/python3 docs/wear_indicator/roc.py s29.jsonl s23.jsonl
 import json, os, subprocess, sys
 import numpy as np, h5py
 G = os.environ.get("GEARDIAG", "build/geardiag")
