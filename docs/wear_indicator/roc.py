@@ -1,4 +1,4 @@
-# Threshold and rates of the wear indicator from study.py's rows (docs/notes/wear-s9.md): tuned on
+# Threshold and rates of the wear indicator from study.py's rows (README: "Wear indicator against the baseline"): tuned on
 # 29/47 seeds 1-6 (largest healthy growth + 3 dB, rounded up), reported on 29/47 seeds 7-12 and
 # 23/41 seeds 1-6.
 import json, sys, numpy as np

@@ -1,4 +1,4 @@
-# Wear indicator study (docs/notes/wear-s9.md): growth [dB] of the worn mesh's harmonics 1-3 on
+# Wear indicator study (README: "Wear indicator against the baseline"): growth [dB] of the worn mesh's harmonics 1-3 on
 # every vibration channel (role vibration: what diag::sensor_channels gives) against the median of
 # a healthy baseline of the same gears (3 recordings at 0.95, 1.0, 1.05 x the torque), for worn
 # pairs (the `wear` fault, depth_um 5..54, Archard) and for healthy-vs-healthy variation: the same
