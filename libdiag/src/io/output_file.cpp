@@ -222,7 +222,10 @@ void close_stream(int fd, const OutputTarget& t, const std::string& what) {
 // Makes a regular file as an anonymous file (O_TMPFILE) in the target's directory, filled by
 // `fill(fd)`, and only then gives it a name: linkat straight to the target when there is none,
 // else to "<target>.tmp-<pid>" renamed over the target at once. A run killed while writing
-// leaves nothing: the kernel frees an anonymous file with its last descriptor. False, with
+// leaves nothing: the kernel frees an anonymous file with its last descriptor. The one exception
+// is a SIGKILL (which no handler sees) in the instant between that linkat and the rename: the
+// complete file is left as "<target>.tmp-<pid>", and the next write of the target removes it
+// (remove_stale_temporaries). False, with
 // nothing done, where the file system or kernel has no O_TMPFILE or no /proc: the caller then
 // writes a named temporary file.
 bool write_anonymous(const OutputTarget& t, const std::string& what, int mode,
