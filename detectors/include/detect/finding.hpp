@@ -27,9 +27,10 @@
 namespace detect {
 
 struct Finding {
-  // The detector that concluded: "gear_damage" (TSA damaged-shaft locator), "gear_sidebands"
-  // (analyze's sideband vote), "bearing" (bearing diagnosis), "attribution" (recurrence-period
-  // matcher of the output shaft's lag).
+  // The detector that concluded: "gear_damage" (TSA damaged-shaft locator), "bearing" (bearing
+  // diagnosis), "wear" (the wear indicator against a baseline), "attribution" (recurrence-period
+  // matcher of the output shaft's lag). analyze's sideband vote is a note, never a finding
+  // (findings.cpp: healthy gears with ordinary pitch errors pass it on every recording).
   std::string kind;
   diag::FaultKind fault = diag::FaultKind::kNone;  // what is wrong (kToothDamage: a local tooth
                                                    // defect whose type is not told)

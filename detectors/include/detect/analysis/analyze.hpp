@@ -39,8 +39,10 @@
 //    simulator), from the shaft angles above: the tacho's, else the nominal speed (a speed off
 //    the nominal smears the averages: no finding rather than a wrong one).
 // Findings (Finding, finding.hpp: the one finding type of every module; here the locator's, the
-// sideband vote's (fault gear_modulation; evidence channels_pointing, channels_analysed, score_db,
-// mean_line_db) and the bearing vote's (evidence channels_pointing, channels_analysed, score_db);
+// bearing vote's (evidence channels_pointing, channels_analysed, score_db) and, with a baseline,
+// the wear indicator's; the sideband vote is reported as a note, never as a finding: healthy
+// gears with ordinary pitch errors pass it on every recording, README "The sideband vote is not a
+// finding");
 // faults in the one vocabulary of diag/faults/fault_kind.hpp) summarise what points at a shaft,
 // gear or bearing, each with a confidence and a note; only sensor channels (sensor_channels below)
 // vote. The code is in stages (detectors/src/analysis/stages.hpp lists them, one file each:

@@ -15,13 +15,13 @@
 // The mean over channels, not the largest: one channel near a structural resonance moves with
 // the pitch errors of the particular gears (measured: up to 7.3 dB for healthy gears on one
 // channel, 2 false alarms in 12 at 4 dB with the largest channel). Threshold 4 dB
-// (docs/notes/wear-s9.md; the study's scripts in docs/notes/wear_indicator/): ISO 1328 grade 6
-// pitch errors and 8 um runout, baseline 3 recordings at 0.95-1.05 x torque; tuned on 29/47 seeds
-// 1-6 (largest healthy growth 0.78 dB + 3 dB), reported on 29/47 seeds 7-12 and a 23/41 x 19/53
-// gearbox seeds 1-6: healthy (1.1 x torque, 0.95 / 1.05 x speed, other gears of the same grade) 0
-// of 48 flagged, largest 2.0 dB; worn 20, 40, 54 um flagged 12 of 12 each (5.3-15.7 dB), 10 um 0 of
-// 12, 5 um 0 of 12 (light wear first lowers the harmonics). The baseline should be within a few
-// percent of the recording's speed (5 % moves the growth by up to 2 dB).
+// (README "Wear indicator against the baseline"; the study scripts in docs/wear_indicator/): ISO
+// 1328 grade 6 pitch errors and 8 um runout, baseline 3 recordings at 0.95-1.05 x torque; tuned on
+// 29/47 seeds 1-6 (largest healthy growth 0.78 dB + 3 dB), reported on 29/47 seeds 7-12 and a 23/41
+// x 19/53 gearbox seeds 1-6: healthy (1.1 x torque, 0.95 / 1.05 x speed, other gears of the same
+// grade) 0 of 48 flagged, largest 2.0 dB; worn 20, 40, 54 um flagged 12 of 12 each (5.3-15.7 dB),
+// 10 um 0 of 12, 5 um 0 of 12 (light wear first lowers the harmonics). The baseline should be
+// within a few percent of the recording's speed (5 % moves the growth by up to 2 dB).
 #pragma once
 
 #include <span>

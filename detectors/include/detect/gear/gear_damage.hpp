@@ -159,7 +159,7 @@ struct GearDamageOptions {
   // FM4 until issue 12; analyze and its HTML report read them). Tuned on the gear-damage loop
   // (seed 11, the three-shaft and the 23/41 x 19/53 boxes, grades 5-8, runout 0-20 um): healthy
   // shafts scored up to 15, so damaged_fm4 = 20 raised no false alarm there; reported on other
-  // seeds and gearboxes in docs/notes/locator.md.
+  // seeds and gearboxes in README "Validation (closed loop on realistic gears)".
   double damaged_fm4 = 20.0;    // score above this: damaged, > healthy_fm4
   double healthy_fm4 = 12.0;    // score above this (and below damaged_fm4): uncertain, > 1
   std::string reference_shaft;  // shaft whose tacho gives the pulses; empty: the input shaft's

@@ -17,7 +17,8 @@
 //   gear     tooth_damage     a local tooth defect of unknown type (what a
 //                             TSA locator or the recurrence matcher sees)
 //   gear     gear_modulation  mesh modulation at a shaft's rate: a local
-//                             defect or eccentricity (sideband family)
+//                             defect, eccentricity or pitch errors (the
+//                             sideband family; analyze makes no finding of it)
 //   shaft    eccentricity     runout / eccentric gear or shaft             runout
 //   shaft    bent_shaft       bent shaft
 //   bearing  outer_race       outer-race defect (BPFO)
