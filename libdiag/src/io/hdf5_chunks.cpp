@@ -1,0 +1,207 @@
+#include "hdf5_chunks.hpp"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "diag/io/hdf5_inflate.hpp"
+
+#if GEARDIAG_WITH_LIBDEFLATE
+#include <libdeflate.h>
+#endif
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace diag {
+
+namespace {
+
+std::atomic<bool> direct_reads{true};
+std::atomic<bool> force_zlib{false};
+
+// Owns an HDF5 identifier (closed with `close`).
+struct Owned {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Owned() {
+    if (id >= 0) close(id);
+  }
+};
+
+// The filters of a dataset this reader decodes itself: their index in the pipeline (the bit of
+// a chunk's filter mask that says the writer skipped it), -1 when absent.
+struct Pipeline {
+  int shuffle = -1;
+  int deflate = -1;
+};
+
+// Shuffle and/or deflate, shuffle first, the shuffle for 8-byte elements; nothing else.
+bool decodable_pipeline(hid_t dcpl, Pipeline& p) {
+  const int n = H5Pget_nfilters(dcpl);
+  if (n < 0 || n > 2) return false;
+  for (int i = 0; i < n; ++i) {
+    unsigned flags = 0, cd[8] = {};
+    std::size_t cd_count = 8;
+    const H5Z_filter_t id =
+        H5Pget_filter2(dcpl, static_cast<unsigned>(i), &flags, &cd_count, cd, 0, nullptr, nullptr);
+    if (id == H5Z_FILTER_SHUFFLE && p.shuffle < 0 && p.deflate < 0 && cd_count >= 1 &&
+        cd[0] == sizeof(double)) {
+      p.shuffle = i;
+    } else if (id == H5Z_FILTER_DEFLATE && p.deflate < 0) {
+      p.deflate = i;
+    } else {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Inflates the zlib stream in[0, n) into exactly out_size bytes at out; false when the stream is
+// damaged, or decodes to another size. Bytes after the stream's end are ignored, as HDF5's own
+// filter does.
+bool inflate_exact(const unsigned char* in, std::size_t n, unsigned char* out,
+                   std::size_t out_size) {
+#if GEARDIAG_WITH_LIBDEFLATE
+  if (!force_zlib.load(std::memory_order_relaxed)) {
+    struct Deleter {
+      void operator()(libdeflate_decompressor* d) const { libdeflate_free_decompressor(d); }
+    };
+    thread_local std::unique_ptr<libdeflate_decompressor, Deleter> decompressor(
+        libdeflate_alloc_decompressor());
+    if (!decompressor) return false;
+    std::size_t used = 0, decoded = 0;
+    return libdeflate_zlib_decompress_ex(decompressor.get(), in, n, out, out_size, &used,
+                                         &decoded) == LIBDEFLATE_SUCCESS &&
+           decoded == out_size;
+  }
+#endif
+  if (n > std::numeric_limits<uInt>::max() || out_size > std::numeric_limits<uInt>::max()) {
+    return false;
+  }
+  z_stream z;
+  std::memset(&z, 0, sizeof z);
+  z.next_in = const_cast<Bytef*>(in);
+  z.avail_in = static_cast<uInt>(n);
+  z.next_out = out;
+  z.avail_out = static_cast<uInt>(out_size);
+  if (inflateInit(&z) != Z_OK) return false;
+  const int status = inflate(&z, Z_FINISH);
+  const bool ok = status == Z_STREAM_END && z.total_out == out_size;
+  inflateEnd(&z);
+  return ok;
+}
+
+// Undoes HDF5's shuffle of 8-byte elements for elements [first, first + count) of a chunk of
+// `chunk` elements: byte k of element i is planes[k * chunk + i] (H5Zshuffle.c).
+void unshuffle8(const unsigned char* planes, std::size_t chunk, std::size_t first,
+                std::size_t count, unsigned char* out) {
+  std::size_t i = 0;
+#if defined(__SSE2__)
+  // 8 elements at a time: an 8 x 8 byte transpose by three rounds of interleaving.
+  for (; i + 8 <= count; i += 8) {
+    const unsigned char* p = planes + first + i;
+    auto load = [&](std::size_t k) {
+      return _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p + k * chunk));
+    };
+    const __m128i t0 = _mm_unpacklo_epi8(load(0), load(1));
+    const __m128i t1 = _mm_unpacklo_epi8(load(2), load(3));
+    const __m128i t2 = _mm_unpacklo_epi8(load(4), load(5));
+    const __m128i t3 = _mm_unpacklo_epi8(load(6), load(7));
+    const __m128i u0 = _mm_unpacklo_epi16(t0, t1);
+    const __m128i u1 = _mm_unpackhi_epi16(t0, t1);
+    const __m128i u2 = _mm_unpacklo_epi16(t2, t3);
+    const __m128i u3 = _mm_unpackhi_epi16(t2, t3);
+    __m128i* o = reinterpret_cast<__m128i*>(out + 8 * i);
+    _mm_storeu_si128(o + 0, _mm_unpacklo_epi32(u0, u2));
+    _mm_storeu_si128(o + 1, _mm_unpackhi_epi32(u0, u2));
+    _mm_storeu_si128(o + 2, _mm_unpacklo_epi32(u1, u3));
+    _mm_storeu_si128(o + 3, _mm_unpackhi_epi32(u1, u3));
+  }
+#endif
+  for (; i < count; ++i) {
+    for (std::size_t k = 0; k < 8; ++k) out[8 * i + k] = planes[k * chunk + first + i];
+  }
+}
+
+}  // namespace
+
+namespace hdf5_detail {
+
+bool read_chunks_direct(hid_t ds, std::uint64_t offset, std::span<double> out) {
+  if constexpr (std::endian::native != std::endian::little) return false;
+  if (!direct_reads.load(std::memory_order_relaxed) || out.empty()) return false;
+  const Owned dcpl{H5Dget_create_plist(ds), H5Pclose};
+  const Owned type{H5Dget_type(ds), H5Tclose};
+  if (dcpl.id < 0 || type.id < 0 || H5Pget_layout(dcpl.id) != H5D_CHUNKED ||
+      H5Tequal(type.id, H5T_IEEE_F64LE) <= 0) {
+    return false;
+  }
+  hsize_t chunk = 0;
+  Pipeline pipeline;
+  // HDF5 limits a chunk to 4 GiB.
+  if (H5Pget_chunk(dcpl.id, 1, &chunk) != 1 || chunk == 0 ||
+      chunk > (std::uint64_t{4} << 30) / sizeof(double) || !decodable_pipeline(dcpl.id, pipeline) ||
+      (pipeline.shuffle < 0 && pipeline.deflate < 0)) {
+    return false;  // unfiltered data: HDF5 reads it straight into `out`
+  }
+  const std::size_t chunk_bytes = static_cast<std::size_t>(chunk) * sizeof(double);
+  // A stored chunk is at most HDF5's deflate output bound, ceil(1.001 n) + 12 bytes (a chunk
+  // that would be larger is stored raw): anything larger is not a chunk this reader knows.
+  const std::size_t max_stored = chunk_bytes + chunk_bytes / 1000 + 64;
+  std::unique_ptr<unsigned char[]> stored(new unsigned char[max_stored]);
+  std::unique_ptr<unsigned char[]> planes;
+  auto* dest = reinterpret_cast<unsigned char*>(out.data());
+  const std::uint64_t end = offset + out.size();
+  for (std::uint64_t start = offset / chunk * chunk; start < end; start += chunk) {
+    const std::uint64_t first = std::max<std::uint64_t>(start, offset);
+    const std::uint64_t last = std::min<std::uint64_t>(start + chunk, end);
+    const hsize_t at = start;
+    hsize_t stored_bytes = 0;
+    std::uint32_t mask = 0;
+    if (H5Dget_chunk_storage_size(ds, &at, &stored_bytes) < 0 || stored_bytes == 0 ||
+        stored_bytes > max_stored || H5Dread_chunk(ds, H5P_DEFAULT, &at, &mask, stored.get()) < 0) {
+      return false;
+    }
+    const bool deflated = pipeline.deflate >= 0 && (mask & (1u << pipeline.deflate)) == 0;
+    const bool shuffled = pipeline.shuffle >= 0 && (mask & (1u << pipeline.shuffle)) == 0;
+    const unsigned char* raw = stored.get();
+    if (deflated) {
+      if (!planes) planes.reset(new unsigned char[chunk_bytes]);
+      if (!inflate_exact(stored.get(), stored_bytes, planes.get(), chunk_bytes)) return false;
+      raw = planes.get();
+    } else if (stored_bytes != chunk_bytes) {
+      return false;
+    }
+    unsigned char* to = dest + (first - offset) * sizeof(double);
+    if (shuffled) {
+      unshuffle8(raw, chunk, first - start, last - first, to);
+    } else {
+      std::memcpy(to, raw + (first - start) * sizeof(double), (last - first) * sizeof(double));
+    }
+  }
+  return true;
+}
+
+}  // namespace hdf5_detail
+
+std::string hdf5_inflate_codec() {
+#if GEARDIAG_WITH_LIBDEFLATE
+  if (!force_zlib.load()) return std::string("libdeflate ") + LIBDEFLATE_VERSION_STRING;
+#endif
+  return std::string("zlib ") + zlibVersion();
+}
+
+bool hdf5_set_read_path(bool direct, bool zlib) {
+  direct_reads.store(direct);
+  force_zlib.store(zlib);
+  return GEARDIAG_WITH_LIBDEFLATE != 0;
+}
+
+}  // namespace diag
