@@ -38,24 +38,25 @@ class Hdf5Read : public ::testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override {
-    diag::hdf5_set_read_path(true, false);
+    diag::hdf5_set_read_path({});
     fs::remove_all(dir_);
   }
 
   fs::path dir_;
 };
 
-// The three ways a channel can be decoded: geardiag's direct read with libdeflate (when built
-// in), with zlib, and HDF5's own pipeline (H5Dread).
+// The ways a channel can be decoded: by the survey child (copied by the parent) or by the parent
+// itself, with geardiag's direct read and libdeflate (when built in) or zlib, or with HDF5's own
+// pipeline (H5Dread).
 struct ReadPath {
   const char* name;
-  bool direct;
-  bool zlib;
+  diag::Hdf5ReadPath path;
 };
-constexpr ReadPath kReadPaths[] = {
-    {"direct, libdeflate when built in", true, false},
-    {"direct, zlib", true, true},
-    {"HDF5 H5Dread", false, false},
+const ReadPath kReadPaths[] = {
+    {"direct, libdeflate when built in, survey reused", {true, false, true}},
+    {"direct, libdeflate when built in", {true, false, false}},
+    {"direct, zlib", {true, true, false}},
+    {"HDF5 H5Dread", {false, false, false}},
 };
 
 int run(const std::string& command) {
@@ -107,17 +108,17 @@ diag::Recording test_recording(std::size_t n) {
 }  // namespace
 
 TEST_F(Hdf5Read, ReportsTheInflateCodec) {
-  const bool libdeflate = diag::hdf5_set_read_path(true, false);
+  const bool libdeflate = diag::hdf5_set_read_path({});
   const std::string codec = diag::hdf5_inflate_codec();
   EXPECT_EQ(codec.rfind(libdeflate ? "libdeflate " : "zlib ", 0), 0u) << codec;
-  diag::hdf5_set_read_path(true, true);
+  diag::hdf5_set_read_path({.direct = true, .zlib = true});
   EXPECT_EQ(diag::hdf5_inflate_codec().rfind("zlib ", 0), 0u);
   RecordProperty("codec", codec);
 }
 
 // Every block a reader may ask for (inside one chunk, across chunk boundaries, the last partial
 // chunk, lengths that are not multiples of the 8-sample unshuffle) gives the written bits on all
-// three read paths, with shuffle + deflate (geardiag's files) and without filters.
+// read paths, with shuffle + deflate (geardiag's files) and without filters.
 TEST_F(Hdf5Read, DirectDecodeEqualsTheWrittenSamplesOnEveryPath) {
   constexpr std::size_t n = 12345;
   const diag::Recording rec = test_recording(n);
@@ -129,7 +130,7 @@ TEST_F(Hdf5Read, DirectDecodeEqualsTheWrittenSamplesOnEveryPath) {
     diag::write_recording(path, rec, options);
     for (const ReadPath& p : kReadPaths) {
       SCOPED_TRACE(std::string(p.name) + ", deflate level " + std::to_string(level));
-      diag::hdf5_set_read_path(p.direct, p.zlib);
+      diag::hdf5_set_read_path(p.path);
       const diag::Recording back = diag::read_recording(path);
       ASSERT_EQ(back.signals.size(), rec.signals.size());
       for (std::size_t c = 0; c < rec.signals.size(); ++c) {
@@ -159,7 +160,7 @@ TEST_F(Hdf5Read, H5pyWrittenPipelinesDecodeExactly) {
       << "write_with_h5py.py failed (h5py is required: scripts/install-deps)";
   for (const ReadPath& p : kReadPaths) {
     SCOPED_TRACE(p.name);
-    diag::hdf5_set_read_path(p.direct, p.zlib);
+    diag::hdf5_set_read_path(p.path);
     const diag::Recording rec = diag::read_recording(dir_ / "h5py.h5");
     ASSERT_EQ(rec.signals.size(), 6u);
     for (const diag::Signal& s : rec.signals) {
@@ -202,7 +203,7 @@ TEST_F(Hdf5Read, CorruptDeflateChunkIsAnInputErrorNamingFileAndDataset) {
   }
   for (const ReadPath& p : kReadPaths) {
     SCOPED_TRACE(p.name);
-    diag::hdf5_set_read_path(p.direct, p.zlib);
+    diag::hdf5_set_read_path(p.path);
     try {
       (void)diag::read_recording(path);
       ADD_FAILURE() << "a damaged chunk was read";

@@ -2,6 +2,7 @@
 
 #include <hdf5.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -525,12 +526,37 @@ constexpr std::uint64_t kSurveySampleBytes = std::uint64_t{16} << 20;
 bool in_survey_child = false;
 constexpr int kSurveyFoundAnError = 97;  // the child's exit code for an exception it caught
 
-// Runs `body` (the reads of the file) in a forked child first; see above.
-void survey_in_child(const std::string& where, const std::function<void()>& body) {
-  if (in_survey_child) return;
+}  // namespace
+
+// A shared anonymous mapping of kSurveySampleBytes (reserved, not touched), made before the
+// survey child is forked: the child decodes every channel's samples into it, one after the other
+// in channels() order, and the parent copies them out when the child finished without error
+// instead of decoding the file again (half the read of a small file).
+struct SurveyedSamples {
+  SurveyedSamples() {
+    void* p = ::mmap(nullptr, kSurveySampleBytes, PROT_READ | PROT_WRITE,
+                     MAP_SHARED | MAP_ANONYMOUS | MAP_NORESERVE, -1, 0);
+    if (p != MAP_FAILED) data = static_cast<double*>(p);
+  }
+  ~SurveyedSamples() {
+    if (data != nullptr) ::munmap(data, kSurveySampleBytes);
+  }
+  SurveyedSamples(const SurveyedSamples&) = delete;
+  SurveyedSamples& operator=(const SurveyedSamples&) = delete;
+
+  double* data = nullptr;              // nullptr when the mapping failed
+  std::vector<std::uint64_t> offsets;  // per channel (channels() order) [samples]
+};
+
+namespace {
+
+// Runs `body` (the reads of the file) in a forked child first; see above. Returns true when the
+// child ran `body` to its end without an error.
+bool survey_in_child(const std::string& where, const std::function<void()>& body) {
+  if (in_survey_child) return false;
   std::fflush(nullptr);
   const pid_t pid = ::fork();
-  if (pid < 0) return;  // no child: read without the guard
+  if (pid < 0) return false;  // no child: read without the guard
   if (pid == 0) {
     in_survey_child = true;
     // The child ends itself after kSurveySeconds (SIGALRM's default action), so the parent can
@@ -551,7 +577,7 @@ void survey_in_child(const std::string& where, const std::function<void()>& body
   }
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return;
+    if (errno != EINTR) return false;
   }
   if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM) {
     throw InputError(format_error(where, "",
@@ -570,11 +596,19 @@ void survey_in_child(const std::string& where, const std::function<void()>& body
                                   "corrupted file: reading it failed in the HDF5 library (exit " +
                                       std::to_string(WEXITSTATUS(status)) + "); refused"));
   }
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
+}
+
+// Bytes of all channels' samples (as doubles).
+std::uint64_t sample_bytes(const std::vector<ChannelInfo>& channels) {
+  std::uint64_t total = 0;
+  for (const ChannelInfo& c : channels) total += c.length * sizeof(double);
+  return total;
 }
 
 // What RecordingReader and read_recording read (the samples too when they are at most
-// kSurveySampleBytes).
-void survey_recording(const std::filesystem::path& path) {
+// kSurveySampleBytes: into `shared`, one channel after the other, when given).
+void survey_recording(const std::filesystem::path& path, double* shared) {
   RecordingReader reader(path);
   (void)reader.metadata();
   (void)reader.format_attributes();
@@ -582,12 +616,14 @@ void survey_recording(const std::filesystem::path& path) {
   (void)reader.truth_json();
   (void)reader.speed_rpm();
   (void)reader.roles_stated();
-  std::uint64_t total = 0;
-  for (const ChannelInfo& c : reader.channels()) total += c.length * sizeof(double);
-  if (total <= kSurveySampleBytes) {
+  if (sample_bytes(reader.channels()) <= kSurveySampleBytes) {
+    std::vector<double> own;
     for (const ChannelInfo& c : reader.channels()) {
-      std::vector<double> samples(static_cast<std::size_t>(c.length));
-      reader.read_block(c.group + "/" + c.name, 0, samples);
+      const auto n = static_cast<std::size_t>(c.length);
+      if (shared == nullptr) own.resize(n);
+      reader.read_block(c.group + "/" + c.name, 0,
+                        std::span<double>(shared != nullptr ? shared : own.data(), n));
+      if (shared != nullptr) shared += n;
     }
   }
 }
@@ -676,7 +712,9 @@ RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path
   if (!is_hdf5_file(path)) {
     throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
   }
-  survey_in_child(where, [&] { survey_recording(path); });
+  auto surveyed = in_survey_child ? nullptr : std::make_shared<SurveyedSamples>();
+  const bool survey_done =
+      survey_in_child(where, [&] { survey_recording(path, surveyed ? surveyed->data : nullptr); });
   {
     Hid fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, where, "file properties");
     check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), where, "file properties");
@@ -691,6 +729,16 @@ RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path
     H5Fclose(file_);
     file_ = -1;
     throw;
+  }
+  // The child read the same file's channels in the same order, and all of them without error.
+  if (survey_done && surveyed && surveyed->data != nullptr && hdf5_detail::reuse_survey() &&
+      sample_bytes(channels_) <= kSurveySampleBytes) {
+    std::uint64_t at = 0;
+    for (const ChannelInfo& c : channels_) {
+      surveyed->offsets.push_back(at);
+      at += c.length;
+    }
+    surveyed_ = std::move(surveyed);
   }
 }
 
@@ -913,7 +961,13 @@ void RecordingReader::read_block(const std::string& name, std::uint64_t offset,
             ") are past the end (length " + std::to_string(c.length) + ")"));
   }
   if (out.empty()) return;
-  reading(where, [&] { read_samples(what, offset, out); });
+  if (surveyed_) {
+    const double* from =
+        surveyed_->data + surveyed_->offsets[static_cast<std::size_t>(&c - channels_.data())];
+    std::memcpy(out.data(), from + offset, out.size() * sizeof(double));
+  } else {
+    reading(where, [&] { read_samples(what, offset, out); });
+  }
   check_finite(out, offset, where, what);
 }
 

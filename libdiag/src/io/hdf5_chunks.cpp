@@ -25,6 +25,7 @@ namespace {
 
 std::atomic<bool> direct_reads{true};
 std::atomic<bool> force_zlib{false};
+std::atomic<bool> reuse_survey_samples{true};
 
 // Owns an HDF5 identifier (closed with `close`).
 struct Owned {
@@ -189,6 +190,8 @@ bool read_chunks_direct(hid_t ds, std::uint64_t offset, std::span<double> out) {
   return true;
 }
 
+bool reuse_survey() { return reuse_survey_samples.load(std::memory_order_relaxed); }
+
 }  // namespace hdf5_detail
 
 std::string hdf5_inflate_codec() {
@@ -198,9 +201,10 @@ std::string hdf5_inflate_codec() {
   return std::string("zlib ") + zlibVersion();
 }
 
-bool hdf5_set_read_path(bool direct, bool zlib) {
-  direct_reads.store(direct);
-  force_zlib.store(zlib);
+bool hdf5_set_read_path(const Hdf5ReadPath& path) {
+  direct_reads.store(path.direct);
+  force_zlib.store(path.zlib);
+  reuse_survey_samples.store(path.reuse_survey);
   return GEARDIAG_WITH_LIBDEFLATE != 0;
 }
 

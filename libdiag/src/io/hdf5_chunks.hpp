@@ -16,4 +16,8 @@ namespace diag::hdf5_detail {
 // then reads `out` again with H5Dread, whose errors name the damage as before.
 bool read_chunks_direct(hid_t ds, std::uint64_t offset, std::span<double> out);
 
+// Whether RecordingReader copies the samples its survey child decoded (tests turn it off:
+// hdf5_set_read_path).
+bool reuse_survey();
+
 }  // namespace diag::hdf5_detail

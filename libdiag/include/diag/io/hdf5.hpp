@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -86,6 +87,8 @@ struct ChannelInfo {
   int ppr = 0;
 };
 
+struct SurveyedSamples;
+
 // Streaming access: channel metadata without loading samples, and reading by blocks so that
 // detectors can process files larger than memory.
 class RecordingReader {
@@ -120,6 +123,9 @@ class RecordingReader {
   std::int64_t file_ = -1;  // hid_t
   std::vector<ChannelInfo> channels_;
   int format_version_ = 1;
+  // The samples the survey child read and checked (hdf5.cpp, survey_in_child), when it read
+  // them: read_block copies from there instead of decoding the file a second time.
+  std::shared_ptr<const SurveyedSamples> surveyed_;
 };
 
 // True when the file starts with the HDF5 signature.

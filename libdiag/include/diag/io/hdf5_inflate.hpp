@@ -27,9 +27,12 @@ namespace diag {
 // The inflate implementation in use: "libdeflate <version>" or "zlib <version>".
 std::string hdf5_inflate_codec();
 
-// Tests only: `direct` false reads every channel by H5Dread (HDF5's own pipeline) and `zlib`
-// true inflates with zlib even when libdeflate is built in. Returns whether libdeflate is built
-// in.
-bool hdf5_set_read_path(bool direct, bool zlib);
+// Tests only: how RecordingReader reads a channel. Returns whether libdeflate is built in.
+struct Hdf5ReadPath {
+  bool direct = true;        // false: every channel by H5Dread (HDF5's own pipeline)
+  bool zlib = false;         // true: inflate with zlib even when libdeflate is built in
+  bool reuse_survey = true;  // false: decode again what the survey child decoded (hdf5.cpp)
+};
+bool hdf5_set_read_path(const Hdf5ReadPath& path);
 
 }  // namespace diag
