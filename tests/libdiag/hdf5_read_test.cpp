@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -146,6 +147,14 @@ TEST_F(Hdf5Read, DirectDecodeEqualsTheWrittenSamplesOnEveryPath) {
                                        rec.signals[1].samples.begin() + offset + count);
         EXPECT_TRUE(same_bits(got, want)) << "block " << offset << " + " << count;
       }
+      // A stream of short blocks (each chunk decoded once, kept for the next block).
+      std::vector<double> streamed;
+      for (std::size_t offset = 0; offset < n; offset += 333) {
+        std::vector<double> got(std::min<std::size_t>(333, n - offset));
+        reader.read_block("ch2", offset, got);
+        streamed.insert(streamed.end(), got.begin(), got.end());
+      }
+      EXPECT_TRUE(same_bits(streamed, rec.signals[2].samples));
     }
   }
 }

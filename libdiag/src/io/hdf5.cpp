@@ -705,7 +705,8 @@ bool is_hdf5_file(const std::filesystem::path& path) {
   return std::memcmp(head, kSignature, sizeof head) == 0;
 }
 
-RecordingReader::RecordingReader(const std::filesystem::path& path) : path_(path) {
+RecordingReader::RecordingReader(const std::filesystem::path& path)
+    : path_(path), decoded_(std::make_shared<DecodedChunk>()) {
   silence_hdf5();
   const std::string where = path.string();
   check_input_file(path);  // a FIFO, a device, a directory: refused before HDF5 opens it
@@ -976,7 +977,7 @@ void RecordingReader::read_samples(const std::string& what, std::uint64_t offset
   const std::string where = path_.string();
   Hid ds = checked(H5Dopen2(file_, what.c_str(), H5P_DEFAULT), H5Dclose, where, what);
   // Shuffled and deflated float64 chunks are decoded here (diag/io/hdf5_inflate.hpp).
-  if (hdf5_detail::read_chunks_direct(ds.get(), offset, out)) return;
+  if (hdf5_detail::read_chunks_direct(ds.get(), what, offset, out, *decoded_)) return;
   Hid file_space = checked(H5Dget_space(ds.get()), H5Sclose, where, what);
   const hsize_t start = offset;
   const hsize_t count = out.size();

@@ -135,7 +135,15 @@ void unshuffle8(const unsigned char* planes, std::size_t chunk, std::size_t firs
 
 namespace hdf5_detail {
 
-bool read_chunks_direct(hid_t ds, std::uint64_t offset, std::span<double> out) {
+// Makes `buffer` hold at least `bytes` (uninitialised).
+void reserve(std::unique_ptr<unsigned char[]>& buffer, std::size_t& capacity, std::size_t bytes) {
+  if (capacity >= bytes) return;
+  buffer.reset(new unsigned char[bytes]);
+  capacity = bytes;
+}
+
+bool read_chunks_direct(hid_t ds, const std::string& what, std::uint64_t offset,
+                        std::span<double> out, DecodedChunk& cache) {
   if constexpr (std::endian::native != std::endian::little) return false;
   if (!direct_reads.load(std::memory_order_relaxed) || out.empty()) return false;
   const Owned dcpl{H5Dget_create_plist(ds), H5Pclose};
@@ -156,35 +164,43 @@ bool read_chunks_direct(hid_t ds, std::uint64_t offset, std::span<double> out) {
   // A stored chunk is at most HDF5's deflate output bound, ceil(1.001 n) + 12 bytes (a chunk
   // that would be larger is stored raw): anything larger is not a chunk this reader knows.
   const std::size_t max_stored = chunk_bytes + chunk_bytes / 1000 + 64;
-  std::unique_ptr<unsigned char[]> stored(new unsigned char[max_stored]);
-  std::unique_ptr<unsigned char[]> planes;
   auto* dest = reinterpret_cast<unsigned char*>(out.data());
   const std::uint64_t end = offset + out.size();
   for (std::uint64_t start = offset / chunk * chunk; start < end; start += chunk) {
+    if (cache.dataset != what || cache.start != start) {
+      cache.dataset.clear();
+      const hsize_t at = start;
+      hsize_t stored_bytes = 0;
+      std::uint32_t mask = 0;
+      reserve(cache.stored, cache.stored_capacity, max_stored);
+      if (H5Dget_chunk_storage_size(ds, &at, &stored_bytes) < 0 || stored_bytes == 0 ||
+          stored_bytes > max_stored ||
+          H5Dread_chunk(ds, H5P_DEFAULT, &at, &mask, cache.stored.get()) < 0) {
+        return false;
+      }
+      if (pipeline.deflate >= 0 && (mask & (1u << pipeline.deflate)) == 0) {
+        reserve(cache.bytes, cache.bytes_capacity, chunk_bytes);
+        if (!inflate_exact(cache.stored.get(), stored_bytes, cache.bytes.get(), chunk_bytes)) {
+          return false;
+        }
+      } else if (stored_bytes == chunk_bytes) {
+        std::swap(cache.stored, cache.bytes);  // stored raw: the chunk itself
+        std::swap(cache.stored_capacity, cache.bytes_capacity);
+      } else {
+        return false;
+      }
+      cache.shuffled = pipeline.shuffle >= 0 && (mask & (1u << pipeline.shuffle)) == 0;
+      cache.dataset = what;
+      cache.start = start;
+    }
     const std::uint64_t first = std::max<std::uint64_t>(start, offset);
     const std::uint64_t last = std::min<std::uint64_t>(start + chunk, end);
-    const hsize_t at = start;
-    hsize_t stored_bytes = 0;
-    std::uint32_t mask = 0;
-    if (H5Dget_chunk_storage_size(ds, &at, &stored_bytes) < 0 || stored_bytes == 0 ||
-        stored_bytes > max_stored || H5Dread_chunk(ds, H5P_DEFAULT, &at, &mask, stored.get()) < 0) {
-      return false;
-    }
-    const bool deflated = pipeline.deflate >= 0 && (mask & (1u << pipeline.deflate)) == 0;
-    const bool shuffled = pipeline.shuffle >= 0 && (mask & (1u << pipeline.shuffle)) == 0;
-    const unsigned char* raw = stored.get();
-    if (deflated) {
-      if (!planes) planes.reset(new unsigned char[chunk_bytes]);
-      if (!inflate_exact(stored.get(), stored_bytes, planes.get(), chunk_bytes)) return false;
-      raw = planes.get();
-    } else if (stored_bytes != chunk_bytes) {
-      return false;
-    }
     unsigned char* to = dest + (first - offset) * sizeof(double);
-    if (shuffled) {
-      unshuffle8(raw, chunk, first - start, last - first, to);
+    if (cache.shuffled) {
+      unshuffle8(cache.bytes.get(), chunk, first - start, last - first, to);
     } else {
-      std::memcpy(to, raw + (first - start) * sizeof(double), (last - first) * sizeof(double));
+      std::memcpy(to, cache.bytes.get() + (first - start) * sizeof(double),
+                  (last - first) * sizeof(double));
     }
   }
   return true;

@@ -88,6 +88,7 @@ struct ChannelInfo {
 };
 
 struct SurveyedSamples;
+struct DecodedChunk;
 
 // Streaming access: channel metadata without loading samples, and reading by blocks so that
 // detectors can process files larger than memory.
@@ -112,7 +113,8 @@ class RecordingReader {
   double speed_rpm() const;   // 0 when the file stores none
   bool roles_stated() const;  // the root's roles_stated (format 2; true when absent)
   // Reads samples [offset, offset + out.size()) of a channel into `out`. Throws InputError when
-  // the range is past the end or a sample is NaN/Inf.
+  // the range is past the end or a sample is NaN/Inf. One call at a time per reader (HDF5 is not
+  // thread-safe; the reader keeps the last chunk it decoded for the next block).
   void read_block(const std::string& name, std::uint64_t offset, std::span<double> out) const;
 
  private:
@@ -126,6 +128,8 @@ class RecordingReader {
   // The samples the survey child read and checked (hdf5.cpp, survey_in_child), when it read
   // them: read_block copies from there instead of decoding the file a second time.
   std::shared_ptr<const SurveyedSamples> surveyed_;
+  // The last chunk decoded, for the next block (read_block is not for concurrent use, as HDF5).
+  std::shared_ptr<DecodedChunk> decoded_;
 };
 
 // True when the file starts with the HDF5 signature.
