@@ -29,7 +29,10 @@
 // cannot hold, a /gearbox or /truth that is not JSON, an empty /signals and any HDF5 error on the
 // read path are InputErrors naming the file and object (exit 2). A forked child reads the file
 // first, so a crash or endless loop inside the HDF5 library refuses the file instead of killing or
-// hanging the program (hdf5.cpp, survey_in_child).
+// hanging the program (hdf5.cpp, survey_in_child); when the samples are at most 16 MiB it decodes
+// them into memory shared with the parent, which copies them instead of decoding them again.
+// Channels stored as geardiag writes them (float64, shuffle + deflate) are decoded by geardiag
+// from their chunks' stored bytes, with libdeflate when built in (diag/io/hdf5_inflate.hpp).
 #pragma once
 
 #include <cstdint>
