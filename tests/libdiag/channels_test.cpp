@@ -5,11 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 #include "diag/error.hpp"
@@ -257,3 +260,39 @@ TEST(Channels, TachosOfMeasuredFilesAreInferredFromNameAndRate) {
 }
 
 }  // namespace
+
+// order_statistics (the levels of pulse_train_rate_hz) is exact: the same values as nth_element on
+// a copy, for noise, ties, spikes, a two-level train, spans too small or too large for the
+// histogram's bin width, and the extreme ranks.
+TEST(Channels, OrderStatisticsAreThoseOfNthElement) {
+  std::vector<std::vector<double>> inputs;
+  inputs.push_back(noise(10007, 5));
+  std::vector<double> spiky = noise(5000, 6);
+  spiky[17] = 1e300;
+  spiky[400] = -1e299;
+  inputs.push_back(spiky);
+  std::vector<double> ties(3001);
+  for (std::size_t i = 0; i < ties.size(); ++i) ties[i] = static_cast<double>(i % 3);
+  inputs.push_back(ties);
+  inputs.push_back(pulses(20000, 10000.0, 33.3));
+  inputs.push_back({5e-324, 0.0, 1e-323, 5e-324, 0.0, -5e-324});
+  inputs.push_back({-1e308, 1e308, 0.0, 1.0, -1.0});
+  inputs.push_back(std::vector<double>(64, 2.5));
+  for (std::size_t c = 0; c < inputs.size(); ++c) {
+    const std::vector<double>& x = inputs[c];
+    const std::size_t n = x.size();
+    for (const std::array<std::size_t, 2> k :
+         {std::array<std::size_t, 2>{0, n - 1},
+          {static_cast<std::size_t>(0.002 * (n - 1)), static_cast<std::size_t>(0.998 * (n - 1))},
+          {n / 2, n / 3}}) {
+      const std::array<double, 2> got = diag::order_statistics(x, k);
+      for (int j = 0; j < 2; ++j) {
+        std::vector<double> sorted(x);
+        std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k[j]),
+                         sorted.end());
+        EXPECT_EQ(got[j], sorted[k[j]]) << "input " << c << ", rank " << k[j];
+      }
+    }
+  }
+  EXPECT_THROW(diag::order_statistics(inputs[0], {0, inputs[0].size()}), std::invalid_argument);
+}

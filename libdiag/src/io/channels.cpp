@@ -1,10 +1,12 @@
 #include "diag/io/channels.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <stdexcept>
 
 #include "diag/error.hpp"
 #include "diag/io/input_file.hpp"
@@ -332,17 +334,62 @@ void apply_channel_map(Recording& rec, const ChannelMap& map, const Gearbox* gb,
   }
 }
 
+std::array<double, 2> order_statistics(std::span<const double> x, std::array<std::size_t, 2> k) {
+  if (x.empty() || k[0] >= x.size() || k[1] >= x.size()) {
+    throw std::invalid_argument("order_statistics: rank past the end");
+  }
+  const auto [min_it, max_it] = std::minmax_element(x.begin(), x.end());
+  const double min = *min_it, width = *max_it - min;
+  std::array<double, 2> out{};
+  const double scale = 4096.0 / width;
+  // One value, or a span whose bin width a double cannot hold: plain selection.
+  if (!(width > 0) || !std::isfinite(width) || !std::isfinite(scale)) {
+    std::vector<double> sorted(x.begin(), x.end());
+    for (int j = 0; j < 2; ++j) {
+      std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k[j]),
+                       sorted.end());
+      out[j] = sorted[k[j]];
+    }
+    return out;
+  }
+  // bin(v) is non-decreasing in v (IEEE rounding is monotone): every sample of a lower bin is
+  // smaller than every sample of a higher one, so the k-th smallest is in the bin where the
+  // cumulative count passes k, at rank k minus the samples of the bins below.
+  constexpr std::size_t kBins = 4096;
+  const auto bin = [&](double v) {
+    return std::min(kBins - 1, static_cast<std::size_t>((v - min) * scale));
+  };
+  std::vector<std::size_t> count(kBins, 0);
+  for (const double v : x) ++count[bin(v)];
+  std::array<std::size_t, 2> target{}, below{};
+  for (int j = 0; j < 2; ++j) {
+    std::size_t cumulative = 0, b = 0;
+    while (cumulative + count[b] <= k[j]) cumulative += count[b++];
+    target[j] = b;
+    below[j] = cumulative;
+  }
+  for (int j = 0; j < 2; ++j) {
+    std::vector<double> candidates;
+    candidates.reserve(count[target[j]]);
+    for (const double v : x) {
+      if (bin(v) == target[j]) candidates.push_back(v);
+    }
+    const std::size_t r = k[j] - below[j];
+    std::nth_element(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(r),
+                     candidates.end());
+    out[j] = candidates[r];
+  }
+  return out;
+}
+
 std::optional<double> pulse_train_rate_hz(const std::vector<double>& x, double fs_hz) {
   if (x.size() < 16 || !(fs_hz > 0)) return std::nullopt;
   // The two levels are robust extremes (0.2 and 99.8 percentiles: a pulse train with a duty
   // cycle down to 0.5 % keeps its high level there, and a spike does not move them).
-  std::vector<double> sorted(x);
-  const auto at = [&](double q) {
-    const auto k = static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1));
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
-    return sorted[k];
-  };
-  const double lo = at(0.002), hi = at(0.998), range = hi - lo;
+  const double top = static_cast<double>(x.size() - 1);
+  const auto [lo, hi] = order_statistics(
+      x, {static_cast<std::size_t>(0.002 * top), static_cast<std::size_t>(0.998 * top)});
+  const double range = hi - lo;
   if (!(range > 0)) return std::nullopt;
   std::size_t near_lo = 0, near_hi = 0;
   for (double v : x) {

@@ -14,10 +14,12 @@
 //  4. Format-1 files: infer_format1_roles (hdf5.hpp says how).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <filesystem>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -99,6 +101,12 @@ void apply_channel_map(Recording& rec, const ChannelMap& map, const Gearbox* gb,
 // sine: 59 %). Returns the rising edges per second (threshold halfway,
 // 10 % hysteresis), or nullopt when `x` is not such a train.
 std::optional<double> pulse_train_rate_hz(const std::vector<double>& x, double fs_hz);
+
+// The k[0]-th and k[1]-th smallest of x (0-based ranks; what std::nth_element on a copy gives), in
+// two passes over x: a 4096-bin histogram on [min, max] finds the bin holding each rank, and
+// nth_element runs on that bin's samples only. Throws std::invalid_argument for a rank past the
+// end.
+std::array<double, 2> order_statistics(std::span<const double> x, std::array<std::size_t, 2> k);
 
 // Inference (step 3 above) for a recording whose roles nobody stated (rec.roles_stated false),
 // skipping the channels named in `described` (the channel map's). Moves the tachos found to
