@@ -1,7 +1,6 @@
 // How geardiag decodes a recording's channels: the chunks of a float64 dataset compressed by
-// HDF5's shuffle and deflate filters (what write_recording writes, h5py's shuffle=True,
-// compression="gzip", MATLAB's -v7.3) are decoded by geardiag itself, not by HDF5's filter
-// pipeline.
+// HDF5's shuffle and deflate filters (what write_recording writes; h5py's shuffle=True,
+// compression="gzip") are decoded by geardiag itself, not by HDF5's filter pipeline.
 //
 // Reading a deflate-compressed recording was a sixth of `geardiag analyze`'s CPU on a 39-channel
 // simulated recording: zlib's inflate and Adler-32, HDF5's byte-at-a-time unshuffle and a copy
