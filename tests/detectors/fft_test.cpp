@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace {
@@ -85,6 +87,46 @@ TEST(Magnitude, MatchesHypotEverywhere) {
   EXPECT_EQ(detect::magnitude({1e200, 1e200}), std::abs(std::complex<double>(1e200, 1e200)));
   EXPECT_EQ(detect::magnitude({1e-200, 0.0}), 1e-200);
   EXPECT_TRUE(std::isnan(detect::magnitude({std::numeric_limits<double>::quiet_NaN(), 1.0})));
+}
+
+}  // namespace
+
+namespace {
+
+bool is_fast(std::size_t m) {  // even and 7-smooth: the definition in fft.hpp
+  if (m < 2 || m % 2 != 0) return false;
+  for (std::size_t p : {2u, 3u, 5u, 7u})
+    while (m % p == 0) m /= p;
+  return m == 1;
+}
+
+// The fast lengths against a plain scan of the definition, for every n up to 20 000 and around
+// the CWRU lengths; and they are what fft.hpp says they are for the records we read.
+TEST(FastLength, MatchesThePlainScan) {
+  auto plain_next = [](std::size_t n) {
+    std::size_t m = std::max<std::size_t>(n, 2);
+    while (!is_fast(m)) ++m;
+    return m;
+  };
+  auto plain_previous = [](std::size_t n) {
+    std::size_t m = n;
+    while (!is_fast(m)) --m;
+    return m;
+  };
+  for (std::size_t n = 0; n <= 20000; ++n) {
+    ASSERT_EQ(detect::next_fast_length(n), plain_next(n)) << n;
+    if (n >= 2) {
+      ASSERT_EQ(detect::previous_fast_length(n), plain_previous(n)) << n;
+    }
+  }
+  for (std::size_t n = 121000; n <= 123000; ++n) {
+    ASSERT_EQ(detect::next_fast_length(n), plain_next(n)) << n;
+    ASSERT_EQ(detect::previous_fast_length(n), plain_previous(n)) << n;
+  }
+  EXPECT_EQ(detect::next_fast_length(121265), 121500u);  // CWRU IR007_0: 5 x 79 x 307
+  EXPECT_EQ(detect::next_fast_length(200000), 200000u);  // already fast
+  EXPECT_EQ(detect::next_fast_length(1u << 20), 1u << 20);
+  EXPECT_THROW(detect::previous_fast_length(1), std::invalid_argument);
 }
 
 }  // namespace

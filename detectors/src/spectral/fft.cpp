@@ -2,7 +2,9 @@
 
 #include <fftw3.h>
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <stdexcept>
@@ -45,7 +47,34 @@ fftw_plan plan_for(std::size_t n, bool inverse) {
   return p;
 }
 
+// The even 7-smooth number nearest n on the side `up` (>= n) or down (<= n): every 2^a 3^b 5^c
+// 7^d (a >= 1) near n is visited once, O(log^3 n) candidates.
+std::size_t fast_length(std::size_t n, bool up) {
+  std::size_t best = up ? std::numeric_limits<std::size_t>::max() : 0;
+  const std::size_t limit = up ? 2 * std::max<std::size_t>(n, 1) : n;  // a power of 2 below it
+  for (std::size_t p7 = 2; p7 <= limit; p7 *= 7)
+    for (std::size_t p5 = p7; p5 <= limit; p5 *= 5)
+      for (std::size_t p3 = p5; p3 <= limit; p3 *= 3) {
+        std::size_t m = p3;  // the power of 2 that brings m to n's side
+        if (up) {
+          while (m < n) m *= 2;
+          best = std::min(best, m);
+        } else {
+          while (m * 2 <= n) m *= 2;
+          best = std::max(best, m);
+        }
+      }
+  return best;
+}
+
 }  // namespace
+
+std::size_t next_fast_length(std::size_t n) { return fast_length(n, true); }
+
+std::size_t previous_fast_length(std::size_t n) {
+  if (n < 2) throw std::invalid_argument("previous_fast_length: n must be >= 2");
+  return fast_length(n, false);
+}
 
 RealFft::RealFft(std::size_t n) : n_(n) {
   if (n == 0) throw std::invalid_argument("RealFft: length must be >= 1");
