@@ -333,6 +333,39 @@ TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
             detect::to_json(detect::analyze_recording(rec, &gearbox(), four)).dump());
 }
 
+// AnalyzeOptions::traces = false (the CLI without --html or --curves): the JSON, the findings and
+// the notes are the same bytes as with the traces, the plot-only curves are empty, and the PSD's
+// resolution and segment count (set from the Welch layout, not computed) are the computed ones.
+TEST(Analyze, WithoutTracesTheReportIsTheSameAndThePlotCurvesAreEmpty) {
+  const auto rec = pair_recording(kInputHz);
+  detect::AnalyzeOptions with, without;
+  without.traces = false;
+  const auto a = detect::analyze_recording(rec, &gearbox(), with);
+  const auto b = detect::analyze_recording(rec, &gearbox(), without);
+  EXPECT_EQ(detect::to_json(a).dump(), detect::to_json(b).dump());
+  ASSERT_EQ(a.channels.size(), b.channels.size());
+  std::size_t spectra = 0;
+  for (std::size_t i = 0; i < a.channels.size(); ++i) {
+    const auto &ca = a.channels[i], &cb = b.channels[i];
+    if (!ca.vibration) continue;
+    ++spectra;
+    EXPECT_FALSE(ca.spectrum.x.empty());
+    EXPECT_FALSE(ca.psd.x.empty());
+    EXPECT_FALSE(ca.order_spectrum.x.empty());
+    EXPECT_GT(ca.spectrogram.time_s.size(), 1u);
+    EXPECT_TRUE(cb.spectrum.x.empty() && cb.psd.x.empty() && cb.order_spectrum.x.empty());
+    EXPECT_TRUE(cb.spectrogram.time_s.empty());
+    EXPECT_GT(ca.psd_segments, 1u);
+    EXPECT_EQ(ca.psd_segments, cb.psd_segments);
+    EXPECT_EQ(ca.psd_resolution_hz, cb.psd_resolution_hz);
+    for (std::size_t m = 0; m < ca.meshes.size(); ++m) {
+      EXPECT_FALSE(ca.meshes[m].zoom.x.empty());
+      EXPECT_TRUE(cb.meshes[m].zoom.x.empty());
+    }
+  }
+  EXPECT_EQ(spectra, 2u);
+}
+
 // --timing: the wall time per stage and the CPU time of each per-channel stage summed over the
 // channels (channel_cpu.*, every one of the nine stages, >= 0, together at most the process's
 // CPU time since the start); without it no timing_s at all (the JSON stays byte-deterministic).

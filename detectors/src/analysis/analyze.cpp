@@ -81,7 +81,7 @@ ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords
   if (!spectral) return c;  // the order domain without the channel at uniform angles
   spectrum = spectra_stage(ctx, *spectral, c);
   clock.lap(2);
-  spectrogram_stage(sig, c);
+  if (ctx.opt.traces) spectrogram_stage(sig, c);  // only drawn
   clock.lap(3);
   const Spectrum env = envelope_stage(ctx, ang, rec, c);
   clock.lap(4);

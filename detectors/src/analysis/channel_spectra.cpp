@@ -104,10 +104,15 @@ Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
   c.spectrum_resolution_hz = sp.resolution_hz;
   c.spectrum_enbw_hz = sp.enbw_hz;
   c.spectrum_peaks = largest_peaks(sp, opt.peaks_reported, 0.5 * fs);
-  c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, ctx.plot_points, Decimation::kMax);
   WelchOptions wo;
   wo.fs_hz = fs;
   wo.nperseg = welch_segment(opt, x.size());
+  if (!opt.traces) {  // the PSD is only drawn: its layout is what the report states
+    c.psd_resolution_hz = fs / static_cast<double>(wo.fft_length());
+    c.psd_segments = wo.segments(x.size());
+    return sp;
+  }
+  c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, ctx.plot_points, Decimation::kMax);
   const Psd psd = welch(x, wo);
   c.psd = decimate_for_plot(psd.frequency_hz, psd.value, ctx.plot_points, Decimation::kMax);
   c.psd_resolution_hz = psd.resolution_hz;
@@ -121,6 +126,7 @@ void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
     if (!rec.order_domain) c.notes.push_back("order spectrum skipped: " + rec.angular_error);
     return;
   }
+  if (!ctx.opt.traces) return;  // the order spectrum is only drawn
   try {
     const OrderSpectrum os = order_spectrum(*rec.angular);
     c.order_spectrum =

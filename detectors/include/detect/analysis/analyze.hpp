@@ -110,6 +110,14 @@ struct AnalyzeOptions {
   // "whole_record" when whole_recording is set, "two_direction", "gear_damage", "findings"); the
   // CLI draws a progress line on a terminal.
   std::function<void(const std::string&)> progress;
+  // Fill the curves only a plot draws: ChannelAnalysis::spectrum, psd, order_spectrum and
+  // spectrogram, MeshAnalysis::zoom (and, where the envelope and bearing stages honour it,
+  // envelope, waveform, kurtogram, BearingAnalysis::decision_envelope). false (the CLI without
+  // --html or --curves): they stay empty and what only they need is not computed (the Welch
+  // PSD, the spectrogram, the order spectrum: psd_resolution_hz and psd_segments are then set
+  // from the Welch layout, WelchOptions::segments); every other field, the findings and the
+  // notes are the same.
+  bool traces = true;
   bool timing = false;               // record the wall time of each stage (AnalysisResult::
                                      // timing_s); off by default: it differs run to run
   bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
