@@ -130,3 +130,48 @@ TEST(FastLength, MatchesThePlainScan) {
 }
 
 }  // namespace
+
+namespace {
+
+// scaled_magnitudes gives the bytes of the plain loop magnitude(X[k]) * scale through every path
+// this CPU has, at every length up to 19 (all tails), with bins outside magnitude()'s range
+// (0, tiny, huge, infinite, NaN) at every position of a SIMD group.
+TEST(ScaledMagnitudes, SameBytesAsThePlainLoopOnEveryPath) {
+  using detect::detail::MagnitudePath;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g;
+  const double odd[] = {0.0,
+                        1e-170,
+                        1e170,
+                        std::numeric_limits<double>::infinity(),
+                        std::numeric_limits<double>::quiet_NaN(),
+                        -1e-160};
+  int paths = 0;
+  for (MagnitudePath path : {MagnitudePath::kScalar, MagnitudePath::kSse2, MagnitudePath::kAvx2}) {
+    if (!detect::detail::magnitude_path_available(path)) continue;
+    ++paths;
+    for (std::size_t n = 0; n <= 19; ++n) {
+      for (std::size_t at = 0; at <= n; ++at) {  // at == n: no odd bin
+        for (double v : odd) {
+          std::vector<std::complex<double>> X(n);
+          for (auto& z : X) z = {g(rng), g(rng)};
+          if (at < n) X[at] = {v, 0.5 * v};
+          std::vector<double> got(n, -1.0), want(n);
+          for (std::size_t k = 0; k < n; ++k) want[k] = detect::magnitude(X[k]) * 0.37;
+          detect::detail::scaled_magnitudes(X, 0.37, got, path);
+          for (std::size_t k = 0; k < n; ++k) {
+            if (std::isnan(want[k])) {
+              EXPECT_TRUE(std::isnan(got[k]));
+            } else {
+              EXPECT_EQ(got[k], want[k])
+                  << "path " << static_cast<int>(path) << " n " << n << " k " << k;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(paths, 1);
+}
+
+}  // namespace

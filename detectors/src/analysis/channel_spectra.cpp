@@ -11,18 +11,31 @@
 namespace detect::analysis_stages {
 
 std::vector<SpectralPeak> largest_peaks(const Spectrum& s, int count, double max_hz) {
-  std::vector<SpectralPeak> c;
+  // The `count` largest local maxima kept sorted as the scan goes (descending amplitude, equal
+  // amplitudes by ascending frequency): once `count` are held, a bin is looked at further only
+  // when it exceeds the smallest of them, so the scan costs about one compare per bin.
+  std::vector<SpectralPeak> top;
+  const std::size_t want = static_cast<std::size_t>(std::max(count, 0));
+  if (want == 0) return top;
+  top.reserve(want + 1);
   const auto& a = s.amplitude;
-  for (std::size_t k = 1; k + 1 < a.size(); ++k) {
-    if (s.frequency_hz[k] > max_hz) break;
-    if (a[k] > a[k - 1] && a[k] >= a[k + 1]) c.push_back({s.frequency_hz[k], a[k]});
+  const auto& f = s.frequency_hz;
+  // Bins 1 .. a.size() - 2 up to max_hz.
+  const std::size_t end = std::min<std::size_t>(
+      a.size() < 2 ? 0 : a.size() - 1,
+      static_cast<std::size_t>(std::upper_bound(f.begin(), f.end(), max_hz) - f.begin()));
+  double least = -kInf;  // the smallest amplitude kept, once `want` are kept
+  for (std::size_t k = 1; k < end; ++k) {
+    if (!(a[k] > least)) continue;
+    if (!(a[k] > a[k - 1] && a[k] >= a[k + 1])) continue;
+    const auto at = std::upper_bound(
+        top.begin(), top.end(), a[k],
+        [](double v, const SpectralPeak& p) { return v > p.amplitude; });  // after equal ones
+    top.insert(at, SpectralPeak{f[k], a[k]});
+    if (top.size() > want) top.pop_back();
+    if (top.size() == want) least = top.back().amplitude;
   }
-  const std::size_t n = std::min<std::size_t>(c.size(), static_cast<std::size_t>(count));
-  std::partial_sort(
-      c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n), c.end(),
-      [](const SpectralPeak& l, const SpectralPeak& r) { return l.amplitude > r.amplitude; });
-  c.resize(n);
-  return c;
+  return top;
 }
 
 PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,
