@@ -4,6 +4,7 @@
 
 #include "detect/angular/order_spectrum.hpp"
 #include "detect/indicators/indicators.hpp"
+#include "detect/spectral/fft.hpp"
 #include "detect/spectral/welch.hpp"
 #include "diag/error.hpp"
 #include "stages.hpp"
@@ -113,6 +114,7 @@ Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
   so.fs_hz = fs;
   so.window = opt.spectrum_window;
   so.remove_mean = true;
+  so.nfft = next_fast_length(x.size());  // zero-padded to a fast length (analyze.hpp)
   Spectrum sp = amplitude_spectrum(x, so);
   c.spectrum_resolution_hz = sp.resolution_hz;
   c.spectrum_enbw_hz = sp.enbw_hz;
