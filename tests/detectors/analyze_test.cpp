@@ -17,6 +17,7 @@
 #include "detect/analysis/svg_plot.hpp"
 #include "detect/indicators/indicators.hpp"
 #include "detect/spectral/fft.hpp"
+#include "detect/spectral/spectrum.hpp"
 #include "diag/error.hpp"
 
 namespace {
@@ -209,6 +210,43 @@ TEST(Analyze, TwoDirectionRatioIsTheNormalToAlongEnergyAtTheMeshHarmonics) {
   EXPECT_EQ(t.normal_channel, "bearing1_normal_loa");
   EXPECT_EQ(t.mesh, "a_b");
   EXPECT_NEAR(t.comparison.normal_to_along_db, 10 * std::log10(0.01 / 1.25), kDbTol);
+}
+
+// analyze keeps an LOA channel's spectrum only up to the two-direction stage's highest band:
+// the comparison is the same bytes as on the whole spectra, with the default bands, wide ones,
+// and harmonics past Nyquist (invalid, as on the whole spectrum).
+TEST(Analyze, TwoDirectionOnTheKeptBinsEqualsTheWholeSpectra) {
+  const auto rec = pair_recording(kInputHz);
+  detect::SpectrumOptions so;
+  so.fs_hz = kFs;
+  so.window = detect::WindowType::kHann;
+  so.remove_mean = true;
+  so.nfft = detect::next_fast_length(rec.signals[0].samples.size());
+  const detect::Spectrum sa = detect::amplitude_spectrum(rec.signals[0].samples, so);
+  const detect::Spectrum sn = detect::amplitude_spectrum(rec.signals[1].samples, so);
+  for (int harmonics : {3, 40}) {
+    for (double halfwidth : {0.0, 50.0}) {
+      detect::AnalyzeOptions opt;
+      opt.two_direction.mesh_harmonics = harmonics;
+      opt.two_direction.halfwidth_hz = halfwidth;
+      const auto r = detect::analyze_recording(rec, &gearbox(), opt);
+      ASSERT_EQ(r.two_direction.size(), 1u);
+      const auto want = detect::compare_two_directions(
+          {sa.frequency_hz, sa.amplitude}, {sn.frequency_hz, sn.amplitude},
+          sa.enbw_hz / sa.resolution_hz, r.meshes[0].frequency_hz, opt.two_direction);
+      const auto& got = r.two_direction[0].comparison;
+      ASSERT_EQ(got.harmonics.size(), want.harmonics.size());
+      int invalid = 0;
+      for (std::size_t h = 0; h < want.harmonics.size(); ++h) {
+        EXPECT_EQ(got.harmonics[h].valid, want.harmonics[h].valid) << h;
+        EXPECT_EQ(got.harmonics[h].along, want.harmonics[h].along) << h;
+        EXPECT_EQ(got.harmonics[h].normal, want.harmonics[h].normal) << h;
+        invalid += want.harmonics[h].valid ? 0 : 1;
+      }
+      EXPECT_EQ(got.normal_to_along_db, want.normal_to_along_db);
+      EXPECT_EQ(invalid > 0, harmonics == 40);  // 28 x 180 Hz > 5 kHz
+    }
+  }
 }
 
 TEST(Analyze, TimeIndicatorsMatchANaiveComputation) {
