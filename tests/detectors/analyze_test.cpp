@@ -16,6 +16,8 @@
 #include "detect/analysis/html_report.hpp"
 #include "detect/analysis/svg_plot.hpp"
 #include "detect/indicators/indicators.hpp"
+#include "detect/spectral/fft.hpp"
+#include "detect/spectral/spectrum.hpp"
 #include "diag/error.hpp"
 
 namespace {
@@ -210,6 +212,43 @@ TEST(Analyze, TwoDirectionRatioIsTheNormalToAlongEnergyAtTheMeshHarmonics) {
   EXPECT_NEAR(t.comparison.normal_to_along_db, 10 * std::log10(0.01 / 1.25), kDbTol);
 }
 
+// analyze keeps an LOA channel's spectrum only up to the two-direction stage's highest band:
+// the comparison is the same bytes as on the whole spectra, with the default bands, wide ones,
+// and harmonics past Nyquist (invalid, as on the whole spectrum).
+TEST(Analyze, TwoDirectionOnTheKeptBinsEqualsTheWholeSpectra) {
+  const auto rec = pair_recording(kInputHz);
+  detect::SpectrumOptions so;
+  so.fs_hz = kFs;
+  so.window = detect::WindowType::kHann;
+  so.remove_mean = true;
+  so.nfft = detect::next_fast_length(rec.signals[0].samples.size());
+  const detect::Spectrum sa = detect::amplitude_spectrum(rec.signals[0].samples, so);
+  const detect::Spectrum sn = detect::amplitude_spectrum(rec.signals[1].samples, so);
+  for (int harmonics : {3, 40}) {
+    for (double halfwidth : {0.0, 50.0}) {
+      detect::AnalyzeOptions opt;
+      opt.two_direction.mesh_harmonics = harmonics;
+      opt.two_direction.halfwidth_hz = halfwidth;
+      const auto r = detect::analyze_recording(rec, &gearbox(), opt);
+      ASSERT_EQ(r.two_direction.size(), 1u);
+      const auto want = detect::compare_two_directions(
+          {sa.frequency_hz, sa.amplitude}, {sn.frequency_hz, sn.amplitude},
+          sa.enbw_hz / sa.resolution_hz, r.meshes[0].frequency_hz, opt.two_direction);
+      const auto& got = r.two_direction[0].comparison;
+      ASSERT_EQ(got.harmonics.size(), want.harmonics.size());
+      int invalid = 0;
+      for (std::size_t h = 0; h < want.harmonics.size(); ++h) {
+        EXPECT_EQ(got.harmonics[h].valid, want.harmonics[h].valid) << h;
+        EXPECT_EQ(got.harmonics[h].along, want.harmonics[h].along) << h;
+        EXPECT_EQ(got.harmonics[h].normal, want.harmonics[h].normal) << h;
+        invalid += want.harmonics[h].valid ? 0 : 1;
+      }
+      EXPECT_EQ(got.normal_to_along_db, want.normal_to_along_db);
+      EXPECT_EQ(invalid > 0, harmonics == 40);  // 28 x 180 Hz > 5 kHz
+    }
+  }
+}
+
 TEST(Analyze, TimeIndicatorsMatchANaiveComputation) {
   constexpr double kRelTol = 1e-12;  // two-pass sums over 1e5 samples
   const auto rec = pair_recording(kInputHz);
@@ -331,6 +370,62 @@ TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
   four.threads = 4;
   EXPECT_EQ(detect::to_json(detect::analyze_recording(rec, &gearbox(), one)).dump(),
             detect::to_json(detect::analyze_recording(rec, &gearbox(), four)).dump());
+}
+
+// A record whose length has a large prime factor (here prime: 20011 samples) is transformed
+// zero-padded to next_fast_length (analyze.hpp): the bins are fs / nfft apart, the window's
+// ENBW is the record's (1.5 bins of fs / n for Hann), and a tone reads its amplitude within
+// Hann's scalloping loss (at most 15.2 %, 1.42 dB, half a bin off a line) at the bin nearest it.
+TEST(Analyze, SpectrumOfAPrimeLengthRecordIsZeroPaddedToAFastLength) {
+  constexpr std::size_t n = 20011;
+  constexpr double f0 = 123.4, a0 = 2.0;
+  std::vector<double> x(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = a0 * std::sin(2 * M_PI * f0 * i / kFs);
+  diag::Recording rec;
+  rec.signals.push_back(channel("acc", diag::Direction::kVertical, x));
+  const auto r = detect::analyze_recording(rec, nullptr, {});
+  const detect::ChannelAnalysis& c = r.channels.at(0);
+  const std::size_t nfft = detect::next_fast_length(n);
+  ASSERT_EQ(nfft, 20160u);  // 2^6 3^2 5 7
+  EXPECT_EQ(c.spectrum_resolution_hz, kFs / static_cast<double>(nfft));
+  EXPECT_NEAR(c.spectrum_enbw_hz, 1.5 * kFs / static_cast<double>(n), 1e-9);
+  ASSERT_FALSE(c.spectrum_peaks.empty());
+  EXPECT_NEAR(c.spectrum_peaks[0].frequency_hz, f0, 0.5 * c.spectrum_resolution_hz + 1e-9);
+  EXPECT_LE(c.spectrum_peaks[0].amplitude, a0 * (1 + 1e-3));
+  EXPECT_GE(c.spectrum_peaks[0].amplitude, a0 * (1 - 0.152));
+}
+
+// AnalyzeOptions::traces = false (the CLI without --html or --curves): the JSON, the findings and
+// the notes are the same bytes as with the traces, the plot-only curves are empty, and the PSD's
+// resolution and segment count (set from the Welch layout, not computed) are the computed ones.
+TEST(Analyze, WithoutTracesTheReportIsTheSameAndThePlotCurvesAreEmpty) {
+  const auto rec = pair_recording(kInputHz);
+  detect::AnalyzeOptions with, without;
+  without.traces = false;
+  const auto a = detect::analyze_recording(rec, &gearbox(), with);
+  const auto b = detect::analyze_recording(rec, &gearbox(), without);
+  EXPECT_EQ(detect::to_json(a).dump(), detect::to_json(b).dump());
+  ASSERT_EQ(a.channels.size(), b.channels.size());
+  std::size_t spectra = 0;
+  for (std::size_t i = 0; i < a.channels.size(); ++i) {
+    const auto &ca = a.channels[i], &cb = b.channels[i];
+    if (!ca.vibration) continue;
+    ++spectra;
+    EXPECT_FALSE(ca.spectrum.x.empty());
+    EXPECT_FALSE(ca.psd.x.empty());
+    EXPECT_FALSE(ca.order_spectrum.x.empty());
+    EXPECT_GT(ca.spectrogram.time_s.size(), 1u);
+    EXPECT_TRUE(cb.spectrum.x.empty() && cb.psd.x.empty() && cb.order_spectrum.x.empty());
+    EXPECT_TRUE(cb.spectrogram.time_s.empty());
+    EXPECT_GT(ca.psd_segments, 1u);
+    EXPECT_EQ(ca.psd_segments, cb.psd_segments);
+    EXPECT_EQ(ca.psd_resolution_hz, cb.psd_resolution_hz);
+    for (std::size_t m = 0; m < ca.meshes.size(); ++m) {
+      EXPECT_FALSE(ca.meshes[m].zoom.x.empty());
+      EXPECT_TRUE(cb.meshes[m].zoom.x.empty());
+    }
+  }
+  EXPECT_EQ(spectra, 2u);
 }
 
 // --timing: the wall time per stage and the CPU time of each per-channel stage summed over the

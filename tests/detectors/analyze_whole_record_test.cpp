@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <random>
 #include <string>
@@ -114,6 +115,12 @@ TEST_F(WholeRecord, IndicatorsAndPsdCoverTheWholeFile) {
              n.find("mean of 4 blocks of 20000 samples") != std::string::npos;
   }
   EXPECT_TRUE(noted);
+  // Without the plot curves (AnalyzeOptions::traces) the report is the same bytes: the PSD's
+  // segment count over the whole file is then set from the Welch layout, and the envelope
+  // spectra are still averaged over the blocks.
+  opt.traces = false;
+  EXPECT_EQ(detect::to_json(detect::analyze_recording(excerpt, nullptr, opt)).dump(),
+            detect::to_json(streamed).dump());
 }
 
 // A recording read whole is left as it is (the stage finds nothing beyond what is held).

@@ -2,12 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <complex>
 #include <limits>
 #include <numbers>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 namespace {
@@ -85,6 +87,91 @@ TEST(Magnitude, MatchesHypotEverywhere) {
   EXPECT_EQ(detect::magnitude({1e200, 1e200}), std::abs(std::complex<double>(1e200, 1e200)));
   EXPECT_EQ(detect::magnitude({1e-200, 0.0}), 1e-200);
   EXPECT_TRUE(std::isnan(detect::magnitude({std::numeric_limits<double>::quiet_NaN(), 1.0})));
+}
+
+}  // namespace
+
+namespace {
+
+bool is_fast(std::size_t m) {  // even and 7-smooth: the definition in fft.hpp
+  if (m < 2 || m % 2 != 0) return false;
+  for (std::size_t p : {2u, 3u, 5u, 7u})
+    while (m % p == 0) m /= p;
+  return m == 1;
+}
+
+// The fast lengths against a plain scan of the definition, for every n up to 20 000 and around
+// the CWRU lengths; and they are what fft.hpp says they are for the records we read.
+TEST(FastLength, MatchesThePlainScan) {
+  auto plain_next = [](std::size_t n) {
+    std::size_t m = std::max<std::size_t>(n, 2);
+    while (!is_fast(m)) ++m;
+    return m;
+  };
+  auto plain_previous = [](std::size_t n) {
+    std::size_t m = n;
+    while (!is_fast(m)) --m;
+    return m;
+  };
+  for (std::size_t n = 0; n <= 20000; ++n) {
+    ASSERT_EQ(detect::next_fast_length(n), plain_next(n)) << n;
+    if (n >= 2) {
+      ASSERT_EQ(detect::previous_fast_length(n), plain_previous(n)) << n;
+    }
+  }
+  for (std::size_t n = 121000; n <= 123000; ++n) {
+    ASSERT_EQ(detect::next_fast_length(n), plain_next(n)) << n;
+    ASSERT_EQ(detect::previous_fast_length(n), plain_previous(n)) << n;
+  }
+  EXPECT_EQ(detect::next_fast_length(121265), 121500u);  // CWRU IR007_0: 5 x 79 x 307
+  EXPECT_EQ(detect::next_fast_length(200000), 200000u);  // already fast
+  EXPECT_EQ(detect::next_fast_length(1u << 20), 1u << 20);
+  EXPECT_THROW(detect::previous_fast_length(1), std::invalid_argument);
+}
+
+}  // namespace
+
+namespace {
+
+// scaled_magnitudes gives the bytes of the plain loop magnitude(X[k]) * scale through every path
+// this CPU has, at every length up to 19 (all tails), with bins outside magnitude()'s range
+// (0, tiny, huge, infinite, NaN) at every position of a SIMD group.
+TEST(ScaledMagnitudes, SameBytesAsThePlainLoopOnEveryPath) {
+  using detect::detail::MagnitudePath;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> g;
+  const double odd[] = {0.0,
+                        1e-170,
+                        1e170,
+                        std::numeric_limits<double>::infinity(),
+                        std::numeric_limits<double>::quiet_NaN(),
+                        -1e-160};
+  int paths = 0;
+  for (MagnitudePath path : {MagnitudePath::kScalar, MagnitudePath::kSse2, MagnitudePath::kAvx2}) {
+    if (!detect::detail::magnitude_path_available(path)) continue;
+    ++paths;
+    for (std::size_t n = 0; n <= 19; ++n) {
+      for (std::size_t at = 0; at <= n; ++at) {  // at == n: no odd bin
+        for (double v : odd) {
+          std::vector<std::complex<double>> X(n);
+          for (auto& z : X) z = {g(rng), g(rng)};
+          if (at < n) X[at] = {v, 0.5 * v};
+          std::vector<double> got(n, -1.0), want(n);
+          for (std::size_t k = 0; k < n; ++k) want[k] = detect::magnitude(X[k]) * 0.37;
+          detect::detail::scaled_magnitudes(X, 0.37, got, path);
+          for (std::size_t k = 0; k < n; ++k) {
+            if (std::isnan(want[k])) {
+              EXPECT_TRUE(std::isnan(got[k]));
+            } else {
+              EXPECT_EQ(got[k], want[k])
+                  << "path " << static_cast<int>(path) << " n " << n << " k " << k;
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GE(paths, 1);
 }
 
 }  // namespace

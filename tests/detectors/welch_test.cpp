@@ -386,3 +386,24 @@ TEST(Spectrogram, FollowsATonesFrequencyAndAmplitudeInTime) {
 }
 
 }  // namespace
+
+namespace {
+
+// WelchOptions::segments(n) is the count welch() averages, for every overlap and the lengths
+// around a whole number of steps.
+TEST(Welch, SegmentsIsTheCountWelchAverages) {
+  std::vector<double> x(3000, 1.0);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::sin(0.1 * static_cast<double>(i));
+  for (long long noverlap : {-1LL, 0LL, 7LL, 63LL}) {
+    detect::WelchOptions o;
+    o.nperseg = 64;
+    o.noverlap = noverlap;
+    for (std::size_t n : {64u, 65u, 95u, 96u, 97u, 127u, 128u, 129u, 1000u, 3000u}) {
+      EXPECT_EQ(o.segments(n), detect::welch(std::span<const double>(x).first(n), o).segments)
+          << "noverlap " << noverlap << ", n " << n;
+    }
+    EXPECT_EQ(o.segments(63), 0u);
+  }
+}
+
+}  // namespace

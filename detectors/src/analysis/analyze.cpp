@@ -81,7 +81,7 @@ ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords
   if (!spectral) return c;  // the order domain without the channel at uniform angles
   spectrum = spectra_stage(ctx, *spectral, c);
   clock.lap(2);
-  spectrogram_stage(sig, c);
+  if (ctx.opt.traces) spectrogram_stage(sig, c);  // only drawn
   clock.lap(3);
   const Spectrum env = envelope_stage(ctx, ang, rec, c);
   clock.lap(4);
@@ -117,6 +117,28 @@ std::size_t first_extreme(std::span<const double> y, std::size_t i0, std::size_t
   i = i0;
   while (s * y[i] != top) ++i;
   return i;
+}
+
+// Cuts a channel's amplitude spectrum above the bins the two-direction stage reads: the band
+// h f_mesh +- w of every harmonic h <= H of every mesh, w = halfwidth_hz, or (0) max(4 bins, 1 %
+// of h f_mesh) (two_direction.hpp), so up to H f + max(4 bins, 0.01 H f) for the fastest mesh;
+// 4 bins more are kept against round-off. Every band inside the spectrum stays inside it with
+// the same bins, and one that runs past its end still does.
+void keep_two_direction_bins(const TwoDirectionOptions& o, const std::vector<AnalysisMesh>& meshes,
+                             Spectrum& sp) {
+  double top = 0;
+  for (const AnalysisMesh& m : meshes) top = std::max(top, m.frequency_hz);
+  const double res = sp.resolution_hz;
+  if (!(top > 0) || !(res > 0) || sp.frequency_hz.empty()) return;
+  const double f = o.mesh_harmonics * top;
+  const double w = o.halfwidth_hz > 0 ? o.halfwidth_hz : std::max(4 * res, 0.01 * f);
+  const double last = std::ceil((f + w) / res) + 8;  // 4 bins of round-off in w, 4 more
+  if (!(last + 1 < static_cast<double>(sp.frequency_hz.size()))) return;
+  const auto keep = static_cast<std::size_t>(last) + 1;
+  sp.frequency_hz.resize(keep);
+  sp.amplitude.resize(keep);
+  sp.frequency_hz.shrink_to_fit();
+  sp.amplitude.shrink_to_fit();
 }
 
 }  // namespace
@@ -285,10 +307,13 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     r.channels[ci] =
         analyse_channel(ctx, ang, ci, spectra[ci], opt.timing ? &stage_cpu[ci] : nullptr);
     // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or
-    // normal-LOA channel's: any other is freed now (two record-length vectors per channel).
+    // normal-LOA channel's, up to its highest band: any other is freed now, and an LOA channel's
+    // is cut above that band (two record-length vectors per channel otherwise).
     const diag::Direction d = r.channels[ci].direction;
     if (!gb || (d != diag::Direction::kAlongLoa && d != diag::Direction::kNormalLoa)) {
       spectra[ci] = Spectrum{};
+    } else {
+      keep_two_direction_bins(opt.two_direction, r.meshes, spectra[ci]);
     }
   });
   lap("channels");

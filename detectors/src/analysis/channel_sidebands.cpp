@@ -28,10 +28,12 @@ void sideband_stage(const AnalysisContext& ctx, const Spectrum& sp, ChannelAnaly
       if (i != j) context.other_mesh_hz.push_back(ctx.meshes[i].frequency_hz);
     }
     ma.sidebands = analyse_sidebands(view, ma.mesh_hz, cand, ctx.opt.sidebands, context);
-    const double span =
-        (ctx.opt.sidebands.sidebands + 2) * std::max(cand[0].frequency_hz, cand[1].frequency_hz);
-    ma.zoom = slice_for_plot(sp.frequency_hz, sp.amplitude, ma.mesh_hz - span, ma.mesh_hz + span,
-                             ctx.plot_points);
+    if (ctx.opt.traces) {
+      const double span =
+          (ctx.opt.sidebands.sidebands + 2) * std::max(cand[0].frequency_hz, cand[1].frequency_hz);
+      ma.zoom = slice_for_plot(sp.frequency_hz, sp.amplitude, ma.mesh_hz - span, ma.mesh_hz + span,
+                               ctx.plot_points);
+    }
     c.meshes.push_back(std::move(ma));
   }
 }

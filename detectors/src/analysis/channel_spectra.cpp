@@ -4,6 +4,7 @@
 
 #include "detect/angular/order_spectrum.hpp"
 #include "detect/indicators/indicators.hpp"
+#include "detect/spectral/fft.hpp"
 #include "detect/spectral/welch.hpp"
 #include "diag/error.hpp"
 #include "stages.hpp"
@@ -11,18 +12,31 @@
 namespace detect::analysis_stages {
 
 std::vector<SpectralPeak> largest_peaks(const Spectrum& s, int count, double max_hz) {
-  std::vector<SpectralPeak> c;
+  // The `count` largest local maxima kept sorted as the scan goes (descending amplitude, equal
+  // amplitudes by ascending frequency): once `count` are held, a bin is looked at further only
+  // when it exceeds the smallest of them, so the scan costs about one compare per bin.
+  std::vector<SpectralPeak> top;
+  const std::size_t want = static_cast<std::size_t>(std::max(count, 0));
+  if (want == 0) return top;
+  top.reserve(want + 1);
   const auto& a = s.amplitude;
-  for (std::size_t k = 1; k + 1 < a.size(); ++k) {
-    if (s.frequency_hz[k] > max_hz) break;
-    if (a[k] > a[k - 1] && a[k] >= a[k + 1]) c.push_back({s.frequency_hz[k], a[k]});
+  const auto& f = s.frequency_hz;
+  // Bins 1 .. a.size() - 2 up to max_hz.
+  const std::size_t end = std::min<std::size_t>(
+      a.size() < 2 ? 0 : a.size() - 1,
+      static_cast<std::size_t>(std::upper_bound(f.begin(), f.end(), max_hz) - f.begin()));
+  double least = -kInf;  // the smallest amplitude kept, once `want` are kept
+  for (std::size_t k = 1; k < end; ++k) {
+    if (!(a[k] > least)) continue;
+    if (!(a[k] > a[k - 1] && a[k] >= a[k + 1])) continue;
+    const auto at = std::upper_bound(
+        top.begin(), top.end(), a[k],
+        [](double v, const SpectralPeak& p) { return v > p.amplitude; });  // after equal ones
+    top.insert(at, SpectralPeak{f[k], a[k]});
+    if (top.size() > want) top.pop_back();
+    if (top.size() == want) least = top.back().amplitude;
   }
-  const std::size_t n = std::min<std::size_t>(c.size(), static_cast<std::size_t>(count));
-  std::partial_sort(
-      c.begin(), c.begin() + static_cast<std::ptrdiff_t>(n), c.end(),
-      [](const SpectralPeak& l, const SpectralPeak& r) { return l.amplitude > r.amplitude; });
-  c.resize(n);
-  return c;
+  return top;
 }
 
 PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,
@@ -100,14 +114,20 @@ Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
   so.fs_hz = fs;
   so.window = opt.spectrum_window;
   so.remove_mean = true;
+  so.nfft = next_fast_length(x.size());  // zero-padded to a fast length (analyze.hpp)
   Spectrum sp = amplitude_spectrum(x, so);
   c.spectrum_resolution_hz = sp.resolution_hz;
   c.spectrum_enbw_hz = sp.enbw_hz;
   c.spectrum_peaks = largest_peaks(sp, opt.peaks_reported, 0.5 * fs);
-  c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, ctx.plot_points, Decimation::kMax);
   WelchOptions wo;
   wo.fs_hz = fs;
   wo.nperseg = welch_segment(opt, x.size());
+  if (!opt.traces) {  // the PSD is only drawn: its layout is what the report states
+    c.psd_resolution_hz = fs / static_cast<double>(wo.fft_length());
+    c.psd_segments = wo.segments(x.size());
+    return sp;
+  }
+  c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, ctx.plot_points, Decimation::kMax);
   const Psd psd = welch(x, wo);
   c.psd = decimate_for_plot(psd.frequency_hz, psd.value, ctx.plot_points, Decimation::kMax);
   c.psd_resolution_hz = psd.resolution_hz;
@@ -121,6 +141,7 @@ void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
     if (!rec.order_domain) c.notes.push_back("order spectrum skipped: " + rec.angular_error);
     return;
   }
+  if (!ctx.opt.traces) return;  // the order spectrum is only drawn
   try {
     const OrderSpectrum os = order_spectrum(*rec.angular);
     c.order_spectrum =

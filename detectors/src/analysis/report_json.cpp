@@ -110,7 +110,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
               {"crest_factor", c.time.crest_factor},
               {"kurtosis", c.time.kurtosis},
               {"skewness", c.time.skewness}}}};
-    if (c.vibration && !c.spectrum.x.empty()) {
+    if (c.vibration && c.spectrum_resolution_hz > 0) {  // spectra computed (traces or not)
       cj["spectrum"] = {{"resolution_hz", c.spectrum_resolution_hz},
                         {"enbw_hz", c.spectrum_enbw_hz},
                         {"peaks", peaks_json(c.spectrum_peaks)}};

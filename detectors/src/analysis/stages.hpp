@@ -107,7 +107,8 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx);
 // TSA angular resolution of shaft s: 2.8 x the highest order its gear metrics examine.
 int tsa_samples_per_rev(const diag::Gearbox& gb, std::size_t s, const AnalyzeOptions& opt);
 
-// The largest local maxima of a spectrum up to max_hz, descending amplitude.
+// The `count` largest local maxima (a[k] > a[k-1], a[k] >= a[k+1]) of a spectrum up to max_hz,
+// descending amplitude, equal amplitudes by ascending frequency.
 std::vector<SpectralPeak> largest_peaks(const Spectrum& s, int count, double max_hz);
 // The part of a curve in [lo, hi], peak-hold decimated for plotting.
 PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>& y, double lo,

@@ -54,13 +54,12 @@ WholeChannel whole_channel(const AnalysisContext& ctx, const diag::RecordingRead
   MomentAccumulator mo;
   const bool spectra = c.vibration && !ctx.order_domain && c.psd_segments > 0;
   std::optional<WelchAccumulator> psd;
-  if (spectra) {
-    WelchOptions wo;
-    wo.fs_hz = info.fs_hz;
-    wo.nperseg = welch_segment(opt, block);
-    psd.emplace(wo);
-  }
-  const bool envelope = spectra && !c.envelope.x.empty();
+  WelchOptions wo;
+  wo.fs_hz = info.fs_hz;
+  wo.nperseg = welch_segment(opt, block);
+  if (spectra && opt.traces) psd.emplace(wo);
+  // The envelope stage ran on the excerpt (it sets the band's upper edge, > 0).
+  const bool envelope = spectra && c.envelope_high_hz > 0;
   EnvelopeSpectrumOptions eo;
   eo.fs_hz = info.fs_hz;
   eo.band_low_hz = c.envelope_low_hz;
@@ -95,6 +94,9 @@ WholeChannel whole_channel(const AnalysisContext& ctx, const diag::RecordingRead
     c.psd = decimate_for_plot(p.frequency_hz, p.value, ctx.plot_points, Decimation::kMax);
     c.psd_resolution_hz = p.resolution_hz;
     c.psd_segments = p.segments;
+  } else if (spectra) {  // only drawn (AnalyzeOptions::traces): its layout over the whole file
+    c.psd_resolution_hz = info.fs_hz / static_cast<double>(wo.fft_length());
+    c.psd_segments = wo.segments(static_cast<std::size_t>(info.length));
   }
   if (w.envelope_blocks > 0) {
     for (double& a : env_sum.amplitude) a /= static_cast<double>(w.envelope_blocks);

@@ -71,10 +71,9 @@ Spectrum amplitude_spectrum(std::span<const double> x, const SpectrumOptions& op
   const double interior =
       (options.scaling == AmplitudeScaling::kPeak ? 2.0 : std::sqrt(2.0)) / wsum;
   const double edge = 1.0 / wsum;
-  for (std::size_t k = 0; k < X.size(); ++k) {
+  for (std::size_t k = 0; k < X.size(); ++k)
     s.frequency_hz[k] = static_cast<double>(k) * s.resolution_hz;
-    s.amplitude[k] = magnitude(X[k]) * interior;
-  }
+  scaled_magnitudes(X, interior, s.amplitude);
   s.amplitude[0] = magnitude(X[0]) * edge;
   if (nfft % 2 == 0) s.amplitude.back() = magnitude(X.back()) * edge;
   return s;

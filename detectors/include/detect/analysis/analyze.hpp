@@ -4,8 +4,11 @@
 //
 // Per channel (tacho and angle channels get the time-domain indicators only):
 //  - time-domain indicators: RMS, peak, crest factor, kurtosis, skewness (indicators.hpp);
-//  - amplitude spectrum of the whole record (spectrum.hpp, Hann, peak scaling) and Welch PSD
-//    (welch.hpp); the largest spectral peaks;
+//  - amplitude spectrum of the whole record (spectrum.hpp, Hann, peak scaling; the DFT zero-padded
+//    to next_fast_length(n), fft.hpp: a record of n samples with a large prime factor, like
+//    CWRU's 121265 = 5 x 79 x 307, transforms 10x faster at 121500; every sample is kept, the
+//    window and its resolution are the record's, the bins are fs / nfft apart, under 1 % closer
+//    than fs / n above 10^4 samples) and Welch PSD (welch.hpp); the largest spectral peaks;
 //  - envelope spectrum demodulated in the band the fast kurtogram selects (kurtogram.hpp,
 //    envelope.hpp; Randall & Antoni 2011, sec. 3.3).
 // With a gearbox:
@@ -110,6 +113,14 @@ struct AnalyzeOptions {
   // "whole_record" when whole_recording is set, "two_direction", "gear_damage", "findings"); the
   // CLI draws a progress line on a terminal.
   std::function<void(const std::string&)> progress;
+  // Fill the curves only a plot draws: ChannelAnalysis::spectrum, psd, order_spectrum and
+  // spectrogram, MeshAnalysis::zoom (and, where the envelope and bearing stages honour it,
+  // envelope, waveform, kurtogram, BearingAnalysis::decision_envelope). false (the CLI without
+  // --html or --curves): they stay empty and what only they need is not computed (the Welch
+  // PSD, the spectrogram, the order spectrum: psd_resolution_hz and psd_segments are then set
+  // from the Welch layout, WelchOptions::segments); every other field, the findings and the
+  // notes are the same.
+  bool traces = true;
   bool timing = false;               // record the wall time of each stage (AnalysisResult::
                                      // timing_s); off by default: it differs run to run
   bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
@@ -216,7 +227,7 @@ struct ChannelAnalysis {
                           // for angles, speeds and other quantities (only `time` is filled)
   bool sensor = true;     // in sensor_channels(): votes in the findings (false: shown only)
   TimeIndicators time;
-  double spectrum_resolution_hz = 0;
+  double spectrum_resolution_hz = 0;  // bin spacing fs / nfft (nfft = next_fast_length(samples))
   double spectrum_enbw_hz = 0;
   std::vector<SpectralPeak> spectrum_peaks;  // largest local maxima, descending amplitude
   PlotTrace spectrum;                        // amplitude spectrum [unit] vs Hz

@@ -55,6 +55,20 @@ class RealFft {
   void* spectrum_ = nullptr;  // fftw_complex scratch, n/2 + 1
 };
 
+// Lengths FFTW transforms fast. A real transform of a length with a large prime factor is an
+// order of magnitude slower than one of a nearby length of small factors (FFTW 3.3.10,
+// FFTW_ESTIMATE, EPYC: r2c of 121265 = 5 x 79 x 307 takes 4.4 ms, of 121500 = 2^2 3^5 5^3
+// 0.40 ms); odd lengths are 3-4x slower than even ones even when smooth (151875 = 3^5 5^4:
+// 1.6 ms, 151200: 0.55 ms), and factors 11 and 13 make ESTIMATE planning slow (121680 =
+// 2^4 3^2 5 13^2: 220 ms to plan). A fast length is therefore an even 7-smooth number,
+// 2^a 3^b 5^c 7^d with a >= 1; consecutive ones differ by under 1 % above 10^4 (as
+// scipy.fft.next_fast_len, but even and without 11).
+// next_fast_length(n): the smallest fast length >= n (n <= 1 gives 2; zero-padding to it keeps all
+// samples and changes the bin spacing from fs/n to fs/m). previous_fast_length(n): the largest
+// fast length <= n (n >= 2; truncating to it drops n - m samples). Both exact (integer search).
+std::size_t next_fast_length(std::size_t n);
+std::size_t previous_fast_length(std::size_t n);
+
 // |z| as sqrt(re^2 + im^2): several times faster than std::abs (hypot, which guards against
 // overflow and underflow of the squares). The squares can only overflow or underflow when |z| is
 // outside [sqrt(DBL_MIN), sqrt(DBL_MAX)] ~ [1.5e-154, 1.3e154]; then (norm not in [DBL_MIN,
@@ -67,5 +81,19 @@ inline double magnitude(std::complex<double> z) {
     return std::sqrt(n2);
   return std::abs(z);  // 0, tiny, huge or not finite
 }
+
+// out[k] = magnitude(X[k]) * scale for every k (out.size() == X.size()): the same bytes as that
+// loop, two or four bins at a time (SSE2, or AVX2 where the CPU has it: IEEE squares, one add,
+// a correctly rounded sqrt and one multiply per bin in every path, no fused multiply-add), the
+// rare bins outside magnitude()'s range from std::abs as there.
+void scaled_magnitudes(std::span<const std::complex<double>> X, double scale,
+                       std::span<double> out);
+namespace detail {
+// scaled_magnitudes through one path whatever the CPU (tests: every path gives the same bytes).
+enum class MagnitudePath { kScalar, kSse2, kAvx2 };
+bool magnitude_path_available(MagnitudePath path);
+void scaled_magnitudes(std::span<const std::complex<double>> X, double scale, std::span<double> out,
+                       MagnitudePath path);
+}  // namespace detail
 
 }  // namespace detect

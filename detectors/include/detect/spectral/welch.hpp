@@ -52,6 +52,9 @@ struct WelchOptions {
   std::size_t overlap() const { return noverlap < 0 ? nperseg / 2 : std::size_t(noverlap); }
   std::size_t step() const { return nperseg - overlap(); }
   std::size_t fft_length() const { return nfft == 0 ? nperseg : nfft; }
+  // The segments welch() averages over a record of n samples: those starting at 0, step(),
+  // 2 step(), ... that end within it.
+  std::size_t segments(std::size_t n) const { return n < nperseg ? 0 : (n - nperseg) / step() + 1; }
 };
 
 struct Psd {
