@@ -523,7 +523,13 @@ template <class V, std::size_t G>
 [[gnu::always_inline]] inline void dot16(const double* const* x, const double* c, std::size_t count,
                                          double* out) {
   constexpr std::size_t kW = sizeof(V) / sizeof(double), kRegs = 16 / kW;
-  V acc[G][kRegs] = {};
+  // Zeroed one register at a time: `= {}` on the array was a rep stos on the stack per output.
+  V acc[G][kRegs];
+#pragma GCC unroll 16
+  for (std::size_t i = 0; i < G; ++i) {
+#pragma GCC unroll 8
+    for (std::size_t r = 0; r < kRegs; ++r) acc[i][r] = V{};
+  }
   std::size_t k = 0;
   for (; k + 16 <= count; k += 16) {
 #pragma GCC unroll 8
