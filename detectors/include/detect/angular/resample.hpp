@@ -68,10 +68,11 @@
 // fs / 2 pays for a bandwidth it throws away. Such a plan may read the record decimated by 2^s
 // (s stages of one half-band filter, each halving the rate): the kernel (the same f_c in Hz, so
 // the same continuous-time filter) then spans 2^s times fewer input samples. Half-band filter
-// (Vaidyanathan 1993, "Multirate Systems and Filter Banks", sec. 4.6; Kaiser window design,
-// Kaiser 1974): h[n] = sinc(n / 2) w(n / 55) / 2, n = -55 .. 55, w the Kaiser window of beta
-// 0.1102 (100 - 8.7) = 10.06 (100 dB); h[0] = 1/2 and every other even tap is 0 (28 symmetric
-// pairs: 14 multiply-adds per input sample for the first stage, half that for the next).
+// (Vaidyanathan 1993, "Multirate Systems and Filter Banks", half-band filters; the window
+// design of Kaiser 1974, "Nonrecursive digital filter design using the I0-sinh window
+// function", Proc. IEEE ISCAS): h[n] = sinc(n / 2) w(n / 55) / 2, n = -55 .. 55, w the Kaiser
+// window of beta 0.1102 (100 - 8.7) = 10.06 (100 dB); h[0] = 1/2 and every other even tap is 0 (28
+// symmetric pairs: 14 multiply-adds per input sample for the first stage, half that for the next).
 // Computed on a 20 000-point grid (resample_decimation_test.cpp checks it on tones):
 // passband [0, 0.22 fs_in] ripple 9.8e-6, stopband [0.28 fs_in, fs_in / 2] below -100 dB
 // (|H| < 9.8e-6). A decimated sample is y[k] = (h * x)[2k]: at the time of x[2k] exactly
@@ -178,7 +179,7 @@ class AnglePlan {
   std::size_t n_samples() const { return n_samples_; }  // input length the plan is for
   int decimation() const { return stages_; }            // half-band stages taken, 0 = none
   int kernel_zero_crossings() const { return z_; }
-  // u_m = t_m fs_hz: time of output m in input samples (t = 0 at input sample 0).
+  // u_m = t_m fs_hz(): time of output m in samples of the record read (t = 0 at its sample 0).
   std::span<const double> positions() const { return position_; }
   // g_m = 2 f_c / fs_hz of output m, in (0, 1).
   std::span<const double> cutoffs() const { return cutoff_; }
