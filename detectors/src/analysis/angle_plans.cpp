@@ -91,9 +91,17 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
                        ? smoothed_pulses(input_pulses, kTachoSmoothingHalfWindow)
                        : input_pulses;
   std::vector<std::optional<AnglePlan>> tsa_plans(gb->shafts().size());
+  // The plans may read the records decimated first (resample.hpp: half-band stages, shared by
+  // every plan of the same stages, each output equal to the direct one to 1e-5 of the band kept
+  // plus the kernels' -80 dB stopband): each plan's kernel then spans 2^s times fewer samples.
+  // Not the order plan in the order domain: it keeps the recording's whole band there, and the
+  // envelope stage applies it again to the full-rate envelopes.
+  constexpr int kDecimation = 3;
   if (a.plan_n > 0) {
     try {
-      a.order_plan.emplace(make_angle_plan(a.order_pulses, a.plan_fs, a.plan_n, a.order_ro));
+      ResampleOptions ro = a.order_ro;
+      if (!ctx.order_domain) ro.decimation = kDecimation;
+      a.order_plan.emplace(make_angle_plan(a.order_pulses, a.plan_fs, a.plan_n, ro));
     } catch (const diag::InputError&) {
     }
     for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
@@ -104,7 +112,9 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
         TsaOptions to;
         to.samples_per_rev = tsa_samples_per_rev(*gb, s, opt);
         to.min_revolutions = opt.tsa_min_revolutions;
-        tsa_plans[s].emplace(make_angle_plan(pulses, a.plan_fs, a.plan_n, to.resample_options()));
+        ResampleOptions ro = to.resample_options();
+        ro.decimation = kDecimation;
+        tsa_plans[s].emplace(make_angle_plan(pulses, a.plan_fs, a.plan_n, ro));
       } catch (const diag::InputError&) {
       }
     }
@@ -113,17 +123,35 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   // Every sharing channel through each plan in one call (the kernel taps of an output sample are
   // computed once for all channels: the cost of resampling); the plans in parallel.
   const std::size_t nsig = rec.signals.size();
+  std::vector<std::size_t> which;
+  for (std::size_t i = 0; i < nsig; ++i) {
+    const diag::Signal& sig = rec.signals[i];
+    const bool spectra = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
+                         sig.role == diag::Role::kDisplacement;
+    if (spectra && a.shares_plans(sig) && sig.samples.size() >= 64) which.push_back(i);
+  }
+  // decimated[s - 1][k]: channel which[k] decimated s times, for the stages some plan takes.
+  int stages = 0;
+  if (a.order_plan) stages = a.order_plan->decimation();
+  for (const auto& p : tsa_plans) {
+    if (p) stages = std::max(stages, p->decimation());
+  }
+  std::vector<std::vector<std::vector<double>>> decimated(static_cast<std::size_t>(stages));
+  for (auto& d : decimated) d.resize(which.size());
+  run_parallel(which.size(), opt.threads, [&](std::size_t k) {
+    std::span<const double> x = rec.signals[which[k]].samples;
+    for (std::size_t s = 0; s < decimated.size(); ++s) {
+      decimated[s][k] = decimate_half_band(x, 1);
+      x = decimated[s][k];
+    }
+  });
   auto through = [&](const AnglePlan& plan) {
     std::vector<std::span<const double>> xs;
-    std::vector<std::size_t> which;
-    for (std::size_t i = 0; i < nsig; ++i) {
-      const diag::Signal& sig = rec.signals[i];
-      const bool spectra = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
-                           sig.role == diag::Role::kDisplacement;
-      if (spectra && a.shares_plans(sig) && sig.samples.size() >= 64) {
-        xs.push_back(sig.samples);
-        which.push_back(i);
-      }
+    for (std::size_t k = 0; k < which.size(); ++k) {
+      xs.push_back(plan.decimation() == 0
+                       ? std::span<const double>(rec.signals[which[k]].samples)
+                       : std::span<const double>(
+                             decimated[static_cast<std::size_t>(plan.decimation()) - 1][k]));
     }
     std::vector<std::optional<AngleResampled>> out(nsig);
     std::vector<AngleResampled> ar = resample_by_angle(xs, plan);

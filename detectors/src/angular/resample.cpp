@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <mutex>
@@ -22,6 +23,13 @@ namespace {
 
 using diag::fail;
 using diag::require;
+
+// The inner loops, written once for 2- and 4-wide vectors (SSE2, the x86-64 baseline, and AVX2
+// where the CPU has it, chosen at run time). Each vector lane does what the scalar code would
+// do for its elements, and no fused multiply-add is enabled for either, so both give the same
+// bytes.
+using V2 = double __attribute__((vector_size(16)));
+using V4 = double __attribute__((vector_size(32)));
 
 // Cubic Hermite basis on [0, 1]: p(s) = H01(s) + m0 H10(s) + m1 H11(s) goes from 0 to 1 with
 // slopes m0, m1 (slopes normalised by the secant).
@@ -130,6 +138,41 @@ double solve_hermite(double q, double m0, double m1, double s) {
   return s;
 }
 
+// The half-band filter of resample.hpp: h[0] = 1/2, h[+-n] for odd n = 1 .. kHalfBandReach
+// (kHalfBandPairs of them), every other even tap 0. Built once per process.
+constexpr int kHalfBandReach = 55;
+constexpr int kHalfBandPairs = (kHalfBandReach + 1) / 2;
+constexpr double kHalfBandEdge = 0.22;  // passband edge / the stage's input rate
+constexpr int kMaxStages = 4;
+const std::array<double, kHalfBandPairs>& half_band_taps() {
+  static const std::array<double, kHalfBandPairs> taps = [] {
+    const double beta = 0.1102 * (100.0 - 8.7);
+    const double i0_beta = std::cyl_bessel_i(0.0, beta);
+    std::array<double, kHalfBandPairs> h{};
+    for (int j = 0; j < kHalfBandPairs; ++j) {
+      const int n = 2 * j + 1;
+      const double r = static_cast<double>(n) / kHalfBandReach;
+      const double x = std::numbers::pi * n / 2;
+      h[static_cast<std::size_t>(j)] =
+          0.5 * (std::sin(x) / x) * std::cyl_bessel_i(0.0, beta * std::sqrt(1 - r * r)) / i0_beta;
+    }
+    return h;
+  }();
+  return taps;
+}
+std::size_t decimated_length(std::size_t n, int stages) {
+  for (int s = 0; s < stages; ++s) n = (n + 1) / 2;
+  return n;
+}
+// Samples at each end of a record decimated `stages` times that the zeros beyond the record
+// reach (an upper bound: a sample k of stage s is exact when 2k -+ kHalfBandReach lies inside
+// the exact part of stage s - 1).
+long decimated_edge(int stages) {
+  long edge = 0;
+  for (int s = 0; s < stages; ++s) edge = (edge + kHalfBandReach + 1) / 2 + 1;
+  return edge;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -173,6 +216,23 @@ ShaftAngle::ShaftAngle(std::span<const double> t, int pulses_per_rev) : ppr_(pul
     }
     slope_[i] = std::clamp(d, 0.0, 3 * smin);  // Fritsch-Carlson: monotone on both sides
   }
+}
+
+double ShaftAngle::max_speed_rev_per_s() const {
+  // p'(s) = a s^2 + b s + c on each interval (hermite_slope): its largest value is at an end or
+  // at the vertex of a downward parabola.
+  double most = *std::max_element(slope_.begin(), slope_.end());
+  const double dth = 1.0 / ppr_;
+  for (std::size_t i = 0; i + 1 < t_.size(); ++i) {
+    const double h = t_[i + 1] - t_[i];
+    const double m0 = slope_[i] * h / dth, m1 = slope_[i + 1] * h / dth;
+    const double a = -6 + 3 * m0 + 3 * m1, b = 6 - 4 * m0 - 2 * m1;
+    if (a < 0) {
+      const double s = -b / (2 * a);
+      if (s > 0 && s < 1) most = std::max(most, hermite_slope(s, m0, m1) * dth / h);
+    }
+  }
+  return most;
 }
 
 double ShaftAngle::total_revs() const { return static_cast<double>(t_.size() - 1) / ppr_; }
@@ -287,6 +347,8 @@ void ResampleOptions::validate() const {
           std::to_string(pulses_per_rev) + " is not >= 1");
   require(kernel_zero_crossings >= 4 && kernel_zero_crossings <= 64, w, "kernel_zero_crossings",
           std::to_string(kernel_zero_crossings) + " is not in [4, 64]");
+  require(decimation >= 0 && decimation <= kMaxStages, w, "decimation",
+          std::to_string(decimation) + " is not in [0, " + std::to_string(kMaxStages) + "]");
 }
 
 AnglePlan::AnglePlan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
@@ -297,59 +359,101 @@ AnglePlan::AnglePlan(const ShaftAngle& angle, double fs_hz, std::size_t n_sample
   require(opt.pulses_per_rev == angle.pulses_per_rev(), "make_angle_plan", "pulses_per_rev",
           "the options say " + std::to_string(opt.pulses_per_rev) + ", the ShaftAngle " +
               std::to_string(angle.pulses_per_rev()));
+  for (int s = opt.decimation; s > 0; --s) {
+    if (build(angle, fs_hz, n_samples, opt, s)) return;
+  }
+  build(angle, fs_hz, n_samples, opt, 0);
+}
+
+bool AnglePlan::build(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
+                      const ResampleOptions& opt, int stages) {
   spr_ = opt.samples_per_rev;
   z_ = opt.kernel_zero_crossings;
-  fs_hz_ = fs_hz;
-  n_samples_ = n_samples;
+  stages_ = stages;
+  poly_.clear();
+  poly_taps_ = 0;
+  // The record read: decimated `stages` times (resample.hpp), its first and last `edge`
+  // samples touched by the zeros beyond the record.
+  const double rate = std::ldexp(fs_hz, -stages);
+  const std::size_t n_read = decimated_length(n_samples, stages);
+  const double edge = static_cast<double>(decimated_edge(stages));
+  if (stages > 0) {
+    // The angular Nyquist at the fastest speed within the last stage's passband.
+    const double pass_hz = kHalfBandEdge * std::ldexp(fs_hz, 1 - stages);
+    if (0.5 * spr_ * angle.max_speed_rev_per_s() > pass_hz) return false;
+  }
+  fs_hz_ = rate;
+  n_samples_ = n_read;
   const double guard = 1 + 0.5 * transition_rel(z_);
-  const double last_sample = static_cast<double>(n_samples) - 1;
 
   // Kernel cutoff g = 2 f_c / fs (cycles per sample x 2) and half-width K = z / g [samples].
   // The speed is floored at a tenth of the record's mean: the monotonicity limiter may set a zero
   // slope at an end pulse, which would ask for an infinitely long kernel.
   const double speed_floor =
       0.1 * angle.total_revs() / (angle.last_pulse_s() - angle.first_pulse_s());
-  auto cutoff_at_speed = [&](double speed) {
+  auto cutoff_at = [&](double speed, double r) {
     const double f = std::max(speed, speed_floor);
-    const double f_nyq = std::min(0.5 * spr_ * f, 0.5 * fs_hz);
-    return 2 * (f_nyq / guard) / fs_hz;
+    const double f_nyq = std::min(0.5 * spr_ * f, 0.5 * r);
+    return 2 * (f_nyq / guard) / r;
   };
-  auto cutoff = [&](double t) { return cutoff_at_speed(angle.speed_rev_per_s(t)); };
+  auto cutoff_at_speed = [&](double speed) { return cutoff_at(speed, rate); };
 
-  // Whole revolutions whose boundaries have the kernel inside the record.
-  const auto total = static_cast<long>(std::floor(angle.total_revs() + 1e-9));
-  long first = -1, last = -1;
-  double margin_s = 0;
-  for (long k = 0; k <= total; ++k) {
-    const double t = angle.time_at(static_cast<double>(k));
-    const double half = z_ / cutoff(t);
-    margin_s = std::max(margin_s, half / fs_hz);
-    if (t * fs_hz - half >= 0) {
-      first = k;
-      break;
+  // Whole revolutions whose boundaries have the kernel inside the record (at rate r, length
+  // len, `off` samples kept free at each end).
+  struct Whole {
+    long first = -1, last = -1;
+    double margin_s = 0;
+  };
+  auto whole = [&](double r, std::size_t len, double off) {
+    Whole w;
+    const double last_sample = static_cast<double>(len) - 1 - off;
+    const auto total = static_cast<long>(std::floor(angle.total_revs() + 1e-9));
+    for (long k = 0; k <= total; ++k) {
+      const double t = angle.time_at(static_cast<double>(k));
+      const double half = z_ / cutoff_at(angle.speed_rev_per_s(t), r);
+      w.margin_s = std::max(w.margin_s, half / r);
+      if (t * r - half >= off) {
+        w.first = k;
+        break;
+      }
+    }
+    for (long k = total; k >= 0; --k) {
+      const double t = angle.time_at(static_cast<double>(k));
+      const double half = z_ / cutoff_at(angle.speed_rev_per_s(t), r);
+      w.margin_s = std::max(w.margin_s, half / r);
+      if (t * r + half <= last_sample) {
+        w.last = k;
+        break;
+      }
+    }
+    return w;
+  };
+  const Whole w = whole(rate, n_read, edge);
+  if (stages > 0) {
+    // The revolutions of the direct plan, or fewer stages.
+    const Whole direct = whole(fs_hz, n_samples, 0);
+    if (w.first != direct.first || w.last != direct.last || w.first < 0 || w.last <= w.first) {
+      return false;
     }
   }
-  for (long k = total; k >= 0; --k) {
-    const double t = angle.time_at(static_cast<double>(k));
-    const double half = z_ / cutoff(t);
-    margin_s = std::max(margin_s, half / fs_hz);
-    if (t * fs_hz + half <= last_sample) {
-      last = k;
-      break;
-    }
-  }
-  require(first >= 0 && last > first, "resample_by_angle", "pulse_times_s",
+  require(w.first >= 0 && w.last > w.first, "resample_by_angle", "pulse_times_s",
           "no whole revolution lies inside the record with the interpolation filter's margin of " +
-              std::to_string(margin_s) + " s on each side");
-  first_rev_ = static_cast<double>(first);
-  revolutions_ = static_cast<int>(last - first);
+              std::to_string(w.margin_s) + " s on each side");
+  first_rev_ = static_cast<double>(w.first);
+  revolutions_ = static_cast<int>(w.last - w.first);
 
   const std::size_t outputs = static_cast<std::size_t>(revolutions_) * spr_;
   position_.resize(outputs);
   cutoff_.resize(outputs);
   angle.times_at_uniform_angles(first_rev_, spr_, position_, cutoff_);
+  if (stages > 0) {
+    const double pass_hz = kHalfBandEdge * std::ldexp(fs_hz, 1 - stages);
+    for (std::size_t m = 0; m < outputs; ++m) {
+      if (0.5 * spr_ * std::max(cutoff_[m], speed_floor) > pass_hz) return false;
+    }
+  }
   for (std::size_t m = 0; m < outputs; ++m) {
-    position_[m] *= fs_hz;
+    position_[m] *= rate;
     cutoff_[m] = cutoff_at_speed(cutoff_[m]);
   }
   table_ = shared_kernel_table(z_).data();
@@ -383,18 +487,12 @@ AnglePlan::AnglePlan(const ShaftAngle& angle, double fs_hz, std::size_t n_sample
       }
     }
   }
+  return true;
 }
 
 double AnglePlan::kernel(double v) const { return table_kernel(table_, z_, v); }
 
 namespace {
-
-// The inner loops, written once for 2- and 4-wide vectors (SSE2, the x86-64 baseline, and AVX2
-// where the CPU has it, chosen at run time). Each vector lane does what the scalar code would
-// do for its elements, and no fused multiply-add is enabled for either, so both give the same
-// bytes.
-using V2 = double __attribute__((vector_size(16)));
-using V4 = double __attribute__((vector_size(32)));
 
 // acc += x[0 .. kW) t (by reference: a 32-byte vector by value would be passed differently with
 // and without AVX).
@@ -425,7 +523,13 @@ template <class V, std::size_t G>
 [[gnu::always_inline]] inline void dot16(const double* const* x, const double* c, std::size_t count,
                                          double* out) {
   constexpr std::size_t kW = sizeof(V) / sizeof(double), kRegs = 16 / kW;
-  V acc[G][kRegs] = {};
+  // Zeroed one register at a time: `= {}` on the array was a rep stos on the stack per output.
+  V acc[G][kRegs];
+#pragma GCC unroll 16
+  for (std::size_t i = 0; i < G; ++i) {
+#pragma GCC unroll 8
+    for (std::size_t r = 0; r < kRegs; ++r) acc[i][r] = V{};
+  }
   std::size_t k = 0;
   for (; k + 16 <= count; k += 16) {
 #pragma GCC unroll 8
@@ -634,10 +738,53 @@ void poly_taps_sse2(const double* c0, const double* c1, const double* c2, double
                     std::size_t count) {
   poly_taps<V2>(c0, c1, c2, f, c, count);
 }
+// The half-band stage (half_band_stage) for outputs k0 .. k1: y[k] = x[2k] / 2 + sum_j h_j
+// (o[k - 1 - j] + o[k + j]), o the odd samples with zeros around them; kHalfBandBlock outputs at
+// a time in independent accumulators (the sum of each output in the order j = 0, 1, ..., the
+// same in every lane and in half_band_one: the same bytes at either width).
+constexpr std::size_t kHalfBandBlock = 16;
+using HalfBand = void (*)(const double* x, const double* o, double* y, std::size_t k0,
+                          std::size_t k1);
+void half_band_one(const double* x, const double* o, double* y, std::size_t k0, std::size_t k1) {
+  const auto& h = half_band_taps();
+  for (std::size_t k = k0; k < k1; ++k) {
+    double acc = 0.5 * x[2 * k];
+    for (std::size_t j = 0; j < h.size(); ++j) acc += h[j] * (o[k - 1 - j] + o[k + j]);
+    y[k] = acc;
+  }
+}
+template <class V>
+[[gnu::always_inline]] inline void half_band_block(const double* x, const double* o, double* y,
+                                                   std::size_t k0, std::size_t k1) {
+  constexpr std::size_t kW = sizeof(V) / sizeof(double), kRegs = kHalfBandBlock / kW;
+  const auto& h = half_band_taps();
+  for (std::size_t k = k0; k < k1; k += kHalfBandBlock) {
+    V acc[kRegs];
+    for (std::size_t r = 0; r < kRegs; ++r) {
+      for (std::size_t l = 0; l < kW; ++l) acc[r][l] = 0.5 * x[2 * (k + r * kW + l)];
+    }
+    for (std::size_t j = 0; j < h.size(); ++j) {
+      V hj;
+      for (std::size_t l = 0; l < kW; ++l) hj[l] = h[j];
+#pragma GCC unroll 8
+      for (std::size_t r = 0; r < kRegs; ++r) {
+        V a, b;
+        std::memcpy(&a, o + k + r * kW - 1 - j, sizeof(V));
+        std::memcpy(&b, o + k + r * kW + j, sizeof(V));
+        acc[r] += hj * (a + b);
+      }
+    }
+    for (std::size_t r = 0; r < kRegs; ++r) std::memcpy(y + k + r * kW, &acc[r], sizeof(V));
+  }
+}
+void half_band_sse2(const double* x, const double* o, double* y, std::size_t k0, std::size_t k1) {
+  half_band_block<V2>(x, o, y, k0, k1);
+}
 struct Kernels {
   BlockDot dot;
   AnglePlanAccess::PolyTaps poly;
   AnglePlanAccess::TableTaps table;
+  HalfBand half_band;
 };
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 [[gnu::target("avx2")]] void block_dot_avx2(const double* const* x, std::size_t n, const double* t,
@@ -651,17 +798,66 @@ struct Kernels {
                                             double f, double* c, std::size_t count) {
   poly_taps<V4>(c0, c1, c2, f, c, count);
 }
-Kernels kernels() {
-  static const Kernels k = __builtin_cpu_supports("avx2")
-                               ? Kernels{block_dot_avx2, poly_taps_avx2, table_taps_avx2}
-                               : Kernels{block_dot_sse2, poly_taps_sse2, table_taps_scalar};
-  return k;
+[[gnu::target("avx2")]] void half_band_avx2(const double* x, const double* o, double* y,
+                                            std::size_t k0, std::size_t k1) {
+  half_band_block<V4>(x, o, y, k0, k1);
 }
-#else
-Kernels kernels() { return {block_dot_sse2, poly_taps_sse2, table_taps_scalar}; }
 #endif
+// SimdPath::kAuto: AVX2 where the CPU has it.
+std::atomic<SimdPath> g_simd{SimdPath::kAuto};
+bool use_avx2() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  static const bool has = __builtin_cpu_supports("avx2");
+  const SimdPath p = g_simd.load(std::memory_order_relaxed);
+  return p == SimdPath::kAuto ? has : p == SimdPath::kAvx2;
+#else
+  return false;
+#endif
+}
+Kernels kernels() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (use_avx2()) return {block_dot_avx2, poly_taps_avx2, table_taps_avx2, half_band_avx2};
+#endif
+  return {block_dot_sse2, poly_taps_sse2, table_taps_scalar, half_band_sse2};
+}
+
+// One half-band stage: y[k] = x[2k] / 2 + sum_j h_j (x[2k - 1 - 2j] + x[2k + 1 + 2j]), zeros
+// beyond x. The odd samples are copied with kHalfBandPairs zeros on each side, so that the sum
+// over j reads two contiguous rows of them.
+std::vector<double> half_band_stage(std::span<const double> x, const Kernels& kern) {
+  const std::size_t n = x.size(), ny = (n + 1) / 2, no = n / 2;
+  constexpr std::size_t kPad = kHalfBandPairs;
+  std::vector<double> odd(no + 2 * kPad + 8, 0.0);
+  for (std::size_t i = 0; i < no; ++i) odd[kPad + i] = x[2 * i + 1];
+  std::vector<double> y(ny);
+  // Whole blocks where x[2k] exists for every k of the block; the rest one by one.
+  const std::size_t whole = std::min(ny, n / 2) / kHalfBandBlock * kHalfBandBlock;
+  kern.half_band(x.data(), odd.data() + kPad, y.data(), 0, whole);
+  half_band_one(x.data(), odd.data() + kPad, y.data(), whole, ny);
+  return y;
+}
 
 }  // namespace
+
+bool set_resample_simd(SimdPath path) {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (path == SimdPath::kAvx2 && !__builtin_cpu_supports("avx2")) return false;
+#else
+  if (path == SimdPath::kAvx2) return false;
+#endif
+  g_simd.store(path, std::memory_order_relaxed);
+  return true;
+}
+
+std::vector<double> decimate_half_band(std::span<const double> x, int stages) {
+  require(stages >= 0 && stages <= kMaxStages, "decimate_half_band", "stages",
+          std::to_string(stages) + " is not in [0, " + std::to_string(kMaxStages) + "]");
+  if (stages == 0) return {x.begin(), x.end()};
+  const Kernels kern = kernels();
+  std::vector<double> y = half_band_stage(x, kern);
+  for (int s = 1; s < stages; ++s) y = half_band_stage(y, kern);
+  return y;
+}
 
 struct AnglePlan::KeptTaps {
   std::size_t max_values = 0;
@@ -693,9 +889,13 @@ std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const do
                                               const AnglePlan& plan) {
   for (std::size_t c = 0; c < channels.size(); ++c) {
     const auto& x = channels[c];
-    require(x.size() == plan.n_samples(), "resample_by_angle", "x",
-            "channel " + std::to_string(c) + " has " + std::to_string(x.size()) +
-                " samples; the plan is for " + std::to_string(plan.n_samples()));
+    require(
+        x.size() == plan.n_samples(), "resample_by_angle", "x",
+        "channel " + std::to_string(c) + " has " + std::to_string(x.size()) +
+            " samples; the plan is for " + std::to_string(plan.n_samples()) +
+            (plan.decimation() > 0 ? " (the record decimated " + std::to_string(plan.decimation()) +
+                                         " times: decimate_half_band)"
+                                   : ""));
     for (std::size_t i = 0; i < x.size(); ++i) {
       if (!std::isfinite(x[i]))
         fail("resample_by_angle", "x",
@@ -787,7 +987,9 @@ AngleResampled resample_by_angle(std::span<const double> x, const AnglePlan& pla
 AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
                                  std::span<const double> pulse_times_s,
                                  const ResampleOptions& opt) {
-  return resample_by_angle(x, make_angle_plan(pulse_times_s, fs_hz, x.size(), opt));
+  const AnglePlan plan = make_angle_plan(pulse_times_s, fs_hz, x.size(), opt);
+  if (plan.decimation() == 0) return resample_by_angle(x, plan);
+  return resample_by_angle(decimate_half_band(x, plan.decimation()), plan);
 }
 
 }  // namespace detect

@@ -24,6 +24,7 @@ struct OrderSpectrumOptions {
   int segment_revs = 0;  // revolutions per segment, >= 0 (0: whole record, one segment)
   double overlap = 0.5;  // segment overlap fraction, [0, 0.9]
   Window window = Window::kHann;
+  double max_order = 0;  // the lines up to this order only (0: all, up to samples_per_rev / 2)
 
   void validate() const;  // throws diag::InputError naming the field
 };

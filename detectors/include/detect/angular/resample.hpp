@@ -61,6 +61,35 @@
 // 2 g (K + 1) 7e-9 + 2 g 1.5e-6 <= 3.3e-6 of max|x| (-110 dB), far below the -80 dB stopband.
 // Otherwise (a cutoff that follows the speed, or a table above 2^17 values: g < 0.19 at Z = 16)
 // the taps come from the table.
+//
+// Decimation first (ResampleOptions::decimation, AnglePlan::decimation, decimate_half_band).
+// While the output rate is below fs the cost is ~2.3 Z multiply-adds per INPUT sample whatever
+// the output rate, so a plan whose angular Nyquist f_N = samples_per_rev f / 2 stays far below
+// fs / 2 pays for a bandwidth it throws away. Such a plan may read the record decimated by 2^s
+// (s stages of one half-band filter, each halving the rate): the kernel (the same f_c in Hz, so
+// the same continuous-time filter) then spans 2^s times fewer input samples. Half-band filter
+// (Vaidyanathan 1993, "Multirate Systems and Filter Banks", half-band filters; the window
+// design of Kaiser 1974, "Nonrecursive digital filter design using the I0-sinh window
+// function", Proc. IEEE ISCAS): h[n] = sinc(n / 2) w(n / 55) / 2, n = -55 .. 55, w the Kaiser
+// window of beta 0.1102 (100 - 8.7) = 10.06 (100 dB); h[0] = 1/2 and every other even tap is 0 (28
+// symmetric pairs: 14 multiply-adds per input sample for the first stage, half that for the next).
+// Computed on a 20 000-point grid (resample_decimation_test.cpp checks it on tones):
+// passband [0, 0.22 fs_in] ripple 9.8e-6, stopband [0.28 fs_in, fs_in / 2] below -100 dB
+// (|H| < 9.8e-6). A decimated sample is y[k] = (h * x)[2k]: at the time of x[2k] exactly
+// (linear phase, no delay to compensate). A plan takes the most stages s <=
+// ResampleOptions::decimation for which f_N <= 0.22 fs / 2^(s-1) at every output (the
+// passband edge of the last stage): then the band that aliases onto [0, f_N] lies in the
+// stopband of every stage, and what the stages leave between f_N and the decimated Nyquist
+// lies in the resampling kernel's stopband as it does without decimation. An output of the
+// decimated plan therefore equals the direct one to s x 1e-5 of the content below f_N
+// (passband ripple, and stopband residue aliased onto it) plus the difference of the two
+// discrete kernels' stopband leakage (each <= 1e-4 of the content above the cutoff, -80 dB):
+// tested on tones and a chirp (resample_decimation_test.cpp: 8.9e-6 of the in-band content
+// after two stages). The samples within 29 of a once-decimated record's ends (43 after two
+// stages) see the zeros beyond the record: a decimated plan keeps its kernels off them, and it
+// takes fewer stages where that would cost a revolution, so it holds exactly the revolutions
+// of the direct plan. The stages run SSE2 or AVX2 with the same operations per lane (the same
+// bytes, tested).
 #pragma once
 
 #include <cstddef>
@@ -80,6 +109,7 @@ class ShaftAngle {
   double revs_at(double t_s) const;          // angle [rev], 0 at the first pulse
   double time_at(double revs) const;         // inverse of revs_at [s]
   double speed_rev_per_s(double t_s) const;  // d(revs)/dt [rev/s]
+  double max_speed_rev_per_s() const;        // the largest d(revs)/dt anywhere [rev/s]
   double total_revs() const;                 // angle of the last pulse [rev]
   double first_pulse_s() const { return t_.front(); }
   double last_pulse_s() const { return t_.back(); }
@@ -112,6 +142,8 @@ struct ResampleOptions {
   int pulses_per_rev = 1;          // tacho pulses per revolution of the shaft, >= 1
   int kernel_zero_crossings = 16;  // Z, zero crossings of the sinc on each side, [4, 64]; more:
                                    // a passband closer to the Nyquist order, more work
+  int decimation = 0;  // at most this many half-band stages before the resampling (see above),
+                       // [0, 4]; the plan takes as many as its angular Nyquist allows
 
   void validate() const;  // throws diag::InputError naming the field
 };
@@ -141,10 +173,13 @@ class AnglePlan {
   double first_rev() const { return first_rev_; }  // angle of output 0 [rev]; an integer
   int revolutions() const { return revolutions_; }
   std::size_t size() const { return position_.size(); }  // output samples: revolutions x spr
+  // The record the plan reads: the one given to the constructor decimated decimation() times
+  // (decimate_half_band): its rate and length.
   double fs_hz() const { return fs_hz_; }
   std::size_t n_samples() const { return n_samples_; }  // input length the plan is for
+  int decimation() const { return stages_; }            // half-band stages taken, 0 = none
   int kernel_zero_crossings() const { return z_; }
-  // u_m = t_m fs_hz: time of output m in input samples (t = 0 at input sample 0).
+  // u_m = t_m fs_hz(): time of output m in samples of the record read (t = 0 at its sample 0).
   std::span<const double> positions() const { return position_; }
   // g_m = 2 f_c / fs_hz of output m, in (0, 1).
   std::span<const double> cutoffs() const { return cutoff_; }
@@ -165,7 +200,11 @@ class AnglePlan {
 
  private:
   friend struct AnglePlanAccess;
-  int spr_ = 0, z_ = 0, revolutions_ = 0;
+  int spr_ = 0, z_ = 0, revolutions_ = 0, stages_ = 0;
+  // Builds the plan reading the record decimated `stages` times; false (stages > 0) when the
+  // angular Nyquist exceeds the last stage's passband edge or no revolution fits.
+  bool build(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
+             const ResampleOptions& opt, int stages);
   double first_rev_ = 0, fs_hz_ = 0;
   std::size_t n_samples_ = 0;
   std::vector<double> position_, cutoff_;
@@ -187,7 +226,20 @@ AnglePlan make_angle_plan(std::span<const double> pulse_times_s, double fs_hz,
 AnglePlan make_angle_plan(const ShaftAngle& angle, double fs_hz, std::size_t n_samples,
                           const ResampleOptions& options = {});
 
-// Applies a plan: x.size() must equal plan.n_samples(). Throws diag::InputError for a length
+// x decimated `stages` times by the half-band filter above (y[k] = (h * x)[2k], zeros beyond x;
+// each stage takes n samples to (n + 1) / 2): what a plan with decimation() = stages reads.
+// stages in [0, 4] (0: a copy). Throws diag::InputError otherwise.
+std::vector<double> decimate_half_band(std::span<const double> x, int stages = 1);
+
+// The vector instructions of the resampler's inner loops: kAuto (the default) takes AVX2 where
+// the CPU has it, else SSE2 (the x86-64 baseline); the others force one, for the tests that
+// check that both give the same bytes. Returns false (and changes nothing) for AVX2 on a CPU
+// without it. Process-wide; not for use while another thread resamples.
+enum class SimdPath { kAuto, kSse2, kAvx2 };
+bool set_resample_simd(SimdPath path);
+
+// Applies a plan: x.size() must equal plan.n_samples() (the record decimated as the plan says:
+// decimate_half_band(record, plan.decimation())). Throws diag::InputError for a length
 // mismatch or non-finite samples.
 AngleResampled resample_by_angle(std::span<const double> x, const AnglePlan& plan);
 // Every channel through the same plan: the kernel taps of each output sample are computed once
@@ -197,7 +249,8 @@ std::vector<AngleResampled> resample_by_angle(std::span<const std::span<const do
 
 // Resamples whole revolutions: those whose interpolation kernels lie inside the record. Throws
 // diag::InputError for bad options, fs_hz <= 0, non-finite samples, bad pulse times, or when not
-// one whole revolution fits (the message names the margin the filter needs). Builds a plan and
+// one whole revolution fits (the message names the margin the filter needs). With
+// options.decimation, decimates x as the plan says (decimate_half_band). Builds a plan and
 // applies it: when several channels share the tacho, build the plan once (make_angle_plan).
 AngleResampled resample_by_angle(std::span<const double> x, double fs_hz,
                                  std::span<const double> pulse_times_s,
