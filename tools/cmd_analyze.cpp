@@ -183,6 +183,8 @@ int cmd_analyze(int argc, char** argv) {
   // What is a mean over time (indicators, PSD, envelope spectra) is then accumulated over the
   // whole file, block by block (detect::AnalyzeOptions::whole_recording).
   if (cut) opt.whole_recording = path;
+  // The plot-only curves are computed for a plot only (detect::AnalyzeOptions::traces).
+  opt.traces = !html_out.empty() || !curves_out.empty();
   // Every input is read before anything is analysed or written: a bad baseline file stops the
   // run with its name and no output.
   std::vector<diag::Recording> healthy;
