@@ -110,11 +110,11 @@ Spectrum band_magnitude_spectrum(std::span<const std::complex<double>> X, std::s
 }  // namespace
 
 std::size_t smooth_length_at_least(std::size_t n) {
-  std::size_t best = std::size_t{1};
+  std::size_t best = 2;
   while (best < n) best <<= 1;
   for (std::size_t p5 = 1; p5 < best; p5 *= 5) {
     for (std::size_t p35 = p5; p35 < best; p35 *= 3) {
-      std::size_t v = p35;
+      std::size_t v = 2 * p35;  // even
       while (v < n) v <<= 1;
       best = std::min(best, v);
     }

@@ -58,9 +58,11 @@ std::vector<double> envelope(std::span<const double> x);
 // Envelope of x band-passed to [band.low_hz, band.upper_hz()] (one forward DFT, two inverse).
 std::vector<double> band_envelope(std::span<const double> x, const BandOptions& band);
 
-// The smallest 2^a 3^b 5^c >= n: a length FFTW transforms at full speed (the band signals here
-// and in kurtogram.hpp are padded to it; a prime-length band took FFTW's slow path). Belongs
-// with fft.hpp.
+// The smallest even 2^a 3^b 5^c >= n (a >= 1): a length FFTW transforms at full speed (the band
+// signals here and in kurtogram.hpp are padded to it; a prime-length band took FFTW's slow path,
+// and an odd one is 10-20 times slower in FFTW's real transforms: c2r of 5625 = 3^2 5^4 took
+// 0.27 ms against 0.028 ms for 5760 = 2^7 3^2 5, 10935 = 3^7 5 0.53 ms against 0.027 ms for
+// 11520). Belongs with fft.hpp.
 std::size_t smooth_length_at_least(std::size_t n);
 // The largest 2^a 3^b 5^c 7^d <= n (n >= 1): the record length the analysis stages and
 // diagnose_bearings cut a record to (its middle), so that its whole-record DFTs run at FFTW's full
