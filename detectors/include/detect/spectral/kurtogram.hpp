@@ -20,12 +20,14 @@
 // quasi-analytic FIR filters (a low-pass h and its 1/4-band-shifted copies, decimating by 2 and
 // 3 at each step). Here every band is cut from one DFT of the whole record with brick-wall
 // edges: c is the inverse DFT of the band's bins, zero-padded to at least twice their number (the
-// paper's complex decimated signals are oversampled by 2; the padded length is the next
-// 2^a 3^b 5^c, a fast FFT length, which leaves K unchanged: |c|^4 of m bins is a trigonometric
-// polynomial of degree 2(m - 1), whose mean any >= 2m - 1 equispaced samples give exactly). Same
-// bands, same statistic; sharper band edges and no leakage between neighbours; cost O(N log N)
-// per level. Being circular, it needs the record's ends tapered (taper_fraction) so that a steady
-// tone cut mid-period does not appear as one impulse per record in the bands beside it.
+// paper's complex decimated signals are oversampled by 2; the padded length is the next even
+// 2^a 3^b 5^c above twice the level's widest band, one fast FFT length per level, which leaves K
+// unchanged: |c|^4 of m bins is a trigonometric polynomial of degree 2(m - 1), whose mean any
+// >= 2m - 1 equispaced samples give exactly). Same bands, same statistic; sharper band edges and
+// no leakage between neighbours; cost O(N log N) per level (about one complex inverse FFT of the
+// record), the cost of the paper's filter-bank tree too. Being circular, it needs the record's ends
+// tapered (taper_fraction) so that a steady tone cut mid-period does not appear as one impulse per
+// record in the bands beside it.
 #pragma once
 
 #include <cstddef>
