@@ -150,3 +150,44 @@ TEST(SpectralKurtosis, IsNearZeroForNoiseAndPeaksAtTheRingingResonance) {
 }
 
 }  // namespace
+
+// The bands a caller can use (min_bandwidth_hz, min_low_hz): the levels narrower than
+// min_bandwidth_hz are not computed, the bands below min_low_hz read NaN, and every computed band
+// has the SAME kurtosis as in the full kurtogram (bit for bit: the same band signal through the
+// same transform length). The selection is the largest computed band.
+TEST(FastKurtogram, AllowedBandsOnlyGiveTheSameValuesForThoseBands) {
+  const std::size_t n = 1 << 15;
+  const auto x = faulty_record(n, 5);
+  detect::KurtogramOptions o;
+  o.fs_hz = 20'000.0;
+  o.max_level = 6;
+  const auto full = detect::fast_kurtogram(x, o);
+  o.min_bandwidth_hz = 1000.0;
+  o.min_low_hz = 2600.0;
+  const auto part = detect::fast_kurtogram(x, o);
+  std::size_t row = 0;
+  double best = -1e300;
+  for (const auto& lvl : full.levels) {
+    if (lvl.bandwidth_hz < o.min_bandwidth_hz) continue;
+    ASSERT_LT(row, part.levels.size());
+    const auto& p = part.levels[row++];
+    EXPECT_EQ(p.level, lvl.level);
+    ASSERT_EQ(p.kurtosis.size(), lvl.kurtosis.size());
+    for (std::size_t i = 0; i < lvl.kurtosis.size(); ++i) {
+      if (static_cast<double>(i) * lvl.bandwidth_hz < o.min_low_hz) {
+        EXPECT_TRUE(std::isnan(p.kurtosis[i])) << lvl.level << " " << i;
+      } else {
+        EXPECT_EQ(p.kurtosis[i], lvl.kurtosis[i]) << lvl.level << " " << i;
+        best = std::max(best, lvl.kurtosis[i]);
+      }
+    }
+  }
+  EXPECT_EQ(row, part.levels.size());
+  EXPECT_EQ(row, 6u);  // levels 0, 1, 1.585, 2, 2.585, 3: bandwidth >= 1000 Hz at 20 kHz
+  EXPECT_EQ(part.kurtosis, best);
+  // The 4 kHz resonance is still the band chosen among those allowed.
+  EXPECT_LE(part.low_hz(), 4000.0);
+  EXPECT_GE(part.high_hz(), 4000.0);
+  o.min_low_hz = -1.0;
+  EXPECT_THROW(detect::fast_kurtogram(x, o), diag::InputError);
+}

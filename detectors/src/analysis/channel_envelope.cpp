@@ -35,6 +35,22 @@ std::span<const double> kurtogram_excerpt(std::span<const double> x) {
   return x.subspan((x.size() - kKurtogramSamples) / 2, kKurtogramSamples);
 }
 
+double envelope_spectrum_max_hz(const AnalysisContext& ctx, double fs_hz) {
+  // What envelope_results and bearing_stage read: the plot and peaks to envelope_plot_max_hz,
+  // the bearings' fault bands to their top edge.
+  double top = envelope_plot_max_hz(ctx, fs_hz);
+  if (const diag::Gearbox* gb = ctx.gb) {
+    for (const auto& b : gb->bearings()) {
+      const int s = gb->shaft_index(b.shaft);
+      if (s < 0) continue;
+      const auto f = bearing_frequencies(b, ctx.kin.speeds[static_cast<std::size_t>(s)].speed_hz);
+      for (const FaultBand& fb : bearing_fault_bands(f, ctx.opt.fault_bands))
+        top = std::max(top, fb.high_hz);
+    }
+  }
+  return std::min(top, 0.5 * fs_hz);
+}
+
 // The band view of the decision as the report draws it: every scored harmonic with its
 // prominence and whether the decision counted it, and the spectrum it was read on up to 1.1 x the
 // highest of them.
@@ -75,6 +91,15 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
   const diag::Signal& sig = *rec.time;
   const diag::Signal& spectral = *rec.spectral();
   const std::span<const double> xt(sig.samples);
+  {
+    std::vector<double> t(xt.size());
+    for (std::size_t i = 0; i < t.size(); ++i) t[i] = static_cast<double>(i) / sig.fs_hz;
+    c.waveform = decimate_for_plot(t, xt, ctx.plot_points, Decimation::kMinMax);
+  }
+  // The kurtogram and the envelope spectrum are for the bearings and impacts a vibration sensor
+  // records (role vibration, channels.hpp); a force or displacement channel (a simulation's mesh
+  // force, friction, transmission error) has none, and nothing downstream reads its envelope.
+  if (!c.sensor) return {};
   // The demodulation band is chosen and applied in time (in the order domain too: a resonance
   // is fixed in Hz).
   EnvelopeSpectrumOptions eo;
@@ -93,11 +118,6 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
     eo.band_high_hz = std::min(nyq_t, kg.high_hz());
   } else {
     c.notes.push_back("record too short for the kurtogram: envelope of the whole band");
-  }
-  {
-    std::vector<double> t(xt.size());
-    for (std::size_t i = 0; i < t.size(); ++i) t[i] = static_cast<double>(i) / sig.fs_hz;
-    c.waveform = decimate_for_plot(t, xt, ctx.plot_points, Decimation::kMinMax);
   }
   c.envelope_low_hz = eo.band_low_hz;
   c.envelope_high_hz = eo.band_high_hz == 0 ? nyq_t : eo.band_high_hz;
@@ -118,7 +138,11 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
     es.remove_mean = true;
     env = amplitude_spectrum(env_a.samples, es);
   } else {
-    env = envelope_spectrum(xt, eo);
+    // The middle fast-length part of the record (its DFTs at FFTW's full speed, envelope.hpp
+    // fast_length_at_most: ts10's 200000 samples are kept whole, CWRU's 121265 cut to 120960),
+    // the spectrum computed only as far as it is read (envelope.hpp max_frequency_hz).
+    eo.max_frequency_hz = envelope_spectrum_max_hz(ctx, sig.fs_hz);
+    env = envelope_spectrum(fast_length_middle(xt), eo);
   }
   envelope_results(ctx, env, spectral.fs_hz, c);
   return env;

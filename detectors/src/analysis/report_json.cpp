@@ -115,6 +115,8 @@ nlohmann::json to_json(const AnalysisResult& r) {
                         {"enbw_hz", c.spectrum_enbw_hz},
                         {"peaks", peaks_json(c.spectrum_peaks)}};
       cj["psd"] = {{"resolution_hz", c.psd_resolution_hz}, {"segments", c.psd_segments}};
+    }
+    if (c.sensor && !c.spectrum.x.empty()) {  // envelope analysis: vibration sensors only
       cj["envelope"] = {{"band_low_hz", c.envelope_low_hz},
                         {"band_high_hz", c.envelope_high_hz},
                         {"kurtogram_level", c.kurtogram_level},

@@ -222,15 +222,18 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
   }
 
   std::vector<std::complex<double>> X;
-  const std::vector<double> x = diagnosed_record(channel.samples, options.prewhiten, X);
+  const std::vector<double> x =
+      diagnosed_record(fast_length_middle(channel.samples), options.prewhiten, X);
   const std::size_t n = x.size();
 
+  const double min_bw = options.min_bandwidth_factor * options.decision.harmonics * f_max;
+  const double min_low = options.min_band_low_factor * f_max;
   KurtogramOptions ko;
   ko.fs_hz = fs;
   ko.max_level = options.kurtogram_max_level;
+  ko.min_bandwidth_hz = min_bw;  // only the allowed bands are computed
+  ko.min_low_hz = min_low;
   const Kurtogram kg = fast_kurtogram(x, ko);
-  const double min_bw = options.min_bandwidth_factor * options.decision.harmonics * f_max;
-  const double min_low = options.min_band_low_factor * f_max;
   bool found = false;
   for (const KurtogramLevel& lvl : kg.levels) {
     if (lvl.bandwidth_hz < min_bw) continue;

@@ -80,19 +80,65 @@ std::vector<double> envelope_of(std::span<const double> x, std::size_t lo, std::
   return magnitude_at_samples(X, {lo, hi}, false, fft);
 }
 
+// |c| (squared: |c|^2) of X's band, moved to baseband (|c| unchanged), at len < n instants
+// spanning the record, and the amplitude spectrum of those samples on the record's grid
+// k fs / n (the len instants span the record's period, so bin k is the same frequency):
+// `so.fs_hz` is the record's rate. The spectrum holds max(bins, len/2 + 1) bins; those above
+// len/2 are zero.
+Spectrum band_magnitude_spectrum(std::span<const std::complex<double>> X, std::size_t n,
+                                 BandBins bins, std::size_t len, bool squared, SpectrumOptions so,
+                                 std::size_t out_bins) {
+  RealFft fft(len);
+  std::vector<std::complex<double>> work(fft.bins());
+  std::vector<double> re(len), im(len);
+  band_analytic(X, n, bins, bins.lo, fft, work, re, im);
+  for (std::size_t j = 0; j < len; ++j) {
+    const double p = re[j] * re[j] + im[j] * im[j];
+    re[j] = squared ? p : std::sqrt(p);
+  }
+  const double fs = so.fs_hz;
+  so.fs_hz = fs * static_cast<double>(len) / static_cast<double>(n);
+  Spectrum s = amplitude_spectrum(re, so);
+  s.resolution_hz = fs / static_cast<double>(n);
+  s.frequency_hz.resize(std::max(out_bins, s.frequency_hz.size()));
+  s.amplitude.resize(s.frequency_hz.size(), 0.0);
+  for (std::size_t k = 0; k < s.frequency_hz.size(); ++k)
+    s.frequency_hz[k] = static_cast<double>(k) * s.resolution_hz;
+  return s;
+}
+
 }  // namespace
 
 std::size_t smooth_length_at_least(std::size_t n) {
-  std::size_t best = std::size_t{1};
+  std::size_t best = 2;
   while (best < n) best <<= 1;
   for (std::size_t p5 = 1; p5 < best; p5 *= 5) {
     for (std::size_t p35 = p5; p35 < best; p35 *= 3) {
-      std::size_t v = p35;
+      std::size_t v = 2 * p35;  // even
       while (v < n) v <<= 1;
       best = std::min(best, v);
     }
   }
   return best;
+}
+
+std::size_t fast_length_at_most(std::size_t n) {
+  std::size_t best = n == 0 ? 0 : 1;
+  for (std::size_t p7 = 1; p7 <= n; p7 *= 7) {
+    for (std::size_t p57 = p7; p57 <= n; p57 *= 5) {
+      for (std::size_t p357 = p57; p357 <= n; p357 *= 3) {
+        std::size_t v = p357;
+        while (v <= n / 2) v <<= 1;
+        best = std::max(best, v);
+      }
+    }
+  }
+  return best;
+}
+
+std::span<const double> fast_length_middle(std::span<const double> x) {
+  const std::size_t len = fast_length_at_most(x.size());
+  return x.subspan((x.size() - len) / 2, len);
 }
 
 BandBins band_bins(std::size_t n, const BandOptions& band) {
@@ -143,19 +189,36 @@ void EnvelopeSpectrumOptions::validate() const {
     if (msg.rfind("low_hz", 0) == 0 || msg.rfind("high_hz", 0) == 0) msg = "band_" + msg;
     throw diag::InputError("envelope_spectrum: " + msg);
   }
+  if (!(std::isfinite(max_frequency_hz) && max_frequency_hz >= 0))
+    throw diag::InputError(
+        diag::format_error("envelope_spectrum", "max_frequency_hz",
+                           std::to_string(max_frequency_hz) + " is not finite and >= 0"));
 }
 
 Spectrum envelope_spectrum(std::span<const double> x, const EnvelopeSpectrumOptions& options) {
   options.validate();
   check_input(x, "envelope_spectrum");
-  std::vector<double> env =
-      band_envelope(x, {options.fs_hz, options.band_low_hz, options.band_high_hz});
   SpectrumOptions so;
   so.fs_hz = options.fs_hz;
   so.window = options.window;
   so.scaling = options.scaling;
   so.remove_mean = true;
-  return amplitude_spectrum(env, so);
+  const std::size_t n = x.size();
+  const BandOptions band{options.fs_hz, options.band_low_hz, options.band_high_hz};
+  const BandBins bins = band_bins(n, band);
+  if (options.max_frequency_hz > 0 && bins.hi >= bins.lo) {
+    // |z| at len >= 2 k_max + kEnvelopeAliasBands m + 2 instants (see the header).
+    const double df = options.fs_hz / static_cast<double>(n);
+    const std::size_t m = bins.hi - bins.lo + 1;
+    const auto k_max = static_cast<std::size_t>(std::ceil(options.max_frequency_hz / df));
+    const std::size_t len = smooth_length_at_least(2 * k_max + kEnvelopeAliasBands * m + 2);
+    if (len < n) {
+      RealFft fft(n);
+      std::copy(x.begin(), x.end(), fft.input().begin());
+      return band_magnitude_spectrum(fft.forward_input(), n, bins, len, false, so, 0);
+    }
+  }
+  return amplitude_spectrum(envelope_of(x, bins.lo, bins.hi), so);
 }
 
 Spectrum squared_envelope_spectrum(std::span<const std::complex<double>> X, std::size_t n,
@@ -183,21 +246,7 @@ Spectrum squared_envelope_spectrum(std::span<const std::complex<double>> X, std:
     return amplitude_spectrum(magnitude_at_samples(X, bins, true, fft, record), so);
   }
   // |c|^2 at len < n instants (see the header: the same bins, exactly).
-  RealFft fft(len);
-  std::vector<std::complex<double>> work(fft.bins());
-  std::vector<double> re(len), im(len);
-  band_analytic(X, n, bins, bins.lo, fft, work, re, im);
-  for (std::size_t j = 0; j < len; ++j) re[j] = re[j] * re[j] + im[j] * im[j];
-  so.fs_hz = band.fs_hz * static_cast<double>(len) / static_cast<double>(n);
-  Spectrum s = amplitude_spectrum(re, so);
-  // On the record's grid k fs / n, k = 0..n/2: the bins above len/2 are those of a band-limited
-  // sequence's spectrum beyond its band, zero.
-  s.resolution_hz = band.fs_hz / static_cast<double>(n);
-  s.frequency_hz.resize(n / 2 + 1);
-  s.amplitude.resize(n / 2 + 1, 0.0);
-  for (std::size_t k = 0; k < s.frequency_hz.size(); ++k)
-    s.frequency_hz[k] = static_cast<double>(k) * s.resolution_hz;
-  return s;
+  return band_magnitude_spectrum(X, n, bins, len, true, so, n / 2 + 1);
 }
 
 }  // namespace detect

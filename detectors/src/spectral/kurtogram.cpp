@@ -4,6 +4,7 @@
 #include <cmath>
 #include <complex>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <string>
@@ -105,6 +106,11 @@ void KurtogramOptions::validate() const {
     fail("kurtogram", "max_level", std::to_string(max_level) + " is not in [1, 20]");
   if (!(taper_fraction >= 0 && taper_fraction <= 0.25))
     fail("kurtogram", "taper_fraction", std::to_string(taper_fraction) + " is not in [0, 0.25]");
+  if (!(std::isfinite(min_bandwidth_hz) && min_bandwidth_hz >= 0))
+    fail("kurtogram", "min_bandwidth_hz",
+         std::to_string(min_bandwidth_hz) + " is not finite and >= 0");
+  if (!(std::isfinite(min_low_hz) && min_low_hz >= 0))
+    fail("kurtogram", "min_low_hz", std::to_string(min_low_hz) + " is not finite and >= 0");
 }
 
 Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& options) {
@@ -118,7 +124,8 @@ Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& opti
   check_finite(x, "kurtogram");
   const std::size_t n = x.size();
   const double mean = mean_of(x);
-  std::vector<double> centred(n);
+  RealFft fft(n);
+  const std::span<double> centred = fft.input();  // transformed in place (no copies)
   for (std::size_t j = 0; j < n; ++j) centred[j] = x[j] - mean;
   // The DFT sees the record as periodic: a steady tone that does not fit a whole number of
   // periods jumps at the wrap, and that one impulse per record leaks into the bands next to the
@@ -129,12 +136,7 @@ Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& opti
     centred[j] *= g;
     centred[n - 1 - j] *= g;
   }
-  RealFft fft(n);
-  std::vector<std::complex<double>> X(fft.bins());
-  fft.forward(centred, X);
-  centred = {};
-  const std::size_t half = n / 2;  // bins 0..half; the last band also takes bin `half`
-
+  const std::span<const std::complex<double>> X = fft.forward_input();
   // (level, band count): 0:1, then k: 2^k and k + log2(3) - 1: 3 2^(k-1) for k < max_level.
   std::vector<std::pair<double, std::size_t>> layout{{0.0, 1}};
   for (int k = 1; k <= options.max_level; ++k) {
@@ -152,35 +154,38 @@ Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& opti
     KurtogramLevel row;
     row.level = level;
     row.bandwidth_hz = 0.5 * options.fs_hz / static_cast<double>(bands);
+    if (row.bandwidth_hz < options.min_bandwidth_hz) continue;
     row.kurtosis.resize(bands);
-    // Bins with i B <= k df < (i + 1) B, B / df = n / (2 bands); the last band also takes bin
-    // `half`.
-    auto first_bin = [&](std::size_t i) {
-      return i == bands ? half + 1 : (i * n + 2 * bands - 1) / (2 * bands);
-    };
+    // Bins with i B <= k df < (i + 1) B, B / df = n / (2 bands): half-open bands, as the
+    // paper's; the Nyquist bin k = n/2 of an even n (fs/2, the top band's upper edge) is in none.
+    auto first_bin = [&](std::size_t i) { return (i * n + 2 * bands - 1) / (2 * bands); };
+    std::size_t m_max = 0;
+    for (std::size_t i = 0; i < bands; ++i)
+      m_max = std::max(m_max, first_bin(i + 1) - first_bin(i));
     // The complex band signal c(t) = sum_{q<m} Z_q e^{2 pi i q t / len}, sampled at len >= 2m
     // points (oversampled by at least 2, as the paper's complex decimated signals). The kurtosis
     // is the ratio of the means of |c|^4 and |c|^2 over the samples; |c|^4 is a trigonometric
     // polynomial of degree 2(m - 1), so any len >= 2m - 1 equispaced points give its exact mean
     // over a period (and of |c|^2's): K does not depend on len beyond 2m - 1, and len is taken as
-    // the smallest fast FFT length >= 2m (smooth_length_at_least). Same value as len = 2m up to
-    // round-off.
-    std::size_t len = 0, filled = 0;  // A and B hold nonzero bins below `filled`
-    RealFft* f = nullptr;
+    // the smallest fast FFT length >= 2m of the row's widest band (smooth_length_at_least; one
+    // length per row: every FFTW plan costs 1-30 ms to make, ~100 executions of the band's
+    // transform). Same value as len = 2m up to round-off.
+    const std::size_t len = smooth_length_at_least(2 * m_max);
+    auto it = ffts.find(len);
+    if (it == ffts.end()) it = ffts.emplace(len, RealFft(len)).first;
+    RealFft* f = &it->second;
+    A.assign(f->bins(), 0.0);
+    B.assign(f->bins(), 0.0);
+    a.resize(len);
+    b.resize(len);
+    std::size_t filled = 0;  // A and B hold nonzero bins below `filled`
     for (std::size_t i = 0; i < bands; ++i) {
+      if (static_cast<double>(i) * row.bandwidth_hz < options.min_low_hz) {
+        row.kurtosis[i] = std::numeric_limits<double>::quiet_NaN();
+        continue;
+      }
       const std::size_t k_lo = first_bin(i);
       const std::size_t m = first_bin(i + 1) - k_lo;
-      if (const std::size_t want = smooth_length_at_least(2 * m); want != len) {
-        len = want;
-        auto it = ffts.find(len);
-        if (it == ffts.end()) it = ffts.emplace(len, RealFft(len)).first;
-        f = &it->second;
-        A.assign(f->bins(), 0.0);
-        B.assign(f->bins(), 0.0);
-        a.resize(len);
-        b.resize(len);
-        filled = 0;
-      }
       // Z_q = X_{k_lo + q} for q < m, 0 for m <= q < len. The complex inverse DFT of Z is
       // IDFT(A) + i IDFT(B) with the Hermitian parts A_q = (Z_q + conj Z_{-q}) / 2 and
       // B_q = (Z_q - conj Z_{-q}) / (2 i), each a real inverse DFT. As len >= 2m, Z_{-q} =

@@ -5,6 +5,10 @@
 // Method (Randall & Antoni, "Rolling element bearing diagnostics - a tutorial", MSSP 25 (2011),
 // sec. 3-4; the benchmark procedure of Smith & Randall, "Rolling element bearing diagnostics
 // using the Case Western Reserve University data: a benchmark study", MSSP 64-65 (2015) 100-131):
+//  0. The record is cut to its middle fast_length_at_most(n) samples (envelope.hpp: the largest
+//     2^a 3^b 5^c 7^d <= n, at most 1/64 of the samples dropped for n >= 2^16), so that its
+//     whole-record DFTs run at FFTW's full speed (a CWRU record of 121265 = 5 x 79 x 307 samples
+//     took 12 times longer per DFT than 120960).
 //  1. Cepstral prewhitening (CPW; Sawalhi & Randall 2011; Borghesani et al., MSSP 36 (2013)):
 //       x_w = IDFT( X_k / |X_k| ),
 //     which flattens the spectrum, removing the discrete shaft / gear lines and the resonances'
@@ -14,7 +18,8 @@
 //     ALLOWED bands is chosen. A band is allowed when it is wide enough to carry the scored
 //     harmonics as envelope content, bandwidth >= min_bandwidth_factor * harmonics * f_max, and
 //     sits clear of the low-frequency shaft and fault lines, low edge >= min_band_low_factor *
-//     f_max; f_max is the largest fault fundamental scored (BPFI or 2 BSF of any bearing).
+//     f_max; f_max is the largest fault fundamental scored (BPFI or 2 BSF of any bearing). Only
+//     the allowed bands are computed (KurtogramOptions::min_bandwidth_hz, min_low_hz).
 //  3. Squared envelope spectrum (SES) of x_w in that band (Randall & Antoni 2011, sec. 3.2: the
 //     squared envelope puts the fault rate's harmonics above the noise better than |z|), from
 //     the prewhitening's own DFT X / |X| (envelope.hpp squared_envelope_spectrum: exact at fewer
