@@ -164,7 +164,11 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   if (a.order_plan && ctx.order_domain) a.order_plan->keep_taps(kKeptTaps);
   a.tsa_resampled.resize(tsa_plans.size());
   std::vector<std::function<void()>> jobs;
-  if (a.order_plan) jobs.emplace_back([&] { a.order_resampled = through(*a.order_plan); });
+  // At steady speed the order plan's records feed the order spectrum only, which is drawn only
+  // (AnalyzeOptions::traces): without a plot they are not made (spectral_record,
+  // channel_spectra.cpp).
+  if (a.order_plan && (ctx.order_domain || opt.traces))
+    jobs.emplace_back([&] { a.order_resampled = through(*a.order_plan); });
   for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
     if (tsa_plans[s]) jobs.emplace_back([&, s] { a.tsa_resampled[s] = through(*tsa_plans[s]); });
   }

@@ -81,6 +81,14 @@ void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std:
   out.time = &sig;
   out.order_domain = ctx.order_domain;
   if (!ctx.gb) return;
+  // At steady speed without a plot the channel at input-shaft angles has no reader (the order
+  // spectrum is only drawn): not made when the order plan could be (a channel the plan cannot
+  // take still tries on its own, so that a failure gives the same note with or without a plot).
+  if (!ctx.order_domain && !ctx.opt.traces && ang.order_plan && ang.shares_plans(sig) &&
+      sig.samples.size() >= 64) {
+    out.angular_unneeded = true;
+    return;
+  }
   try {
     if (!ang.order_resampled.empty() && ang.order_resampled[ci]) {
       out.angular = &*ang.order_resampled[ci];
@@ -138,7 +146,8 @@ Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
 void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
                           ChannelAnalysis& c) {
   if (!rec.angular) {
-    if (!rec.order_domain) c.notes.push_back("order spectrum skipped: " + rec.angular_error);
+    if (!rec.order_domain && !rec.angular_unneeded)
+      c.notes.push_back("order spectrum skipped: " + rec.angular_error);
     return;
   }
   if (!ctx.opt.traces) return;  // the order spectrum is only drawn

@@ -116,7 +116,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
                         {"peaks", peaks_json(c.spectrum_peaks)}};
       cj["psd"] = {{"resolution_hz", c.psd_resolution_hz}, {"segments", c.psd_segments}};
     }
-    if (c.sensor && !c.spectrum.x.empty()) {  // envelope analysis: vibration sensors only
+    if (c.sensor && c.spectrum_resolution_hz > 0) {  // envelope: vibration sensors (traces or not)
       cj["envelope"] = {{"band_low_hz", c.envelope_low_hz},
                         {"band_high_hz", c.envelope_high_hz},
                         {"kurtogram_level", c.kurtogram_level},

@@ -133,8 +133,9 @@ struct SpectralRecord {
   std::optional<AngleResampled> own;  // resampled on its own (not sharing the plans)
   diag::Signal angle_signal;          // the order-domain record
   bool order_domain = false;
-  std::string angular_error;  // why the channel could not be resampled (steady: said by the
-                              // order spectrum stage, where the note has always been)
+  std::string angular_error;      // why the channel could not be resampled (steady: said by the
+                                  // order spectrum stage, where the note has always been)
+  bool angular_unneeded = false;  // steady speed, no plot: `angular` not made (no reader)
   const diag::Signal* spectral() const {
     return order_domain ? (angular ? &angle_signal : nullptr) : time;
   }
