@@ -50,7 +50,7 @@ constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
 // 39-channel recording 168 000 page faults, a sixth of the command's CPU (kernel page clearing).
 // Serving buffers up to 64 MiB from the heap and trimming only above 256 MiB of free top keeps
 // freed pages for the next buffer: 65 000 faults (about the first touch of the peak), the same
-// peak RSS (docs/notes/speed-spectra.md). A process-wide setting, made by the command only
+// peak RSS (docs/notes/speed-spectra-session9.md). A process-wide setting, made by the command only
 // (the library leaves the allocator alone).
 void keep_freed_memory() {
 #ifdef __GLIBC__
