@@ -49,8 +49,8 @@
 // depends strongly on the pressure and only weakly on the sliding speed, and the specific sliding
 // lambda already is the sliding per unit of rolling (the sliding distance a point sees while it
 // crosses the contact); a V_s^1 on top of it counts the sliding a second time (with n = 1 the
-// deepest wear of the 18/36 pair is 43 % shallower relative to its shape at the tip, and its
-// driven gear correlates only 0.68-0.90 with Archard's profile). n > 0 stays available for a
+// deepest wear of the 18/36 pair after 1e7 cycles is 17.8 um against 25.1 um with n = 0, and
+// its driven gear's profile correlates only 0.68-0.90 with Archard's). n > 0 stays available for a
 // measured speed dependence (--seed-n).
 // Transmission error. The reported TE (te_peak_to_peak_rad, te_harmonics_rad) is that of the
 // geometry the dynamic simulator runs: every tooth pair separated along the line of action by
