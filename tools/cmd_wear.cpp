@@ -135,7 +135,9 @@ int cmd_wear(int argc, char** argv) {
       "the worn profiles; the history stops early once a point has worn D deep. Writes "
       "/wear/cycles\n"
       "(K), /wear/<gear>/radius_mm and /wear/<gear>/depth_um (K x points) for both gears,\n"
-      "/wear/te_peak_to_peak_rad, /wear/te_harmonics_rad (K x 3), /wear/loaded_contact_ratio,\n"
+      "/wear/te_peak_to_peak_rad and /wear/te_harmonics_rad (K x 3: the unloaded TE of the gap\n"
+      "the dynamic simulator runs), /wear/te_rolled_peak_to_peak_rad (the worn flanks rolled,\n"
+      "corner contact included), /wear/loaded_contact_ratio,\n"
       "/wear/mesh_stiffness_n_per_m and /wear/max_pressure_mpa (K each), the sharing's pair\n"
       "stiffness /wear/<driver>/pair_stiffness_n_per_m and the load /wear/normal_force_n.\n"
       "With --record-every M, the dynamic simulator (as `geardiag simulate`, the scenario and\n"
@@ -235,8 +237,15 @@ int cmd_wear(int argc, char** argv) {
       {"/wear/" + n2 + "/radius_mm", {}, scaled(h.radius_driven_m, 1e3), "mm"},
       {"/wear/" + n2 + "/roll_mm", {}, scaled(h.roll_driven_m, 1e3), "mm"},
       {"/wear/" + n2 + "/depth_um", {k, np}, flatten(h.depth_driven_m, 1e6), "um"},
-      {"/wear/te_peak_to_peak_rad", {}, h.te_peak_to_peak_rad, "rad (driven gear)"},
+      {"/wear/te_peak_to_peak_rad",
+       {},
+       h.te_peak_to_peak_rad,
+       "rad (driven gear), the gap the dynamic simulator runs"},
       {"/wear/te_harmonics_rad", {k, 3}, harm, "rad (driven gear), mesh harmonics 1..3"},
+      {"/wear/te_rolled_peak_to_peak_rad",
+       {},
+       h.te_rolled_peak_to_peak_rad,
+       "rad (driven gear), the worn flanks rolled (corner contact included)"},
       {"/wear/loaded_contact_ratio", {}, h.loaded_contact_ratio, ""},
       {"/wear/mesh_stiffness_n_per_m", {}, h.mesh_stiffness_n_per_m, "N/m"},
       {"/wear/max_pressure_mpa", {}, scaled(h.max_pressure_pa, 1e-6), "MPa"},

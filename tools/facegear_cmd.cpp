@@ -50,6 +50,10 @@ double at(const fg::Trace& tr, const std::vector<double>& x, double t) {
   return (1.0 - w) * x[i] + w * x[i + 1];
 }
 
+double tr_mesh_torque(const nlohmann::json& truth) {
+  return truth.at("mean_mesh_torque_nm").get<double>();
+}
+
 double range_of(const std::vector<double>& x) {
   const auto [lo, hi] = std::minmax_element(x.begin(), x.end());
   return *hi - *lo;
@@ -71,6 +75,9 @@ fg::RunOptions face_gear_run_options(const fg::Description& d, double duration_s
   const fg::Model model(d.pair, d.operating);
   const double gmf = model.mesh_frequency_hz();
   fg::RunOptions ro;
+  // The located-event rk8pd integrates; the grid (as fine as RK4's would be, and two points per
+  // output sample) is where the trace is recorded and interpolated to --fs.
+  ro.integrator = fg::Integrator::kAdaptive;
   ro.steps_per_period =
       std::max(fg::rk4_steps_per_period(model), static_cast<int>(std::ceil(2.0 * fs_hz / gmf)));
   ro.transient_periods = 300;
@@ -138,6 +145,7 @@ diag::Recording face_gear_recording(const fg::Description& d, const std::string&
   truth["input_speed_rpm"] = d.operating.speed_rpm;
   truth["input_torque_nm"] = d.operating.torque_nm;
   truth["static_mesh_torque_nm"] = model.static_torque();
+  truth["mean_mesh_torque_nm"] = tr.mean_mesh_torque;
   truth["mesh_frequency_hz"] = gmf;
   truth["natural_frequency_hz"] = d.pair.natural_frequency_hz(d.operating.torque_nm);
   truth["dlf"] = tr.max_abs_mesh_torque / model.static_torque();
@@ -148,7 +156,9 @@ diag::Recording face_gear_recording(const fg::Description& d, const std::string&
   truth["contact_states"] = "contact_state: 1 drive flank, 0 free flight, -1 coast flank";
   truth["stiffness_table"] = d.table_source;
   truth["stiffness_scale"] = d.pair.stiffness_scale;
-  truth["rk4_steps_per_mesh_period"] = ro.steps_per_period;
+  truth["integrator"] = "rk8pd, contact switches located by bisection";
+  truth["output_steps_per_mesh_period"] = ro.steps_per_period;
+  truth["poincare_rel_tol"] = tr.period_rel_tol;
   rec.truth_json = truth.dump();
   return rec;
 }
@@ -164,10 +174,11 @@ int simulate_face_gear(const FaceGearSimulateArgs& a) {
   const nlohmann::json truth = nlohmann::json::parse(rec.truth_json);
   diag::write_recording(a.output, rec);
   std::cout << "simulated face-gear pair " << d.name << ": " << a.duration_s << " s at " << a.fs_hz
-            << " Hz, " << d.operating.speed_rpm << " rpm, " << d.operating.torque_nm << " N m; DLF "
-            << std::setprecision(4) << truth["dlf"].get<double>() << ", "
-            << truth["period"].get<std::string>() << ", " << truth["impact"].get<std::string>()
-            << " -> " << a.output << "\n";
+            << " Hz, " << d.operating.speed_rpm << " rpm, " << d.operating.torque_nm
+            << " N m input (" << std::setprecision(4) << tr_mesh_torque(truth)
+            << " N m at the mesh); DLF " << std::setprecision(4) << truth["dlf"].get<double>()
+            << ", " << truth["period"].get<std::string>() << ", "
+            << truth["impact"].get<std::string>() << " -> " << a.output << "\n";
   return 0;
 }
 
@@ -182,21 +193,24 @@ int sweep_face_gear(const FaceGearSweepArgs& a) {
   out["natural_frequency_hz"] = d.pair.natural_frequency_hz(d.operating.torque_nm);
   out["torque_nm"] = d.operating.torque_nm;
   std::cout << "face-gear pair " << d.name << ", " << d.operating.torque_nm
-            << " N m; mesh-mode natural frequency " << std::setprecision(5)
-            << out["natural_frequency_hz"].get<double>() << " Hz\n";
+            << " N m input; mesh-mode natural frequency " << std::setprecision(5)
+            << out["natural_frequency_hz"].get<double>()
+            << " Hz (mesh_Nm: the mean mesh torque, the input less the pinion bearing's c_p "
+               "Omega)\n";
   // Each speed continues from the previous speed's final state (run up, then down).
   auto pass = [&](bool up, fg::RunOptions& ro) {
     nlohmann::json j = nlohmann::json::array();
     std::cout << (up ? "run up\n" : "run down\n") << std::setw(10) << "rpm" << std::setw(14)
-              << "DTE_pp_urad" << std::setw(10) << "DLF" << std::setw(10) << "free" << std::setw(12)
-              << "period"
+              << "DTE_pp_urad" << std::setw(10) << "mesh_Nm" << std::setw(10) << "DLF"
+              << std::setw(10) << "free" << std::setw(12) << "period"
               << "  impact\n";
     for (int s = 0; s < a.steps; ++s) {
       const int i = up ? s : a.steps - 1 - s;
       fg::Operating op = d.operating;
       op.speed_rpm = a.from_rpm + (a.to_rpm - a.from_rpm) * i / (a.steps - 1);
       const fg::Model model(d.pair, op);
-      ro.steps_per_period = fg::rk4_steps_per_period(model);
+      ro.integrator = fg::Integrator::kAdaptive;  // switches located (bifurcation.hpp)
+      ro.steps_per_period = 32;                   // the output grid only
       if (ro.has_start) {
         // Keep the angles, the DTE and its rate; set the rigid-body momentum
         // L = I_p w_p + r I_g w_g to its value at the new speed, (I_p + r^2 I_g) Omega. (Setting
@@ -219,11 +233,13 @@ int sweep_face_gear(const FaceGearSweepArgs& a) {
       const char* impact = fg::to_string(fg::classify_impacts(tr.contact_steps));
       std::cout << std::setw(10) << std::fixed << std::setprecision(1) << op.speed_rpm
                 << std::setw(14) << std::setprecision(3) << range_of(tr.dte) * 1e6 << std::setw(10)
-                << dlf << std::setw(10) << free << std::defaultfloat << std::setw(12) << period
-                << "  " << impact << "\n";
+                << tr.mean_mesh_torque << std::setw(10) << dlf << std::setw(10) << free
+                << std::defaultfloat << std::setw(12) << period << "  " << impact << "\n";
       j.push_back({{"rpm", op.speed_rpm},
                    {"dte_peak_to_peak_rad", range_of(tr.dte)},
                    {"dlf", dlf},
+                   {"mean_mesh_torque_nm", tr.mean_mesh_torque},
+                   {"static_mesh_torque_nm", model.static_torque()},
                    {"free_flight_share", free},
                    {"period", period},
                    {"half_gmf_ratio", tr.half_gmf_ratio},
@@ -255,7 +271,10 @@ int info_face_gear(const std::string& gearbox, bool json) {
   j["pinion_inertia_kg_m2"] = d.pair.inertia_p;
   j["gear_inertia_kg_m2"] = d.pair.inertia_g;
   j["half_backlash_pinion_urad"] = d.pair.half_backlash_rad * 1e6;
+  j["static_mesh_torque_nm"] = model.static_torque();
   j["mean_stiffness_nm_per_rad"] = d.pair.mean_stiffness(d.operating.torque_nm);
+  j["mean_tangent_stiffness_nm_per_rad"] = d.pair.mean_tangent_stiffness(d.operating.torque_nm);
+  j["gear_mean_radius_mm"] = d.geometry.gear_mean_radius_m() * 1e3;
   j["natural_frequency_hz"] = d.pair.natural_frequency_hz(d.operating.torque_nm);
   j["stiffness_table"] = d.table_source;
   j["stiffness_scale"] = d.pair.stiffness_scale;
@@ -325,6 +344,7 @@ int cmd_bifurcation(int argc, char** argv) {
   j["torque_nm"] = d.operating.torque_nm;
   j["stiffness_scale"] = d.pair.stiffness_scale;
   j["transient_periods"] = opt.transient_periods;
+  j["integrator"] = "rk8pd, contact switches located by bisection";
   write_output(json_out, j.dump(1) + "\n", "--json");
   if (!svg_out.empty()) {
     std::ostringstream title;

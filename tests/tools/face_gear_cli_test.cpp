@@ -73,6 +73,9 @@ TEST(FaceGearCli, SimulateWritesDteTorqueContactAnglesAndDlf) {
   for (double v : t.samples) mean += v;
   mean /= t.samples.size();
   EXPECT_NEAR(mean, truth.at("static_mesh_torque_nm").get<double>(), 3.0);
+  // The truth reports the mean mesh torque (what the mesh carries, not the input torque).
+  EXPECT_NEAR(truth.at("mean_mesh_torque_nm").get<double>(), mean, 3.0);
+  EXPECT_LT(truth.at("mean_mesh_torque_nm").get<double>(), truth.at("input_torque_nm"));
 
   // info on the recording works; analyze says it does not apply (exit 2, not a crash).
   EXPECT_EQ(cli_test::run("info " + out.string()).code, 0);
@@ -84,7 +87,7 @@ TEST(FaceGearCli, SimulateWritesDteTorqueContactAnglesAndDlf) {
 TEST(FaceGearCli, BifurcationJsonIsDeterministicAcrossThreads) {
   const fs::path j1 = scratch("b1.json"), j2 = scratch("b2.json"), svg = scratch("b.svg");
   const std::string base = "bifurcation --gearbox " + kFaceGear +
-                           " --from-rpm 2000 --to-rpm 6000 --steps 4 --transient 50 --periods 20";
+                           " --from-rpm 2000 --to-rpm 3500 --steps 4 --transient 50 --periods 20";
   const cli_test::Run r1 =
       cli_test::run(base + " --threads 1 --json " + j1.string() + " --svg " + svg.string());
   ASSERT_EQ(r1.code, 0) << r1.out;
@@ -99,6 +102,12 @@ TEST(FaceGearCli, BifurcationJsonIsDeterministicAcrossThreads) {
   // test FaceGear.PeriodTwoHasHalfGmfLinePeriodOneHasNone).
   ASSERT_EQ(j.at("half_gmf_ratio").size(), 4u);
   for (const auto& x : j.at("half_gmf_ratio")) EXPECT_LT(x.get<double>(), 1e-3);
+  // The mesh torque per speed: the input torque (300 N m) less the pinion bearing's c_p Omega.
+  ASSERT_EQ(j.at("mean_mesh_torque_nm").size(), 4u);
+  for (const auto& x : j.at("mean_mesh_torque_nm")) {
+    EXPECT_LT(x.get<double>(), 300.0);
+    EXPECT_GT(x.get<double>(), 299.0);
+  }
   EXPECT_NE(r1.out.find("on 1 threads"), std::string::npos) << r1.out;
   EXPECT_NE(slurp(svg).find("<svg"), std::string::npos);
 }

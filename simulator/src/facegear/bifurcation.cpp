@@ -46,7 +46,11 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
       o.speed_rpm = p.rpm;
       const Model model(pair, o);
       RunOptions ro;
-      ro.steps_per_period = rk4_steps_per_period(model);
+      ro.integrator = opt.integrator;
+      // The adaptive integrator chooses its own steps; the grid only samples the Poincare points,
+      // the DTE range and the GMF / 2 and GMF sums (32 points per period).
+      ro.steps_per_period =
+          opt.integrator == Integrator::kAdaptive ? 32 : rk4_steps_per_period(model);
       ro.transient_periods = opt.transient_periods;
       ro.record_periods = opt.record_periods;
       ro.keep_trace = false;
@@ -55,6 +59,7 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
       p.period_class = classify_period(tr);
       p.impact = classify_impacts(tr.contact_steps);
       p.dlf = tr.max_abs_mesh_torque / model.static_torque();
+      p.mean_mesh_torque = tr.mean_mesh_torque;
       const long total = tr.contact_steps[0] + tr.contact_steps[1] + tr.contact_steps[2];
       p.free_share = static_cast<double>(tr.contact_steps[1]) / static_cast<double>(total);
       p.half_gmf_ratio = tr.half_gmf_ratio;
@@ -92,7 +97,7 @@ nlohmann::json Bifurcation::to_json() const {
   nlohmann::json rpm = nlohmann::json::array(), pts = nlohmann::json::array(),
                  cls = nlohmann::json::array(), imp = nlohmann::json::array(),
                  dlf = nlohmann::json::array(), free = nlohmann::json::array(),
-                 half = nlohmann::json::array();
+                 half = nlohmann::json::array(), torque = nlohmann::json::array();
   for (const BifurcationPoint& p : speeds) {
     rpm.push_back(p.rpm);
     pts.push_back(p.points);
@@ -101,6 +106,7 @@ nlohmann::json Bifurcation::to_json() const {
     dlf.push_back(p.dlf);
     free.push_back(p.free_share);
     half.push_back(p.half_gmf_ratio);
+    torque.push_back(p.mean_mesh_torque);
   }
   j["speeds_rpm"] = rpm;
   j["points"] = pts;
@@ -110,6 +116,7 @@ nlohmann::json Bifurcation::to_json() const {
   j["dlf"] = dlf;
   j["free_flight_share"] = free;
   j["half_gmf_ratio"] = half;
+  j["mean_mesh_torque_nm"] = torque;
   j["natural_frequency_hz"] = natural_frequency_hz;
   return j;
 }

@@ -66,6 +66,40 @@ double FlankTable::stiffness(double a, double load, double period) const {
   return (1.0 - ba.w) * at(ba.i0) + ba.w * at(ba.i1);
 }
 
+FlankTable::Elastic FlankTable::elastic_torque(double a, double d, double period,
+                                               double scale) const {
+  Elastic out;
+  const Bracket ba = bracket_angle(angle_rad, a, period);
+  const std::size_t nl = load_nm.size();
+  auto k_at = [&](std::size_t il) {
+    return scale * ((1.0 - ba.w) * k[ba.i0 * nl + il] + ba.w * k[ba.i1 * nl + il]);
+  };
+  if (!(d > 0)) {
+    out.k = k_at(0);
+    return out;
+  }
+  // Below the first grid load and above the last the row is constant: T = k d.
+  if (nl == 1 || k_at(0) * d <= load_nm.front()) {
+    out.k = k_at(0);
+  } else if (k_at(nl - 1) * d >= load_nm.back()) {
+    out.k = k_at(nl - 1);
+  } else {
+    // The segment [T_i, T_i+1] whose deflections T / k(T) bracket d; within it k = a + s T, so
+    // T = a d / (1 - s d) (exact for the linear interpolation between the grid loads).
+    std::size_t i = 0;
+    while (i + 2 < nl && load_nm[i + 1] / k_at(i + 1) < d) ++i;
+    const double k0 = k_at(i), k1 = k_at(i + 1);
+    const double slope = (k1 - k0) / (load_nm[i + 1] - load_nm[i]);
+    const double intercept = k0 - slope * load_nm[i];
+    const double t = intercept * d / (1.0 - slope * d);
+    out.k = k0 + slope * (t - load_nm[i]);
+    out.torque = t;
+    return out;
+  }
+  out.torque = out.k * d;
+  return out;
+}
+
 double FlankTable::e0(double a, double period) const {
   const Bracket ba = bracket_angle(angle_rad, a, period);
   return (1.0 - ba.w) * e0_rad[ba.i0] + ba.w * e0_rad[ba.i1];
@@ -127,8 +161,23 @@ double FaceGearPair::mean_stiffness(double load_nm) const {
   return stiffness_scale * s / static_cast<double>(drive.angle_rad.size());
 }
 
+double FaceGearPair::mean_tangent_stiffness(double load_nm) const {
+  // dT/dd by a central difference of the consistent elastic torque about the deflection that
+  // carries load_nm at each angle.
+  double s = 0.0;
+  const double period = mesh_period_rad();
+  for (double a : drive.angle_rad) {
+    const double d = load_nm / (stiffness_scale * drive.stiffness(a, load_nm, period));
+    const double h = 1e-4 * d;
+    s += (drive.elastic_torque(a, d + h, period, stiffness_scale).torque -
+          drive.elastic_torque(a, d - h, period, stiffness_scale).torque) /
+         (2.0 * h);
+  }
+  return s / static_cast<double>(drive.angle_rad.size());
+}
+
 double FaceGearPair::natural_frequency_hz(double load_nm) const {
-  return std::sqrt(mean_stiffness(load_nm) / reduced_inertia()) / kTwoPi;
+  return std::sqrt(mean_tangent_stiffness(load_nm) / reduced_inertia()) / kTwoPi;
 }
 
 Model::Model(const FaceGearPair& pair, const Operating& op) : pair_(pair), op_(op) {
@@ -187,14 +236,15 @@ Model::Mesh Model::mesh(double /*t*/, const double* y, Contact c) const {
   const double d = sign * (y[2] - e0) - r_ * pair_.half_backlash_rad;
   // d' = sign * (e' - e0' omega_p), e' = omega_g - r omega_p.
   const double ddot = sign * ((y[3] - r_ * y[1]) - de0 * y[1]);
-  const double s = pair_.stiffness_scale;
-  const double k_nominal = s * tab.stiffness(a, t_static_, period_);
-  const double k = s * tab.stiffness(a, std::abs(k_nominal * d), period_);
-  const double c_mesh = pair_.damping_alpha * i_e_ + pair_.damping_beta * k;
+  const FlankTable::Elastic el = tab.elastic_torque(a, d, period_, pair_.stiffness_scale);
+  const double c_mesh = pair_.damping_alpha * i_e_ + pair_.damping_beta * el.k;
+  const double push = el.torque + c_mesh * ddot;
   m.deflection = d;
-  m.k = k;
+  m.deflection_rate = ddot;
+  m.k = el.k;
   m.e0 = e0;
-  m.torque = -sign * (k * d + c_mesh * ddot);
+  m.clamped = push < 0;
+  m.torque = -sign * std::max(0.0, push);
   return m;
 }
 
@@ -208,7 +258,7 @@ void Model::derivatives(double t, const double* y, double* dydt, Contact c) cons
 
 std::array<double, 4> Model::initial_state() const {
   const double k = pair_.stiffness_scale * pair_.drive.stiffness(0.0, t_static_, period_);
-  const double d = std::max(t_static_, 0.0) / k;
+  const double d = std::max(t_static_, 0.0) / k;  // the secant k at T_static: T(d) = T_static
   const double e = pair_.drive.e0(0.0, period_) - r_ * pair_.half_backlash_rad - d;
   return {0.0, omega_, e, r_ * omega_};
 }
@@ -349,7 +399,7 @@ Trace run(const Model& model, const RunOptions& opt) {
   // it keeps the rounding of the sums at the level of the dynamic part).
   const long spectral_steps = 2L * (opt.record_periods / 2) * n;
   std::complex<double> sum_half{}, sum_gmf{};
-  double dte_ref = 0.0;
+  double dte_ref = 0.0, sum_torque = 0.0;
   double t = 0.0;
   for (long i = 0; i <= total; ++i) {
     // The step index sets the time (no accumulated rounding): t = i h.
@@ -358,6 +408,7 @@ Trace run(const Model& model, const RunOptions& opt) {
       const Model::Mesh m = model.mesh(ti, y);
       if ((i - first_recorded) % n == 0 && i < total) tr.poincare.push_back(y[2]);
       tr.max_abs_mesh_torque = std::max(tr.max_abs_mesh_torque, std::abs(m.torque));
+      if (i < total) sum_torque += m.torque;
       if (opt.integrator == Integrator::kRk4 && m.contact != last) ++tr.events;
       last = m.contact;
       ++tr.contact_steps[static_cast<int>(m.contact) + 1];
@@ -396,6 +447,9 @@ Trace run(const Model& model, const RunOptions& opt) {
     }
   }
   tr.final_state = ys;
+  tr.mean_mesh_torque = sum_torque / static_cast<double>(total - first_recorded);
+  tr.period_rel_tol = poincare_rel_tol(opt, tr.dte_max - tr.dte_min,
+                                       std::max(std::abs(tr.dte_min), std::abs(tr.dte_max)));
   if (spectral_steps > 0 && std::abs(sum_gmf) > 0) {
     tr.half_gmf_ratio = std::abs(sum_half) / std::abs(sum_gmf);
   }
@@ -451,15 +505,21 @@ int poincare_period(const std::vector<double>& p, double scale, double rel_tol, 
   return 0;
 }
 
-std::string classify_period(const std::vector<double>& points, double scale) {
-  const int n = poincare_period(points, scale);
+double poincare_rel_tol(const RunOptions& opt, double scale, double max_abs_dte) {
+  if (opt.integrator == Integrator::kRk4) return 1e-3;
+  if (!(scale > 0)) return 1e-4;
+  return std::max(1e-4, 1e4 * (opt.abs_tol + opt.rel_tol * max_abs_dte) / scale);
+}
+
+std::string classify_period(const std::vector<double>& points, double scale, double rel_tol) {
+  const int n = poincare_period(points, scale, rel_tol);
   if (n == 0) return "chaos";
   if (n <= 2) return "period-" + std::to_string(n);
   return "period-n";
 }
 
 std::string classify_period(const Trace& trace) {
-  return classify_period(trace.poincare, trace.dte_max - trace.dte_min);
+  return classify_period(trace.poincare, trace.dte_max - trace.dte_min, trace.period_rel_tol);
 }
 
 double amplitude_at(const std::vector<double>& x, double fs, double f) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -226,15 +227,21 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   std::vector<double> phis;
   for (int i = 0; i < nt; ++i) phis.push_back(p.mesh_period_rad() * (i + 0.5) / nt);
   struct State {
-    double te_pp;
+    double te_pp, te_rolled_pp;
     std::array<double, 3> harm;
     double eps, k_mean, p_max;
   };
   auto measure = [&]() {
     State st{};
-    const std::vector<double> te =
-        worn_unloaded_te(p, new1, new2, h.roll_driver_m, d1, h.roll_driven_m, d2, phis);
+    WornPair w;
+    w.roll_driver_m = h.roll_driver_m;
+    w.roll_driven_m = h.roll_driven_m;
+    w.depth_driver_m = d1;
+    w.depth_driven_m = d2;
+    const std::vector<double> te = worn_gap_transmission_error(p, w, nt);
     st.te_pp = peak_to_peak(te);
+    st.te_rolled_pp = peak_to_peak(
+        worn_unloaded_te(p, new1, new2, h.roll_driver_m, d1, h.roll_driven_m, d2, phis));
     for (int hmn = 1; hmn <= 3; ++hmn) {
       double re = 0, im = 0;
       for (int i = 0; i < nt; ++i) {
@@ -287,6 +294,7 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
     h.depth_driven_m.push_back(d2);
     h.te_peak_to_peak_rad.push_back(st.te_pp);
     h.te_harmonics_rad.push_back(st.harm);
+    h.te_rolled_peak_to_peak_rad.push_back(st.te_rolled_pp);
     h.loaded_contact_ratio.push_back(st.eps);
     h.mesh_stiffness_n_per_m.push_back(st.k_mean);
     h.max_pressure_pa.push_back(st.p_max);
@@ -373,16 +381,29 @@ WornPair wear_pair(const diag::Gearbox& gb, int mesh, WearOptions o, double targ
     }
     blend(0.5 * (a + b));
     const diag::GearPair& p = gb.meshes()[static_cast<std::size_t>(mesh)].pair;
-    std::vector<double> phis;
-    for (int i = 0; i < o.te_points_per_mesh; ++i)
-      phis.push_back(p.mesh_period_rad() * (i + 0.5) / o.te_points_per_mesh);
-    w.te_peak_to_peak_rad = peak_to_peak(worn_unloaded_te(
-        p, diag::generate_tooth(p.driver()).flank, diag::generate_tooth(p.driven()).flank,
-        w.roll_driver_m, w.depth_driver_m, w.roll_driven_m, w.depth_driven_m, phis));
+    w.te_peak_to_peak_rad = peak_to_peak(worn_gap_transmission_error(p, w, o.te_points_per_mesh));
     return w;
   }
   throw diag::InputError(
       diag::format_error("wear", "depth", "not reached within 1e15 cycles (is the pair loaded?)"));
+}
+
+std::vector<double> worn_gap_transmission_error(const diag::GearPair& pair, const WornPair& w,
+                                                int points) {
+  const double s0 = pair.s_start_m(), s1 = pair.s_end_m(), pb = pair.base_pitch_m();
+  const double L = pair.loa_length_m(), rb2 = pair.driven().base_radius_m();
+  std::vector<double> te(static_cast<std::size_t>(std::max(points, 1)));
+  for (std::size_t i = 0; i < te.size(); ++i) {
+    const double x = s0 + pb * (static_cast<double>(i) + 0.5) / static_cast<double>(te.size());
+    double g_min = std::numeric_limits<double>::infinity();
+    for (double q = x; q <= s1 + 1e-12; q += pb) {
+      const double g = interp(w.roll_driver_m, w.depth_driver_m, q) +
+                       interp(w.roll_driven_m, w.depth_driven_m, L - q);
+      g_min = std::min(g_min, g);
+    }
+    te[i] = -g_min / rb2;
+  }
+  return te;
 }
 
 void worn_profile_gap(const diag::GearPair& pair, const WornPair& w, std::vector<double>& s_m,

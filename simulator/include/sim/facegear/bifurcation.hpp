@@ -19,6 +19,9 @@ struct BifurcationOptions {
   int transient_periods = 300;                // mesh periods discarded per speed
   int record_periods = 100;                   // Poincare points per speed, >= 18
   int threads = 0;                            // 0: all cores
+  // The located-event rk8pd by default: its contact switches are found by bisection, so a
+  // period-2 label is not an artefact of unlocated switches (face_gear.hpp, poincare_rel_tol).
+  Integrator integrator = Integrator::kAdaptive;
   void validate() const;
 };
 
@@ -27,8 +30,9 @@ struct BifurcationPoint {
   std::vector<double> points;  // DTE [rad] once per mesh period
   std::string period_class;    // period-1 | period-2 | period-n | chaos
   ImpactClass impact = ImpactClass::kNoImpact;
-  double dlf = 0.0;         // max |T_mesh| / T_static over the recorded periods
-  double free_share = 0.0;  // share of recorded steps out of contact
+  double dlf = 0.0;               // max |T_mesh| / T_static over the recorded periods
+  double mean_mesh_torque = 0.0;  // [N m, pinion side] (the input torque less c_p Omega)
+  double free_share = 0.0;        // share of recorded steps out of contact
   // A(GMF / 2) / A(GMF) of the DTE over the recorded periods (half_gmf_ratio): the period
   // doubling's subharmonic line in the spectrum.
   double half_gmf_ratio = 0.0;

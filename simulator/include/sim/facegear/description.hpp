@@ -4,8 +4,8 @@
 // JSON (every field but pinion/gear teeth optional; units in the key names):
 //   {"name": "...",
 //    "face_gear_pair": {"pinion_teeth": 15, "gear_teeth": 121, "normal_module_mm": 2.75,
-//        "normal_pressure_angle_deg": 27.5, "helix_angle_deg": 15, "gear_inner_diameter_mm":
-//        160.52, "gear_outer_diameter_mm": 190.04, "pinion_face_width_mm": 34.52,
+//        "normal_pressure_angle_deg": 27.5, "helix_angle_deg": 15, "gear_inner_radius_mm":
+//        160.52, "gear_outer_radius_mm": 190.04, "pinion_face_width_mm": 34.52,
 //        "gear_face_width_mm": 29.52, "pinion_inertia_kg_m2": ..., "gear_inertia_kg_m2": ...,
 //        "backlash_um": 50, "mesh_damping_ratio": 0.05 | "damping_alpha": a, "damping_beta": b,
 //        "bearing_damping_nms": [c_p, c_g], "stiffness_table": "file.csv" | "analytic",
@@ -34,13 +34,25 @@
 // instead of the root's. Numbers of any integer or float type; other datasets are ignored.
 // Outside the load grid the nearest load's row is used (constant extrapolation, FlankTable).
 //
-// Analytical default (derivation in docs/notes/face-gear.md): mean torsional stiffness from
-// ISO 6336-1's mesh stiffness c_gamma = 20 N/(mm um) times the face width, referred to the
-// pinion base radius and the face gear's mean radius; ISO 6336-1's low-load reduction
-// (w / 100 N/mm)^0.25 for a line load w < 100 N/mm gives the load dependence; the angle
-// dependence is a two-term Fourier series of the mesh period (the alternation of tooth pairs);
-// the coast flank is 5 % softer with a different phase; the static TE is one mesh harmonic per
-// flank.
+// The seed's table 1 gives the face gear's inner and outer "diameters" L1 = 160.52 mm and
+// L2 = 190.04 mm; they are radii: L2 - L1 = 29.52 mm is exactly the face gear's face width b2,
+// and the pitch radius N_g m_n / (2 cos beta) = 172.2 mm lies between them (read as diameters
+// the mean radius would be halved: 16x too little face-gear inertia, half the stiffness, twice
+// the static TE in radians). The keys are gear_inner_radius_mm / gear_outer_radius_mm; the old
+// *_diameter_mm keys are refused with that explanation.
+//
+// Analytical default (derivation in docs/face-gear.md): torsional stiffness at the rated load
+// from ISO 6336-1's mesh stiffness c_gamma = 20 N/(mm um) times the face width, referred to the
+// pinion base radius and the face gear's mean radius. Below the rated load the stiffness falls as
+// a Hertz point contact, (T / T_rated)^(1/3): the face gear is cut by a shaper with more teeth
+// than the pinion (the seed's N_s = 18 against N_1 = 15), which localises the bearing contact
+// (Litvin & Fuentes 2004, face-gear drives), and the seed states that the contact pattern, and
+// with it the stiffness, grows with the load; the secant k = T / d of eq. 11 then goes as T^(1/3)
+// (T ~ d^(3/2)); the law is kept up to the table's 400 N m (the ISO value is met at the rated
+// load, where the pattern is taken to fill the face).
+// The angle dependence is a two-term Fourier series of the mesh period (the alternation of tooth
+// pairs); the coast flank is 5 % softer with a different phase; the static TE is one mesh
+// harmonic per flank.
 #pragma once
 
 #include <filesystem>
@@ -56,11 +68,11 @@ struct Geometry {
   double normal_module_m = 2.75e-3;
   double normal_pressure_angle_rad = 27.5 * 3.14159265358979323846 / 180.0;
   double helix_angle_rad = 15.0 * 3.14159265358979323846 / 180.0;
-  double gear_inner_diameter_m = 160.52e-3, gear_outer_diameter_m = 190.04e-3;
+  double gear_inner_radius_m = 160.52e-3, gear_outer_radius_m = 190.04e-3;  // L1, L2
   double pinion_face_width_m = 34.52e-3, gear_face_width_m = 29.52e-3;
 
   double pinion_pitch_radius_m() const;  // m_n N_p / (2 cos beta)
-  double gear_mean_radius_m() const;     // (L1 + L2) / 4
+  double gear_mean_radius_m() const;     // (L1 + L2) / 2
 };
 
 struct Description {
@@ -72,12 +84,16 @@ struct Description {
   std::string table_source = "analytic";
 };
 
-// The analytical default tables for a geometry (per flank: 32 angles x 9 loads 1..400 N m) and
-// static TE amplitudes [um at the face gear's mean radius].
+// The seed's rated input torque [N m]: the analytical stiffness's reference load.
+inline constexpr double kRatedTorqueNm = 300.0;
+
+// The analytical default tables for a geometry (per flank: 32 angles x 12 loads 0.1..400 N m)
+// and static TE amplitudes [um at the face gear's mean radius].
 void analytic_tables(const Geometry& g, double te_drive_um, double te_coast_um, FlankTable& drive,
                      FlankTable& coast);
 // Default inertias: the pinion as a solid steel cylinder of its pitch radius and face width, the
-// face gear as a steel ring between its inner and outer radius, 15 mm thick.
+// face gear as a steel ring between its inner and outer radius, 15 mm thick (the bare gears; a
+// description states what its shafts add, see testdata/gearbox/seed002_face_gear.json).
 double default_pinion_inertia(const Geometry& g);
 double default_gear_inertia(const Geometry& g);
 

@@ -15,8 +15,15 @@
 // theta_p; the paper's |e0_CCW| in eq. 5 only holds for a non-negative e0_CCW and is replaced by
 // the signed value (the deflection must vanish where the unloaded flanks touch).
 //
-// Mesh torque (pinion side, positive when the drive flank carries load), eq. 8 with that sign:
-//   T_mesh = k_d(theta_p, T) d_d + c_d d_d'   (drive),  -(k_c d_c + c_c d_c')  (coast),  0 (free)
+// Mesh torque (pinion side, positive when the drive flank carries load), eq. 8 with that sign
+// and clamped so that a flank in contact only pushes:
+//   T_mesh = max(0, k_d d_d + c_d d_d')  (drive),  -max(0, k_c d_c + c_c d_c')  (coast),  0 (free)
+// Why the clamp: teeth in contact are pressed together and cannot pull; a Kelvin-Voigt contact
+// whose deflection shrinks faster than k d / c would transmit tension (eq. 8 as printed does:
+// down to -108 N m in 8-9 % of the contact samples of an impacting case). With the clamp the
+// surfaces separate at the instant the contact force reaches zero, as in the spur-gear model, and
+// the mesh still only dissipates: (T_mesh - k d) d' / r >= 0 when clamped, because then
+// c d' < -k d <= 0 (the energy balance of the tests counts that term).
 // k [N m per face-gear rad] is the paper's eq. 11 k = T_1 / |dphi_2 - e0|: pinion torque over
 // face-gear deflection. Equations of motion, derived from the one potential
 //   V = (1/2) (k / r) d^2      (d the loaded flank's deflection, k and e0 frozen in theta_p)
@@ -34,9 +41,13 @@
 //   d'^2
 // (the same for both flanks) is checked in tests/simulator/face_gear_test.cpp.
 //
-// Load dependence: k is interpolated at the load T = k(theta_p, T_nominal) d (one fixed-point
-// step from the nominal load, a function of the state, so the right-hand side stays smooth
-// within a contact state).
+// Load dependence: k is the secant stiffness of eq. 11 (k = T / d at the load T), so the elastic
+// torque solves T = k(theta_p, T) d. The table is piecewise linear in the load, so within a load
+// segment T = (k_i - s_i T_i) d / (1 - s_i d): the segment is found from the deflections at the
+// grid loads (T / k(T) grows with T for any table whose k grows slower than T, the Hertz law
+// included), and the solve is exact, a function of the state (FlankTable::elastic_torque). The
+// small-vibration stiffness of the mesh mode is the tangent dT/dd, not the secant (1.5x it for
+// the T^(1/3) of a point contact): natural_frequency_hz uses the tangent.
 //
 // Damping, eq. 7 with the inertias referred to the DTE coordinate (the printed
 // alpha I_p I_g / (I_p + I_g) adds a pinion and a face-gear inertia, which is only meaningful
@@ -69,6 +80,13 @@ struct FlankTable {
   std::vector<double> e0_rad;     // n_a [face-gear rad]
 
   double stiffness(double angle_in_period, double load_nm, double period) const;
+  // The elastic torque T >= 0 solving T = scale k(angle, T) d at a deflection d >= 0 (header,
+  // "Load dependence"), and the secant stiffness scale k(angle, T) there.
+  struct Elastic {
+    double torque = 0.0, k = 0.0;
+  };
+  Elastic elastic_torque(double angle_in_period, double deflection, double period,
+                         double scale) const;
   double e0(double angle_in_period, double period) const;
   // Checks the table (monotone angle within [0, period), loads, k > 0 and finite, e0 finite);
   // throws diag::InputError naming `where` and `field`.
@@ -91,9 +109,11 @@ struct FaceGearPair {
   double ratio() const { return double(pinion_teeth) / gear_teeth; }  // r
   double mesh_period_rad() const;                                     // 2 pi / N_p
   double reduced_inertia() const;                                     // I_e
-  // Mean drive-flank stiffness over the angle grid at `load_nm` (scaled).
+  // Mean drive-flank (secant) stiffness over the angle grid at `load_nm` (scaled).
   double mean_stiffness(double load_nm) const;
-  // Torsional natural frequency of the mesh mode at `load_nm` [Hz].
+  // Mean drive-flank tangent stiffness dT/dd over the angle grid at `load_nm` (scaled).
+  double mean_tangent_stiffness(double load_nm) const;
+  // Torsional natural frequency of the mesh mode at `load_nm` [Hz], from the tangent stiffness.
   double natural_frequency_hz(double load_nm) const;
 };
 
@@ -123,10 +143,12 @@ class Model {
 
   struct Mesh {
     Contact contact = Contact::kDrive;
-    double deflection = 0.0;  // d of the loaded flank (drive: d_d, coast: d_c, free: 0)
-    double k = 0.0;           // interpolated stiffness (0 in free flight)
-    double torque = 0.0;      // T_mesh [N m, pinion side]
-    double e0 = 0.0;          // static TE of the flank in contact (drive flank's when free)
+    double deflection = 0.0;       // d of the loaded flank (drive: d_d, coast: d_c, free: 0)
+    double deflection_rate = 0.0;  // d' (0 in free flight)
+    double k = 0.0;                // secant stiffness at the elastic torque (0 in free flight)
+    bool clamped = false;          // k d + c d' < 0: the flank touches but carries nothing
+    double torque = 0.0;           // T_mesh [N m, pinion side]
+    double e0 = 0.0;               // static TE of the flank in contact (drive flank's when free)
   };
   Mesh mesh(double t, const double* y, Contact c) const;
   Mesh mesh(double t, const double* y) const { return mesh(t, y, contact(y)); }
@@ -170,6 +192,12 @@ struct Trace {
   // response none (only multiples of the GMF): how users see the period doubling in the
   // spectrum. 0 with fewer than 2 recorded periods.
   double half_gmf_ratio = 0.0;
+  // Mean mesh torque over the recorded steps [N m, pinion side]: what the mesh carries, less
+  // than the input torque by what the pinion bearing damping takes (c_p Omega).
+  double mean_mesh_torque = 0.0;
+  // Relative tolerance (of the DTE peak-to-peak) below which two Poincare points count as one,
+  // set by run() from the integrator's error (poincare_rel_tol).
+  double period_rel_tol = 1e-3;
 };
 
 enum class Integrator { kRk4, kAdaptive };
@@ -213,8 +241,20 @@ ImpactClass classify_impacts(const std::array<long, 3>& contact_steps);
 int poincare_period(const std::vector<double>& points, double scale, double rel_tol = 1e-3,
                     int max_period = 8);
 // "period-1", "period-2", "period-n" (3..max_period), "chaos" (no period found).
-std::string classify_period(const std::vector<double>& points, double scale);
-std::string classify_period(const Trace& trace);  // scale = trace.dte_max - trace.dte_min
+std::string classify_period(const std::vector<double>& points, double scale, double rel_tol = 1e-3);
+// scale = trace.dte_max - trace.dte_min, rel_tol = trace.period_rel_tol.
+std::string classify_period(const Trace& trace);
+
+// The Poincare tolerance (relative to the DTE peak-to-peak `scale`) for a run with `opt`:
+//  - RK4: 1e-3. Its contact switches fall between stages, so it converges at first order in
+//    impacting cases; the jitter of the points is ~1e-4 of the range (measured), so 1e-3 keeps
+//    a period-1 response period-1, and splits smaller than that are not resolved;
+//  - adaptive (rk8pd, switches located): the error control bounds the local error of the DTE by
+//    abs_tol + rel_tol max|DTE|; the tolerance is 1e4 times that (the global error grows over the
+//    run; the located switches add 1e-13 of a mesh period times the DTE rate), and at least
+//    1e-4 of the range (what is left of a transient after a few hundred periods of a lightly
+//    damped mode), so that a split is labelled only where it is 1e4 times the error bound.
+double poincare_rel_tol(const RunOptions& opt, double scale, double max_abs_dte);
 
 // Single-sided amplitude spectrum of x at frequencies k fs / N (naive DFT up to f_max, the mean
 // removed); returns pairs (f, amplitude).
