@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
@@ -17,9 +18,10 @@
 #include <utility>
 #include <vector>
 
-#include "channel_options.hpp"
 #include "detect/analysis/analyze.hpp"
+#include "detect/analysis/analyze_file.hpp"
 #include "detect/analysis/curves.hpp"
+#include "detect/analysis/html_report.hpp"
 #include "detect/angular/order_spectrum.hpp"
 #include "detect/angular/resample.hpp"
 #include "detect/angular/tsa.hpp"
@@ -34,8 +36,8 @@
 #include "diag/io/channels.hpp"
 #include "diag/io/data_groups.hpp"
 #include "diag/io/hdf5.hpp"
-#include "diag/io/import.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/io/open_recording.hpp"
 #include "diag/io/truth.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
@@ -148,12 +150,14 @@ diag::Recording recording_from_py(const py::dict& d) {
   return rec;
 }
 
-// A geardiag HDF5 file, else an import (CSV, WAV, MAT) with fs_hz: as `geardiag analyze` reads.
-diag::Recording load(const std::string& path, std::optional<double> fs_hz) {
-  if (diag::is_hdf5_file(path)) return diag::read_recording(path);
-  diag::ImportOptions io;
-  io.fs_hz = fs_hz;
-  return diag::import_recording(path, io);
+// A recording to analyse: a Recording's dict (in memory) or a path (read by the analysis).
+detect::RecordingInput recording_input(const py::object& src) {
+  if (py::isinstance<py::dict>(src)) {
+    return detect::RecordingInput(
+        std::make_shared<const diag::Recording>(recording_from_py(src.cast<py::dict>())));
+  }
+  return detect::RecordingInput(
+      std::string(py::str(py::module_::import("os").attr("fspath")(src))));
 }
 
 // ---- gearbox ----
@@ -310,7 +314,9 @@ PYBIND11_MODULE(_geardiag, m) {
         diag::Recording rec;
         {
           Release nogil;
-          rec = load(path, fs_hz);
+          diag::OpenOptions o;
+          o.fs_hz = fs_hz;
+          rec = diag::open_recording(path, o);
         }
         return recording_to_py(std::move(rec));
       },
@@ -564,52 +570,60 @@ PYBIND11_MODULE(_geardiag, m) {
       "analyze",
       [](const py::object& source, const py::object& gearbox, std::optional<double> fs_hz,
          double rpm, const std::string& channel_map, const std::vector<std::string>& tachos,
-         const py::dict& options) {
+         const py::list& baseline, const py::object& gear_baseline,
+         std::optional<std::uint64_t> max_samples, bool html, const py::dict& options) {
         // Options first: a misspelt option is refused before a long read.
-        detect::AnalyzeOptions o;
+        detect::AnalyzeRequest request;
+        detect::AnalyzeOptions& o = request.options;
         apply_options(
             options, "analyze",
             {{"welch_nperseg", [&](H v) { o.welch_nperseg = v.cast<std::size_t>(); }},
              {"kurtogram_max_level", [&](H v) { o.kurtogram_max_level = v.cast<int>(); }},
              {"tsa_min_revolutions", [&](H v) { o.tsa_min_revolutions = v.cast<int>(); }},
+             {"tacho_pulses_per_rev", [&](H v) { o.tacho_pulses_per_rev = v.cast<int>(); }},
+             {"mesh_harmonics", [&](H v) { o.sidebands.mesh_harmonics = v.cast<int>(); }},
+             {"sidebands", [&](H v) { o.sidebands.sidebands = v.cast<int>(); }},
              {"peaks_reported", [&](H v) { o.peaks_reported = v.cast<int>(); }},
              {"threads", [&](H v) { o.threads = v.cast<int>(); }},
              {"plot_points", [&](H v) { o.plot_points = v.cast<int>(); }},
              {"envelope_plot_max_hz", [&](H v) { o.envelope_plot_max_hz = v.cast<double>(); }},
              {"nominal_time_s", [&](H v) { o.nominal_time_s = v.cast<double>(); }},
-             {"speed_from_vibration", [&](H v) { o.speed_from_vibration = v.cast<bool>(); }}});
-        diag::Recording rec =
-            py::isinstance<py::dict>(source)
-                ? recording_from_py(source.cast<py::dict>())
-                : load(py::str(py::module_::import("os").attr("fspath")(source)), fs_hz);
-        std::optional<diag::Gearbox> gb;
-        if (!gearbox.is_none()) {
-          gb = gearbox_from(gearbox);
-        } else if (!rec.gearbox_json.empty()) {
-          gb = diag::parse_gearbox_text(rec.gearbox_json, "recording: /gearbox");
+             {"speed_from_vibration", [&](H v) { o.speed_from_vibration = v.cast<bool>(); }},
+             {"timing", [&](H v) { o.timing = v.cast<bool>(); }}});
+        request.recording = recording_input(source);
+        request.fs_hz = fs_hz;
+        if (!gearbox.is_none()) request.gearbox = gearbox_from(gearbox);
+        request.channels.channel_map = channel_map;
+        request.channels.tachos = tachos;
+        request.channels.rpm = rpm;
+        for (const py::handle b : baseline) {
+          request.baseline.push_back(recording_input(py::reinterpret_borrow<py::object>(b)));
         }
-        geardiag::ChannelOptions co;
-        co.channel_map = channel_map;
-        co.tachos = tachos;
-        co.rpm = rpm;
-        std::vector<std::string> notes;
-        if (gb) gb = geardiag::gearbox_at_speed(*gb, rec, co, notes);
-        for (std::string& n : geardiag::prepare_channels(rec, gb ? &*gb : nullptr, co)) {
-          notes.push_back(std::move(n));
-        }
-        detect::AnalysisResult r;
+        if (!gear_baseline.is_none()) request.gear_baseline = recording_input(gear_baseline);
+        if (max_samples) request.max_samples = *max_samples;
+        detect::FileAnalysis a;
         std::vector<diag::DataGroup> curves;
+        std::string page;
         {
           Release nogil;
-          r = detect::analyze_recording(rec, gb ? &*gb : nullptr, o);
-          r.notes.insert(r.notes.begin(), notes.begin(), notes.end());
-          curves = detect::analysis_curves(r);
+          a = detect::analyze_file(request);
+          curves = detect::analysis_curves(a.result);
+          if (html) {
+            detect::HtmlReportOptions ho;
+            ho.source = request.recording.path.filename().string();
+            ho.title = "geardiag analysis" + (ho.source.empty() ? "" : ": " + ho.source);
+            page = detect::render_html_report(a.result, ho);
+          }
         }
-        return py::make_tuple(json_to_py(detect::to_json(r)), curves_py(std::move(curves)));
+        py::dict report = json_to_py(detect::to_json(a.result));
+        if (html) report["html"] = page;
+        return py::make_tuple(report, curves_py(std::move(curves)));
       },
       py::arg("source"), py::arg("gearbox") = py::none(), py::arg("fs_hz") = py::none(),
       py::arg("rpm") = 0.0, py::arg("channel_map") = "",
-      py::arg("tachos") = std::vector<std::string>{}, py::arg("options") = py::dict());
+      py::arg("tachos") = std::vector<std::string>{}, py::arg("baseline") = py::list(),
+      py::arg("gear_baseline") = py::none(), py::arg("max_samples") = py::none(),
+      py::arg("html") = false, py::arg("options") = py::dict());
 
   // ---- simulation ----
   m.def(

@@ -5,7 +5,6 @@
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
-#include "diag/io/channels.hpp"
 
 namespace po = boost::program_options;
 
@@ -39,44 +38,6 @@ void ChannelOptions::add_to(po::options_description& desc, bool with_rpm) {
                        "input shaft speed [rpm], (0, 1e5]: overrides the description's and the "
                        "file's");
   }
-}
-
-std::vector<std::string> prepare_channels(diag::Recording& rec, const diag::Gearbox* gb,
-                                          const ChannelOptions& opt) {
-  diag::ChannelMap map;
-  if (!opt.channel_map.empty()) map = diag::load_channel_map(opt.channel_map);
-  for (const std::string& t : opt.tachos) {
-    diag::ChannelMapEntry e = diag::parse_tacho_option(t, "--tacho");
-    std::erase_if(map.channels, [&](const diag::ChannelMapEntry& m) { return m.name == e.name; });
-    map.channels.push_back(std::move(e));
-  }
-  const std::string where =
-      opt.channel_map.empty() ? std::string("--tacho") : opt.channel_map + " / --tacho";
-  diag::apply_channel_map(rec, map, gb, where);
-  std::vector<std::string> described;
-  for (const auto& e : map.channels) described.push_back(e.name);
-  std::vector<std::string> notes = rec.notes;
-  for (std::string& n : diag::infer_tachos(rec, gb, described)) notes.push_back(std::move(n));
-  return notes;
-}
-
-diag::Gearbox gearbox_at_speed(const diag::Gearbox& gb, const diag::Recording& rec,
-                               const ChannelOptions& opt, std::vector<std::string>& notes) {
-  const double nominal = gb.input().speed_rpm;
-  if (opt.rpm != 0) {
-    if (!(opt.rpm > 0) || !std::isfinite(opt.rpm) || opt.rpm > 1e6) {
-      throw diag::InputError("--rpm: " + fmt(opt.rpm) + " is not a speed in (0, 1e6] rpm");
-    }
-    notes.push_back("input speed " + fmt(opt.rpm) +
-                    " rpm from --rpm (description: " + fmt(nominal) + " rpm)");
-    return gb.with_input_speed_rpm(opt.rpm);
-  }
-  if (rec.speed_rpm > 0) {
-    notes.push_back("input speed " + fmt(rec.speed_rpm) + " rpm recorded with the file " +
-                    "(description: " + fmt(nominal) + " rpm)");
-    return gb.with_input_speed_rpm(rec.speed_rpm);
-  }
-  return gb;
 }
 
 }  // namespace geardiag

@@ -7,42 +7,30 @@
 #endif
 
 #include <boost/program_options.hpp>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <memory>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "channel_options.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
+#include "detect/analysis/analyze_file.hpp"
 #include "detect/analysis/curves.hpp"
 #include "detect/analysis/html_report.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
-#include "diag/io/hdf5.hpp"
-#include "diag/io/import.hpp"
+#include "diag/io/data_groups.hpp"
 #include "output.hpp"
-#include "recording_input.hpp"
 
 namespace po = boost::program_options;
 
 namespace geardiag {
 
 namespace {
-
-// The excerpt of a long HDF5 recording that analyze holds in memory (diag::ReadLimits): at most
-// 2^20 samples in all, or 2^18 per channel when there are many channels, never over 2^19 per
-// channel. analyze peaks at 80-190 bytes per sample held (bench/analyze_memory.sh): a 1 GB,
-// 8-channel recording in < 256 MB (docs/notes/analyze-perf.md).
-constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 20;
-constexpr std::uint64_t kKeptChannelSamples = std::uint64_t{1} << 18;
-constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
 
 // analyze allocates and frees record-length buffers (a few MB each) per channel and per stage.
 // By default glibc serves each from a fresh mmap (above its dynamic threshold) or returns it to
@@ -63,13 +51,14 @@ void keep_freed_memory() {
 
 int cmd_analyze(int argc, char** argv) {
   keep_freed_memory();
-  detect::AnalyzeOptions opt;
-  const detect::BaselineComparisonOptions bo;
+  detect::AnalyzeRequest request;
+  detect::AnalyzeOptions& opt = request.options;
+  const detect::BaselineComparisonOptions& bo = request.baseline_options;
   std::string recording, gearbox, json_out, html_out, fail_on, curves_out;
   std::vector<std::string> baselines;
   std::string gear_baseline;
   double fs_hz = 0;
-  std::uint64_t max_samples = kMaxSamples;
+  std::uint64_t max_samples = detect::kDefaultMaxSamples;
   ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
@@ -128,8 +117,8 @@ int cmd_analyze(int argc, char** argv) {
   const std::string max_samples_help =
       "a longer HDF5 recording is analysed on its first part holding at most this many samples "
       "in all (or " +
-      std::to_string(kKeptChannelSamples) + " per channel, never over " +
-      std::to_string(kMaxChannelSamples) +
+      std::to_string(detect::kKeptChannelSamples) + " per channel, never over " +
+      std::to_string(detect::kMaxChannelSamples) +
       " per channel), read by blocks, and its time indicators, Welch PSD and envelope spectra "
       "over the whole file, block by block: memory stays bounded whatever the length; 0: the "
       "whole recording in memory";
@@ -162,85 +151,16 @@ int cmd_analyze(int argc, char** argv) {
   if (int(json_stdout) + int(html_stdout) + int(curves_stdout) > 1) {
     throw diag::InputError("--json, --html, --curves: only one report can go to stdout ('-')");
   }
-  const std::optional<double> fs =
-      vm.count("fs") ? std::optional<double>(fs_hz) : std::optional<double>();
+  if (vm.count("fs")) request.fs_hz = fs_hz;
   const std::filesystem::path path(recording);
-  diag::ReadLimits limits;  // the excerpt analysed of a long HDF5 recording (see --max-samples)
-  if (max_samples != 0) {
-    limits.max_samples = max_samples;
-    limits.kept_channel_samples = std::min(max_samples, kKeptChannelSamples);
-    limits.max_channel_samples = std::min(max_samples, kMaxChannelSamples);
-  }
-  bool cut = false;
-  const auto read_start = std::chrono::steady_clock::now();
-  diag::Recording rec = load_recording(recording, fs, limits, &cut);
-  const double read_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
-  // Each channel in flight holds its transforms (~35 MiB at 2^18 samples): a long recording runs
-  // at most 2 channels at a time unless --threads says otherwise, so that the 256 MB bound holds
-  // on any machine (bench/analyze_memory.sh).
-  if (cut && vm["threads"].defaulted() && opt.threads == 0) opt.threads = 2;
-  // What is a mean over time (indicators, PSD, envelope spectra) is then accumulated over the
-  // whole file, block by block (detect::AnalyzeOptions::whole_recording).
-  if (cut) opt.whole_recording = path;
+  request.recording = path;
+  request.max_samples = max_samples;
+  for (const std::string& b : baselines) request.baseline.emplace_back(b);
+  if (!gear_baseline.empty()) request.gear_baseline = detect::RecordingInput(gear_baseline);
+  if (!gearbox.empty()) request.gearbox = diag::load_gearbox(gearbox);
+  request.channels = channels;
   // The plot-only curves are computed for a plot only (detect::AnalyzeOptions::traces).
   opt.traces = !html_out.empty() || !curves_out.empty();
-  // Every input is read before anything is analysed or written: a bad baseline file stops the
-  // run with its name and no output.
-  std::vector<diag::Recording> healthy;
-  for (const std::string& b : baselines) {
-    try {
-      healthy.push_back(load_recording(b, fs, limits));
-    } catch (const diag::InputError& e) {
-      throw diag::InputError(std::string("--baseline ") + e.what());
-    }
-  }
-  std::optional<diag::Recording> gear_healthy;
-  if (!gear_baseline.empty()) {
-    try {
-      gear_healthy = load_recording(gear_baseline, fs, limits);
-    } catch (const diag::InputError& e) {
-      throw diag::InputError(std::string("--gear-baseline ") + e.what());
-    }
-  }
-  std::optional<diag::Gearbox> gb;
-  if (!gearbox.empty()) {
-    gb = diag::load_gearbox(gearbox);
-  } else if (!rec.gearbox_json.empty()) {
-    gb = diag::parse_gearbox_text(rec.gearbox_json, recording + ": /gearbox");
-  }
-  // What the channels are (channel map, --tacho, inference) and the speed the data says, before
-  // any analysis; the baselines are the same machine's channels.
-  std::vector<std::string> notes;
-  if (gb) {
-    gb = gearbox_at_speed(*gb, rec, channels, notes);
-  } else if (channels.rpm != 0) {
-    throw diag::InputError("--rpm: needs a gearbox description (--gearbox or the file's /gearbox)");
-  }
-  for (std::string& n : prepare_channels(rec, gb ? &*gb : nullptr, channels)) {
-    notes.push_back(std::move(n));
-  }
-  for (std::size_t i = 0; i < healthy.size(); ++i) {
-    try {
-      prepare_channels(healthy[i], gb ? &*gb : nullptr, channels);
-    } catch (const diag::InputError& e) {
-      throw diag::InputError("--baseline " + baselines[i] + ": " + e.what());
-    }
-  }
-  if (gear_healthy) {
-    if (!gb) {
-      throw diag::InputError(
-          "--gear-baseline: needs a gearbox description (--gearbox or the file's /gearbox)");
-    }
-    try {
-      prepare_channels(*gear_healthy, &*gb, channels);
-      opt.gear_damage.baseline = std::make_shared<const detect::GearDamageBaseline>(
-          detect::gear_damage_baseline(*gear_healthy, *gb, opt.gear_damage));
-    } catch (const diag::InputError& e) {
-      throw diag::InputError("--gear-baseline " + gear_baseline + ": " + e.what());
-    }
-    gear_healthy.reset();
-  }
   // A progress line on a terminal only: piped or redirected, stderr stays quiet.
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
   if (terminal) {
@@ -249,23 +169,9 @@ int cmd_analyze(int argc, char** argv) {
       std::fflush(stderr);
     };
   }
-  detect::AnalysisResult r;
-  try {
-    r = detect::analyze_recording(rec, gb ? &*gb : nullptr, opt);
-    if (terminal) std::fprintf(stderr, "\r%-60s\r", "");
-  } catch (const diag::InputError& e) {
-    throw diag::InputError(recording + ": " + e.what());
-  }
-  if (opt.timing) r.timing_s["read"] = read_s;  // the recording (HDF5 inflate, CSV parse)
-  r.notes.insert(r.notes.begin(), notes.begin(), notes.end());
-  if (!healthy.empty()) {
-    try {
-      r.baseline = detect::score_against_baseline(rec, healthy, bo, baselines);
-      if (gb) detect::wear_against_baseline(r, rec, *gb, healthy, opt, baselines);
-    } catch (const diag::InputError& e) {
-      throw diag::InputError(std::string("--baseline: ") + e.what());
-    }
-  }
+  detect::FileAnalysis analysis = detect::analyze_file(request);
+  if (terminal) std::fprintf(stderr, "\r%-60s\r", "");
+  const detect::AnalysisResult& r = analysis.result;
   // stdout carries nothing but a report sent there, so that it stays valid JSON or HTML.
   (json_stdout || html_stdout || curves_stdout ? std::cerr : std::cout)
       << detect::format_summary(r);

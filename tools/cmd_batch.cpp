@@ -1,4 +1,4 @@
-// geardiag batch: `analyze` (detect::analyze_recording, as a library call) over many recordings
+// geardiag batch: `analyze` (detect::analyze_file, as a library call) over many recordings
 // into one table, one row per recording, and an HTML trend of chosen indicators and of the anomaly
 // score against a healthy baseline. Files are analysed in parallel (one per worker thread, each
 // analysis single-threaded) and, under mpirun, split across the ranks (tools/parallel.hpp); rank
@@ -13,22 +13,23 @@
 #include <iostream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <sstream>
 
-#include "batch_analysis.hpp"
 #include "channel_options.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
+#include "detect/analysis/analyze_file.hpp"
 #include "detect/analysis/svg_plot.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "diag/io/open_recording.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
-#include "recording_input.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -82,10 +83,11 @@ std::vector<std::string> date_time_in(const std::string& name) {
 
 // "YYYY-MM-DDTHH:MM:SS" from the file's metadata (timestamp, time, start_time, recorded_at,
 // date), else from its name (date_time_in); empty when neither says.
-std::string time_stamp(const diag::Recording& rec, const std::string& file) {
+std::string time_stamp(const std::map<std::string, std::string>& metadata,
+                       const std::string& file) {
   for (const char* key : {"timestamp", "time", "start_time", "recorded_at", "date"}) {
-    const auto it = rec.metadata.find(key);
-    if (it != rec.metadata.end() && !it->second.empty()) return it->second;
+    const auto it = metadata.find(key);
+    if (it != metadata.end() && !it->second.empty()) return it->second;
   }
   const std::vector<std::string> m = date_time_in(fs::path(file).filename().string());
   if (m.size() != 6) return "";
@@ -108,9 +110,8 @@ std::string short_findings(const detect::AnalysisResult& r) {
 }
 
 struct Inputs {
-  std::optional<diag::Gearbox> gearbox;  // --gearbox
-  std::vector<diag::Recording> baseline;
-  std::vector<std::string> baseline_names;
+  std::optional<diag::Gearbox> gearbox;          // --gearbox
+  std::vector<detect::RecordingInput> baseline;  // read once, prepared for each file's gearbox
   ChannelOptions channels;
   std::optional<double> fs;
 };
@@ -125,7 +126,9 @@ struct Read {
 Read read_file(const std::string& file, const Inputs& in) {
   Read r;
   try {
-    r.recording = load_recording(file, in.fs);
+    diag::OpenOptions o;
+    o.fs_hz = in.fs;
+    r.recording = diag::open_recording(file, o);
   } catch (const std::exception& e) {
     r.error = e.what();
   }
@@ -136,23 +139,25 @@ json analyse(const std::string& file, Read read, const Inputs& in) {
   json row = {{"file", file}, {"status", "ok"}};
   try {
     if (!read.recording) throw diag::InputError(read.error);
-    const FileAnalysis a = analyse_file(std::move(*read.recording), file, in.gearbox, in.channels);
+    detect::AnalyzeRequest request;
+    request.recording = detect::RecordingInput(
+        std::make_shared<const diag::Recording>(std::move(*read.recording)), file);
+    request.gearbox = in.gearbox;
+    request.channels = in.channels;
+    request.baseline = in.baseline;
+    request.baseline_required = false;  // the row keeps its analysis; the error column says why
+    request.options.threads = 1;        // the files are the parallel work
+    const detect::FileAnalysis a = detect::analyze_file(request);
     const detect::AnalysisResult& r = a.result;
-    row["time"] = time_stamp(a.recording, file);
+    row["time"] = time_stamp(a.metadata, file);
     if (r.speed.mean_rpm > 0) row["speed_rpm"] = r.speed.mean_rpm;
     row["findings"] = short_findings(r);
-    if (!in.baseline.empty()) {
-      // A recording the baseline cannot score keeps its analysis; the error column says why.
-      try {
-        const detect::AnalysisBaseline b =
-            detect::score_against_baseline(a.recording, in.baseline, {}, in.baseline_names);
-        row["anomaly_score"] = b.anomaly_score;
-        row["alarm"] = b.alarm ? 1 : 0;
-        row["alarm_threshold"] = b.threshold;
-      } catch (const diag::InputError& e) {
-        row["error"] = std::string("baseline: ") + e.what();
-      }
+    if (r.baseline) {
+      row["anomaly_score"] = r.baseline->anomaly_score;
+      row["alarm"] = r.baseline->alarm ? 1 : 0;
+      row["alarm_threshold"] = r.baseline->threshold;
     }
+    if (!a.baseline_error.empty()) row["error"] = a.baseline_error;
     json features = json::object();
     for (const auto& [name, value] : detect::features(r)) features[name] = value;
     row["features"] = features;
@@ -269,24 +274,6 @@ std::vector<std::string> read_list(const std::string& list) {
 
 }  // namespace
 
-FileAnalysis analyse_file(diag::Recording recording, const std::string& file,
-                          const std::optional<diag::Gearbox>& gearbox,
-                          const ChannelOptions& channels) {
-  FileAnalysis a;
-  a.recording = std::move(recording);
-  std::optional<diag::Gearbox> gb = gearbox;
-  if (!gb && !a.recording.gearbox_json.empty()) {
-    gb = diag::parse_gearbox_text(a.recording.gearbox_json, file + ": /gearbox");
-  }
-  std::vector<std::string> notes;
-  if (gb) gb = gearbox_at_speed(*gb, a.recording, channels, notes);
-  prepare_channels(a.recording, gb ? &*gb : nullptr, channels);
-  detect::AnalyzeOptions opt;
-  opt.threads = 1;  // the files are the parallel work
-  a.result = detect::analyze_recording(a.recording, gb ? &*gb : nullptr, opt);
-  return a;
-}
-
 int cmd_batch(int argc, char** argv) {
   std::vector<std::string> files, baselines, trend;
   std::string list, gearbox, table, html;
@@ -337,13 +324,14 @@ int cmd_batch(int argc, char** argv) {
   // The baseline is read before any analysis: a bad baseline file stops the batch with its name.
   for (const std::string& b : baselines) {
     try {
-      in.baseline.push_back(load_recording(b, in.fs));
-      prepare_channels(in.baseline.back(), in.gearbox ? &*in.gearbox : nullptr, in.channels);
+      diag::OpenOptions o;
+      o.fs_hz = in.fs;
+      in.baseline.emplace_back(std::make_shared<const diag::Recording>(diag::open_recording(b, o)),
+                               b);
     } catch (const diag::InputError& e) {
       throw diag::InputError(std::string("--baseline ") + e.what());
     }
   }
-  in.baseline_names = baselines;
   std::vector<std::size_t> mine;
   for (std::size_t i = static_cast<std::size_t>(world.rank()); i < files.size();
        i += static_cast<std::size_t>(world.size())) {

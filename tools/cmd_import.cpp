@@ -101,7 +101,7 @@ int cmd_import(int argc, char** argv) {
   std::optional<diag::Gearbox> gb;
   if (!gearbox.empty()) gb = diag::load_gearbox(gearbox);
   diag::Recording rec = diag::import_recording(input, options);
-  const std::vector<std::string> notes = prepare_channels(rec, gb ? &*gb : nullptr, channels);
+  const std::vector<std::string> notes = diag::prepare_channels(rec, gb ? &*gb : nullptr, channels);
   if (gb) {
     rec.gearbox_json = gb->description_json();
     // Every channel was looked at with the description: what inference did not take as a tacho

@@ -20,13 +20,13 @@
 #include <sstream>
 #include <vector>
 
-#include "batch_analysis.hpp"
 #include "cli_options.hpp"
+#include "detect/analysis/analyze_file.hpp"
 #include "detect/analysis/svg_plot.hpp"
 #include "diag/error.hpp"
+#include "diag/io/open_recording.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
-#include "recording_input.hpp"
 #include "validate_kinematic.hpp"
 
 namespace po = boost::program_options;
@@ -185,14 +185,18 @@ int validate_dataset(int argc, char** argv) {
                            "each recording's simulated outcome)");
   }
   judge_dataset_recordings(
-      dir, rows, jobs, [](const std::string& path) { return load_recording(path, std::nullopt); },
+      dir, rows, jobs, [](const std::string& path) { return diag::open_recording(path); },
       [&](std::size_t i, std::optional<diag::Recording>& rec, const std::string& path,
           const std::string& read_error) {
         json& r = rows[i];
         std::string named = "none";
         try {
           if (!rec) throw diag::InputError(read_error);
-          const FileAnalysis a = analyse_file(std::move(*rec), path, std::nullopt, {});
+          detect::AnalyzeRequest request;
+          request.recording = detect::RecordingInput(
+              std::make_shared<const diag::Recording>(std::move(*rec)), path);
+          request.options.threads = 1;  // the recordings are the parallel work
+          const detect::FileAnalysis a = detect::analyze_file(request);
           for (const auto& f : a.result.findings) {
             if (f.kind == "gear_damage") {
               named = f.shaft;

@@ -238,25 +238,37 @@ def _nest_curves(flat):
     return out
 
 
-def analyze(source, gearbox=None, fs_hz=None, rpm=0.0, channel_map=None, tachos=(), **options):
-    """The analysis of ``geardiag analyze``: ``source`` is a path (HDF5 recording, or CSV / WAV /
-    MAT with ``fs_hz``) or a :class:`Recording`; ``gearbox`` a :class:`Gearbox`, a JSON path or
-    a dict (default: the recording's own). ``rpm``, ``channel_map`` (a file) and ``tachos``
-    ("CHANNEL=SHAFT[:PPR]") are the CLI's --rpm, --channels and --tacho. ``options``: the
-    AnalyzeOptions fields (welch_nperseg, kurtogram_max_level, tsa_min_revolutions,
-    peaks_reported, threads, plot_points, envelope_plot_max_hz, nominal_time_s,
-    speed_from_vibration).
+def analyze(source, gearbox=None, fs_hz=None, rpm=0.0, channel_map=None, tachos=(),
+            baseline=(), gear_baseline=None, max_samples=None, html=False, **options):
+    """The analysis of ``geardiag analyze`` (the same library call, the same result): ``source``
+    is a path (HDF5 recording, or CSV / WAV / MAT with ``fs_hz``) or a :class:`Recording`;
+    ``gearbox`` a :class:`Gearbox`, a JSON path or a dict (default: the recording's own).
+    ``rpm``, ``channel_map`` (a file) and ``tachos`` ("CHANNEL=SHAFT[:PPR]") are the CLI's
+    --rpm, --channels and --tacho; ``baseline`` (paths or Recordings: healthy recordings of the
+    same machine), ``gear_baseline`` (one healthy recording of the same gears, with a tacho) and
+    ``max_samples`` (the part of a long HDF5 recording held in memory; 0: all of it) its
+    --baseline, --gear-baseline and --max-samples. ``options``: the AnalyzeOptions fields
+    (welch_nperseg, kurtogram_max_level, tsa_min_revolutions, tacho_pulses_per_rev,
+    mesh_harmonics, sidebands, peaks_reported, threads, plot_points, envelope_plot_max_hz,
+    nominal_time_s, speed_from_vibration, timing).
 
     Returns the JSON report as a dict (the same keys as ``--json``) plus ``"curves"``: every
     curve of the report as numpy arrays (the groups of ``--curves``, nested by path: e.g.
-    ``r["curves"]["channels"]["DE"]["envelope_spectrum"]["amplitude"]``).
+    ``r["curves"]["channels"]["DE"]["envelope_spectrum"]["amplitude"]``) and, with
+    ``html=True``, ``"html"``: the self-contained HTML report of ``--html`` as text.
     """
-    src = source._to_dict() if isinstance(source, Recording) else _os.fspath(source)
+    def _input(src):
+        return src._to_dict() if isinstance(src, Recording) else _os.fspath(src)
+
     if isinstance(gearbox, (str, _os.PathLike)):
         gearbox = Gearbox.from_json(gearbox)
-    report, curves = _g.analyze(src, gearbox, fs_hz, float(rpm),
+    if isinstance(baseline, (str, _os.PathLike, Recording)):
+        baseline = [baseline]
+    report, curves = _g.analyze(_input(source), gearbox, fs_hz, float(rpm),
                                 _os.fspath(channel_map) if channel_map else "", list(tachos),
-                                options)
+                                [_input(b) for b in baseline],
+                                None if gear_baseline is None else _input(gear_baseline),
+                                max_samples, bool(html), options)
     report["curves"] = _nest_curves(curves)
     return report
 

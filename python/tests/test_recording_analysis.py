@@ -105,6 +105,36 @@ def test_analyze_equals_cli(sim_file, cli_outputs):
     assert ch["waveform"]["units"]["value"] == "m/s^2"
 
 
+def test_analyze_has_every_option_of_the_cli(sim_file, sim_recording, tmp_path):
+    """Baselines (paths and Recordings), the gear baseline, --max-samples, the analysis options
+    and the HTML report: the same library call as the CLI, the same bytes."""
+    healthy = geardiag.simulate(geardiag.Gearbox.from_json(SIM_GEARBOX),
+                                dict(SIM_SCENARIO, faults=[]), seed=8)
+    healthy_file = tmp_path / "healthy.h5"
+    geardiag.write_recording(healthy_file, healthy)
+    out = {"json": tmp_path / "r.json", "html": tmp_path / "r.html"}
+    subprocess.run([EXE, "analyze", str(sim_file), "--baseline", str(healthy_file),
+                    "--gear-baseline", str(healthy_file), "--max-samples", "5000",
+                    "--mesh-harmonics", "2", "--sidebands", "3", "--tsa-min-revs", "5",
+                    "--threads", "1", "--json", str(out["json"]), "--html", str(out["html"])],
+                   check=True, stdout=subprocess.DEVNULL)
+    r = geardiag.analyze(sim_file, baseline=[healthy_file], gear_baseline=healthy_file,
+                         max_samples=5000, html=True, mesh_harmonics=2, sidebands=3,
+                         tsa_min_revolutions=5, threads=1)
+    r.pop("curves")
+    page = r.pop("html")
+    cli = json.loads(out["json"].read_text())
+    assert r == cli
+    assert "anomaly_score" in cli and "gear_damage" in cli
+    assert any("first" in n and "s analysed" in n for n in cli["notes"])  # the cut is said
+    assert page == out["html"].read_text()
+    # A baseline given as a Recording in memory is the same baseline.
+    m = geardiag.analyze(sim_file, baseline=healthy, max_samples=5000, threads=1)
+    assert m["anomaly_score"] == pytest.approx(
+        geardiag.analyze(sim_file, baseline=[healthy_file], max_samples=5000,
+                         threads=1)["anomaly_score"], rel=0, abs=0)
+
+
 def test_analyze_psd_curve_against_scipy(sim_recording):
     # The PSD curve is Welch (nperseg 4096) peak-hold decimated for plotting: its largest value
     # is scipy's largest (1e-9 relative: round-off).

@@ -1,0 +1,192 @@
+// detect::analyze_file, the one entry of `analyze`, `batch` and the Python module: it must give
+// exactly what its steps give when called one by one (read, speed, channel setup, analysis, notes,
+// baselines), read long HDF5 recordings in part with the whole file behind the means, and name
+// the file at fault in every error.
+#include "detect/analysis/analyze_file.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "diag/error.hpp"
+#include "diag/io/channel_setup.hpp"
+#include "diag/io/hdf5.hpp"
+#include "diag/io/open_recording.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kFs = 8000.0;
+
+// Noise plus a 3 kHz carrier modulated at 37 Hz (an envelope line), with a 1-pulse-per-rev tacho
+// at 25 Hz described as the input shaft's.
+diag::Recording synthetic(std::size_t n, std::uint64_t seed, double fs = kFs) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> g(0.0, 0.3);
+  diag::Recording rec;
+  diag::Signal& s = rec.signals.emplace_back();
+  s.name = "acc";
+  s.fs_hz = fs;
+  s.unit = "m/s^2";
+  s.samples.resize(n);
+  diag::Signal& k = rec.signals.emplace_back();
+  k.name = "key";
+  k.fs_hz = fs;
+  k.unit = "V";
+  k.samples.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / fs;
+    s.samples[i] = g(rng) + (1 + std::cos(2 * std::numbers::pi * 37 * t)) *
+                                std::sin(2 * std::numbers::pi * 3000 * t);
+    k.samples[i] = std::fmod(t * 25.0, 1.0) < 0.1 ? 5.0 : 0.0;
+  }
+  return rec;
+}
+
+const char* kGearbox = R"({"name": "one", "shafts": [{"name": "input"}],
+  "input": {"shaft": "input", "speed_rpm": 1500}})";
+
+class AnalyzeFile : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const char* env = std::getenv("GEARDIAG_TMP");
+    const fs::path base =
+        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
+    dir_ = base / ("analyze_file_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const diag::Recording& rec) const {
+    const fs::path p = dir_ / name;
+    diag::write_recording(p, rec);
+    return p;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(AnalyzeFile, GivesWhatItsStepsGiveOneByOne) {
+  diag::Recording rec = synthetic(40000, 1);
+  rec.roles_stated = false;  // as measured files: the tacho is found by inference
+  const fs::path file = write("run.h5", rec);
+  const fs::path healthy = write("healthy.h5", synthetic(40000, 2));
+  const diag::Gearbox gb = diag::parse_gearbox_text(kGearbox, "gb");
+
+  detect::AnalyzeRequest q;
+  q.recording = file;
+  q.gearbox = gb;
+  q.channels.tachos = {"key=input"};
+  q.channels.rpm = 1510;
+  q.baseline = {detect::RecordingInput(healthy)};
+  q.options.threads = 1;
+  const detect::FileAnalysis a = detect::analyze_file(q);
+  EXPECT_EQ(a.format, "hdf5");
+  EXPECT_FALSE(a.cut);
+  EXPECT_EQ(a.source, file.string());
+
+  // The same, step by step.
+  diag::Recording r = diag::open_recording(file);
+  std::vector<std::string> notes;
+  const diag::Gearbox at = diag::gearbox_at_speed(gb, r, q.channels, notes);
+  for (std::string& n : diag::prepare_channels(r, &at, q.channels)) notes.push_back(n);
+  diag::Recording h = diag::open_recording(healthy);
+  diag::prepare_channels(h, &at, q.channels);
+  detect::AnalyzeOptions o;
+  o.threads = 1;
+  detect::AnalysisResult expected = detect::analyze_recording(r, &at, o);
+  expected.notes.insert(expected.notes.begin(), notes.begin(), notes.end());
+  const std::vector<diag::Recording> hs = {h};
+  const std::vector<std::string> names = {healthy.string()};
+  expected.baseline = detect::score_against_baseline(r, hs, {}, names);
+  detect::wear_against_baseline(expected, r, at, hs, o, names);
+
+  EXPECT_EQ(detect::to_json(a.result).dump(), detect::to_json(expected).dump());
+  // The speed note and the tacho are in the report: nothing of the setup is dropped.
+  ASSERT_FALSE(a.result.notes.empty());
+  EXPECT_NE(a.result.notes.front().find("1510 rpm from --rpm"), std::string::npos);
+  EXPECT_EQ(a.result.speed.source, "tacho");
+  ASSERT_TRUE(a.result.baseline.has_value());
+
+  // A recording given in memory is the same analysis as its file.
+  detect::AnalyzeRequest m = q;
+  m.recording = detect::RecordingInput(std::make_shared<const diag::Recording>(rec), file);
+  const detect::FileAnalysis b = detect::analyze_file(m);
+  EXPECT_EQ(b.format, "memory");
+  EXPECT_EQ(detect::to_json(b.result).dump(), detect::to_json(a.result).dump());
+}
+
+TEST_F(AnalyzeFile, ALongRecordingIsReadInPartWithTheMeansOverTheWholeFile) {
+  const fs::path file = write("long.h5", synthetic(120000, 3));
+  detect::AnalyzeRequest q;
+  q.recording = file;
+  // No channel over 30 000 samples: each keeps its first 30 000 (3.75 s of 15 s).
+  q.max_samples = 30000;
+  const detect::FileAnalysis a = detect::analyze_file(q);
+  EXPECT_TRUE(a.cut);
+  ASSERT_EQ(a.result.channels.size(), 2u);
+  EXPECT_EQ(a.result.channels[0].samples, 30000u);
+  bool whole = false;
+  for (const std::string& n : a.result.notes) {
+    whole = whole || n.find("whole recording read by blocks (15 s") != std::string::npos;
+  }
+  EXPECT_TRUE(whole) << "the time indicators must cover the whole file";
+  // max_samples 0: all of it in memory.
+  q.max_samples = 0;
+  const detect::FileAnalysis w = detect::analyze_file(q);
+  EXPECT_FALSE(w.cut);
+  EXPECT_EQ(w.result.channels[0].samples, 120000u);
+  // The whole-file RMS is the in-memory one (running moments: round-off only).
+  EXPECT_NEAR(a.result.channels[0].time.rms, w.result.channels[0].time.rms,
+              1e-12 * w.result.channels[0].time.rms);
+}
+
+TEST_F(AnalyzeFile, ErrorsNameTheFileAtFault) {
+  const fs::path file = write("run.h5", synthetic(20000, 4));
+  const fs::path missing = dir_ / "missing.h5";
+  auto message = [](const detect::AnalyzeRequest& q) {
+    try {
+      detect::analyze_file(q);
+    } catch (const diag::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  detect::AnalyzeRequest q;
+  q.recording = missing;
+  EXPECT_EQ(message(q), missing.string() + ": no such file");
+  q.recording = file;
+  q.baseline = {detect::RecordingInput(missing)};
+  EXPECT_EQ(message(q), "--baseline " + missing.string() + ": no such file");
+  q.baseline.clear();
+  q.gear_baseline = detect::RecordingInput(missing);
+  EXPECT_EQ(message(q), "--gear-baseline " + missing.string() + ": no such file");
+  q.gear_baseline.reset();
+  q.channels.rpm = 1000;  // a speed needs a description
+  EXPECT_NE(message(q).find("--rpm: needs a gearbox description"), std::string::npos);
+}
+
+TEST_F(AnalyzeFile, ABaselineThatCannotScoreIsAnErrorOrKeptBesideTheAnalysis) {
+  const fs::path file = write("run.h5", synthetic(20000, 5));
+  const fs::path other_rate = write("other.h5", synthetic(20000, 6, 2 * kFs));
+  detect::AnalyzeRequest q;
+  q.recording = file;
+  q.baseline = {detect::RecordingInput(other_rate)};
+  EXPECT_THROW(detect::analyze_file(q), diag::InputError);
+  q.baseline_required = false;  // a table's row: the analysis is kept, the reason beside it
+  const detect::FileAnalysis a = detect::analyze_file(q);
+  EXPECT_NE(a.baseline_error.find("sampling rate"), std::string::npos) << a.baseline_error;
+  EXPECT_EQ(a.result.channels.size(), 2u);
+}
+
+}  // namespace
