@@ -3,7 +3,9 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 CMAKE_FLAGS ?=
 
-.PHONY: all deps configure build demo test bench sanitize fuzz fuzz-ci clean
+PREFIX ?= /usr/local
+
+.PHONY: all deps configure build demo test install bench sanitize fuzz fuzz-ci clean
 
 all: build
 
@@ -16,11 +18,24 @@ configure: deps
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-demo: build
+# The geardiag command alone (the tests are built by `make test`), then its demo. The time is a
+# clean build of the target geardiag on a 2-core machine, measured (docs/install.md).
+demo: configure
+	@echo "make demo: building the geardiag command only: about 8 minutes on 2 cores from a clean" \
+	  "build folder (seconds when it is built already; make test builds and runs the tests too)"
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target geardiag
 	./$(BUILD_DIR)/geardiag demo
+	@echo "make demo: the command is $(CURDIR)/$(BUILD_DIR)/geardiag; to call it as geardiag:"
+	@echo "  export PATH=\"$(CURDIR)/$(BUILD_DIR):\$$PATH\""
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# The command, the static libraries, the headers, find_package(geardiag) and geardiag.pc under
+# PREFIX (docs/install.md): make install PREFIX=$$HOME/.local
+install: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target install_targets
+	cmake --install $(BUILD_DIR) --prefix $(PREFIX)
 
 # AddressSanitizer + UndefinedBehaviorSanitizer build of the whole suite, warnings as errors.
 # Without the Python module (an ASan-built extension cannot load into Debian's python3, which is

@@ -4,6 +4,7 @@
 // --bearings run their own loops (validate_gear_damage.hpp, validate_bearings.hpp).
 #include <boost/program_options.hpp>
 #include <iostream>
+#include <iterator>
 #include <string>
 
 #include "cli_options.hpp"
@@ -11,6 +12,7 @@
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
+#include "parallel.hpp"
 #include "validate/attribution_loop.hpp"
 #include "validate_bearings.hpp"
 #include "validate_dataset.hpp"
@@ -81,11 +83,23 @@ int cmd_validate(int argc, char** argv) {
     throw diag::InputError(
         gearbox + ": no mesh between the input and the output shaft: nothing to attribute");
   }
-  const validate::LoopReport r = validate::run_attribution_loop(gb, opt);
-  std::cout << validate::format_report(r);
+  // Progress on a terminal's stderr (parallel.hpp): the loop and the ladder take minutes.
+  validate::LoopReport r;
+  {
+    Progress progress("validate --attribution", static_cast<std::size_t>(opt.cases), true);
+    opt.on_case_done = [&] { progress.tick(); };
+    r = validate::run_attribution_loop(gb, opt);
+  }
+  std::cout << validate::format_report(r) << std::flush;
   if (ladder_cases > 0) {
     std::vector<std::pair<double, double>> ladder;
+    // The count is the whole ladder's; it stops early at the first size that is not reliable.
+    Progress progress("validate --attribution, size ladder",
+                      std::size(validate::kSizeLadderDeg) * static_cast<std::size_t>(ladder_cases),
+                      true);
+    opt.on_case_done = [&] { progress.tick(); };
     const double smallest = validate::smallest_reliable_size(gb, opt, ladder_cases, 0.95, &ladder);
+    progress.finish();
     std::cout << "\nsingle defect, share attributed right with size within "
               << 100 * opt.size_tolerance << " %, by size at the output:\n";
     for (const auto& [size, share] : ladder) {

@@ -3,12 +3,14 @@
 // and prints right / silent / wrong by class and SNR.
 #include "validate_bearings.hpp"
 
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <iostream>
 #include <sstream>
 
 #include "cli_options.hpp"
 #include "diag/error.hpp"
+#include "parallel.hpp"
 #include "validate/bearing_loop.hpp"
 
 namespace po = boost::program_options;
@@ -64,7 +66,14 @@ int cmd_validate_bearings(int argc, char** argv) {
   opt.shaft_hz = parse_list(speeds, "speeds");
   opt.sizes = parse_list(sizes, "sizes");
   opt.snr_db = parse_list(snrs, "snr");
+  // Progress on a terminal's stderr (parallel.hpp): one case per class, speed, size, SNR and seed.
+  Progress progress("validate --bearings",
+                    opt.classes.size() * opt.shaft_hz.size() * opt.sizes.size() *
+                        opt.snr_db.size() * static_cast<std::size_t>(std::max(opt.seeds, 0)),
+                    true);
+  opt.on_case_done = [&] { progress.tick(); };
   const validate::BearingLoopReport r = validate::run_bearing_loop(opt);
+  progress.finish();
   std::cout << validate::format_report(r);
   int wrong = 0;
   for (const auto& c : r.by_class) wrong += c.wrong;

@@ -8,6 +8,7 @@
 #include "cli_options.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "parallel.hpp"
 #include "validate/gear_damage_loop.hpp"
 
 namespace po = boost::program_options;
@@ -55,7 +56,11 @@ int validate_gear_damage(int argc, char** argv) {
   opt.validate();
   std::vector<diag::Gearbox> gbs;
   for (const auto& f : files) gbs.push_back(diag::load_gearbox(f));
+  // Progress on a terminal's stderr (parallel.hpp): each case is a dynamic simulation.
+  Progress progress("validate --gear-damage", static_cast<std::size_t>(opt.cases), true);
+  opt.on_case_done = [&] { progress.tick(); };
   const validate::GearDamageLoopReport r = validate::run_gear_damage_loop(gbs, opt);
+  progress.finish();
   std::cout << validate::format_report(r);
   const bool ok = r.healthy_false_alarms <= 0.05 * r.healthy_total &&
                   r.faulty_wrong_shaft <= 0.05 * r.faulty_total;

@@ -12,8 +12,12 @@ import geardiag
 SOURCE = pathlib.Path(os.environ.get("GEARDIAG_SOURCE_DIR",
                                      pathlib.Path(__file__).resolve().parents[2]))
 EXE = os.environ.get("GEARDIAG_EXE", str(SOURCE / "build" / "geardiag"))
-SHARED_DATA = SOURCE / ".." / "shared" / "data"
-THREE_SHAFT = SOURCE / "testdata" / "gearbox" / "three_shaft.json"
+# The measured data and the test data: GEARDIAG_SHARED_DATA and GEARDIAG_TESTDATA when set (as
+# for the C++ tests), else the checkout's.
+SHARED_DATA = pathlib.Path(os.environ.get("GEARDIAG_SHARED_DATA")
+                           or SOURCE / ".." / "shared" / "data")
+TESTDATA = pathlib.Path(os.environ.get("GEARDIAG_TESTDATA") or SOURCE / "testdata")
+THREE_SHAFT = TESTDATA / "gearbox" / "three_shaft.json"
 
 # A faster box than the file's 30 rpm (the attribution demo's speed): 1500 rpm gives 25 input
 # revolutions in 1 s: the TSA of the input and counter shafts (the output turns 6 times: its TSA

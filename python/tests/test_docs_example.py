@@ -17,10 +17,11 @@ DOC = SOURCE / "docs" / "notes" / "python.md"
                     reason="CWRU data absent")
 def test_docs_example_runs_as_written(tmp_path):
     code = re.search(r"```python\n(.*?)```", DOC.read_text(), re.S).group(1)
-    # A checkout beside the shared data: tmp/checkout and tmp/shared -> the real one.
+    # A checkout beside the shared data: tmp/checkout and tmp/shared/data -> the real one.
     checkout = tmp_path / "checkout"
     checkout.mkdir()
-    (tmp_path / "shared").symlink_to(SHARED_DATA.parent.resolve())
+    (tmp_path / "shared").mkdir()
+    (tmp_path / "shared" / "data").symlink_to(SHARED_DATA.resolve())
     out = io.StringIO()
     cwd = os.getcwd()
     try:

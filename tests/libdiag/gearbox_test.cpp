@@ -37,7 +37,8 @@ std::string error_of(const json& j) {
 }
 
 TEST(Gearbox, TheMinimalDescriptionFileIsAccepted) {
-  const auto gb = diag::load_gearbox(GEARDIAG_TESTDATA_DIR "/gearbox/three_shaft.json");
+  const auto gb =
+      diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
   EXPECT_EQ(gb.shafts().size(), 3u);
   EXPECT_EQ(gb.shafts()[gb.output_shaft()].name, "output");
 }

@@ -22,7 +22,7 @@ using nlohmann::json;
 
 // Seed 003's gearbox (testdata: z1 = z3 = 18, z2 = z4 = 36, m = 3 mm) with one defect.
 diag::Gearbox seed_box(const json& defect) {
-  json j = diag::load_json_file(GEARDIAG_TESTDATA_DIR "/gearbox/three_shaft.json");
+  json j = diag::load_json_file(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json");
   j["defects"] = json::array({defect});
   return diag::parse_gearbox(j, "gb.json");
 }

@@ -288,6 +288,7 @@ LoopReport run_attribution_loop(const diag::Gearbox& gb_in, const AttributionLoo
         if (a.multiplicity) ++rep.three_multiplicity_flagged;
         break;
     }
+    if (opt.on_case_done) opt.on_case_done();
   }
   return rep;
 }
@@ -349,7 +350,7 @@ double smallest_reliable_size(const diag::Gearbox& gb, AttributionLoopOptions op
   opt.weight[1] = 1;
   opt.weight[2] = opt.weight[3] = 0;
   double best = 0;
-  for (double deg : {1.0, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001}) {
+  for (double deg : kSizeLadderDeg) {
     opt.min_size_output_rad = opt.max_size_output_rad = deg_to_rad(deg);
     const LoopReport r = run_attribution_loop(gb, opt);
     const double share = r.single_total > 0 ? std::min(r.single_correct, r.sizes_within_tolerance) /

@@ -127,6 +127,7 @@ BearingLoopReport run_bearing_loop(const BearingLoopOptions& opt) {
             add(r.by_class[ci], c.outcome);
             add(r.by_class_snr[ci][si], c.outcome);
             r.cases.push_back(std::move(c));
+            if (opt.on_case_done) opt.on_case_done();
           }
         }
       }

@@ -222,6 +222,7 @@ GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearbox
     }
     c.correct = c.outcome == "right";
     rep.cases.push_back(std::move(c));
+    if (opt.on_case_done) opt.on_case_done();
   }
   return rep;
 }

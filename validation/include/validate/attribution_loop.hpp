@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <random>
 #include <string>
@@ -39,6 +40,9 @@ struct AttributionLoopOptions {
   double noise_output_rad = 0.002 * 0.017453292519943295;
   std::int64_t encoder_counts_per_rev = 1 << 16;
   detect::AttributionOptions attribution;
+  // Called after each case, e.g. to show progress; empty: nothing. The results do not depend
+  // on it.
+  std::function<void()> on_case_done;
 };
 
 // One class of cases: what was simulated (healthy, one defect, two, two overlapping, three; on a
@@ -81,9 +85,13 @@ diag::Gearbox random_three_shaft(std::mt19937_64& rng, bool undercut_pinion = fa
 // The table printed by tests and by `geardiag validate --attribution`.
 std::string format_report(const LoopReport& r);
 
-// Smallest defect size at the output, from a geometric ladder, at which at least
+// The rungs of smallest_reliable_size's ladder: defect sizes at the output [deg], largest first.
+inline constexpr double kSizeLadderDeg[] = {1.0,  0.5,  0.2,   0.1,   0.05,
+                                            0.02, 0.01, 0.005, 0.002, 0.001};
+
+// Smallest defect size at the output, from a geometric ladder (kSizeLadderDeg), at which at least
 // `required_share` of single-defect cases are attributed to the right shaft with the size within
-// tolerance. Returns 0 when no rung qualifies.
+// tolerance; the ladder stops at the first rung that fails. Returns 0 when no rung qualifies.
 double smallest_reliable_size(const diag::Gearbox& gb, AttributionLoopOptions options,
                               int cases_per_size, double required_share,
                               std::vector<std::pair<double, double>>* ladder = nullptr);

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -41,6 +42,9 @@ struct BearingLoopOptions {
   double fs_hz = 12000.0;          // sampling rate [Hz] (CWRU's fault records)
   double duration_s = 4.0;         // record length [s], > 0
   detect::BearingDiagnosisOptions detector;
+  // Called after each case, e.g. to show progress; empty: nothing. The results do not depend
+  // on it.
+  std::function<void()> on_case_done;
 
   void validate() const;  // throws diag::InputError naming the field
 };

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -64,6 +65,9 @@ struct GearDamageLoopOptions {
   // (GearDamageOptions::baseline). Doubles the simulation time.
   bool baseline = false;
   detect::GearDamageOptions detector;
+  // Called after each case, e.g. to show progress; empty: nothing. The results do not depend
+  // on it.
+  std::function<void()> on_case_done;
 
   void validate() const;  // throws diag::InputError naming the field
 };
