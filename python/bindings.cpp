@@ -19,7 +19,6 @@
 
 #include "channel_options.hpp"
 #include "detect/analysis/analyze.hpp"
-#include "detect/analysis/curves.hpp"
 #include "detect/angular/order_spectrum.hpp"
 #include "detect/angular/resample.hpp"
 #include "detect/angular/tsa.hpp"
@@ -37,6 +36,8 @@
 #include "diag/io/import.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/io/truth.hpp"
+#include "report/curves.hpp"
+#include "report/report.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
@@ -603,9 +604,9 @@ PYBIND11_MODULE(_geardiag, m) {
           Release nogil;
           r = detect::analyze_recording(rec, gb ? &*gb : nullptr, o);
           r.notes.insert(r.notes.begin(), notes.begin(), notes.end());
-          curves = detect::analysis_curves(r);
+          curves = report::analysis_curves(r);
         }
-        return py::make_tuple(json_to_py(detect::to_json(r)), curves_py(std::move(curves)));
+        return py::make_tuple(json_to_py(report::to_json(r)), curves_py(std::move(curves)));
       },
       py::arg("source"), py::arg("gearbox") = py::none(), py::arg("fs_hz") = py::none(),
       py::arg("rpm") = 0.0, py::arg("channel_map") = "",

@@ -1,15 +1,14 @@
-// analyze's JSON report writer (to_json, analyze.hpp; the keys are the README's).
+// analyze's JSON report writer (to_json, report.hpp; the keys are the README's).
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "detect/gear/bearing_diagnosis.hpp"
 #include "detect/gear/gear_damage.hpp"
-#include "stages.hpp"
+#include "report/report.hpp"
 
-namespace detect {
+namespace report {
 
-using analysis_stages::fmt;
-using analysis_stages::joined;
+using namespace detect;
 
 namespace {
 
@@ -303,4 +302,4 @@ nlohmann::json to_json(const AnalysisResult& r) {
   return j;
 }
 
-}  // namespace detect
+}  // namespace report
