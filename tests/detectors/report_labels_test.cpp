@@ -1,4 +1,4 @@
-// The reports name a channel by what it is wherever they name it (channel_label, report/report.hpp):
+// The reports name a channel by what it is wherever they name it (channel_label, report.hpp):
 // the channel sections, the findings' "best seen on" (a link to the channel's section when it has
 // one), the indicator table and the terminal summary; every in-page link of the HTML report
 // resolves to an id. A short synthetic recording of two accelerometers, one given a section
