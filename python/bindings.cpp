@@ -20,8 +20,6 @@
 
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/analyze_file.hpp"
-#include "detect/analysis/curves.hpp"
-#include "detect/analysis/html_report.hpp"
 #include "detect/angular/order_spectrum.hpp"
 #include "detect/angular/resample.hpp"
 #include "detect/angular/tsa.hpp"
@@ -39,6 +37,9 @@
 #include "diag/io/json_fields.hpp"
 #include "diag/io/open_recording.hpp"
 #include "diag/io/truth.hpp"
+#include "report/curves.hpp"
+#include "report/html_report.hpp"
+#include "report/report.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
@@ -607,17 +608,17 @@ PYBIND11_MODULE(_geardiag, m) {
         {
           Release nogil;
           a = detect::analyze_file(request);
-          curves = detect::analysis_curves(a.result);
+          curves = report::analysis_curves(a.result);
           if (html) {
-            detect::HtmlReportOptions ho;
+            report::HtmlReportOptions ho;
             ho.source = request.recording.path.filename().string();
             ho.title = "geardiag analysis" + (ho.source.empty() ? "" : ": " + ho.source);
-            page = detect::render_html_report(a.result, ho);
+            page = report::render_html_report(a.result, ho);
           }
         }
-        py::dict report = json_to_py(detect::to_json(a.result));
-        if (html) report["html"] = page;
-        return py::make_tuple(report, curves_py(std::move(curves)));
+        py::dict result = json_to_py(report::to_json(a.result));
+        if (html) result["html"] = page;
+        return py::make_tuple(result, curves_py(std::move(curves)));
       },
       py::arg("source"), py::arg("gearbox") = py::none(), py::arg("fs_hz") = py::none(),
       py::arg("rpm") = 0.0, py::arg("channel_map") = "",

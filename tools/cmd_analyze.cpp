@@ -19,12 +19,13 @@
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/analyze_file.hpp"
-#include "detect/analysis/curves.hpp"
-#include "detect/analysis/html_report.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/data_groups.hpp"
 #include "output.hpp"
+#include "report/curves.hpp"
+#include "report/html_report.hpp"
+#include "report/report.hpp"
 
 namespace po = boost::program_options;
 
@@ -174,16 +175,16 @@ int cmd_analyze(int argc, char** argv) {
   const detect::AnalysisResult& r = analysis.result;
   // stdout carries nothing but a report sent there, so that it stays valid JSON or HTML.
   (json_stdout || html_stdout || curves_stdout ? std::cerr : std::cout)
-      << detect::format_summary(r);
-  if (!json_out.empty()) write_output(json_out, detect::to_json(r).dump(2) + "\n", "--json");
+      << report::format_summary(r);
+  if (!json_out.empty()) write_output(json_out, report::to_json(r).dump(2) + "\n", "--json");
   if (!html_out.empty()) {
-    detect::HtmlReportOptions ho;
+    report::HtmlReportOptions ho;
     ho.source = path.filename().string();
     ho.title = "geardiag analysis: " + path.filename().string();
-    write_output(html_out, detect::render_html_report(r, ho), "--html");
+    write_output(html_out, report::render_html_report(r, ho), "--html");
   }
   if (!curves_out.empty()) {
-    diag::write_data_groups(curves_out, detect::analysis_curves(r),
+    diag::write_data_groups(curves_out, report::analysis_curves(r),
                             {{"source", path.filename().string()}}, "--curves");
   }
   const bool alarm = r.baseline && r.baseline->alarm;

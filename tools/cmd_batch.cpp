@@ -24,12 +24,12 @@
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/analyze_file.hpp"
-#include "detect/analysis/svg_plot.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/open_recording.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
+#include "report/svg_plot.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -218,18 +218,18 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
       }
     }
     if (x.empty()) {
-      html << "<h2>" << detect::html_escape(title) << "</h2><p>no value in any recording</p>";
+      html << "<h2>" << report::html_escape(title) << "</h2><p>no value in any recording</p>";
       return;
     }
-    std::vector<detect::PlotSeries> series = {{x, y, title, "#1f77b4"}};
+    std::vector<report::PlotSeries> series = {{x, y, title, "#1f77b4"}};
     std::vector<double> tx = {x.front(), x.back() == x.front() ? x.front() + 1 : x.back()};
     std::vector<double> ty = {threshold, threshold};
     if (std::isfinite(threshold)) series.push_back({tx, ty, "alarm threshold", "#d62728"});
-    detect::PlotOptions po;
+    report::PlotOptions po;
     po.title = title;
     po.x_label = "recording";
     po.y_label = title;
-    html << "<h2>" << detect::html_escape(title) << "</h2>" << detect::svg_line_plot(series, po);
+    html << "<h2>" << report::html_escape(title) << "</h2>" << report::svg_line_plot(series, po);
   };
   for (const std::string& name : chosen) {
     plot(

@@ -10,12 +10,13 @@
 
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
-#include "detect/analysis/html_report.hpp"
 #include "detect/attribution/period_matcher.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/units.hpp"
 #include "output.hpp"
+#include "report/html_report.hpp"
+#include "report/report.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
 
@@ -113,7 +114,7 @@ int cmd_demo(int argc, char** argv) {
   // The description at the speed the run was made at (the recording says it), as analyze does.
   const diag::Gearbox at_speed = gb.with_input_speed_rpm(rec.speed_rpm);
   const detect::AnalysisResult a2 = detect::analyze_recording(rec, &at_speed, aopt);
-  std::cout << detect::format_summary(a2);
+  std::cout << report::format_summary(a2);
   // Which shaft carries the damaged gear: analyze's damaged-shaft locator (TSA per shaft,
   // validated in the closed loop), against the truth.
   std::cout << "\ntruth: root crack on z2, shaft 'counter'; the damaged-shaft locator says: "
@@ -122,7 +123,7 @@ int cmd_demo(int argc, char** argv) {
     for (const auto& f : a2.gear_damage->findings) std::cout << " '" << f.shaft << "'";
   }
   std::cout << "\n";
-  write_output(report, detect::render_html_report(a2), "--report");
+  write_output(report, report::render_html_report(a2), "--report");
   std::cout << "\nreport: " << report << "\n";
   return 0;
 }

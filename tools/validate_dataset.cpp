@@ -22,11 +22,11 @@
 
 #include "cli_options.hpp"
 #include "detect/analysis/analyze_file.hpp"
-#include "detect/analysis/svg_plot.hpp"
 #include "diag/error.hpp"
 #include "diag/io/open_recording.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
+#include "report/svg_plot.hpp"
 #include "validate_kinematic.hpp"
 
 namespace po = boost::program_options;
@@ -78,14 +78,14 @@ std::string html_report(const json& rep) {
        "</title><style>body{font-family:sans-serif;margin:2em}td,th{border:1px solid #ccc;"
        "padding:3px 8px}table{border-collapse:collapse}</style></head><body>"
        "<h1>Detectability map: "
-    << detect::html_escape(rep["dataset"].get<std::string>()) << "</h1>";
+    << report::html_escape(rep["dataset"].get<std::string>()) << "</h1>";
   h << "<h2>Confusion matrix (true class x shaft named by the gear-damage locator)</h2><table>"
        "<tr><th>class</th>";
   for (const auto& col : rep["columns"])
-    h << "<th>" << detect::html_escape(col.get<std::string>()) << "</th>";
+    h << "<th>" << report::html_escape(col.get<std::string>()) << "</th>";
   h << "<th>detected</th><th>located</th></tr>";
   for (const auto& [cls, row] : rep["classes"].items()) {
-    h << "<tr><td>" << detect::html_escape(cls) << "</td>";
+    h << "<tr><td>" << report::html_escape(cls) << "</td>";
     for (const auto& col : rep["columns"])
       h << "<td>" << row["predicted"].value(col.get<std::string>(), 0) << "</td>";
     h << "<td>" << row["detected"] << " / " << row["recordings"] << "</td><td>" << row["located"]

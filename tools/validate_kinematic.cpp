@@ -21,7 +21,6 @@
 #include <set>
 #include <sstream>
 
-#include "detect/analysis/svg_plot.hpp"
 #include "detect/attribution/period_matcher.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -29,6 +28,7 @@
 #include "diag/units.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
+#include "report/svg_plot.hpp"
 #include "validate_dataset.hpp"
 
 namespace fs = std::filesystem;
@@ -160,9 +160,9 @@ int validate_kinematic_dataset(const std::string& dir, std::vector<json>& rows,
     write_output(html_out,
                  "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>geardiag validate "
                  "--dataset</title></head><body><h1>Attribution of a kinematic dataset: " +
-                     detect::html_escape(dir) + "</h1><p>" +
-                     detect::html_escape(rep["decision"].get<std::string>()) + "</p><pre>" +
-                     detect::html_escape(table.str()) + "</pre></body></html>\n",
+                     report::html_escape(dir) + "</h1><p>" +
+                     report::html_escape(rep["decision"].get<std::string>()) + "</p><pre>" +
+                     report::html_escape(table.str()) + "</pre></body></html>\n",
                  "--html");
   }
   return 0;

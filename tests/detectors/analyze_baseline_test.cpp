@@ -14,9 +14,10 @@
 #include <vector>
 
 #include "detect/analysis/analyze.hpp"
-#include "detect/analysis/html_report.hpp"
 #include "detect/baseline/baseline.hpp"
 #include "diag/error.hpp"
+#include "report/html_report.hpp"
+#include "report/report.hpp"
 
 namespace {
 
@@ -279,9 +280,9 @@ TEST(BaselineComparison, ShortBaselineRecordingsAreCutIntoFewerPartsWithANote) {
 TEST(BaselineComparison, AnalysisJsonHasAnomalyScoreAndAlarmAtTopLevelAndHtmlTheTable) {
   const auto rec = gearbox_recording({10.5, 1.1}, 54, kToothImpact);
   auto r = detect::analyze_recording(rec, nullptr);
-  EXPECT_FALSE(detect::to_json(r).contains("anomaly_score"));
+  EXPECT_FALSE(report::to_json(r).contains("anomaly_score"));
   r.baseline = detect::score_against_baseline(rec, baseline());
-  const auto j = detect::to_json(r);
+  const auto j = report::to_json(r);
   ASSERT_TRUE(j.contains("anomaly_score"));
   EXPECT_EQ(j["anomaly_score"].get<double>(), r.baseline->anomaly_score);
   EXPECT_EQ(j["alarm"].get<bool>(), true);
@@ -292,7 +293,7 @@ TEST(BaselineComparison, AnalysisJsonHasAnomalyScoreAndAlarmAtTopLevelAndHtmlThe
   EXPECT_EQ(j["baseline"]["samples"], 72);
   EXPECT_EQ(j["baseline"]["channels"].size(), 2u);
   EXPECT_EQ(j["baseline"]["recordings"].size(), 9u);
-  const std::string h = detect::render_html_report(r);
+  const std::string h = report::render_html_report(r);
   EXPECT_NE(h.find("Against the baseline"), std::string::npos);
   EXPECT_NE(h.find(r.baseline->deviations.front().feature), std::string::npos);
   EXPECT_NE(h.find("ALARM"), std::string::npos);
@@ -304,7 +305,7 @@ TEST(BaselineComparison, AnalysisJsonHasAnomalyScoreAndAlarmAtTopLevelAndHtmlThe
   const std::size_t fs = h.find("id=findings");
   ASSERT_NE(fs, std::string::npos);
   EXPECT_LT(h.find("ALARM", fs), h.find("id=indicators"));
-  EXPECT_NE(detect::format_summary(r).find("ALARM"), std::string::npos);
+  EXPECT_NE(report::format_summary(r).find("ALARM"), std::string::npos);
 }
 
 }  // namespace

@@ -10,10 +10,11 @@
 #include <string>
 
 #include "detect/analysis/analyze.hpp"
-#include "detect/analysis/html_report.hpp"
 #include "detect/gear/bearing_diagnosis.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/import.hpp"
+#include "report/html_report.hpp"
+#include "report/report.hpp"
 
 namespace {
 
@@ -63,14 +64,14 @@ std::vector<detect::Finding> bearing_findings(const CwruAnalysis& r) {
 // relative) and the channel that shows it best.
 void expect_fault(const CwruAnalysis& r, const std::string& fault, double multiple) {
   const auto f = bearing_findings(r);
-  ASSERT_EQ(f.size(), 1u) << detect::to_json(r.result)["findings"].dump(1);
+  ASSERT_EQ(f.size(), 1u) << report::to_json(r.result)["findings"].dump(1);
   EXPECT_EQ(f[0].bearing, "drive_end");
   EXPECT_EQ(diag::to_string(f[0].fault), fault);
   EXPECT_EQ(f[0].shaft, "input");
   constexpr double kTableRelTol = 1e-4;
   EXPECT_NEAR(f[0].frequency_hz, multiple * r.shaft_hz, multiple * r.shaft_hz * kTableRelTol);
   EXPECT_EQ(f[0].channel, r.de);
-  const auto j = detect::to_json(r.result);
+  const auto j = report::to_json(r.result);
   bool in_json = false;
   for (const auto& x : j["findings"]) {
     if (x["kind"] != "bearing") continue;
@@ -119,7 +120,7 @@ TEST_F(AnalyzeCwru, OuterRaceFaultFileGivesAnOuterRaceFinding) {
 // highest harmonic scored.
 TEST_F(AnalyzeCwru, ReportNamesTheChannelsAndDrawsTheDecisionsEnvelope) {
   const CwruAnalysis r = analyse("IR007_0.mat", 12000.0);
-  std::string html = detect::render_html_report(r.result);
+  std::string html = report::render_html_report(r.result);
   EXPECT_NE(html.find("drive end vibration sensor (" + r.de + ")"), std::string::npos);
   EXPECT_NE(html.find("fan end vibration sensor ("), std::string::npos);
   EXPECT_NE(html.find("Envelope spectrum the bearing decision read"), std::string::npos);
@@ -148,7 +149,7 @@ TEST_F(AnalyzeCwru, ReportNamesTheChannelsAndDrawsTheDecisionsEnvelope) {
 
 TEST_F(AnalyzeCwru, HealthyBearingGivesNoBearingFinding) {
   const CwruAnalysis r = analyse("normal_0.mat", 48000.0);
-  EXPECT_TRUE(bearing_findings(r).empty()) << detect::to_json(r.result)["findings"].dump(1);
+  EXPECT_TRUE(bearing_findings(r).empty()) << report::to_json(r.result)["findings"].dump(1);
 }
 
 // The hard case (Smith & Randall 2015): a finding is allowed only when it names the right fault.
@@ -169,7 +170,7 @@ TEST_F(AnalyzeCwru, BallFaultFileGivesRollingElementOrNothingNeverAnotherFault) 
       for (const auto& x : j) scan(x);
     }
   };
-  scan(detect::to_json(r.result));
+  scan(report::to_json(r.result));
   EXPECT_GT(named, 0);
 }
 

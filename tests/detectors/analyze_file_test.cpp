@@ -21,6 +21,7 @@
 #include "diag/io/channel_setup.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/open_recording.hpp"
+#include "report/report.hpp"
 
 namespace {
 
@@ -111,7 +112,7 @@ TEST_F(AnalyzeFile, GivesWhatItsStepsGiveOneByOne) {
   expected.baseline = detect::score_against_baseline(r, hs, {}, names);
   detect::wear_against_baseline(expected, r, at, hs, o, names);
 
-  EXPECT_EQ(detect::to_json(a.result).dump(), detect::to_json(expected).dump());
+  EXPECT_EQ(report::to_json(a.result).dump(), report::to_json(expected).dump());
   // The speed note and the tacho are in the report: nothing of the setup is dropped.
   ASSERT_FALSE(a.result.notes.empty());
   EXPECT_NE(a.result.notes.front().find("1510 rpm from --rpm"), std::string::npos);
@@ -123,7 +124,7 @@ TEST_F(AnalyzeFile, GivesWhatItsStepsGiveOneByOne) {
   m.recording = detect::RecordingInput(std::make_shared<const diag::Recording>(rec), file);
   const detect::FileAnalysis b = detect::analyze_file(m);
   EXPECT_EQ(b.format, "memory");
-  EXPECT_EQ(detect::to_json(b.result).dump(), detect::to_json(a.result).dump());
+  EXPECT_EQ(report::to_json(b.result).dump(), report::to_json(a.result).dump());
 }
 
 TEST_F(AnalyzeFile, ALongRecordingIsReadInPartWithTheMeansOverTheWholeFile) {

@@ -13,12 +13,13 @@
 #include <random>
 #include <set>
 
-#include "detect/analysis/html_report.hpp"
-#include "detect/analysis/svg_plot.hpp"
 #include "detect/indicators/indicators.hpp"
 #include "detect/spectral/fft.hpp"
 #include "detect/spectral/spectrum.hpp"
 #include "diag/error.hpp"
+#include "report/html_report.hpp"
+#include "report/report.hpp"
+#include "report/svg_plot.hpp"
 
 namespace {
 
@@ -184,7 +185,7 @@ TEST(Analyze, ChannelsWithoutADirectionBesideSensorsDoNotVote) {
   EXPECT_NE(vote.find(" of 2 channels (best bearing1_along_loa"), std::string::npos) << vote;
   EXPECT_EQ(vote.find("e+0"), std::string::npos) << vote;
   for (const auto& x : r.findings) EXPECT_NE(x.channel, "a_b_force");
-  EXPECT_EQ(detect::to_json(r)["channels"][2]["sensor"], false);
+  EXPECT_EQ(report::to_json(r)["channels"][2]["sensor"], false);
 }
 
 // Imported measurements carry no direction: every vibration channel is a sensor and votes.
@@ -307,7 +308,7 @@ TEST(Analyze, OuterRaceImpactsAtBpfoAreReportedAsABearingFinding) {
 
 TEST(Analyze, JsonKeysAreStable) {
   const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
-  const auto j = detect::to_json(r);
+  const auto j = report::to_json(r);
   for (const char* k : {"format", "format_version", "gearbox", "input_shaft", "duration_s",
                         "shafts", "meshes", "channels", "two_direction", "findings", "notes"}) {
     EXPECT_TRUE(j.contains(k)) << k;
@@ -345,7 +346,7 @@ TEST(Analyze, JsonKeysAreStable) {
   gf.confidence = 0.5;
   gf.note = "a tooth of a stands out";
   with_finding.findings.push_back(gf);
-  const auto f = detect::to_json(with_finding)["findings"].at(0);
+  const auto f = report::to_json(with_finding)["findings"].at(0);
   for (const char* k :
        {"kind", "fault", "shaft", "gears", "frequency_hz", "channel", "confidence", "note"}) {
     EXPECT_TRUE(f.contains(k)) << k;
@@ -357,7 +358,7 @@ TEST(Analyze, JsonKeysAreStable) {
   // Same input, same bytes.
   EXPECT_EQ(
       j.dump(),
-      detect::to_json(detect::analyze_recording(pair_recording(kInputHz), &gearbox())).dump());
+      report::to_json(detect::analyze_recording(pair_recording(kInputHz), &gearbox())).dump());
 }
 
 TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
@@ -368,8 +369,8 @@ TEST(Analyze, ResultDoesNotDependOnTheThreadCount) {
   detect::AnalyzeOptions one, four;
   one.threads = 1;
   four.threads = 4;
-  EXPECT_EQ(detect::to_json(detect::analyze_recording(rec, &gearbox(), one)).dump(),
-            detect::to_json(detect::analyze_recording(rec, &gearbox(), four)).dump());
+  EXPECT_EQ(report::to_json(detect::analyze_recording(rec, &gearbox(), one)).dump(),
+            report::to_json(detect::analyze_recording(rec, &gearbox(), four)).dump());
 }
 
 // A record whose length has a large prime factor (here prime: 20011 samples) is transformed
@@ -404,7 +405,7 @@ TEST(Analyze, WithoutTracesTheReportIsTheSameAndThePlotCurvesAreEmpty) {
   without.traces = false;
   const auto a = detect::analyze_recording(rec, &gearbox(), with);
   const auto b = detect::analyze_recording(rec, &gearbox(), without);
-  EXPECT_EQ(detect::to_json(a).dump(), detect::to_json(b).dump());
+  EXPECT_EQ(report::to_json(a).dump(), report::to_json(b).dump());
   ASSERT_EQ(a.channels.size(), b.channels.size());
   std::size_t spectra = 0;
   for (std::size_t i = 0; i < a.channels.size(); ++i) {
@@ -436,7 +437,7 @@ TEST(Analyze, TimingGivesEachChannelStagesCpuAndIsAbsentOtherwise) {
   detect::AnalyzeOptions opt;
   opt.threads = 1;
   EXPECT_FALSE(
-      detect::to_json(detect::analyze_recording(rec, &gearbox(), opt)).contains("timing_s"));
+      report::to_json(detect::analyze_recording(rec, &gearbox(), opt)).contains("timing_s"));
   opt.timing = true;
   const detect::AnalysisResult r = detect::analyze_recording(rec, &gearbox(), opt);
   double sum = 0;
@@ -456,7 +457,7 @@ TEST(Analyze, TimingGivesEachChannelStagesCpuAndIsAbsentOtherwise) {
 
 TEST(Analyze, HtmlReportIsOneSelfContainedDocument) {
   const auto r = detect::analyze_recording(pair_recording(kInputHz), &gearbox());
-  const std::string h = detect::render_html_report(r);
+  const std::string h = report::render_html_report(r);
   EXPECT_EQ(h.rfind("<!DOCTYPE html>", 0), 0u);
   EXPECT_NE(h.find("</html>"), std::string::npos);
   EXPECT_EQ(h.find("<script"), std::string::npos);
@@ -492,7 +493,7 @@ TEST(Analyze, SpectrogramShowsWhenAToneStartsOnABoundedGrid) {
   const std::size_t bins = sg.frequency_hz.size();
   EXPECT_GT(sg.psd_db[200 * bins + 32] - sg.psd_db[20 * bins + 32], 60.0);
   EXPECT_NEAR(sg.time_s.back(), (n - 0.5 * n / detect::kSpectrogramColumns) / fs, 1e-3);
-  const std::string h = detect::render_html_report(r);
+  const std::string h = report::render_html_report(r);
   EXPECT_NE(h.find("Spectrogram"), std::string::npos);
   EXPECT_NE(h.find("data:image/png;base64,iVBORw0KGgo"), std::string::npos);  // PNG signature
 }
@@ -579,7 +580,7 @@ TEST(SvgPlot, DecimationTakesTheFirstExtremesOfEachBucket) {
 }
 
 TEST(SvgPlot, NiceTicksAreOneTwoFiveSteps) {
-  const auto t = detect::nice_ticks(0, 97, 5);
+  const auto t = report::nice_ticks(0, 97, 5);
   ASSERT_FALSE(t.empty());
   EXPECT_EQ(t.front(), 0.0);
   EXPECT_NEAR(t[1] - t[0], 20.0, 1e-12);

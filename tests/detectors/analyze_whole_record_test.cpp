@@ -19,6 +19,7 @@
 #include "detect/analysis/analyze.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/recording.hpp"
+#include "report/report.hpp"
 
 namespace {
 
@@ -119,8 +120,8 @@ TEST_F(WholeRecord, IndicatorsAndPsdCoverTheWholeFile) {
   // segment count over the whole file is then set from the Welch layout, and the envelope
   // spectra are still averaged over the blocks.
   opt.traces = false;
-  EXPECT_EQ(detect::to_json(detect::analyze_recording(excerpt, nullptr, opt)).dump(),
-            detect::to_json(streamed).dump());
+  EXPECT_EQ(report::to_json(detect::analyze_recording(excerpt, nullptr, opt)).dump(),
+            report::to_json(streamed).dump());
 }
 
 // A recording read whole is left as it is (the stage finds nothing beyond what is held).

@@ -1,4 +1,4 @@
-// The reports name a channel by what it is wherever they name it (channel_label, analyze.hpp):
+// The reports name a channel by what it is wherever they name it (channel_label, report.hpp):
 // the channel sections, the findings' "best seen on" (a link to the channel's section when it has
 // one), the indicator table and the terminal summary; every in-page link of the HTML report
 // resolves to an id. A short synthetic recording of two accelerometers, one given a section
@@ -14,7 +14,8 @@
 #include <vector>
 
 #include "detect/analysis/analyze.hpp"
-#include "detect/analysis/html_report.hpp"
+#include "report/html_report.hpp"
+#include "report/report.hpp"
 
 namespace {
 
@@ -52,9 +53,9 @@ const Reports& reports() {
     a.findings.push_back(f);
     f.channel = "X105_FE_time";  // a channel without a section: named, not linked
     a.findings.push_back(f);
-    detect::HtmlReportOptions opt;
+    report::HtmlReportOptions opt;
     opt.max_channel_sections = 1;
-    return Reports{detect::render_html_report(a, opt), detect::format_summary(a)};
+    return Reports{report::render_html_report(a, opt), report::format_summary(a)};
   }();
   return r;
 }

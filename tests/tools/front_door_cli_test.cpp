@@ -12,6 +12,7 @@
 #include "cli_run.hpp"
 #include "detect/analysis/analyze_file.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "report/report.hpp"
 
 namespace {
 
@@ -63,7 +64,7 @@ TEST(FrontDoor, AnalyzeCliWritesTheLibrarysResult) {
   q.options.traces = false;  // the CLI computes the plot curves only for --html / --curves
   const detect::FileAnalysis a = detect::analyze_file(q);
   EXPECT_TRUE(a.cut);
-  EXPECT_EQ(slurp(js), detect::to_json(a.result).dump(2) + "\n");
+  EXPECT_EQ(slurp(js), report::to_json(a.result).dump(2) + "\n");
   // The gear baseline and the anomaly score went through: the door dropped nothing.
   const auto j = nlohmann::json::parse(slurp(js));
   EXPECT_TRUE(j.contains("anomaly_score") && j.contains("baseline"));

@@ -12,6 +12,7 @@
 
 #include "detect/analysis/analyze.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "report/report.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "two_stage_case.hpp"
 
@@ -51,12 +52,12 @@ TEST(AnalyzeGearDamage, AChippedCounterGearIsAFindingOnTheCounterShaft) {
   EXPECT_EQ(r.gear_damage_angles, "tacho");
   EXPECT_EQ(r.gear_damage->status, "damaged");
   const auto found = of_kind(r, "gear_damage");
-  ASSERT_EQ(found.size(), 1u) << detect::to_json(r)["gear_damage"].dump(1);
+  ASSERT_EQ(found.size(), 1u) << report::to_json(r)["gear_damage"].dump(1);
   EXPECT_EQ(found[0].shaft, "counter");
   EXPECT_EQ(found[0].gears, (std::vector<std::string>{"z2", "z3"}));
   EXPECT_GT(found[0].confidence, 0.0);
   // The JSON carries the locator's per-shaft table and the finding in the common shape.
-  const nlohmann::json j = detect::to_json(r);
+  const nlohmann::json j = report::to_json(r);
   EXPECT_EQ(j["gear_damage"]["status"], "damaged");
   EXPECT_EQ(j["gear_damage"]["angles"], "tacho");
   EXPECT_EQ(j["gear_damage"]["shafts"].size(), 3u);
@@ -71,7 +72,7 @@ TEST(AnalyzeGearDamage, AHealthyGearboxHasNoGearDamageFinding) {
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r = detect::analyze_recording(simulate(gb, ""), &gb);
   ASSERT_TRUE(r.gear_damage.has_value());
-  EXPECT_EQ(r.gear_damage->status, "healthy") << detect::to_json(r)["gear_damage"].dump(1);
+  EXPECT_EQ(r.gear_damage->status, "healthy") << report::to_json(r)["gear_damage"].dump(1);
   EXPECT_TRUE(of_kind(r, "gear_damage").empty());
 }
 
@@ -89,7 +90,7 @@ TEST(AnalyzeGearDamage, WithoutTachoTheVibrationOrTheNominalSpeedServesASteadyRi
     EXPECT_EQ(r.gear_damage_angles, from_vibration ? "vibration" : "nominal");
     EXPECT_EQ(r.speed.source, r.gear_damage_angles);
     const auto found = of_kind(r, "gear_damage");
-    ASSERT_FALSE(found.empty()) << detect::to_json(r)["gear_damage"].dump(1);
+    ASSERT_FALSE(found.empty()) << report::to_json(r)["gear_damage"].dump(1);
     EXPECT_EQ(found[0].shaft, "output");
     EXPECT_NE(found[0].note.find(from_vibration ? "mesh line" : "nominal speed"),
               std::string::npos);
@@ -119,15 +120,15 @@ TEST(AnalyzeGearDamage, AWrongNominalSpeedGivesNoFindingRatherThanAWrongOne) {
       EXPECT_EQ(v.speed.source, "vibration");
       const auto found = of_kind(v, "gear_damage");
       if (rec == &faulty) {
-        ASSERT_EQ(found.size(), 1u) << "x " << off << detect::to_json(v)["gear_damage"].dump(1);
+        ASSERT_EQ(found.size(), 1u) << "x " << off << report::to_json(v)["gear_damage"].dump(1);
         EXPECT_EQ(found[0].shaft, "output");
       } else {
-        EXPECT_TRUE(found.empty()) << "x " << off << detect::to_json(v)["gear_damage"].dump(1);
+        EXPECT_TRUE(found.empty()) << "x " << off << report::to_json(v)["gear_damage"].dump(1);
       }
       const auto r = detect::analyze_recording(*rec, &nominal, nominal_only);
       ASSERT_TRUE(r.gear_damage.has_value());
       EXPECT_TRUE(of_kind(r, "gear_damage").empty())
-          << "speed x " << off << ": " << detect::to_json(r)["gear_damage"].dump(1);
+          << "speed x " << off << ": " << report::to_json(r)["gear_damage"].dump(1);
       // Smeared: the averages hold less than noise alone would leave (SNR 0.01-0.4 here).
       for (const auto& s : r.gear_damage->shafts) EXPECT_LT(s.snr, 1.0) << s.shaft << " x " << off;
     }
@@ -156,8 +157,8 @@ TEST(AnalyzeGearDamage, AHealthyBaselineOfTheSameGearsIsComparedAndFused) {
       detect::analyze_recording(record(two_stage_case::chip("z3"), 5), &gb, opt);
   ASSERT_TRUE(faulty.gear_damage.has_value());
   const auto found = of_kind(faulty, "gear_damage");
-  ASSERT_FALSE(found.empty()) << detect::to_json(faulty)["gear_damage"].dump(1);
-  EXPECT_EQ(found[0].shaft, "counter") << detect::to_json(faulty)["gear_damage"].dump(1);
+  ASSERT_FALSE(found.empty()) << report::to_json(faulty)["gear_damage"].dump(1);
+  EXPECT_EQ(found[0].shaft, "counter") << report::to_json(faulty)["gear_damage"].dump(1);
   for (const auto& s : faulty.gear_damage->shafts) {
     EXPECT_TRUE(s.compared) << s.shaft;
     EXPECT_TRUE(std::isfinite(s.score_alone)) << s.shaft;
@@ -167,7 +168,7 @@ TEST(AnalyzeGearDamage, AHealthyBaselineOfTheSameGearsIsComparedAndFused) {
       detect::analyze_recording(record(std::nullopt, 5), &gb, opt);
   ASSERT_TRUE(healthy.gear_damage.has_value());
   EXPECT_EQ(healthy.gear_damage->status, "healthy")
-      << detect::to_json(healthy)["gear_damage"].dump(1);
+      << report::to_json(healthy)["gear_damage"].dump(1);
   EXPECT_TRUE(of_kind(healthy, "gear_damage").empty());
 }
 

@@ -18,6 +18,7 @@
 
 #include "detect/analysis/analyze.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "report/report.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "two_stage_case.hpp"
 
@@ -70,7 +71,7 @@ void expect_ramp_followed(const detect::AnalysisResult& r, const std::string& so
   EXPECT_EQ(r.speed.source, source);
   EXPECT_FALSE(r.speed.stationary);
   EXPECT_EQ(r.speed.spectra_domain, "order");
-  const nlohmann::json j = detect::to_json(r)["speed"];
+  const nlohmann::json j = report::to_json(r)["speed"];
   ASSERT_TRUE(j.contains("time_s") && j.contains("rpm")) << j.dump();
   const auto& rpm = j["rpm"];
   ASSERT_GE(rpm.size(), 20u);
@@ -113,7 +114,7 @@ TEST(AnalyzeRunUp, AChippedCounterGearWithTheTachoIsOnTheCounterShaft) {
   expect_ramp_followed(r, "tacho");
   expect_lines_on_mesh_orders(r);
   const auto found = of_kind(r, "gear_damage");
-  ASSERT_EQ(found.size(), 1u) << detect::to_json(r)["gear_damage"].dump(1);
+  ASSERT_EQ(found.size(), 1u) << report::to_json(r)["gear_damage"].dump(1);
   EXPECT_EQ(found[0].shaft, "counter");
 }
 
@@ -122,7 +123,7 @@ TEST(AnalyzeRunUp, AChippedCounterGearWithoutTheTachoIsOnTheCounterShaft) {
   expect_ramp_followed(r, "vibration");
   expect_lines_on_mesh_orders(r);
   const auto found = of_kind(r, "gear_damage");
-  ASSERT_EQ(found.size(), 1u) << detect::to_json(r)["gear_damage"].dump(1);
+  ASSERT_EQ(found.size(), 1u) << report::to_json(r)["gear_damage"].dump(1);
   EXPECT_EQ(found[0].shaft, "counter");
 }
 
@@ -144,8 +145,8 @@ std::set<std::pair<std::string, std::string>> sideband_votes(const detect::Analy
 
 // No gear finding on a healthy run-up (ideal gears: no sideband vote passes either).
 void expect_no_gear_finding(const detect::AnalysisResult& r) {
-  EXPECT_TRUE(of_kind(r, "gear_damage").empty()) << detect::to_json(r)["gear_damage"].dump(1);
-  EXPECT_TRUE(sideband_votes(r).empty()) << detect::to_json(r)["notes"].dump(1);
+  EXPECT_TRUE(of_kind(r, "gear_damage").empty()) << report::to_json(r)["gear_damage"].dump(1);
+  EXPECT_TRUE(sideband_votes(r).empty()) << report::to_json(r)["notes"].dump(1);
 }
 
 TEST(AnalyzeRunUp, AHealthyRunUpWithTheTachoHasNoGearFinding) {
@@ -181,17 +182,17 @@ TEST(AnalyzeRunUp, AGrade6RunUpReadsTheSidebandsOfTheSteadyRecord) {
   EXPECT_TRUE(steady.speed.stationary);
   const auto expected = sideband_votes(steady);
   EXPECT_FALSE(expected.empty());  // the pitch errors' modulation is there to be read
-  EXPECT_EQ(sideband_votes(run_up), expected) << detect::to_json(run_up)["notes"].dump(1);
+  EXPECT_EQ(sideband_votes(run_up), expected) << report::to_json(run_up)["notes"].dump(1);
   // Healthy gears with ordinary manufacturing errors: no damage claimed, steady or run-up.
-  EXPECT_TRUE(of_kind(steady, "gear_damage").empty()) << detect::to_json(steady)["gear_damage"];
-  EXPECT_TRUE(of_kind(run_up, "gear_damage").empty()) << detect::to_json(run_up)["gear_damage"];
+  EXPECT_TRUE(of_kind(steady, "gear_damage").empty()) << report::to_json(steady)["gear_damage"];
+  EXPECT_TRUE(of_kind(run_up, "gear_damage").empty()) << report::to_json(run_up)["gear_damage"];
 }
 
 TEST(AnalyzeRunUp, TheSpeedFromTheVibrationFollowsAGrade6RunUpWithRunout) {
   const auto& r = analysed({"", kGrade6Runout, false});
   expect_ramp_followed(r, "vibration");
   expect_lines_on_mesh_orders(r);
-  EXPECT_TRUE(of_kind(r, "gear_damage").empty()) << detect::to_json(r)["gear_damage"];
+  EXPECT_TRUE(of_kind(r, "gear_damage").empty()) << report::to_json(r)["gear_damage"];
 }
 
 }  // namespace

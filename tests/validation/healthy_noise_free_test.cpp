@@ -16,6 +16,7 @@
 
 #include "detect/analysis/analyze.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "report/report.hpp"
 #include "sim/dynamics/simulate.hpp"
 
 namespace {
@@ -60,7 +61,7 @@ TEST(HealthyNoiseFree, AHealthyBoxWithoutNoiseHasNoSidebandFindingAndNoProminenc
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r = detect::analyze_recording(simulate(gb, 0.0, false), &gb);
   // No vote passes its quorum (the vote is never a finding: findings.cpp), and no finding.
-  EXPECT_TRUE(r.findings.empty()) << detect::to_json(r)["findings"].dump(1);
+  EXPECT_TRUE(r.findings.empty()) << report::to_json(r)["findings"].dump(1);
   for (const auto& n : r.notes) {
     const bool passed = n.rfind("sidebands of mesh", 0) == 0 && n.find(" in only ") == n.npos;
     EXPECT_FALSE(passed) << n;

@@ -12,6 +12,7 @@
 
 #include "detect/analysis/analyze.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "report/report.hpp"
 #include "sim/dynamics/simulate.hpp"
 #include "two_stage_case.hpp"
 
@@ -39,7 +40,7 @@ diag::Recording simulate_run_up(const diag::Gearbox& gb, Fault fault, const std:
 
 using two_stage_case::of_kind;
 
-void report(const std::string& what, const detect::AnalysisResult& r) {
+void print_run(const std::string& what, const detect::AnalysisResult& r) {
   std::cout << what << ": speed " << r.speed.min_rpm << "-" << r.speed.max_rpm << " rpm\n";
   if (!r.gear_damage) return;
   std::cout << " status " << r.gear_damage->status << ", note: " << r.gear_damage->note << "\n";
@@ -59,11 +60,11 @@ TEST(RunUp, AChippedCounterGearIsAFindingOnTheCounterShaft) {
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r =
       detect::analyze_recording(simulate_run_up(gb, Fault::kChip, "z3"), &gb);
-  report("chip z3", r);
+  print_run("chip z3", r);
   ASSERT_TRUE(r.gear_damage.has_value());
   EXPECT_FALSE(r.speed.stationary);
   const auto found = of_kind(r, "gear_damage");
-  ASSERT_EQ(found.size(), 1u) << detect::to_json(r)["gear_damage"].dump(1);
+  ASSERT_EQ(found.size(), 1u) << report::to_json(r)["gear_damage"].dump(1);
   EXPECT_EQ(found[0].shaft, "counter");
 }
 
@@ -77,10 +78,10 @@ TEST(RunUp, ACrackedCounterGearIsAFindingOnTheCounterShaft) {
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r =
       detect::analyze_recording(simulate_run_up(gb, Fault::kCrack, "z2"), &gb);
-  report("crack z2", r);
+  print_run("crack z2", r);
   ASSERT_TRUE(r.gear_damage.has_value());
   const auto found = of_kind(r, "gear_damage");
-  ASSERT_EQ(found.size(), 1u) << detect::to_json(r)["gear_damage"].dump(1);
+  ASSERT_EQ(found.size(), 1u) << report::to_json(r)["gear_damage"].dump(1);
   EXPECT_EQ(found[0].shaft, "counter");
 }
 
@@ -90,9 +91,9 @@ TEST(RunUp, AHealthyRunUpHasNoGearDamageFinding) {
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r =
       detect::analyze_recording(simulate_run_up(gb, Fault::kNone, ""), &gb);
-  report("healthy", r);
+  print_run("healthy", r);
   ASSERT_TRUE(r.gear_damage.has_value());
-  EXPECT_TRUE(of_kind(r, "gear_damage").empty()) << detect::to_json(r)["gear_damage"].dump(1);
+  EXPECT_TRUE(of_kind(r, "gear_damage").empty()) << report::to_json(r)["gear_damage"].dump(1);
 }
 
 // The other shafts' gears in the same run-up: the chip is put on its own shaft, never on another
@@ -107,9 +108,9 @@ TEST_P(RunUpOwnShaft, AChippedGearIsAFindingOnItsOwnShaft) {
   const diag::Gearbox gb = two_stage();
   const detect::AnalysisResult r =
       detect::analyze_recording(simulate_run_up(gb, Fault::kChip, GetParam().gear), &gb);
-  report("chip " + GetParam().gear, r);
+  print_run("chip " + GetParam().gear, r);
   const auto found = of_kind(r, "gear_damage");
-  ASSERT_EQ(found.size(), 1u) << detect::to_json(r)["gear_damage"].dump(1);
+  ASSERT_EQ(found.size(), 1u) << report::to_json(r)["gear_damage"].dump(1);
   EXPECT_EQ(found[0].shaft, GetParam().shaft);
 }
 

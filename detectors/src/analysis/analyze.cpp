@@ -1,16 +1,16 @@
-// analyze_recording: the stages of stages.hpp run in order (kinematics, angle plans, the
-// per-channel stages in parallel, two directions, the locator, findings), and the options'
-// checks and the plot decimation they share.
+// analyze_recording: the recording-level stages run in order from their table (kinematics,
+// angle plans, the channels, the whole record, two directions, the locator, findings), the
+// channels each through the table of channel stages (stages.hpp), in parallel; and the options'
+// checks and the plot decimation the stages share.
 #include "detect/analysis/analyze.hpp"
 
 #include <time.h>
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <iterator>
-#include <string_view>
+#include <span>
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
@@ -27,13 +27,6 @@ void require(bool ok, const std::string& field, const std::string& reason) {
   if (!ok) throw diag::InputError("analyze: " + field + ": " + reason);
 }
 
-// The per-channel stages, in order, as named in timing_s ("channel_cpu.<stage>").
-constexpr const char* kChannelStages[] = {"time",        "spectral_record", "spectra",
-                                          "spectrogram", "envelope",        "bearing",
-                                          "sidebands",   "order_spectrum",  "tsa"};
-constexpr std::size_t kChannelStageCount = std::size(kChannelStages);
-using ChannelStageCpu = std::array<double, kChannelStageCount>;
-
 // CPU time of the calling thread [s]: a channel's stages run on one worker thread, so this is
 // the stage's own CPU whatever the thread count.
 double thread_cpu_s() {
@@ -42,58 +35,23 @@ double thread_cpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-// Adds the CPU time since the previous lap to a stage's slot (AnalyzeOptions::timing only).
-class StageClock {
- public:
-  explicit StageClock(ChannelStageCpu* cpu) : cpu_(cpu), t0_(cpu ? thread_cpu_s() : 0.0) {}
-  void lap(std::size_t stage) {
-    if (!cpu_) return;
-    const double t = thread_cpu_s();
-    (*cpu_)[stage] += t - t0_;
-    t0_ = t;
-  }
-
- private:
-  ChannelStageCpu* cpu_;
-  double t0_;
-};
-
-// One channel through the per-channel stages. Channels are independent, so they run in parallel
-// (FFT plans are shared and thread-safe, fft.hpp) and each writes only its own slots: same bytes
-// whatever the thread count. `spectrum` keeps the channel's whole amplitude spectrum (the
-// two-direction stage reads it); `cpu` (null unless timed) gets each stage's CPU time.
+// One channel through the rows of kChannelStages whose needs it meets. Channels are independent,
+// so they run in parallel (FFT plans are shared and thread-safe, fft.hpp) and each writes only
+// its own slots: same bytes whatever the thread count. `spectrum` gets the channel's whole
+// amplitude spectrum (the two-direction stage reads it); `cpu` (empty unless timed) gets each
+// stage's CPU time, one slot per row of the table.
 ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords& ang,
-                                std::size_t ci, Spectrum& spectrum, ChannelStageCpu* cpu) {
-  const diag::Signal& sig = ctx.rec.signals[ci];
-  StageClock clock(cpu);
+                                std::size_t ci, Spectrum& spectrum, std::span<double> cpu) {
   ChannelAnalysis c;
-  time_stage(sig, ctx.sensor[ci], c);
-  clock.lap(0);
-  if (!c.vibration) return c;
-  if (sig.samples.size() < 64) {
-    c.notes.push_back("fewer than 64 samples: no spectra");
-    return c;
+  ChannelWork w{ctx, ang, ci, ctx.rec.signals[ci], c, {}, {}, {}};
+  for (std::size_t k = 0; k < std::size(kChannelStages); ++k) {
+    const ChannelStage& stage = kChannelStages[k];
+    if (!channel_needs_met(w, stage.needs)) continue;
+    const double t0 = cpu.empty() ? 0.0 : thread_cpu_s();
+    stage.run(w);
+    if (!cpu.empty()) cpu[k] += thread_cpu_s() - t0;
   }
-  SpectralRecord rec;
-  spectral_record(ctx, ang, ci, rec, c);
-  clock.lap(1);
-  const diag::Signal* spectral = rec.spectral();
-  if (!spectral) return c;  // the order domain without the channel at uniform angles
-  spectrum = spectra_stage(ctx, *spectral, c);
-  clock.lap(2);
-  if (ctx.opt.traces) spectrogram_stage(sig, c);  // only drawn
-  clock.lap(3);
-  const Spectrum env = envelope_stage(ctx, ang, rec, c);
-  clock.lap(4);
-  bearing_stage(ctx, *spectral, env, c);
-  clock.lap(5);
-  if (!ctx.gb) return c;
-  sideband_stage(ctx, spectrum, c);
-  clock.lap(6);
-  order_spectrum_stage(ctx, rec, c);
-  clock.lap(7);
-  tsa_stage(ctx, ang, ci, sig, c);
-  clock.lap(8);
+  spectrum = std::move(w.spectrum);
   return c;
 }
 
@@ -207,6 +165,139 @@ PlotTrace decimate_for_plot(std::span<const double> x, std::span<const double> y
   return t;
 }
 
+namespace {
+
+// What the recording-level stages share: the result being filled, the kinematics and the
+// context every later stage reads, the angle plans, and each channel's whole amplitude spectrum
+// (kept for the two-direction stage).
+struct RecordWork {
+  RecordWork(const diag::Recording& rec, const diag::Gearbox* gb, const AnalyzeOptions& opt,
+             AnalysisResult& result)
+      : r(result), ctx{rec, gb, opt, kin, result.meshes, -1, 0.0, 0.0, false, 0, {}, {}} {}
+  AnalysisResult& r;
+  ShaftKinematics kin;
+  AnalysisContext ctx;
+  AngularRecords ang;
+  std::vector<Spectrum> spectra;
+};
+
+enum RecordNeed : unsigned {
+  kWithGearbox = 1u << 0,         // a gearbox description
+  kWholeRecordingFile = 1u << 1,  // AnalyzeOptions::whole_recording names a file
+};
+
+// The shaft speeds and angles, the speed report, the meshes at the measured speed and what the
+// later stages derive from them (kinematics.hpp).
+void kinematics_stage(RecordWork& w) {
+  AnalysisContext& ctx = w.ctx;
+  AnalysisResult& r = w.r;
+  const diag::Gearbox& gb = *ctx.gb;
+  const AnalyzeOptions& opt = ctx.opt;
+  ShaftKinematics& kin = w.kin;
+  r.gearbox_name = gb.name();
+  kin = shaft_kinematics(ctx.rec, gb, r.duration_s, opt, r.notes);
+  refine_tsa_pulses(ctx.rec, gb, opt, kin, r.notes);
+  r.shafts = kin.speeds;
+  r.speed = kin.speed;
+  // At varying speed every spectrum of a channel is an order spectrum: the channel resampled
+  // at uniform angles of the input shaft and read as a record at the constant mean speed (its
+  // "sampling rate" samples_per_rev x mean input speed), so that a line of order q sits at
+  // q x the mean speed whatever the speed did (computed order tracking; Fyfe & Munck 1997,
+  // MSSP 11(2)). The envelope is demodulated in time first (a structural resonance is fixed
+  // in Hz, not in orders), then resampled (the envelope order spectrum; Borghesani, Ricci,
+  // Chatterton, Pennacchi 2013, MSSP 38(1)).
+  ctx.order_domain = !kin.speed.stationary;
+  r.speed.spectra_domain = ctx.order_domain ? "order" : "time";
+  if (ctx.order_domain) {
+    r.notes.push_back(
+        "the speed varies over the record (" + fmt(kin.speed.min_rpm, 5) + " to " +
+        fmt(kin.speed.max_rpm, 5) +
+        " rpm): spectra, sidebands and envelope spectra are computed in the order domain (the "
+        "signal resampled at uniform angles of the input shaft) and their frequencies stated at "
+        "the mean speed (order x mean shaft speed); the TSA and the damaged-shaft locator "
+        "follow the shaft angles");
+  }
+  ctx.input = gb.input_shaft();
+  r.input_shaft = gb.shafts()[static_cast<std::size_t>(ctx.input)].name;
+  ctx.input_hz = kin.speeds[static_cast<std::size_t>(ctx.input)].speed_hz;
+  const double scale = ctx.input_hz / gb.shaft_speed_hz(ctx.input);
+  for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
+    const diag::Mesh& m = gb.meshes()[j];
+    r.meshes.push_back({diag::mesh_name(gb, static_cast<int>(j)), gb.gears()[m.driver].name,
+                        gb.gears()[m.driven].name,
+                        gb.mesh_frequency_hz(static_cast<int>(j)) * scale});
+  }
+  // Highest order of interest in input-shaft orders: H mesh harmonics plus K sidebands.
+  double max_mesh = 0, max_shaft = 0;
+  for (const auto& m : r.meshes) max_mesh = std::max(max_mesh, m.frequency_hz);
+  for (const auto& s : r.shafts) max_shaft = std::max(max_shaft, s.speed_hz);
+  ctx.max_input_order =
+      (opt.sidebands.mesh_harmonics * max_mesh + opt.sidebands.sidebands * max_shaft) /
+      ctx.input_hz;
+}
+
+// Every channel through the channel stages, in parallel; with timing, the CPU time of each
+// channel stage summed over the channels ("channel_cpu.<stage>"; the stage's own wall time is
+// shared by the threads).
+void channels_stage(RecordWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  AnalysisResult& r = w.r;
+  const AnalyzeOptions& opt = ctx.opt;
+  const std::size_t nc = ctx.rec.signals.size();
+  constexpr std::size_t kStages = std::size(kChannelStages);
+  w.spectra.assign(nc, Spectrum{});
+  r.channels.resize(nc);
+  std::vector<double> cpu(opt.timing ? nc * kStages : 0, 0.0);
+  run_parallel(nc, opt.threads, [&](std::size_t ci) {
+    const std::span<double> own =
+        opt.timing ? std::span<double>(cpu).subspan(ci * kStages, kStages) : std::span<double>();
+    r.channels[ci] = analyse_channel(ctx, w.ang, ci, w.spectra[ci], own);
+    // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or
+    // normal-LOA channel's, up to its highest band: any other is freed now, and an LOA channel's
+    // is cut above that band (two record-length vectors per channel otherwise).
+    const diag::Direction d = r.channels[ci].direction;
+    if (!ctx.gb || (d != diag::Direction::kAlongLoa && d != diag::Direction::kNormalLoa)) {
+      w.spectra[ci] = Spectrum{};
+    } else {
+      keep_two_direction_bins(opt.two_direction, r.meshes, w.spectra[ci]);
+    }
+  });
+  for (std::size_t k = 0; k < kStages && opt.timing; ++k) {
+    double total = 0;
+    for (std::size_t ci = 0; ci < nc; ++ci) total += cpu[ci * kStages + k];
+    r.timing_s[std::string("channel_cpu.") + kChannelStages[k].name] = total;
+  }
+}
+
+// The recording-level stages, in order; a stage whose needs are not met is skipped. The name
+// is what AnalyzeOptions::progress is called with as the stage starts and the key of its wall
+// time in AnalysisResult::timing_s.
+struct RecordStage {
+  const char* name;
+  unsigned needs;  // RecordNeed bits
+  void (*run)(RecordWork&);
+};
+constexpr RecordStage kRecordStages[] = {
+    {"kinematics", kWithGearbox, kinematics_stage},
+    {"angle_plans", 0, [](RecordWork& w) { w.ang = angle_plans_stage(w.ctx); }},
+    {"channels", 0, channels_stage},
+    {"whole_record", kWholeRecordingFile, [](RecordWork& w) { whole_record_stage(w.ctx, w.r); }},
+    {"two_direction", kWithGearbox,
+     [](RecordWork& w) { two_direction_stage(w.ctx, w.spectra, w.r); }},
+    {"gear_damage", kWithGearbox, [](RecordWork& w) { gear_damage_stage(w.ctx, w.r); }},
+    {"findings", kWithGearbox, [](RecordWork& w) { fuse_findings(w.ctx, w.r); }},
+};
+
+}  // namespace
+
+bool analysis_stages::channel_needs_met(const ChannelWork& w, unsigned needs) {
+  const auto need = [needs](ChannelNeed n) { return (needs & n) != 0; };
+  return !(need(kVibrationChannel) && !w.out.vibration) &&
+         !(need(kSpectralRecord) && !w.record.spectral()) &&
+         !(need(kSensorChannel) && !w.out.sensor) && !(need(kGearbox) && !w.ctx.gb) &&
+         !(need(kTraces) && !w.ctx.opt.traces);
+}
+
 AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox* gb,
                                  const AnalyzeOptions& opt) {
   opt.validate();
@@ -216,81 +307,9 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     diag::validate(s, "analyze");
     r.duration_s = std::max(r.duration_s, s.duration_s());
   }
-  // Wall time per stage (AnalyzeOptions::timing; left out otherwise, so reports stay byte-equal).
-  auto clock_start = std::chrono::steady_clock::now();
-  const char* const kNextStage[][2] = {{"kinematics", "angle_plans"},
-                                       {"angle_plans", "channels"},
-                                       {"channels", "two_direction"},
-                                       {"two_direction", "gear_damage"},
-                                       {"gear_damage", "findings"}};
-  if (opt.progress) opt.progress(gb ? "kinematics" : "channels");
-  auto lap = [&](const char* stage) {
-    if (opt.progress) {
-      for (const auto& [done, next] : kNextStage) {
-        if (std::string_view(done) == stage) opt.progress(next);
-      }
-    }
-    if (!opt.timing) return;
-    const auto now = std::chrono::steady_clock::now();
-    r.timing_s[stage] += std::chrono::duration<double>(now - clock_start).count();
-    clock_start = now;
-  };
-
-  // ---- kinematics ----
-  ShaftKinematics kin;
-  AnalysisContext ctx{rec, gb, opt, kin, r.meshes, -1, 0.0, 0.0, false, 0, {}, {}};
+  RecordWork w(rec, gb, opt, r);
+  AnalysisContext& ctx = w.ctx;
   ctx.plot_points = static_cast<std::size_t>(opt.plot_points);
-  if (gb) {
-    r.gearbox_name = gb->name();
-    kin = shaft_kinematics(rec, *gb, r.duration_s, opt, r.notes);
-    refine_tsa_pulses(rec, *gb, opt, kin, r.notes);
-    r.shafts = kin.speeds;
-    r.speed = kin.speed;
-    // At varying speed every spectrum of a channel is an order spectrum: the channel resampled
-    // at uniform angles of the input shaft and read as a record at the constant mean speed (its
-    // "sampling rate" samples_per_rev x mean input speed), so that a line of order q sits at
-    // q x the mean speed whatever the speed did (computed order tracking; Fyfe & Munck 1997,
-    // MSSP 11(2)). The envelope is demodulated in time first (a structural resonance is fixed
-    // in Hz, not in orders), then resampled (the envelope order spectrum; Borghesani, Ricci,
-    // Chatterton, Pennacchi 2013, MSSP 38(1)).
-    ctx.order_domain = !kin.speed.stationary;
-    r.speed.spectra_domain = ctx.order_domain ? "order" : "time";
-    if (ctx.order_domain) {
-      r.notes.push_back(
-          "the speed varies over the record (" + fmt(kin.speed.min_rpm, 5) + " to " +
-          fmt(kin.speed.max_rpm, 5) +
-          " rpm): spectra, sidebands and envelope spectra are computed in the order domain (the "
-          "signal resampled at uniform angles of the input shaft) and their frequencies stated at "
-          "the mean speed (order x mean shaft speed); the TSA and the damaged-shaft locator "
-          "follow the shaft angles");
-    }
-    lap("kinematics");
-    ctx.input = gb->input_shaft();
-    r.input_shaft = gb->shafts()[static_cast<std::size_t>(ctx.input)].name;
-    ctx.input_hz = kin.speeds[static_cast<std::size_t>(ctx.input)].speed_hz;
-    const double scale = ctx.input_hz / gb->shaft_speed_hz(ctx.input);
-    for (std::size_t j = 0; j < gb->meshes().size(); ++j) {
-      const diag::Mesh& m = gb->meshes()[j];
-      r.meshes.push_back({diag::mesh_name(*gb, static_cast<int>(j)), gb->gears()[m.driver].name,
-                          gb->gears()[m.driven].name,
-                          gb->mesh_frequency_hz(static_cast<int>(j)) * scale});
-    }
-    // Highest order of interest in input-shaft orders: H mesh harmonics plus K sidebands.
-    double max_mesh = 0, max_shaft = 0;
-    for (const auto& m : r.meshes) max_mesh = std::max(max_mesh, m.frequency_hz);
-    for (const auto& s : r.shafts) max_shaft = std::max(max_shaft, s.speed_hz);
-    ctx.max_input_order =
-        (opt.sidebands.mesh_harmonics * max_mesh + opt.sidebands.sidebands * max_shaft) /
-        ctx.input_hz;
-  } else {
-    r.notes.push_back("no gearbox description: unit-free indicators and spectra only");
-  }
-
-  // ---- angle plans ----
-  const AngularRecords ang = angle_plans_stage(ctx);
-  lap("angle_plans");
-
-  // ---- per channel ----
   const std::size_t nc = rec.signals.size();
   ctx.sensor.assign(nc, false);
   for (std::size_t i : sensor_channels(rec)) ctx.sensor[i] = true;
@@ -300,44 +319,22 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
     for (std::size_t i = 0; i < nc; ++i)
       ctx.located[b] =
           ctx.located[b] || (ctx.sensor[i] && rec.signals[i].location == gb->bearings()[b].name);
-  std::vector<Spectrum> spectra(nc);
-  r.channels.resize(nc);
-  std::vector<ChannelStageCpu> stage_cpu(opt.timing ? nc : 0, ChannelStageCpu{});
-  run_parallel(nc, opt.threads, [&](std::size_t ci) {
-    r.channels[ci] =
-        analyse_channel(ctx, ang, ci, spectra[ci], opt.timing ? &stage_cpu[ci] : nullptr);
-    // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or
-    // normal-LOA channel's, up to its highest band: any other is freed now, and an LOA channel's
-    // is cut above that band (two record-length vectors per channel otherwise).
-    const diag::Direction d = r.channels[ci].direction;
-    if (!gb || (d != diag::Direction::kAlongLoa && d != diag::Direction::kNormalLoa)) {
-      spectra[ci] = Spectrum{};
-    } else {
-      keep_two_direction_bins(opt.two_direction, r.meshes, spectra[ci]);
-    }
-  });
-  lap("channels");
-  // The CPU time of each per-channel stage summed over the channels (the "channels" lap is wall
-  // time, shared by the threads).
-  for (std::size_t k = 0; k < kChannelStageCount && opt.timing; ++k) {
-    double total = 0;
-    for (const ChannelStageCpu& t : stage_cpu) total += t[k];
-    r.timing_s[std::string("channel_cpu.") + kChannelStages[k]] = total;
-  }
-  if (!opt.whole_recording.empty()) {
-    if (opt.progress) opt.progress("whole_record");
-    whole_record_stage(ctx, r);
-    lap("whole_record");
-  }
+  if (!gb) r.notes.push_back("no gearbox description: unit-free indicators and spectra only");
 
-  if (gb) {
-    two_direction_stage(ctx, spectra, r);
-    lap("two_direction");
-    gear_damage_stage(ctx, r);
-    lap("gear_damage");
-    fuse_findings(ctx, r);
+  const unsigned have =
+      (gb ? kWithGearbox : 0u) | (opt.whole_recording.empty() ? 0u : kWholeRecordingFile);
+  for (const RecordStage& stage : kRecordStages) {
+    if ((stage.needs & have) != stage.needs) continue;
+    if (opt.progress) opt.progress(stage.name);
+    // Wall time per stage (AnalyzeOptions::timing; left out otherwise, so reports stay
+    // byte-equal).
+    const auto t0 = std::chrono::steady_clock::now();
+    stage.run(w);
+    if (opt.timing) {
+      r.timing_s[stage.name] +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
   }
-  lap("findings");
   return r;
 }
 

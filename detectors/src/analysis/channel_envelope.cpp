@@ -85,8 +85,11 @@ void decision_view(const BearingDiagnosis& d, double line_threshold_db, std::siz
 
 }  // namespace
 
-Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
-                        const SpectralRecord& rec, ChannelAnalysis& c) {
+void envelope_stage(ChannelWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  const AngularRecords& ang = w.ang;
+  const SpectralRecord& rec = w.record;
+  ChannelAnalysis& c = w.out;
   const AnalyzeOptions& opt = ctx.opt;
   const diag::Signal& sig = *rec.time;
   const diag::Signal& spectral = *rec.spectral();
@@ -99,7 +102,7 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
   // The kurtogram and the envelope spectrum are for the bearings and impacts a vibration sensor
   // records (role vibration, channels.hpp); a force or displacement channel (a simulation's mesh
   // force, friction, transmission error) has none, and nothing downstream reads its envelope.
-  if (!c.sensor) return {};
+  if (!c.sensor) return;
   // The demodulation band is chosen and applied in time (in the order domain too: a resonance
   // is fixed in Hz).
   EnvelopeSpectrumOptions eo;
@@ -121,7 +124,7 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
   }
   c.envelope_low_hz = eo.band_low_hz;
   c.envelope_high_hz = eo.band_high_hz == 0 ? nyq_t : eo.band_high_hz;
-  Spectrum env;
+  Spectrum& env = w.envelope;
   if (rec.order_domain) {
     // The envelope in time, resampled like the channel, its spectrum read at the mean speed
     // (the envelope order spectrum).
@@ -145,7 +148,6 @@ Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
     env = envelope_spectrum(fast_length_middle(xt), eo);
   }
   envelope_results(ctx, env, spectral.fs_hz, c);
-  return env;
 }
 
 double envelope_plot_max_hz(const AnalysisContext& ctx, double fs_hz) {
@@ -178,10 +180,13 @@ void envelope_results(const AnalysisContext& ctx, const Spectrum& env, double fs
     ba.metrics = fault_band_metrics(ev, ba.bands, SpectrumScale::kAmplitude);
 }
 
-void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, const Spectrum& env,
-                   ChannelAnalysis& c) {
+void bearing_stage(ChannelWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  const diag::Signal& spectral = *w.record.spectral();
+  const Spectrum& env = w.envelope;
+  ChannelAnalysis& c = w.out;
   const diag::Gearbox* gb = ctx.gb;
-  if (!gb || !c.sensor || gb->bearings().empty()) return;
+  if (gb->bearings().empty()) return;
   const AnalyzeOptions& opt = ctx.opt;
   const auto& speeds = ctx.kin.speeds;
   // diagnose_bearings once per shaft, on the bearings this channel sees: those at its location,

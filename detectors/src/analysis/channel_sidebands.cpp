@@ -7,7 +7,10 @@
 
 namespace detect::analysis_stages {
 
-void sideband_stage(const AnalysisContext& ctx, const Spectrum& sp, ChannelAnalysis& c) {
+void sideband_stage(ChannelWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  const Spectrum& sp = w.spectrum;
+  ChannelAnalysis& c = w.out;
   const diag::Gearbox& gb = *ctx.gb;
   const auto& speeds = ctx.kin.speeds;
   const SpectrumView view{sp.frequency_hz, sp.amplitude};

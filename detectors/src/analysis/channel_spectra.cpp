@@ -49,7 +49,9 @@ PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>
                            std::span<const double>(y).subspan(i0, n), max_points, Decimation::kMax);
 }
 
-void time_stage(const diag::Signal& sig, bool sensor, ChannelAnalysis& c) {
+void time_stage(ChannelWork& w) {
+  const diag::Signal& sig = w.signal;
+  ChannelAnalysis& c = w.out;
   c.name = sig.name;
   c.unit = sig.unit;
   c.location = sig.location;
@@ -63,7 +65,7 @@ void time_stage(const diag::Signal& sig, bool sensor, ChannelAnalysis& c) {
   // time indicators only for angles, speeds and other quantities.
   c.vibration = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
                 sig.role == diag::Role::kDisplacement;
-  c.sensor = sensor;
+  c.sensor = w.ctx.sensor[w.index];
   c.time = time_indicators(moments(sig.samples));
 }
 
@@ -75,9 +77,17 @@ std::size_t welch_segment(const AnalyzeOptions& opt, std::size_t n) {
   return std::min(opt.welch_nperseg, pow2_at_most(n));
 }
 
-void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
-                     SpectralRecord& out, ChannelAnalysis& c) {
-  const diag::Signal& sig = ctx.rec.signals[ci];
+void spectral_record_stage(ChannelWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  const AngularRecords& ang = w.ang;
+  const std::size_t ci = w.index;
+  const diag::Signal& sig = w.signal;
+  ChannelAnalysis& c = w.out;
+  if (sig.samples.size() < 64) {  // no record: no later stage that needs one runs
+    c.notes.push_back("fewer than 64 samples: no spectra");
+    return;
+  }
+  SpectralRecord& out = w.record;
   out.time = &sig;
   out.order_domain = ctx.order_domain;
   if (!ctx.gb) return;
@@ -113,8 +123,10 @@ void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std:
   a.samples = out.angular->samples;
 }
 
-Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
-                       ChannelAnalysis& c) {
+void spectra_stage(ChannelWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  const diag::Signal& spectral = *w.record.spectral();
+  ChannelAnalysis& c = w.out;
   const AnalyzeOptions& opt = ctx.opt;
   const std::span<const double> x(spectral.samples);
   const double fs = spectral.fs_hz;
@@ -123,7 +135,8 @@ Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
   so.window = opt.spectrum_window;
   so.remove_mean = true;
   so.nfft = next_fast_length(x.size());  // zero-padded to a fast length (analyze.hpp)
-  Spectrum sp = amplitude_spectrum(x, so);
+  Spectrum& sp = w.spectrum;
+  sp = amplitude_spectrum(x, so);
   c.spectrum_resolution_hz = sp.resolution_hz;
   c.spectrum_enbw_hz = sp.enbw_hz;
   c.spectrum_peaks = largest_peaks(sp, opt.peaks_reported, 0.5 * fs);
@@ -133,18 +146,19 @@ Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
   if (!opt.traces) {  // the PSD is only drawn: its layout is what the report states
     c.psd_resolution_hz = fs / static_cast<double>(wo.fft_length());
     c.psd_segments = wo.segments(x.size());
-    return sp;
+    return;
   }
   c.spectrum = decimate_for_plot(sp.frequency_hz, sp.amplitude, ctx.plot_points, Decimation::kMax);
   const Psd psd = welch(x, wo);
   c.psd = decimate_for_plot(psd.frequency_hz, psd.value, ctx.plot_points, Decimation::kMax);
   c.psd_resolution_hz = psd.resolution_hz;
   c.psd_segments = psd.segments;
-  return sp;
 }
 
-void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
-                          ChannelAnalysis& c) {
+void order_spectrum_stage(ChannelWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  const SpectralRecord& rec = w.record;
+  ChannelAnalysis& c = w.out;
   if (!rec.angular) {
     if (!rec.order_domain && !rec.angular_unneeded)
       c.notes.push_back("order spectrum skipped: " + rec.angular_error);

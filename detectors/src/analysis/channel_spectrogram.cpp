@@ -7,7 +7,9 @@
 
 namespace detect::analysis_stages {
 
-void spectrogram_stage(const diag::Signal& sig, ChannelAnalysis& c) {
+void spectrogram_stage(ChannelWork& w) {
+  const diag::Signal& sig = w.signal;
+  ChannelAnalysis& c = w.out;
   const std::size_t nperseg = 2 * kSpectrogramRows;
   const std::size_t n = sig.samples.size();
   const std::size_t columns = std::min(kSpectrogramColumns, n / nperseg);

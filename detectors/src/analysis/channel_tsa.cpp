@@ -9,8 +9,12 @@
 
 namespace detect::analysis_stages {
 
-void tsa_stage(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
-               const diag::Signal& sig, ChannelAnalysis& c) {
+void tsa_stage(ChannelWork& w) {
+  const AnalysisContext& ctx = w.ctx;
+  const AngularRecords& ang = w.ang;
+  const std::size_t ci = w.index;
+  const diag::Signal& sig = w.signal;
+  ChannelAnalysis& c = w.out;
   const diag::Gearbox& gb = *ctx.gb;
   const AnalyzeOptions& opt = ctx.opt;
   for (std::size_t s = 0; s < gb.shafts().size(); ++s) {

@@ -1,20 +1,14 @@
-// analyze's stages (internal to detectors/src/analysis), in the order analyze_recording runs them:
-//   kinematics (kinematics.hpp)   shaft angles and speeds, the speed report
+// analyze's stages (internal to detectors/src/analysis). analyze_recording runs the
+// recording-level stages from its table (analyze.cpp), in order:
+//   kinematics (kinematics.hpp)   shaft angles and speeds, the speed report (with a gearbox)
 //   angle plans (angle_plans.cpp) one angle plan per shaft, every channel resampled through it
-//   per channel, in parallel (channel_*.cpp), each filling its part of ChannelAnalysis:
-//     time_stage          time-domain indicators
-//     spectra_stage       amplitude spectrum, Welch PSD (of the channel's spectral record: the
-//                         record itself, or at varying speed its order-domain form)
-//     spectrogram_stage   the record's spectrogram in time (channel_spectrogram.cpp)
-//     order_spectrum_stage
-//     envelope_stage      kurtogram band, envelope spectrum (demodulated in time)
-//     bearing_stage       fault bands and diagnose_bearings per bearing the channel sees
-//     sideband_stage      mesh harmonics and sideband families per mesh
-//     tsa_stage           TSA per shaft and the gear metrics
+//   channels                      every channel through kChannelStages below, in parallel, each
+//                                 stage filling its part of ChannelAnalysis (channel_*.cpp)
+//   whole record (whole_record.cpp) a cut recording's means over the whole file
 //   two_direction_stage (two_direction_stage.cpp)
 //   gear_damage_stage, fuse_findings (findings.cpp): the locator, the votes, one finding list
-//   report writers: to_json (report_json.cpp), format_summary (report_text.cpp); the baseline
-//   comparison (baseline_compare.cpp) and features() (features.cpp) read the result.
+// The baseline comparison (baseline_compare.cpp) and features() (features.cpp) read the result;
+// the reports (JSON, text, HTML, curves) are written by the report library (report/).
 #pragma once
 
 #include <algorithm>
@@ -115,8 +109,6 @@ PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>
                          double hi, std::size_t max_points);
 
 // ---- per-channel stages ----
-// The channel's identity and time-domain indicators.
-void time_stage(const diag::Signal& sig, bool sensor, ChannelAnalysis& c);
 // The time-domain indicators of a channel's moments (time_stage's, the whole-record stage's).
 TimeIndicators time_indicators(const Moments& mo);
 // The Welch segment length for a record of n samples (spectra_stage's, the whole-record's).
@@ -140,35 +132,79 @@ struct SpectralRecord {
     return order_domain ? (angular ? &angle_signal : nullptr) : time;
   }
 };
-void spectral_record(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
-                     SpectralRecord& out, ChannelAnalysis& c);
 
-// Amplitude spectrum (returned whole: the sidebands and two directions read it) and Welch PSD.
-Spectrum spectra_stage(const AnalysisContext& ctx, const diag::Signal& spectral,
-                       ChannelAnalysis& c);
+// What the stages of one channel share: the recording-level context (kinematics, plans,
+// options), the channel, the ChannelAnalysis they fill (its notes say what was skipped and why)
+// and what one stage leaves for a later one. Channels run in parallel, each with its own
+// ChannelWork; the context and the plans are read only.
+struct ChannelWork {
+  const AnalysisContext& ctx;
+  const AngularRecords& ang;
+  std::size_t index;           // the channel's index in ctx.rec.signals
+  const diag::Signal& signal;  // ctx.rec.signals[index]
+  ChannelAnalysis& out;
+  SpectralRecord record;  // the spectral-record stage's (spectral() null: no spectra)
+  Spectrum spectrum;      // the whole amplitude spectrum (the sidebands, then two directions)
+  Spectrum envelope;      // the whole envelope spectrum (the bearing metrics)
+};
+
+// What a stage needs of its channel; a stage whose needs are not met is skipped. Each need, once
+// unmet, stays unmet for the later stages, so a skip is what an early return would be.
+enum ChannelNeed : unsigned {
+  kVibrationChannel = 1u << 0,  // ChannelAnalysis::vibration (set by the time stage)
+  kSpectralRecord = 1u << 1,    // the spectral-record stage gave a record to take spectra of
+  kSensorChannel = 1u << 2,     // ChannelAnalysis::sensor: a vibration sensor (votes)
+  kGearbox = 1u << 3,           // a gearbox description
+  kTraces = 1u << 4,            // AnalyzeOptions::traces: the plot-only curves are asked for
+};
+bool channel_needs_met(const ChannelWork& w, unsigned needs);
+
+// The channel's identity and time-domain indicators.
+void time_stage(ChannelWork& w);
+// The record the spectra are taken of (a note and no record below 64 samples).
+void spectral_record_stage(ChannelWork& w);
+// Amplitude spectrum (kept whole in w.spectrum) and Welch PSD.
+void spectra_stage(ChannelWork& w);
 // The spectrogram of the record in time, on the bounded grid of SpectrogramTrace.
-void spectrogram_stage(const diag::Signal& sig, ChannelAnalysis& c);
-// The order spectrum in input-shaft orders.
-void order_spectrum_stage(const AnalysisContext& ctx, const SpectralRecord& rec,
-                          ChannelAnalysis& c);
+void spectrogram_stage(ChannelWork& w);
 // The kurtogram band of the channel in time and its envelope spectrum (in the order domain: the
-// envelope in time resampled like the channel); returned whole for the bearing metrics.
-Spectrum envelope_stage(const AnalysisContext& ctx, const AngularRecords& ang,
-                        const SpectralRecord& rec, ChannelAnalysis& c);
+// envelope in time resampled like the channel), kept whole in w.envelope.
+void envelope_stage(ChannelWork& w);
+// Fault bands, band metrics and diagnose_bearings for the bearings this channel sees.
+void bearing_stage(ChannelWork& w);
+// Mesh harmonics and sideband families of every mesh.
+void sideband_stage(ChannelWork& w);
+// The order spectrum in input-shaft orders.
+void order_spectrum_stage(ChannelWork& w);
+// TSA per shaft with gears and each gear's metrics (from the shared plans when the channel
+// shares them).
+void tsa_stage(ChannelWork& w);
+
 // How far the envelope trace and peaks of a spectral record of rate fs_hz are kept [Hz].
 double envelope_plot_max_hz(const AnalysisContext& ctx, double fs_hz);
 // The envelope peaks, trace and bearing band metrics of a channel from its envelope spectrum.
 void envelope_results(const AnalysisContext& ctx, const Spectrum& env, double fs_hz,
                       ChannelAnalysis& c);
-// Fault bands, band metrics and diagnose_bearings for the bearings this channel sees.
-void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, const Spectrum& env,
-                   ChannelAnalysis& c);
-// Mesh harmonics and sideband families of every mesh.
-void sideband_stage(const AnalysisContext& ctx, const Spectrum& sp, ChannelAnalysis& c);
-// TSA per shaft with gears and each gear's metrics (from the shared plans when the channel
-// shares them).
-void tsa_stage(const AnalysisContext& ctx, const AngularRecords& ang, std::size_t ci,
-               const diag::Signal& sig, ChannelAnalysis& c);
+
+// One row per stage, run in this order on every channel: adding a detector is one stage
+// function above and one row here. The name keys the stage's CPU time in the result
+// ("channel_cpu.<name>" in AnalysisResult::timing_s).
+struct ChannelStage {
+  const char* name;
+  unsigned needs;  // ChannelNeed bits
+  void (*run)(ChannelWork&);
+};
+inline constexpr ChannelStage kChannelStages[] = {
+    {"time", 0, time_stage},
+    {"spectral_record", kVibrationChannel, spectral_record_stage},
+    {"spectra", kSpectralRecord, spectra_stage},
+    {"spectrogram", kSpectralRecord | kTraces, spectrogram_stage},  // only drawn
+    {"envelope", kSpectralRecord, envelope_stage},
+    {"bearing", kSpectralRecord | kSensorChannel | kGearbox, bearing_stage},
+    {"sidebands", kSpectralRecord | kGearbox, sideband_stage},
+    {"order_spectrum", kSpectralRecord | kGearbox, order_spectrum_stage},
+    {"tsa", kSpectralRecord | kGearbox, tsa_stage},
+};
 
 // ---- recording-level stages ----
 // A cut recording (AnalyzeOptions::whole_recording): every channel's time indicators, Welch PSD

@@ -1,6 +1,6 @@
 // Offline analysis of a whole recording (`geardiag analyze`): every detector of the library run
 // on every channel, tied to the gearbox description when there is one, collected into one result
-// that prints, serialises to JSON (to_json) and renders to HTML (html_report.hpp).
+// that the report library (report/report.hpp) prints, serialises to JSON and renders to HTML.
 //
 // Per channel (tacho and angle channels get the time-domain indicators only):
 //  - time-domain indicators: RMS, peak, crest factor, kurtosis, skewness (indicators.hpp);
@@ -48,11 +48,12 @@
 // finding");
 // faults in the one vocabulary of diag/faults/fault_kind.hpp) summarise what points at a shaft,
 // gear or bearing, each with a confidence and a note; only sensor channels (sensor_channels below)
-// vote. The code is in stages (detectors/src/analysis/stages.hpp lists them, one file each:
-// kinematics, angle plans, per-channel spectra / envelope and bearings / sidebands / TSA, two
-// directions, findings, baseline, JSON and text writers). Steps that cannot run on this record (too
-// few revolutions for a TSA, a record too short for the kurtogram) are skipped with a note, not an
-// error: they are outcomes.
+// vote. The code is in stages (detectors/src/analysis/stages.hpp lists them: a table of
+// recording-level stages and a table of per-channel stages, each row a name, what it needs and
+// one function; kinematics, angle plans, per-channel spectra / envelope and bearings / sidebands
+// / TSA, two directions, findings). Steps that cannot run on this record (too few revolutions for
+// a TSA, a record too short for the kurtogram) are skipped with a note, not an error: they are
+// outcomes.
 #pragma once
 
 #include <cstddef>
@@ -60,7 +61,6 @@
 #include <functional>
 #include <limits>
 #include <map>
-#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <span>
 #include <string>
@@ -110,8 +110,9 @@ struct AnalyzeOptions {
   GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
                                             // not used: the shaft angles are analyze's own)
   // Called with the name of each stage as it starts ("kinematics", "angle_plans", "channels",
-  // "whole_record" when whole_recording is set, "two_direction", "gear_damage", "findings"); the
-  // CLI draws a progress line on a terminal.
+  // "whole_record" when whole_recording is set, "two_direction", "gear_damage", "findings";
+  // kinematics, two_direction, gear_damage and findings with a gearbox only); the CLI draws a
+  // progress line on a terminal.
   std::function<void(const std::string&)> progress;
   // Fill the curves only a plot draws: ChannelAnalysis::spectrum, psd, order_spectrum and
   // spectrogram, MeshAnalysis::zoom (and, where the envelope and bearing stages honour it,
@@ -401,21 +402,6 @@ void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const 
 // every scalar indicator of the analysis, for trending (the baseline comparison uses the unit-free
 // baseline_features instead, see above). NaN features are left out.
 std::map<std::string, double> features(const AnalysisResult& r);
-
-// JSON with stable keys (README "geardiag analyze"). Amplitudes are in each channel's "unit"
-// (energies in unit^2, PSD in unit^2/Hz); keys with a physical unit of their own carry it
-// (frequency_hz, speed_hz, ..._db). Traces (plots) are not serialised.
-nlohmann::json to_json(const AnalysisResult& r);
-
-// A readable multi-line summary for the terminal.
-std::string format_summary(const AnalysisResult& r);
-
-// What a channel is, for people, wherever a report names a channel (html_report.cpp,
-// report_text.cpp): "drive end accelerometer (X105_DE_time)", from its role, unit, location and
-// direction (the channel contract, diag/io/channels.hpp), never parsed from its name. By name: the
-// label of that channel of r, the name itself when r has no such channel.
-std::string channel_label(const ChannelAnalysis& c);
-std::string channel_label(const AnalysisResult& r, const std::string& name);
 
 // SpectralPeak-hold decimation for plotting. kMinMax (waveforms): at most max_points / 2 buckets,
 // each bucket's min and max kept in x order; kMax (spectra): max_points buckets, each bucket's max,

@@ -1,13 +1,13 @@
-// analyze's text summary writer (format_summary, analyze.hpp).
+// analyze's text summary writer (format_summary, report.hpp).
 #include <algorithm>
 #include <sstream>
 
-#include "stages.hpp"
+#include "format.hpp"
+#include "report/report.hpp"
 
-namespace detect {
+namespace report {
 
-using analysis_stages::fmt;
-using analysis_stages::joined;
+using namespace detect;
 
 std::string format_summary(const AnalysisResult& r) {
   const auto labels = [&](const std::vector<std::string>& names) {
@@ -101,4 +101,4 @@ std::string format_summary(const AnalysisResult& r) {
   return o.str();
 }
 
-}  // namespace detect
+}  // namespace report

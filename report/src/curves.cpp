@@ -1,10 +1,12 @@
 // analysis_curves (curves.hpp): the report's traces as named columns with units.
-#include "detect/analysis/curves.hpp"
+#include "report/curves.hpp"
 
 #include <array>
 #include <utility>
 
-namespace detect {
+namespace report {
+
+using namespace detect;
 
 namespace {
 
@@ -233,4 +235,4 @@ std::vector<diag::DataGroup> analysis_curves(const AnalysisResult& r) {
   return out;
 }
 
-}  // namespace detect
+}  // namespace report

@@ -1,6 +1,7 @@
 // A small inline-SVG line plot for self-contained HTML reports: axes with "nice" ticks (1, 2, 5
 // x 10^k steps), labels, several series, vertical markers and shaded bands; long series are
-// peak-hold decimated (analyze.hpp, decimate_for_plot) so that narrow spectral lines survive.
+// peak-hold decimated (detect/analysis/analyze.hpp, decimate_for_plot) so that narrow spectral
+// lines survive.
 // No scripts, no external assets: the string is valid SVG 1.1 to embed in HTML.
 #pragma once
 
@@ -11,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-namespace detect {
+namespace report {
 
 struct PlotSeries {
   std::span<const double> x, y;  // same length
@@ -59,4 +60,4 @@ std::vector<double> nice_ticks(double lo, double hi, int target = 6);
 // Escapes & < > " ' for HTML text and attributes.
 std::string html_escape(std::string_view s);
 
-}  // namespace detect
+}  // namespace report

@@ -1,4 +1,4 @@
-#include "detect/analysis/svg_plot.hpp"
+#include "report/svg_plot.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "detect/analysis/analyze.hpp"
 #include "diag/error.hpp"
 
-namespace detect {
+namespace report {
 
 namespace {
 
@@ -81,12 +81,12 @@ std::string svg_line_plot(std::span<const PlotSeries> series, const PlotOptions&
   }
   if (opt.max_points < 4) throw diag::InputError("svg_line_plot: max_points: is not >= 4");
   if (!(opt.db_range > 0)) throw diag::InputError("svg_line_plot: db_range: is not > 0");
-  std::vector<PlotTrace> tr;
+  std::vector<detect::PlotTrace> tr;
   for (const auto& s : series) {
     if (s.x.size() != s.y.size()) {
       throw diag::InputError("svg_line_plot: series '" + s.label + "': x and y differ in length");
     }
-    tr.push_back(decimate_for_plot(s.x, s.y, opt.max_points));
+    tr.push_back(detect::decimate_for_plot(s.x, s.y, opt.max_points));
   }
   double x0 = opt.x_min, x1 = opt.x_max;
   double ymax = -INFINITY, ymin = INFINITY;
@@ -197,4 +197,4 @@ std::string svg_line_plot(std::span<const PlotSeries> series, const PlotOptions&
   return o.str();
 }
 
-}  // namespace detect
+}  // namespace report

@@ -35,7 +35,7 @@
 
 #include "detect/analysis/analyze.hpp"
 
-namespace detect {
+namespace report {
 
 struct HtmlReportOptions {
   std::string title = "geardiag analysis";
@@ -46,6 +46,6 @@ struct HtmlReportOptions {
   void validate() const;          // throws diag::InputError naming the field
 };
 
-std::string render_html_report(const AnalysisResult& r, const HtmlReportOptions& opt = {});
+std::string render_html_report(const detect::AnalysisResult& r, const HtmlReportOptions& opt = {});
 
-}  // namespace detect
+}  // namespace report

@@ -1,8 +1,8 @@
-// Every curve of an analysis (analyze.hpp), as named columns with their units (diag/io/
-// data_groups.hpp): what `geardiag analyze --curves OUT.h5` writes and what the Python module's
-// analyze() returns as numpy arrays. The curves are the report's own (AnalysisResult's traces,
-// peak-hold decimated to AnalyzeOptions::plot_points; the TSA signals at full angular resolution),
-// so a curve read from the file is the one drawn in the HTML report.
+// Every curve of an analysis (detect/analysis/analyze.hpp), as named columns with their units
+// (diag/io/ data_groups.hpp): what `geardiag analyze --curves OUT.h5` writes and what the Python
+// module's analyze() returns as numpy arrays. The curves are the report's own (AnalysisResult's
+// traces, peak-hold decimated to AnalyzeOptions::plot_points; the TSA signals at full angular
+// resolution), so a curve read from the file is the one drawn in the HTML report.
 //
 // Groups (<ch>: channel name, <sh>: shaft, <b>: bearing, <m>: mesh):
 //   speed                              time_s [s], speed_rpm [rpm] (the reference shaft's speed;
@@ -43,13 +43,13 @@
 #include "detect/analysis/analyze.hpp"
 #include "diag/io/data_groups.hpp"
 
-namespace detect {
+namespace report {
 
 // The curves listed above, in a fixed order (speed, then channels as analysed).
-std::vector<diag::DataGroup> analysis_curves(const AnalysisResult& r);
+std::vector<diag::DataGroup> analysis_curves(const detect::AnalysisResult& r);
 
 // The unit of a power or PSD of a quantity in `unit`: "m/s^2" -> "(m/s^2)^2", "g" -> "g^2";
 // "" -> "".
 std::string squared_unit(const std::string& unit);
 
-}  // namespace detect
+}  // namespace report
