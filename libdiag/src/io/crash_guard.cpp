@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 
 #include "diag/error.hpp"
 
@@ -16,15 +17,26 @@ namespace {
 
 bool in_child = false;
 constexpr int kChildFoundAnError = 97;  // the child's exit code for an exception it caught
+int (*test_fork)() = nullptr;
+std::function<void()>& test_before_fork() {
+  static std::function<void()> hook;
+  return hook;
+}
 
 }  // namespace
 
 bool in_guard_child() { return in_child; }
 
+void set_guard_test_hooks(int (*fork_call)(), std::function<void()> before_fork) {
+  test_fork = fork_call;
+  test_before_fork() = std::move(before_fork);
+}
+
 bool run_guarded(const std::string& where, const std::function<void()>& body) {
   if (in_child) return false;
+  if (test_before_fork()) test_before_fork()();
   std::fflush(nullptr);
-  const pid_t pid = ::fork();
+  const pid_t pid = test_fork != nullptr ? test_fork() : ::fork();
   if (pid < 0) {
     const int err = errno;
     throw InputError(format_error(

@@ -24,4 +24,8 @@ bool run_guarded(const std::string& where, const std::function<void()>& body);
 // True in a guard's child.
 bool in_guard_child();
 
+// Tests only: `fork_call` replaces fork() (nullptr: fork() again), and `before_fork` (when set)
+// runs in this process before each fork, e.g. to rename another file over the one being read.
+void set_guard_test_hooks(int (*fork_call)(), std::function<void()> before_fork);
+
 }  // namespace diag::hdf5_detail

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -406,7 +407,7 @@ std::string hdf5_file_bytes(const std::string& where, hid_t fcpl, hid_t fapl,
                             const std::function<void(hid_t file)>& fill) {
   silence_hdf5();
   std::string bytes;
-  Hid access(H5Pcopy(fapl), H5Pclose);
+  Hid access(fapl == H5P_DEFAULT ? H5Pcreate(H5P_FILE_ACCESS) : H5Pcopy(fapl), H5Pclose);
   DriverInfo info;
   info.sink = &bytes;
   const hid_t driver = driver_id();

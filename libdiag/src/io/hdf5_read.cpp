@@ -32,6 +32,7 @@
 #include "diag/io/hdf5.hpp"
 #include "diag/io/hdf5_arrays.hpp"
 #include "diag/io/input_file.hpp"
+#include "diag/io/printable.hpp"
 #include "hdf5_chunks.hpp"
 #include "hdf5_file.hpp"
 #include "hdf5_handle.hpp"
@@ -497,6 +498,17 @@ void RecordingReader::open_channels() {
                                           "'; expected \"\", along_loa, normal_loa, "
                                           "horizontal, vertical, angle or tacho"));
       }
+      // Names and labels are printed: an escape sequence in them would reach the terminal.
+      for (const auto& [label, text] :
+           {std::pair<const char*, const std::string*>{"name", &info.name},
+            {"unit", &info.unit},
+            {"location", &info.location}}) {
+        if (has_control_characters(*text)) {
+          throw InputError(
+              format_error(where, printable_text(what) + ": " + label,
+                           "'" + printable_text(*text) + "' holds a control character"));
+        }
+      }
       if (format_version_ >= 2) {
         const std::string role = attribute_text(obj.get(), "role", where, what).value_or("");
         try {
@@ -515,6 +527,15 @@ void RecordingReader::open_channels() {
                                         std::to_string(ppr) + " is not an integer in [0, 1e6]"));
         }
         info.ppr = static_cast<int>(ppr);
+        for (const auto& [label, text] :
+             {std::pair<const char*, const std::string*>{"shaft", &info.shaft},
+              {"mesh", &info.mesh}}) {
+          if (has_control_characters(*text)) {
+            throw InputError(
+                format_error(where, printable_text(what) + ": " + label,
+                             "'" + printable_text(*text) + "' holds a control character"));
+          }
+        }
         if (info.group == "tacho" && (info.role != Role::kTacho || info.ppr < 1)) {
           throw InputError(
               format_error(where, what, "a /tacho channel must have role tacho and ppr >= 1"));
@@ -588,7 +609,7 @@ std::map<std::string, std::string> RecordingReader::metadata() const {
         continue;
       }
       if (auto text = attribute_text(root.get(), name.c_str(), where, "/")) {
-        out[name] = std::move(*text);
+        out[printable_text(name)] = printable_text(*text);  // shown to the user
       }
     }
     return out;
