@@ -27,7 +27,8 @@ def main():
     ap.add_argument("--geardiag")
     args = ap.parse_args()
     d = {t: os.path.join(args.out, t) for t in
-         ["csv", "csv_gz", "wav", "mat", "hdf5", "gearbox_json", "scenario_json", "channel_map"]}
+         ["csv", "csv_gz", "wav", "mat", "hdf5", "face_gear_table", "gearbox_json", "scenario_json",
+          "channel_map"]}
     for p in d.values():
         os.makedirs(p, exist_ok=True)
 
@@ -64,6 +65,24 @@ def main():
         f.create_dataset("gearbox", data=json.dumps({"name": "x"}), dtype=h5py.string_dtype())
     shutil.copy(os.path.join(ROOT, "testdata/recordings/format1_three_shaft.h5"), d["hdf5"])
 
+    # Face-gear stiffness tables: the CSV layout and the HDF5 layout (sim/facegear/description.hpp),
+    # 24 angles over the 24-degree mesh period of 15 teeth, two loads.
+    rows = ["flank,angle_deg,load_nm,stiffness_nm_per_rad,e0_urad"]
+    for flank in ("drive", "coast"):
+        for i in range(24):
+            for load in (10.0, 300.0):
+                rows.append(f"{flank},{i:.1f},{load},{9e5 * (1 + 0.05 * np.cos(0.26 * i)):.6g},"
+                            f"{10 * np.sin(0.26 * i):.6g}")
+    open(os.path.join(d["face_gear_table"], "table.csv"), "w").write("\n".join(rows) + "\n")
+    angles = np.arange(24.0)
+    k = 9e5 * np.ones((24, 2))
+    with h5py.File(os.path.join(d["face_gear_table"], "table.h5"), "w", libver=("v108", "v108")) as f:
+        f["angle_deg"] = angles
+        f["load_nm"] = np.array([10.0, 300.0])
+        for flank in ("drive", "coast"):
+            f[f"{flank}/stiffness_nm_per_rad"] = k
+            f[f"{flank}/e0_urad"] = 10 * np.sin(0.26 * angles)
+
     for name in os.listdir(os.path.join(ROOT, "testdata/gearbox")):
         shutil.copy(os.path.join(ROOT, "testdata/gearbox", name), d["gearbox_json"])
     json.dump({"speed_rpm": 1500, "duration_s": 1.0, "seed": 3}, open(os.path.join(d["scenario_json"], "s.json"), "w"))
@@ -80,7 +99,8 @@ def main():
             src = os.path.join(corpus, "inputs", name)
             if not os.path.isfile(src) or os.path.islink(src):
                 continue
-            target = ("csv_gz" if name.endswith(".csv.gz") else "csv" if name.endswith(".csv")
+            target = ("face_gear_table" if name.startswith("fg_")
+                      else "csv_gz" if name.endswith(".csv.gz") else "csv" if name.endswith(".csv")
                       else "wav" if name.endswith(".wav") else "mat" if name.endswith(".mat")
                       else "hdf5" if name.endswith(".h5") else "channel_map" if name.startswith("map_") else None)
             if target:

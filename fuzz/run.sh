@@ -33,7 +33,7 @@ export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
 export LSAN_OPTIONS="suppressions=$PWD/fuzz/lsan.supp"
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 status=0
-for target in csv csv_gz wav mat hdf5 gearbox_json scenario_json channel_map; do
+for target in csv csv_gz wav mat hdf5 face_gear_table gearbox_json scenario_json channel_map; do
   corpus="$build/corpus/$target"
   mkdir -p "$corpus"
   log="$build/fuzz-$target.log"

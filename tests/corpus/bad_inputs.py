@@ -1,12 +1,15 @@
 #!/usr/bin/env python3
 """Bad-input corpus for geardiag's readers and output paths (issue 13).
 
-Generates damaged inputs (CSV, CSV.gz, WAV, MAT, HDF5, channel maps, special files, bad output
-paths) into DIR, runs the geardiag binary on each, and checks that every case
+Generates damaged inputs (CSV, CSV.gz, WAV, MAT, HDF5, channel maps, face-gear tables, special
+files, bad output paths, full disks) into DIR, runs the geardiag binary on each, and checks that
+every case
   - exits with code 2 (bad input; never 0, 1, 3, a signal or a hang),
   - prints a message naming the file (or option) and the expected reason,
-  - leaves no output and no temporary file,
+  - leaves no output and no temporary file (and a previous output, where there is one, unchanged),
   - finishes within TIME_LIMIT_S seconds.
+A full disk is a file size limit on the run (RLIMIT_FSIZE with SIGXFSZ ignored: writes past it fail
+as on a full disk), so those cases run wherever the test runs, without a mount or privileges.
 
 usage: bad_inputs.py --geardiag BIN --dir DIR [--generate-only] [--filter SUBSTRING]
 exit 0 when every case passes. --generate-only writes the files (fuzzing seeds) and exits.
@@ -15,6 +18,8 @@ Needs numpy, scipy and h5py (scripts/install-deps installs them).
 """
 import argparse
 import gzip
+import resource
+import signal
 import json
 import os
 import shutil
@@ -71,7 +76,7 @@ class Corpus:
     def __init__(self, binary, root):
         self.binary = binary
         self.root = root
-        self.cases = []  # (name, argv, expected substrings, output paths)
+        self.cases = []  # (name, argv, expected substrings, output paths, options)
 
     def path(self, name):
         return os.path.join(self.root, "inputs", name)
@@ -81,8 +86,11 @@ class Corpus:
         os.makedirs(d, exist_ok=True)
         return d
 
-    def add(self, name, argv, expect, outputs=()):
-        self.cases.append((name, argv, expect, list(outputs)))
+    def add(self, name, argv, expect, outputs=(), fsize=None, keep=None, env=None):
+        """fsize: the run's file size limit [bytes] (a full disk); keep: a previous output that
+        must come out unchanged; env: variables set for the run."""
+        self.cases.append((name, argv, expect, list(outputs),
+                           {"fsize": fsize, "keep": keep, "env": env}))
 
     def import_case(self, name, file, expect, extra=()):
         out = os.path.join(self.out(name), "out.h5")
@@ -339,8 +347,10 @@ def generate(c):
         d[:1000] = 1.0
         for k, v in attrs.items():
             d.attrs[k] = v
+    # 1000 of 10^8 declared samples written: the chunks never written are named (the structure
+    # check of every HDF5 open comes before the channel's own length check).
     c.all_readers("h5_length_lie", variant("length_lie.h5", dims_lie),
-                  ["length_lie.h5", "/signals/a", "declares 100000000 samples"])
+                  ["length_lie.h5", "/signals/a", "99999 of its 100000 chunks were never written"])
 
     def tacho_without_ppr(f):
         g = f.create_group("tacho")
@@ -371,6 +381,136 @@ def generate(c):
                            "fuzz", "regressions", "hdf5", "libhdf5_memcpy_overlap.h5")
     shutil.copy(crasher, p("libhdf5_crash.h5"))
     c.all_readers("h5_libhdf5_crash", p("libhdf5_crash.h5"), ["libhdf5_crash.h5", "corrupted file"])
+
+    # Data a recording points at outside itself (docs/limits.md): external storage (a channel
+    # whose bytes are another file's: /etc/passwd exported through a report), virtual datasets,
+    # chunks never written (read as zeros by HDF5), a raw chunk 8 bytes short.
+    secret = p("secret.bin")
+    write(secret, np.arange(50, dtype="<f8").tobytes())
+
+    def copy_attrs(src, dst):
+        for k, v in src.attrs.items():
+            dst.attrs[k] = v
+
+    def external_storage(f):
+        attrs = f["signals/a"]
+        d = f["signals"].create_dataset("ext", shape=(50,), dtype="<f8",
+                                        external=[(secret, 0, 400)])
+        copy_attrs(attrs, d)
+    c.all_readers("h5_external_storage", variant("external_storage.h5", external_storage),
+                  ["external_storage.h5", "/signals/ext", "external files"])
+
+    def virtual(f):
+        layout = h5py.VirtualLayout(shape=(50,), dtype="<f8")
+        layout[:] = h5py.VirtualSource(base, "/signals/a", shape=(50,))
+        d = f["signals"].create_virtual_dataset("virt", layout)
+        copy_attrs(f["signals/a"], d)
+    c.all_readers("h5_virtual_dataset", variant("virtual.h5", virtual),
+                  ["virtual.h5", "/signals/virt", "virtual dataset"])
+
+    def unwritten(f):
+        d = f["signals"].create_dataset("holes", shape=(200000,), dtype="<f8", chunks=(10000,),
+                                        compression="gzip")
+        d[:20000] = 0.5
+        copy_attrs(f["signals/a"], d)
+    c.all_readers("h5_chunks_never_written", variant("unwritten.h5", unwritten),
+                  ["unwritten.h5", "/signals/holes", "18 of its 20 chunks were never written"])
+
+    def short_chunk(f):
+        d = f["signals"].create_dataset("short", shape=(2048,), dtype="<f8", chunks=(1024,),
+                                        shuffle=True, compression="gzip")
+        copy_attrs(f["signals/a"], d)
+        raw_chunk = np.full(1024, 0.25, dtype="<f8").tobytes()
+        d.id.write_direct_chunk((0,), raw_chunk, filter_mask=0x3)
+        d.id.write_direct_chunk((1024,), raw_chunk[:-8], filter_mask=0x3)
+    c.all_readers("h5_raw_chunk_short", variant("short_chunk.h5", short_chunk),
+                  ["short_chunk.h5", "/signals/short", "chunk at sample 1024"], info=False)
+
+    def escape_unit(f):
+        f["signals/a"].attrs["unit"] = "\x1b[2J\x1b[31mg"
+    c.all_readers("h5_escape_in_unit", variant("escape_unit.h5", escape_unit),
+                  ["escape_unit.h5", "unit", "\\x1b", "control character"])
+
+    # MAT files declaring what they do not hold.
+    write(p("v4_wrap.mat"), struct.pack("<5i", 0, 1 << 30, 1 << 30, 1, 2) + b"x\0" + bytes(64))
+    c.import_case("mat_v4_dims_wrap", p("v4_wrap.mat"), ["v4_wrap.mat", "1073741824 x 1073741824"],
+                  ["--fs", "100"])
+
+    def mat73(name, make):
+        path = p(name)
+        with h5py.File(path, "w", userblock_size=512) as f:
+            make(f)
+        header = b"MATLAB 7.3 MAT-file, written by bad_inputs.py".ljust(124, b" ")
+        with open(path, "r+b") as f:
+            f.write(header + b"\x00\x02IM")
+        return path
+
+    def mat73_unwritten(f):
+        d = f.create_dataset("x", shape=(100000000, 1), dtype="<f8", chunks=(65536, 1),
+                             compression="gzip")
+        d.attrs["MATLAB_class"] = np.bytes_("double")
+    c.import_case("mat73_unwritten_1e8", mat73("unwritten73.mat", mat73_unwritten),
+                  ["unwritten73.mat", "/x", "never written"], ["--fs", "100"])
+
+    def mat73_external(f):
+        d = f.create_dataset("x", shape=(50, 1), dtype="<f8", external=[(secret, 0, 400)])
+        d.attrs["MATLAB_class"] = np.bytes_("double")
+    c.import_case("mat73_external_storage", mat73("external73.mat", mat73_external),
+                  ["external73.mat", "/x", "external files"], ["--fs", "100"])
+
+    # ---- face-gear stiffness tables and wear runs ------------------------------------------
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    face_gear = json.load(open(os.path.join(root, "testdata", "gearbox", "seed002_face_gear.json")))
+
+    def face_gear_case(name, table, expect):
+        desc = dict(face_gear)
+        pair = {k: v for k, v in face_gear["face_gear_pair"].items() if k != "static_te_um"}
+        desc["face_gear_pair"] = dict(pair, stiffness_table=table)  # the table gives the TE
+        gb = p(name + ".json")
+        write(gb, json.dumps(desc))
+        out = os.path.join(c.out(name), "fg.h5")
+        c.add(name, ["simulate", "--gearbox", gb, "--duration", "0.01", "-o", out], expect, [out])
+
+    header = "flank,angle_deg,load_nm,stiffness_nm_per_rad,e0_urad\n"
+    write(p("fg_extra_field.csv"), header + "drive,0,1,1e6,0,7\n")
+    face_gear_case("facegear_csv_extra_field", "fg_extra_field.csv",
+                   ["fg_extra_field.csv", "line 2", "exactly 5"])
+    write(p("fg_secret.csv"), "root:SECRET-TEXT:0:0\n")
+    face_gear_case("facegear_csv_no_echo", "fg_secret.csv", ["fg_secret.csv", "header"])
+    fg_fifo = p("fg_fifo.csv")
+    if os.path.exists(fg_fifo):
+        os.remove(fg_fifo)
+    os.mkfifo(fg_fifo)
+    face_gear_case("facegear_csv_fifo", "fg_fifo.csv", ["fg_fifo.csv", "FIFO"])
+
+    pair = os.path.join(root, "testdata", "gearbox", "single_stage_29_47.json")
+    for name, extra, expect in [("wear_cycles_1e300", ["--cycles", "1e300"], ["cycles"]),
+                                ("wear_torque_1e300", ["--cycles", "1e6", "--torque", "1e300"],
+                                 ["torque"])]:
+        out = os.path.join(c.out(name), "w.h5")
+        c.add(name, ["wear", "--gearbox", pair, "--mesh", "pinion_wheel", "--steps", "3",
+                     *extra, "-o", out], expect, [out])
+
+    # ---- full disks: every output kind --------------------------------------------------------
+    # The run may write 512 bytes (SIGXFSZ ignored: a longer write fails with EFBIG, as ENOSPC on
+    # a full disk); a previous file at the output path must come out unchanged.
+    def disk_full(name, argv_of, file_name):
+        d = c.out(name)
+        out = os.path.join(d, file_name)
+        write(out, "previous output\n")
+        c.add(name, argv_of(out), [file_name, "write failed"], [out], fsize=512, keep=out)
+
+    big_csv = p("big.csv")
+    write(big_csv, "time,a\n" + "".join(f"{i / 1000:.6f},{np.sin(1.7 * i) * np.cos(0.31 * i * i):.17g}\n"
+                                        for i in range(20000)))
+    disk_full("disk_full_import", lambda o: ["import", big_csv, "-o", o], "full.h5")
+    disk_full("disk_full_simulate", lambda o: ["simulate", "--gearbox", pair, "--duration", "0.5",
+                                               "-o", o], "sim.h5")
+    disk_full("disk_full_analyze_json", lambda o: ["analyze", big_csv, "--json", o], "a.json")
+    disk_full("disk_full_analyze_html", lambda o: ["analyze", big_csv, "--html", o], "a.html")
+    disk_full("disk_full_analyze_curves", lambda o: ["analyze", big_csv, "--curves", o], "c.h5")
+    disk_full("disk_full_wear", lambda o: ["wear", "--gearbox", pair, "--mesh", "pinion_wheel",
+                                           "--cycles", "1e6", "--steps", "40", "-o", o], "w.h5")
 
     # ---- special files --------------------------------------------------------------------
     fifo = p("fifo.csv")
@@ -421,19 +561,30 @@ def generate(c):
     c.add("analyze_html_directory", ["analyze", base, "--html", html], ["--html", "directory"])
 
 
+def limited(fsize):
+    """A preexec_fn making the disk full at fsize bytes for the child."""
+    def apply():
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+    return apply
+
+
 def run(c, name_filter):
     failures = 0
     ran = 0
-    for name, argv, expect, outputs in c.cases:
+    for name, argv, expect, outputs, opts in c.cases:
         if name_filter and name_filter not in name:
             continue
         ran += 1
         out_dirs = {os.path.dirname(o) for o in outputs}
         before = {d: set(os.listdir(d)) if os.path.isdir(d) else set() for d in out_dirs}
+        kept = open(opts["keep"], "rb").read() if opts["keep"] else None
+        env = dict(os.environ, **opts["env"]) if opts["env"] else None
         start = time.monotonic()
         try:
             r = subprocess.run([c.binary, *argv], capture_output=True, timeout=TIME_LIMIT_S,
-                               stdin=subprocess.DEVNULL)
+                               stdin=subprocess.DEVNULL, env=env,
+                               preexec_fn=limited(opts["fsize"]) if opts["fsize"] else None)
             code, err = r.returncode, r.stderr.decode(errors="replace")
         except subprocess.TimeoutExpired:
             code, err = "timeout", ""
@@ -448,6 +599,8 @@ def run(c, name_filter):
             after = set(os.listdir(d)) if os.path.isdir(d) else set()
             if after - before[d]:
                 problems.append(f"left {sorted(after - before[d])} in {d}")
+        if kept is not None and open(opts["keep"], "rb").read() != kept:
+            problems.append(f"the previous {opts['keep']} was changed")
         if problems:
             failures += 1
             print(f"FAIL {name} ({took:.2f} s): {'; '.join(problems)}\n     stderr: {err.strip()}")

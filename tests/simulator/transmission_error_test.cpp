@@ -204,7 +204,7 @@ TEST(HalfPower, SteppedSineFrfRecoversTheMeshDampingRatio) {
 TEST(TransmissionError, ScenarioFieldIsParsedAndValidated) {
   const sim::Scenario sc = sim::parse_scenario(
       nlohmann::json::parse(
-          R"({"transmission_error": {"amplitude_um": [2, 0.5], "phase_deg": [90]}})"),
+          R"({"transmission_error": {"amplitude_um": [2, 0.5], "phase_deg": [90, 0]}})"),
       "sc.json");
   ASSERT_EQ(sc.dynamics.te_amplitude_m.size(), 2u);
   EXPECT_DOUBLE_EQ(sc.dynamics.te_amplitude_m[1], 0.5e-6);
@@ -213,6 +213,7 @@ TEST(TransmissionError, ScenarioFieldIsParsedAndValidated) {
                           R"({"transmission_error": {"amplitude_um": 2}})",
                           R"({"transmission_error": {"phase_deg": [0]}})",
                           R"({"transmission_error": {"amplitude_um": [1], "phase_deg": [0, 1]}})",
+                          R"({"transmission_error": {"amplitude_um": [1, 2], "phase_deg": [0]}})",
                           R"({"transmission_error": {"amplitude_um": [1], "order": 2}})"}) {
     EXPECT_THROW(sim::parse_scenario(nlohmann::json::parse(bad), "sc.json"), diag::InputError)
         << bad;

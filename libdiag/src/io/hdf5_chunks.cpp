@@ -10,7 +10,9 @@
 #include <memory>
 #include <vector>
 
+#include "diag/error.hpp"
 #include "diag/io/hdf5_inflate.hpp"
+#include "hdf5_handle.hpp"
 
 #if GEARDIAG_WITH_LIBDEFLATE
 #include <libdeflate.h>
@@ -21,20 +23,13 @@
 
 namespace diag {
 
+using hdf5_detail::Hid;
+
 namespace {
 
 std::atomic<bool> direct_reads{true};
 std::atomic<bool> force_zlib{false};
 std::atomic<bool> reuse_survey_samples{true};
-
-// Owns an HDF5 identifier (closed with `close`).
-struct Owned {
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Owned() {
-    if (id >= 0) close(id);
-  }
-};
 
 // The filters of a dataset this reader decodes itself: their index in the pipeline (the bit of
 // a chunk's filter mask that says the writer skipped it), -1 when absent.
@@ -142,22 +137,22 @@ void reserve(std::unique_ptr<unsigned char[]>& buffer, std::size_t& capacity, st
   capacity = bytes;
 }
 
-bool read_chunks_direct(hid_t ds, const std::string& what, std::uint64_t offset,
-                        std::span<double> out, DecodedChunk& cache) {
+bool read_chunks_direct(hid_t ds, const std::string& where, const std::string& what,
+                        std::uint64_t offset, std::span<double> out, DecodedChunk& cache) {
   if constexpr (std::endian::native != std::endian::little) return false;
   if (!direct_reads.load(std::memory_order_relaxed) || out.empty()) return false;
-  const Owned dcpl{H5Dget_create_plist(ds), H5Pclose};
-  const Owned type{H5Dget_type(ds), H5Tclose};
-  if (dcpl.id < 0 || type.id < 0 || H5Pget_layout(dcpl.id) != H5D_CHUNKED ||
-      H5Tequal(type.id, H5T_IEEE_F64LE) <= 0) {
+  const Hid dcpl(H5Dget_create_plist(ds), H5Pclose);
+  const Hid type(H5Dget_type(ds), H5Tclose);
+  if (!dcpl.valid() || !type.valid() || H5Pget_layout(dcpl.get()) != H5D_CHUNKED ||
+      H5Tequal(type.get(), H5T_IEEE_F64LE) <= 0) {
     return false;
   }
   hsize_t chunk = 0;
   Pipeline pipeline;
   // HDF5 limits a chunk to 4 GiB.
-  if (H5Pget_chunk(dcpl.id, 1, &chunk) != 1 || chunk == 0 ||
-      chunk > (std::uint64_t{4} << 30) / sizeof(double) || !decodable_pipeline(dcpl.id, pipeline) ||
-      (pipeline.shuffle < 0 && pipeline.deflate < 0)) {
+  if (H5Pget_chunk(dcpl.get(), 1, &chunk) != 1 || chunk == 0 ||
+      chunk > (std::uint64_t{4} << 30) / sizeof(double) ||
+      !decodable_pipeline(dcpl.get(), pipeline) || (pipeline.shuffle < 0 && pipeline.deflate < 0)) {
     return false;  // unfiltered data: HDF5 reads it straight into `out`
   }
   const std::size_t chunk_bytes = static_cast<std::size_t>(chunk) * sizeof(double);
@@ -173,21 +168,33 @@ bool read_chunks_direct(hid_t ds, const std::string& what, std::uint64_t offset,
       hsize_t stored_bytes = 0;
       std::uint32_t mask = 0;
       reserve(cache.stored, cache.stored_capacity, max_stored);
-      if (H5Dget_chunk_storage_size(ds, &at, &stored_bytes) < 0 || stored_bytes == 0 ||
-          stored_bytes > max_stored ||
-          H5Dread_chunk(ds, H5P_DEFAULT, &at, &mask, cache.stored.get()) < 0) {
-        return false;
+      auto damaged = [&](const std::string& reason) {
+        throw InputError(format_error(
+            where, what,
+            "chunk at sample " + std::to_string(start) + ": " + reason + " (corrupted file)"));
+      };
+      if (H5Dget_chunk_storage_size(ds, &at, &stored_bytes) < 0 || stored_bytes == 0) {
+        damaged("not stored");
+      }
+      if (stored_bytes > max_stored) {
+        damaged("stores " + std::to_string(stored_bytes) + " bytes, more than a chunk of " +
+                std::to_string(chunk_bytes) + " bytes is ever stored");
+      }
+      if (H5Dread_chunk(ds, H5P_DEFAULT, &at, &mask, cache.stored.get()) < 0) {
+        damaged("cannot be read");
       }
       if (pipeline.deflate >= 0 && (mask & (1u << pipeline.deflate)) == 0) {
         reserve(cache.bytes, cache.bytes_capacity, chunk_bytes);
         if (!inflate_exact(cache.stored.get(), stored_bytes, cache.bytes.get(), chunk_bytes)) {
-          return false;
+          damaged("its deflate stream does not decode to the chunk's " +
+                  std::to_string(chunk_bytes) + " bytes");
         }
       } else if (stored_bytes == chunk_bytes) {
         std::swap(cache.stored, cache.bytes);  // stored raw: the chunk itself
         std::swap(cache.stored_capacity, cache.bytes_capacity);
       } else {
-        return false;
+        damaged("stored raw in " + std::to_string(stored_bytes) + " bytes, not the chunk's " +
+                std::to_string(chunk_bytes));
       }
       cache.shuffled = pipeline.shuffle >= 0 && (mask & (1u << pipeline.shuffle)) == 0;
       cache.dataset = what;

@@ -26,14 +26,15 @@ struct DecodedChunk {
 
 namespace hdf5_detail {
 
-// Samples [offset, offset + out.size()) of the 1-D dataset `ds` (named `what` in its file) into
-// `out`, decoded from its chunks' stored bytes, when `ds` is a chunked IEEE float64
-// little-endian dataset whose filters are shuffle and/or deflate. Returns false for any other
-// dataset and for anything unexpected on the way (a chunk not stored, a stream that does not
-// inflate to the chunk's size): the caller then reads `out` again with H5Dread, whose errors
-// name the damage as before.
-bool read_chunks_direct(hid_t ds, const std::string& what, std::uint64_t offset,
-                        std::span<double> out, DecodedChunk& cache);
+// Samples [offset, offset + out.size()) of the 1-D dataset `ds` (named `what` in the file
+// `where`) into `out`, decoded from its chunks' stored bytes, when `ds` is a chunked IEEE float64
+// little-endian dataset whose filters are shuffle and/or deflate. Returns false, having read
+// nothing, for any other dataset (the caller reads it with H5Dread). A chunk found damaged (not
+// stored, larger than a chunk can be stored, a stream that does not inflate to the chunk's size,
+// a raw chunk of the wrong size) is an InputError naming file, dataset and chunk: never handed to
+// H5Dread, which would take it (a short chunk read as uninitialised memory).
+bool read_chunks_direct(hid_t ds, const std::string& where, const std::string& what,
+                        std::uint64_t offset, std::span<double> out, DecodedChunk& cache);
 
 // Whether RecordingReader copies the samples its survey child decoded (tests turn it off:
 // hdf5_set_read_path).

@@ -1,6 +1,5 @@
 #include "diag/io/import.hpp"
 
-#include <matio.h>
 #include <sndfile.h>
 #include <zlib.h>
 
@@ -13,7 +12,6 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
-#include <mutex>
 #include <set>
 #include <string>
 #include <string_view>
@@ -23,6 +21,7 @@
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/input_file.hpp"
+#include "diag/io/printable.hpp"
 #include "mat_file.hpp"
 
 namespace diag {
@@ -441,94 +440,7 @@ Recording import_sound(const std::filesystem::path& path, const std::string& whe
   return rec;
 }
 
-// ---- MATLAB .mat (matio) -------------------------------------------------------------------
-
-void silence_matio() {
-  static std::once_flag once;
-  std::call_once(once, [] { Mat_LogInitFunc("geardiag", [](int, char*) {}); });
-}
-
-template <typename T>
-void append_as_double(const void* data, std::size_t n, std::vector<double>& out) {
-  const T* values = static_cast<const T*>(data);
-  out.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) out.push_back(static_cast<double>(values[i]));
-}
-
-// Converts a real numeric matio variable to doubles; false for other classes.
-bool numeric_values(const matvar_t* var, std::vector<double>& out) {
-  if (var->isComplex || var->isLogical || var->data == nullptr) return false;
-  if (var->data_size != static_cast<int>(Mat_SizeOfClass(var->class_type))) return false;
-  std::size_t n = 1;
-  for (int d = 0; d < var->rank; ++d) n *= var->dims[d];
-  if (var->nbytes != n * static_cast<std::size_t>(var->data_size)) return false;
-  switch (var->class_type) {
-    case MAT_C_DOUBLE:
-      append_as_double<double>(var->data, n, out);
-      return true;
-    case MAT_C_SINGLE:
-      append_as_double<float>(var->data, n, out);
-      return true;
-    case MAT_C_INT8:
-      append_as_double<std::int8_t>(var->data, n, out);
-      return true;
-    case MAT_C_UINT8:
-      append_as_double<std::uint8_t>(var->data, n, out);
-      return true;
-    case MAT_C_INT16:
-      append_as_double<std::int16_t>(var->data, n, out);
-      return true;
-    case MAT_C_UINT16:
-      append_as_double<std::uint16_t>(var->data, n, out);
-      return true;
-    case MAT_C_INT32:
-      append_as_double<std::int32_t>(var->data, n, out);
-      return true;
-    case MAT_C_UINT32:
-      append_as_double<std::uint32_t>(var->data, n, out);
-      return true;
-    case MAT_C_INT64:
-      append_as_double<std::int64_t>(var->data, n, out);
-      return true;
-    case MAT_C_UINT64:
-      append_as_double<std::uint64_t>(var->data, n, out);
-      return true;
-    default:
-      return false;
-  }
-}
-
-// MATLAB 7.3 files are HDF5: read through matio (its HDF5 back end). Levels 4 and 5 are decoded
-// by mat_file.hpp, which checks every declared size against the bytes present.
-std::vector<mat::Variable> matio_variables(const std::filesystem::path& path,
-                                           const std::string& where) {
-  silence_matio();
-  mat_t* mat = Mat_Open(path.string().c_str(), MAT_ACC_RDONLY);
-  if (mat == nullptr) {
-    throw InputError(format_error(where, "", "not a MATLAB .mat file matio can read"));
-  }
-  std::vector<mat::Variable> vars;
-  while (matvar_t* var = Mat_VarReadNext(mat)) {
-    struct Free {
-      matvar_t* v;
-      ~Free() { Mat_VarFree(v); }
-    } free_var{var};
-    mat::Variable v;
-    if (var->name == nullptr || !numeric_values(var, v.values)) continue;
-    v.name = var->name;
-    v.dims.assign(var->dims, var->dims + var->rank);
-    v.integer_class = var->class_type != MAT_C_DOUBLE && var->class_type != MAT_C_SINGLE;
-    if (v.values.size() == 1 && var->class_type == MAT_C_INT64) {
-      v.exact_text = std::to_string(*static_cast<const std::int64_t*>(var->data));
-    }
-    if (v.values.size() == 1 && var->class_type == MAT_C_UINT64) {
-      v.exact_text = std::to_string(*static_cast<const std::uint64_t*>(var->data));
-    }
-    vars.push_back(std::move(v));
-  }
-  Mat_Close(mat);
-  return vars;
-}
+// ---- MATLAB .mat ---------------------------------------------------------------------------
 
 // Integer classes print exactly; floating ones with the shortest round-trip text.
 std::string scalar_text(const mat::Variable& v) {
@@ -565,10 +477,13 @@ void cwru_locations(Recording& rec) {
 
 Recording import_mat(const std::filesystem::path& path, const std::string& where,
                      const ImportOptions& options, std::uint64_t file_size) {
-  std::vector<mat::Variable> vars = mat::is_mat73(path)
-                                        ? matio_variables(path, where)
-                                        : mat::read_numeric_variables(path, where, file_size);
+  // Level 7.3 is HDF5: read through the project's one HDF5 open and the crash guard (mat73.cpp).
+  std::vector<std::string> notes;
+  std::vector<mat::Variable> vars =
+      mat::is_mat73(path) ? mat::read_mat73_variables(path, &notes)
+                          : mat::read_numeric_variables(path, where, file_size, &notes);
   Recording rec;
+  rec.notes = std::move(notes);
   std::vector<std::pair<std::string, double>> rpm_values;
   for (mat::Variable& var : vars) {
     if (var.dims.size() != 2) continue;
@@ -652,19 +567,31 @@ Recording import_recording(const std::filesystem::path& path, const ImportOption
   const std::string name = lower(path.filename().string());
 
   Recording rec;
-  if (ends_with(name, ".mat")) {
-    rec = import_mat(path, where, options, file_size);
-  } else if (is_hdf5_file(path)) {
-    rec = import_hdf5(path, where, options);
-  } else if (ends_with(name, ".csv") || ends_with(name, ".csv.gz") || ends_with(name, ".tsv") ||
-             ends_with(name, ".tsv.gz") || ends_with(name, ".txt") || ends_with(name, ".txt.gz")) {
-    rec = import_csv(path, where, options);
-  } else if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) {
-    throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
-  } else {
-    rec = import_sound(path, where, options, file_size);
+  try {
+    if (ends_with(name, ".mat")) {
+      rec = import_mat(path, where, options, file_size);
+    } else if (is_hdf5_file(path)) {
+      rec = import_hdf5(path, where, options);
+    } else if (ends_with(name, ".csv") || ends_with(name, ".csv.gz") || ends_with(name, ".tsv") ||
+               ends_with(name, ".tsv.gz") || ends_with(name, ".txt") ||
+               ends_with(name, ".txt.gz")) {
+      rec = import_csv(path, where, options);
+    } else if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) {
+      throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
+    } else {
+      rec = import_sound(path, where, options, file_size);
+    }
+  } catch (const std::bad_alloc&) {
+    // What a file declares was checked against its bytes; a file that is all data can still be
+    // larger than this machine's memory.
+    throw InputError(format_error(where, "",
+                                  std::to_string(file_size) +
+                                      " bytes whose samples do not fit in memory; cut the file "
+                                      "or use a machine with more memory"));
   }
   rec.metadata.try_emplace("source", path.filename().string());
+  // Names, units and sources come from the file: no escape sequence reaches a terminal.
+  make_printable(rec);
   if (!is_hdf5_file(path)) {
     // Measured files say nothing of what their columns are: vibration until a channel map,
     // --tacho or tacho inference (channels.hpp) says otherwise.

@@ -106,6 +106,7 @@ struct Context {
   const std::string& where;
   std::size_t index = 0;
   std::string name;
+  std::vector<std::string>* notes = nullptr;
 
   [[noreturn]] void fail(const std::string& reason) const {
     std::string field = "variable " + std::to_string(index);
@@ -168,6 +169,15 @@ bool decode_matrix(const Bytes& b, Context& ctx, Variable& out) {
   if (out.name.empty()) ctx.fail("empty variable name");
   if (out.name.find('\0') != std::string::npos) ctx.fail("variable name contains a NUL byte");
 
+  // Variables an import does not use are skipped before their dimensions are weighed: a sparse
+  // matrix declares its full size but stores only its non-zeros.
+  constexpr std::uint32_t kSparseClass = 5;
+  if (cls == kSparseClass && ctx.notes != nullptr) {
+    ctx.notes->push_back("variable " + out.name + " skipped: a sparse matrix, not a channel");
+  }
+  if (cls < kFirstNumericClass || cls > kLastNumericClass) return false;
+  if ((word & (kComplexFlag | kLogicalFlag)) != 0) return false;
+
   // The element count, refused as soon as it exceeds what the variable's bytes could hold.
   std::uint64_t count = 1;
   bool empty = false;
@@ -185,8 +195,6 @@ bool decode_matrix(const Bytes& b, Context& ctx, Variable& out) {
     }
   }
   if (empty) count = 0;
-  if (cls < kFirstNumericClass || cls > kLastNumericClass) return false;
-  if ((word & (kComplexFlag | kLogicalFlag)) != 0) return false;
 
   const Element real = element_at(b, name.next, ctx, "real part");
   const std::size_t size = type_size(real.type);
@@ -255,9 +263,10 @@ std::vector<unsigned char> inflate_element(const unsigned char* data, std::size_
   return out;
 }
 
-std::vector<Variable> read_level5(const Bytes& file, const std::string& where) {
+std::vector<Variable> read_level5(const Bytes& file, const std::string& where,
+                                  std::vector<std::string>* notes) {
   std::vector<Variable> vars;
-  Context ctx{where, 0, {}};
+  Context ctx{where, 0, {}, notes};
   std::size_t offset = 128;
   while (offset < file.size) {
     ++ctx.index;
@@ -295,17 +304,16 @@ std::vector<Variable> read_level5(const Bytes& file, const std::string& where) {
   return vars;
 }
 
-std::vector<Variable> read_level4(const std::vector<unsigned char>& data,
-                                  const std::string& where) {
+std::vector<Variable> read_level4(const Bytes& data, const std::string& where) {
   std::vector<Variable> vars;
-  Context ctx{where, 0, {}};
+  Context ctx{where, 0, {}, nullptr};
   std::size_t offset = 0;
   const bool little_host = std::endian::native == std::endian::little;
-  while (offset < data.size()) {
+  while (offset < data.size) {
     ++ctx.index;
     ctx.name.clear();
-    if (data.size() - offset < 20) ctx.fail("truncated header (level 4)");
-    Bytes b{data.data() + offset, data.size() - offset, false};
+    if (data.size - offset < 20) ctx.fail("truncated header (level 4)");
+    Bytes b{data.data + offset, data.size - offset, false};
     std::int32_t mopt = b.get<std::int32_t>(0);
     if (mopt < 0 || mopt > 4052) {
       b.swap = true;
@@ -332,7 +340,15 @@ std::vector<Variable> read_level4(const std::vector<unsigned char>& data,
     const std::size_t size = type_size(type);
     const std::size_t start = 20 + static_cast<std::size_t>(namelen);
     const std::uint64_t count = static_cast<std::uint64_t>(rows) * static_cast<std::uint64_t>(cols);
-    const std::uint64_t need = count * size * (imag != 0 ? 2 : 1);
+    const std::uint64_t parts = imag != 0 ? 2 : 1;
+    // Compared by division first: rows x columns x 8 x 2 can pass 2^64 and wrap to a small size.
+    const std::uint64_t room = b.size - start;
+    if (count > room / size / parts) {
+      ctx.fail("dimensions " + std::to_string(rows) + " x " + std::to_string(cols) + " need " +
+               std::to_string(count) + " values, more than the " + std::to_string(room) +
+               " bytes left hold (truncated or corrupted)");
+    }
+    const std::uint64_t need = count * size * parts;
     if (need > b.size - start) {
       ctx.fail("needs " + std::to_string(need) + " bytes of data, the file holds " +
                std::to_string(b.size - start) + " (truncated or corrupted)");
@@ -363,14 +379,16 @@ bool is_mat73(const std::filesystem::path& path) {
 }
 
 std::vector<Variable> read_numeric_variables(const std::filesystem::path& path,
-                                             const std::string& where, std::uint64_t file_size) {
+                                             const std::string& where, std::uint64_t file_size,
+                                             std::vector<std::string>* notes) {
+  // The file in memory once, decoded where it lies.
   const std::string text = read_input_bytes(path, "", file_size);
-  const std::vector<unsigned char> data(text.begin(), text.end());
-  if (data.size() >= 128) {
-    const bool little = data[126] == 'I' && data[127] == 'M';
-    const bool big = data[126] == 'M' && data[127] == 'I';
+  const Bytes data{reinterpret_cast<const unsigned char*>(text.data()), text.size(), false};
+  if (data.size >= 128) {
+    const bool little = data.data[126] == 'I' && data.data[127] == 'M';
+    const bool big = data.data[126] == 'M' && data.data[127] == 'I';
     if (little || big) {
-      const Bytes file{data.data(), data.size(),
+      const Bytes file{data.data, data.size,
                        little != (std::endian::native == std::endian::little)};
       const std::uint16_t version = file.get<std::uint16_t>(124);
       if (version != 0x0100) {
@@ -378,7 +396,7 @@ std::vector<Variable> read_numeric_variables(const std::filesystem::path& path,
             where, "",
             "MAT-file version " + std::to_string(version >> 8) + " is not 5 (level 5) nor 7.3"));
       }
-      return read_level5(file, where);
+      return read_level5(file, where, notes);
     }
   }
   return read_level4(data, where);

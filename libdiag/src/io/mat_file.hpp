@@ -11,7 +11,9 @@
 //
 // Only what an import uses is decoded: real, non-logical numeric arrays (any numeric class,
 // stored in any numeric type). Other variables (char, cell, struct, sparse, complex, logical,
-// objects) are skipped by their byte count, unread. Level 7.3 files are HDF5 (is_mat73()).
+// objects) are skipped by their byte count, unread, whatever dimensions they declare (a sparse
+// matrix of 10^5 x 10^5 holds only its non-zeros); a sparse matrix is named in a note. Level 7.3
+// files are HDF5 (is_mat73(), read by mat73.cpp). The file is held in memory once.
 #pragma once
 
 #include <cstdint>
@@ -33,8 +35,14 @@ struct Variable {
 bool is_mat73(const std::filesystem::path& path);
 
 // Decodes every real numeric variable of a level 4 or 5 file. Throws InputError naming `where`,
-// the variable and the damage.
+// the variable and the damage. Notes on skipped variables go to `notes` when given.
 std::vector<Variable> read_numeric_variables(const std::filesystem::path& path,
-                                             const std::string& where, std::uint64_t file_size);
+                                             const std::string& where, std::uint64_t file_size,
+                                             std::vector<std::string>* notes = nullptr);
+
+// Decodes every real numeric variable of a level 7.3 file (HDF5), through the project's one HDF5
+// open (hdf5_file.hpp) and the crash guard. Throws InputError naming the file and the variable.
+std::vector<Variable> read_mat73_variables(const std::filesystem::path& path,
+                                           std::vector<std::string>* notes = nullptr);
 
 }  // namespace diag::mat

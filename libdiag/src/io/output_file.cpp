@@ -406,8 +406,14 @@ void write_output_file_via(const fs::path& path,
   // A FIFO, a device or stdout cannot be renamed onto, and writers such as HDF5 seek: the file is
   // made in the temporary directory, then streamed.
   static std::atomic<unsigned> counter{0};
-  const TempFile named(fs::temp_directory_path() / ("geardiag-" + std::to_string(::getpid()) + "-" +
-                                                    std::to_string(counter++) + ".tmp"));
+  std::error_code ec;
+  const fs::path tmpdir = fs::temp_directory_path(ec);
+  if (ec) {
+    // A missing TMPDIR is the environment's fault, not an internal error.
+    fail_output(path, what, "no temporary directory to build the output in: " + ec.message());
+  }
+  const TempFile named(tmpdir / ("geardiag-" + std::to_string(::getpid()) + "-" +
+                                 std::to_string(counter++) + ".tmp"));
   write_file(named.path());
   const int src = ::open(named.path().c_str(), O_RDONLY | O_CLOEXEC);
   if (src < 0) fail_output(path, what, "cannot read back " + named.path().string());

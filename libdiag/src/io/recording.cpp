@@ -1,9 +1,12 @@
 #include "diag/io/recording.hpp"
 
 #include <cmath>
+#include <map>
 #include <string>
+#include <string_view>
 
 #include "diag/error.hpp"
+#include "diag/io/printable.hpp"
 
 namespace diag {
 
@@ -116,6 +119,64 @@ void validate(const Signal& s, const std::string& where) {
                                         "; samples must be finite"));
     }
   }
+}
+
+namespace {
+
+// The length of the control character at text[i] (0: none): a C0 byte, DEL, or a C1 character
+// in UTF-8 (0xC2 0x80 ... 0xC2 0x9F).
+std::size_t control_at(std::string_view text, std::size_t i) {
+  const auto c = static_cast<unsigned char>(text[i]);
+  if (c < 0x20 || c == 0x7f) return 1;
+  if (c == 0xC2 && i + 1 < text.size()) {
+    const auto next = static_cast<unsigned char>(text[i + 1]);
+    if (next >= 0x80 && next <= 0x9F) return 2;
+  }
+  return 0;
+}
+
+}  // namespace
+
+bool has_control_characters(std::string_view text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (control_at(text, i) > 0) return true;
+  }
+  return false;
+}
+
+std::string printable_text(std::string_view text) {
+  if (!has_control_characters(text)) return std::string(text);
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < text.size();) {
+    const std::size_t n = control_at(text, i);
+    if (n == 0) {
+      out += text[i++];
+      continue;
+    }
+    for (std::size_t k = 0; k < n; ++k, ++i) {
+      const auto c = static_cast<unsigned char>(text[i]);
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    }
+  }
+  return out;
+}
+
+void make_printable(Recording& rec) {
+  for (auto* group : {&rec.signals, &rec.tachos}) {
+    for (Signal& s : *group) {
+      for (std::string* text : {&s.name, &s.unit, &s.location, &s.shaft, &s.mesh}) {
+        *text = printable_text(*text);
+      }
+    }
+  }
+  std::map<std::string, std::string> metadata;
+  for (const auto& [key, value] : rec.metadata) {
+    metadata[printable_text(key)] = printable_text(value);
+  }
+  rec.metadata = std::move(metadata);
 }
 
 }  // namespace diag

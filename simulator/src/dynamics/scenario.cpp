@@ -222,9 +222,22 @@ Scenario parse_scenario(const json& j, const std::string& where) {
       if (!(a >= 0.0) || !std::isfinite(a)) te.fail("amplitude_um", "values must be >= 0");
       d.te_amplitude_m.push_back(a * 1e-6);
     }
-    for (double p : numbers("phase_deg")) d.te_phase_rad.push_back(p * std::numbers::pi / 180.0);
-    if (d.te_phase_rad.size() > d.te_amplitude_m.size())
-      te.fail("phase_deg", "has more entries than amplitude_um");
+    // Each harmonic costs a sine per mesh evaluation: 1000 is far more than any measured
+    // transmission error shows (its spectrum falls off within tens of mesh orders).
+    constexpr std::size_t kMaxHarmonics = 1000;
+    if (d.te_amplitude_m.size() > kMaxHarmonics) {
+      te.fail("amplitude_um", "more than " + std::to_string(kMaxHarmonics) + " harmonics");
+    }
+    for (double p : numbers("phase_deg")) {
+      if (!std::isfinite(p)) te.fail("phase_deg", "values must be finite");
+      d.te_phase_rad.push_back(p * std::numbers::pi / 180.0);
+    }
+    // Phases given must pair with the amplitudes one to one (absent: all zero).
+    if (te.has("phase_deg") && d.te_phase_rad.size() != d.te_amplitude_m.size()) {
+      te.fail("phase_deg",
+              "has " + std::to_string(d.te_phase_rad.size()) + " entries; amplitude_um has " +
+                  std::to_string(d.te_amplitude_m.size()) + " (one phase per harmonic)");
+    }
   }
   // sensors.noise_seed: the sensor noise's own seed, so that two records of the same gears (the
   // same "seed": pitch errors, runout phases) differ in their noise, as two measurements do.

@@ -11,6 +11,7 @@
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/hdf5_arrays.hpp"
+#include "diag/io/input_file.hpp"
 #include "diag/io/json_fields.hpp"
 
 namespace sim::facegear {
@@ -91,15 +92,15 @@ void analytic_tables(const Geometry& g, double te_drive_um, double te_coast_um, 
 void load_table_csv(const std::filesystem::path& path, const FaceGearPair& pair, FlankTable& drive,
                     FlankTable& coast) {
   const std::string where = path.string();
-  std::ifstream in(path);
-  if (!in) diag::fail(where, "", "cannot open the stiffness table");
+  // A regular file of at most 64 MiB without NUL bytes (diag/io/input_file.hpp): a FIFO or a
+  // device is refused before it is opened. Messages name fields, never echo the file's text.
+  std::istringstream in(diag::read_input_file(path, "", std::uint64_t{64} << 20));
   std::string line;
   if (!std::getline(in, line)) diag::fail(where, "", "empty stiffness table");
   if (!line.empty() && line.back() == '\r') line.pop_back();
   if (line != "flank,angle_deg,load_nm,stiffness_nm_per_rad,e0_urad") {
     diag::fail(where, "header",
-               "expected 'flank,angle_deg,load_nm,stiffness_nm_per_rad,e0_urad', got '" +
-                   line.substr(0, 80) + "'");
+               "the first line must be 'flank,angle_deg,load_nm,stiffness_nm_per_rad,e0_urad'");
   }
   // Per flank: (angle, load) -> k, angle -> e0.
   std::map<std::string, std::map<std::pair<double, double>, double>> k;
@@ -110,15 +111,23 @@ void load_table_csv(const std::filesystem::path& path, const FaceGearPair& pair,
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty()) continue;
     if (lineno > 1000000) diag::fail(where, "", "more than 1e6 rows");
-    std::stringstream ss(line);
+    // Exactly 5 fields: a row with more is refused, not cut.
     std::string cells[5];
-    int nc = 0;
-    while (nc < 5 && std::getline(ss, cells[nc], ',')) ++nc;
+    std::size_t nc = 0, from = 0;
+    for (;; ++nc) {
+      const std::size_t comma = line.find(',', from);
+      if (nc < 5) cells[nc] = line.substr(from, comma == std::string::npos ? comma : comma - from);
+      if (comma == std::string::npos) break;
+      from = comma + 1;
+    }
+    ++nc;
     const std::string at = "line " + std::to_string(lineno);
-    if (nc != 5) diag::fail(where, at, "5 comma-separated fields needed");
+    if (nc != 5) {
+      diag::fail(where, at, std::to_string(nc) + " comma-separated fields; exactly 5 are needed");
+    }
     const std::string& flank = cells[0];
     if (flank != "drive" && flank != "coast") {
-      diag::fail(where, at + ": flank", "'" + flank.substr(0, 20) + "' is not drive or coast");
+      diag::fail(where, at + ": flank", "must be drive or coast");
     }
     double v[4];
     static const char* names[4] = {"angle_deg", "load_nm", "stiffness_nm_per_rad", "e0_urad"};
@@ -130,7 +139,8 @@ void load_table_csv(const std::filesystem::path& path, const FaceGearPair& pair,
       }
     }
     if (!(v[2] > 0)) {
-      diag::fail(where, at + ": stiffness_nm_per_rad", "must be > 0 (got " + cells[3] + ")");
+      diag::fail(where, at + ": stiffness_nm_per_rad",
+                 "must be > 0 (got " + std::to_string(v[2]) + ")");
     }
     if (!k[flank].emplace(std::make_pair(v[0], v[1]), v[2]).second) {
       diag::fail(where, at, "duplicate (angle, load) for flank " + flank);

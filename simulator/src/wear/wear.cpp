@@ -80,7 +80,8 @@ WearLaw parse_wear_law(const std::string& name, const std::string& field) {
 }
 
 void WearOptions::validate() const {
-  require(cycles > 0 && std::isfinite(cycles), "cycles", "must be > 0");
+  // 1e15 cycles is centuries of running at any gear speed; a bound keeps the run finite.
+  require(cycles > 0 && cycles <= 1e15, "cycles", "must be in (0, 1e15]");
   require(steps >= 1 && steps <= 100000, "steps", "must be in [1, 100000]");
   require(profile_points >= 11 && profile_points <= 100000, "profile_points",
           "must be in [11, 100000]");
@@ -92,7 +93,9 @@ void WearOptions::validate() const {
   require(seed_max_depth_per_cycle_m >= 0 && seed_max_depth_per_cycle_m < 1e-3,
           "seed_max_depth_per_cycle", "must be in [0, 1e-3) m");
   require(depth_limit_m > 0 && depth_limit_m < 0.01, "depth_limit", "must be in (0, 10) mm");
-  require(std::isfinite(input_torque_nm), "input_torque_nm", "must be finite");
+  // 1e7 N m is far above any gear set this models; past it the contact stresses overflow.
+  require(std::isfinite(input_torque_nm) && input_torque_nm <= 1e7, "input_torque_nm",
+          "must be finite and at most 1e7 N m");
   require(substep_depth_m >= 1e-8 && substep_depth_m <= 1e-3, "substep_depth",
           "must be in [0.01, 1000] um");
   require(te_points_per_mesh >= 16 && te_points_per_mesh <= 4096, "te_points_per_mesh",
@@ -273,10 +276,17 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
   for (int k = 0; k < o.steps; ++k) {
     // Sub-blocks (header, "Steps"): at most o.substep_depth_m of wear at any point between two
     // load sharings (both laws: the seed's depends on which points are in contact).
-    for (double left = block; left > 0;) {
+    // The depth limit is checked after every sub-block, not only per step: a step of very many
+    // cycles (or a large load) then ends once the limit is reached instead of running on.
+    bool at_limit = false;
+    for (double left = block; left > 0 && !at_limit;) {
       per_pass(o.law, w1, w2);
       const double peak = std::max(*std::max_element(w1.begin(), w1.end()),
                                    *std::max_element(w2.begin(), w2.end()) / u);
+      if (!std::isfinite(peak)) {
+        throw diag::InputError(diag::format_error(
+            "wear", "load", "the wear per cycle is not finite (is the torque far too large?)"));
+      }
       double dc = left;
       if (peak * dc > o.substep_depth_m) {
         dc = o.substep_depth_m / peak;
@@ -287,6 +297,7 @@ WearHistory simulate_wear(const diag::Gearbox& gb, int mesh, const WearOptions& 
         d2[i] += dc / u * w2[i];
       }
       left = dc == left ? 0.0 : left - dc;
+      at_limit = largest(d1, d2) >= o.depth_limit_m;
     }
     const State st = measure();
     h.cycles.push_back(block * (k + 1));

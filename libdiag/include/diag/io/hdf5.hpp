@@ -17,22 +17,24 @@
 //   /gearbox               string dataset: the gearbox description JSON (absent when unknown)
 //   /truth                 string dataset: ground truth JSON (simulated recordings only)
 //
-// Writing goes through diag/io/output_file.hpp: a regular file is written to "<path>.tmp-<pid>"
-// and renamed into place on success, so a failed write never leaves a half-written file under the
-// requested name (the temporary file is removed on errors and on SIGINT/SIGTERM; HDF5 needs a
-// name, so no anonymous file: /proc/self/fd/N fails HDF5's real-path lookup, and 1.10's
-// H5Fget_file_image gives a wrong superblock-v2 checksum); a symbolic link is written through, a
-// FIFO, device or "-" (stdout) receives the bytes of a finished file.
+// Writing: the file is made in memory and its bytes written by write_output_file
+// (diag/io/output_file.hpp): a regular file is written as a temporary file beside the target and
+// renamed into place, so a failed write (a full disk included) leaves no half-written file under
+// the requested name, the previous file intact and no temporary file; a symbolic link is written
+// through, a FIFO, device or "-" (stdout) receives the bytes of the finished file.
 //
-// Reading treats every file as untrusted: FIFOs and devices are refused before HDF5 opens them;
-// soft and external links, zero-length or non-1-D channels, a declared length the stored bytes
-// cannot hold, a /gearbox or /truth that is not JSON, an empty /signals and any HDF5 error on the
-// read path are InputErrors naming the file and object (exit 2). A forked child reads the file
-// first, so a crash or endless loop inside the HDF5 library refuses the file instead of killing or
-// hanging the program (hdf5.cpp, survey_in_child); when the samples are at most 16 MiB it decodes
-// them into memory shared with the parent, which copies them instead of decoding them again.
-// Channels stored as geardiag writes them (float64, shuffle + deflate) are decoded by geardiag
-// from their chunks' stored bytes, with libdeflate when built in (diag/io/hdf5_inflate.hpp).
+// Reading treats every file as untrusted (docs/limits.md): the file is opened once and read
+// through that descriptor, by a forked child first (the crash guard: a crash or endless loop inside
+// the HDF5 library refuses the file instead of killing or hanging the program; when no child can
+// be made, the file is refused) and then by this process. FIFOs and devices are refused before
+// anything opens them; external links, external storage and virtual datasets (data kept in other
+// files), chunks never written, declared sizes the stored bytes cannot hold, soft links,
+// zero-length or non-1-D channels, a /gearbox or /truth that is not JSON, an empty /signals and any
+// HDF5 error on the read path are InputErrors naming the file and object (exit 2). When the samples
+// are at most 16 MiB the child decodes them into memory shared with the parent, which copies them
+// instead of decoding them again. Channels stored as geardiag writes them (float64, shuffle +
+// deflate) are decoded by geardiag from their chunks' stored bytes, with libdeflate when built in
+// (diag/io/hdf5_inflate.hpp); a chunk whose stored bytes do not decode to its size is refused.
 #pragma once
 
 #include <cstdint>
@@ -92,6 +94,9 @@ struct ChannelInfo {
 
 struct SurveyedSamples;
 struct DecodedChunk;
+namespace hdf5_detail {
+class Hdf5Source;
+}
 
 // Streaming access: channel metadata without loading samples, and reading by blocks so that
 // detectors can process files larger than memory.
@@ -121,14 +126,17 @@ class RecordingReader {
   void read_block(const std::string& name, std::uint64_t offset, std::span<double> out) const;
 
  private:
+  void open_file();
   void open_channels();
   void read_samples(const std::string& what, std::uint64_t offset, std::span<double> out) const;
 
   std::filesystem::path path_;
+  // The file, opened once (hdf5_file.hpp): HDF5 reads it through this descriptor.
+  std::shared_ptr<const hdf5_detail::Hdf5Source> source_;
   std::int64_t file_ = -1;  // hid_t
   std::vector<ChannelInfo> channels_;
   int format_version_ = 1;
-  // The samples the survey child read and checked (hdf5.cpp, survey_in_child), when it read
+  // The samples the survey child read and checked (crash_guard.hpp), when it read
   // them: read_block copies from there instead of decoding the file a second time.
   std::shared_ptr<const SurveyedSamples> surveyed_;
   // The last chunk decoded, for the next block (read_block is not for concurrent use, as HDF5).

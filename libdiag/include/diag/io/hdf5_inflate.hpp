@@ -30,7 +30,7 @@ std::string hdf5_inflate_codec();
 struct Hdf5ReadPath {
   bool direct = true;        // false: every channel by H5Dread (HDF5's own pipeline)
   bool zlib = false;         // true: inflate with zlib even when libdeflate is built in
-  bool reuse_survey = true;  // false: decode again what the survey child decoded (hdf5.cpp)
+  bool reuse_survey = true;  // false: decode again what the crash guard child decoded
 };
 bool hdf5_set_read_path(const Hdf5ReadPath& path);
 

@@ -1,5 +1,5 @@
 // Import of measured data into a Recording: CSV (optionally gzip-compressed, ".csv.gz"), WAV and
-// other formats libsndfile reads, MATLAB v5 .mat (matio), and geardiag HDF5 recordings.
+// other formats libsndfile reads, MATLAB .mat (levels 4, 5 and 7.3), and geardiag HDF5 recordings.
 //
 // CSV: a header row of column names, then one row of numbers per sample; every row must have as
 // many fields as the header. A column named time, t, time_s or time_sec (any case) gives the
@@ -12,11 +12,12 @@
 // location drive_end, fan_end, base (a note says so); nothing else is read from a name.
 // WAV: one channel per audio channel, named ch0, ch1, ...; fs from the file unless overridden.
 //
-// Damage is refused, never read as data (README "Limits and bad input"): a path that is not a
+// Damage is refused, never read as data (docs/limits.md): a path that is not a
 // regular file (FIFO, device, directory) before any reader opens it; CSV lines holding a NUL byte;
 // a corrupt or truncated gzip stream, or a ".gz" that is not gzip; a WAV "data" chunk shorter than
 // its header says; a .mat file whose declared sizes (dimensions, byte counts, compressed sizes) the
-// bytes present do not bear out (levels 4 and 5 are decoded by mat_file.cpp, level 7.3 by matio).
+// bytes present do not bear out (levels 4 and 5 are decoded by mat_file.cpp, level 7.3, an HDF5
+// file, by mat73.cpp through the checks every HDF5 file passes: docs/limits.md).
 #pragma once
 
 #include <filesystem>

@@ -1,9 +1,8 @@
-#include "diag/io/hdf5.hpp"
-
+// The recording reader (diag/io/hdf5.hpp) and read_hdf5_arrays: every file opened once through
+// hdf5_file.hpp (structure checked there), read first by the crash guard's child
+// (crash_guard.hpp).
 #include <hdf5.h>
-#include <signal.h>
 #include <sys/mman.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -27,278 +26,29 @@
 #include <utility>
 #include <vector>
 
+#include "crash_guard.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/io/hdf5.hpp"
 #include "diag/io/hdf5_arrays.hpp"
 #include "diag/io/input_file.hpp"
-#include "diag/io/output_file.hpp"
-#include "diag/version.hpp"
+#include "diag/io/printable.hpp"
 #include "hdf5_chunks.hpp"
+#include "hdf5_file.hpp"
+#include "hdf5_handle.hpp"
+#include "hdf5_recording_format.hpp"
 
 namespace diag {
 
+using hdf5_detail::check;
+using hdf5_detail::checked;
+using hdf5_detail::hdf5_error_detail;
+using hdf5_detail::Hdf5Source;
+using hdf5_detail::Hid;
+using hdf5_detail::kFormatVersion;
+using hdf5_detail::kReservedAttributes;
+
 namespace {
-
-constexpr char kFormatName[] = "geardiag-recording";
-// 2: every channel carries role, shaft, mesh, ppr, and the root the recorded speed_rpm. Format-1
-// files are still read, their roles inferred (infer_format1_roles).
-constexpr int kFormatVersion = 2;
-// Root attributes owned by the format; Recording::metadata may not use these keys.
-constexpr std::array<const char*, 6> kReservedAttributes = {
-    "format", "format_version", "creator", "git_revision", "input_speed_rpm", "roles_stated"};
-// HDF5 limits a chunk to 4 GiB; 2^26 float64 samples (512 MiB) stays far below it.
-constexpr std::size_t kMaxChunkSamples = std::size_t{1} << 26;
-
-// Owns an HDF5 identifier and closes it with the matching H5?close.
-class Hid {
- public:
-  using Closer = herr_t (*)(hid_t);
-  Hid(hid_t id, Closer closer) : id_(id), closer_(closer) {}
-  ~Hid() { close(); }
-  Hid(const Hid&) = delete;
-  Hid& operator=(const Hid&) = delete;
-  Hid(Hid&& other) noexcept : id_(std::exchange(other.id_, -1)), closer_(other.closer_) {}
-  Hid& operator=(Hid&&) = delete;
-
-  hid_t get() const { return id_; }
-  bool valid() const { return id_ >= 0; }
-  // Returns the result of the close call (negative on failure; 0 when nothing to close).
-  herr_t close() {
-    herr_t result = 0;
-    if (id_ >= 0) result = closer_(id_);
-    id_ = -1;
-    return result;
-  }
-
- private:
-  hid_t id_;
-  Closer closer_;
-};
-
-// HDF5 prints its error stack to stderr by default; geardiag reports errors itself.
-void silence_hdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
-
-// The innermost message of the current HDF5 error stack ("" when empty), e.g. "unable to open
-// file" or "No space left on device". Call it right after the failing HDF5 call.
-std::string hdf5_error_detail() {
-  std::string detail;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_UPWARD,
-      [](unsigned n, const H5E_error2_t* err, void* data) -> herr_t {
-        if (n == 0 && err->desc != nullptr) *static_cast<std::string*>(data) = err->desc;
-        return 0;
-      },
-      &detail);
-  return detail;
-}
-
-[[noreturn]] void throw_hdf5(const std::string& where, const std::string& what) {
-  const std::string detail = hdf5_error_detail();
-  throw std::runtime_error(
-      format_error(where, what, "HDF5 error" + (detail.empty() ? "" : ": " + detail)));
-}
-
-void check(herr_t status, const std::string& where, const std::string& what) {
-  if (status < 0) throw_hdf5(where, what);
-}
-
-Hid checked(hid_t id, Hid::Closer closer, const std::string& where, const std::string& what) {
-  if (id < 0) throw_hdf5(where, what);
-  return Hid(id, closer);
-}
-
-Hid utf8_string_type() {
-  Hid type(H5Tcopy(H5T_C_S1), H5Tclose);
-  if (!type.valid() || H5Tset_size(type.get(), H5T_VARIABLE) < 0 ||
-      H5Tset_cset(type.get(), H5T_CSET_UTF8) < 0) {
-    throw_hdf5("write_recording", "string type");
-  }
-  return type;
-}
-
-// ---- writing -------------------------------------------------------------------------------
-
-struct Writer {
-  const std::string& where;  // the requested path, for messages
-  const Hdf5WriteOptions& options;
-
-  void string_attribute(hid_t obj, const std::string& name, const std::string& value,
-                        const std::string& what) const {
-    Hid type = utf8_string_type();
-    Hid space = checked(H5Screate(H5S_SCALAR), H5Sclose, where, what);
-    Hid attr =
-        checked(H5Acreate2(obj, name.c_str(), type.get(), space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                H5Aclose, where, what + ": attribute " + name);
-    const char* text = value.c_str();
-    check(H5Awrite(attr.get(), type.get(), &text), where, what + ": attribute " + name);
-  }
-
-  void double_attribute(hid_t obj, const std::string& name, double value,
-                        const std::string& what) const {
-    Hid space = checked(H5Screate(H5S_SCALAR), H5Sclose, where, what);
-    Hid attr = checked(
-        H5Acreate2(obj, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-        H5Aclose, where, what + ": attribute " + name);
-    check(H5Awrite(attr.get(), H5T_NATIVE_DOUBLE, &value), where, what + ": attribute " + name);
-  }
-
-  void int_attribute(hid_t obj, const std::string& name, int value, const std::string& what) const {
-    Hid space = checked(H5Screate(H5S_SCALAR), H5Sclose, where, what);
-    Hid attr =
-        checked(H5Acreate2(obj, name.c_str(), H5T_STD_I32LE, space.get(), H5P_DEFAULT, H5P_DEFAULT),
-                H5Aclose, where, what + ": attribute " + name);
-    check(H5Awrite(attr.get(), H5T_NATIVE_INT, &value), where, what + ": attribute " + name);
-  }
-
-  // Object creation properties shared by groups and datasets: no timestamps, so that the same
-  // recording always gives the same bytes.
-  Hid group_plist() const {
-    Hid gcpl = checked(H5Pcreate(H5P_GROUP_CREATE), H5Pclose, where, "group properties");
-    check(H5Pset_obj_track_times(gcpl.get(), 0), where, "group properties");
-    check(H5Pset_link_creation_order(gcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
-          where, "group properties");
-    return gcpl;
-  }
-
-  void string_dataset(hid_t parent, const std::string& name, const std::string& value) const {
-    const std::string what = "/" + name;
-    Hid type = utf8_string_type();
-    Hid space = checked(H5Screate(H5S_SCALAR), H5Sclose, where, what);
-    Hid dcpl = checked(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, where, what);
-    check(H5Pset_obj_track_times(dcpl.get(), 0), where, what);
-    Hid ds = checked(H5Dcreate2(parent, name.c_str(), type.get(), space.get(), H5P_DEFAULT,
-                                dcpl.get(), H5P_DEFAULT),
-                     H5Dclose, where, what);
-    const char* text = value.c_str();
-    check(H5Dwrite(ds.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, &text), where, what);
-  }
-
-  void signal_dataset(hid_t group, const std::string& group_name, const Signal& s) const {
-    const std::string what = "/" + group_name + "/" + s.name;
-    const hsize_t length = s.samples.size();
-    const hsize_t chunk = std::min<hsize_t>({options.chunk_samples, length, kMaxChunkSamples});
-    Hid space = checked(H5Screate_simple(1, &length, nullptr), H5Sclose, where, what);
-    Hid dcpl = checked(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, where, what);
-    check(H5Pset_obj_track_times(dcpl.get(), 0), where, what);
-    check(H5Pset_chunk(dcpl.get(), 1, &chunk), where, what);
-    if (options.deflate_level > 0) {
-      // Byte shuffling groups the exponent bytes of neighbouring samples: deflate then
-      // compresses float64 vibration data noticeably better. h5py and MATLAB both decode it.
-      check(H5Pset_shuffle(dcpl.get()), where, what + ": shuffle filter");
-      check(H5Pset_deflate(dcpl.get(), static_cast<unsigned>(options.deflate_level)), where,
-            what + ": deflate filter");
-    }
-    Hid ds = checked(H5Dcreate2(group, s.name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
-                                dcpl.get(), H5P_DEFAULT),
-                     H5Dclose, where, what);
-    check(H5Dwrite(ds.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, s.samples.data()),
-          where, what);
-    double_attribute(ds.get(), "fs_hz", s.fs_hz, what);
-    string_attribute(ds.get(), "unit", s.unit, what);
-    string_attribute(ds.get(), "direction", std::string(to_string(s.direction)), what);
-    string_attribute(ds.get(), "location", s.location, what);
-    // The tacho group holds tachos whatever the in-memory role says; a tacho counts at least
-    // one pulse per revolution.
-    const bool tacho = group_name == "tacho";
-    string_attribute(ds.get(), "role", std::string(to_string(tacho ? Role::kTacho : s.role)), what);
-    string_attribute(ds.get(), "shaft", s.shaft, what);
-    string_attribute(ds.get(), "mesh", s.mesh, what);
-    int_attribute(ds.get(), "ppr", tacho ? std::max(1, s.ppr) : s.ppr, what);
-  }
-
-  void signal_group(hid_t file, const std::string& group_name,
-                    const std::vector<Signal>& signals) const {
-    Hid gcpl = group_plist();
-    Hid group = checked(H5Gcreate2(file, group_name.c_str(), H5P_DEFAULT, gcpl.get(), H5P_DEFAULT),
-                        H5Gclose, where, "/" + group_name);
-    for (const Signal& s : signals) signal_dataset(group.get(), group_name, s);
-  }
-
-  void file(const std::string& tmp_path, const Recording& rec) const {
-    // The file creation property list is also the root group's creation property list.
-    Hid fcpl = checked(H5Pcreate(H5P_FILE_CREATE), H5Pclose, where, "file properties");
-    check(H5Pset_obj_track_times(fcpl.get(), 0), where, "file properties");
-    check(H5Pset_link_creation_order(fcpl.get(), H5P_CRT_ORDER_TRACKED | H5P_CRT_ORDER_INDEXED),
-          where, "file properties");
-    Hid fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, where, "file properties");
-    // A fixed format version (1.8 objects) gives reproducible bytes across library versions
-    // and stays readable by MATLAB's HDF5 1.8.
-    check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18), where,
-          "file properties");
-    check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), where, "file properties");
-
-    Hid file(H5Fcreate(tmp_path.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get()), H5Fclose);
-    if (!file.valid()) {
-      const std::string detail = hdf5_error_detail();
-      throw InputError(format_error(where, "",
-                                    "cannot create " + tmp_path +
-                                        " (does the directory exist and is it writable?)" +
-                                        (detail.empty() ? "" : ": " + detail)));
-    }
-    {
-      Hid root = checked(H5Gopen2(file.get(), "/", H5P_DEFAULT), H5Gclose, where, "/");
-      string_attribute(root.get(), "format", kFormatName, "/");
-      int_attribute(root.get(), "format_version", kFormatVersion, "/");
-      string_attribute(root.get(), "creator", std::string("geardiag ") + diag::version(), "/");
-      string_attribute(root.get(), "git_revision", diag::git_revision(), "/");
-      if (rec.speed_rpm > 0) double_attribute(root.get(), "input_speed_rpm", rec.speed_rpm, "/");
-      int_attribute(root.get(), "roles_stated", rec.roles_stated ? 1 : 0, "/");
-      for (const auto& [key, value] : rec.metadata) {
-        string_attribute(root.get(), key, value, "/");
-      }
-    }
-    signal_group(file.get(), "signals", rec.signals);
-    if (!rec.tachos.empty()) signal_group(file.get(), "tacho", rec.tachos);
-    if (!rec.gearbox_json.empty()) string_dataset(file.get(), "gearbox", rec.gearbox_json);
-    if (!rec.truth_json.empty()) string_dataset(file.get(), "truth", rec.truth_json);
-    check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), where, "flush");
-    check(file.close(), where, "close");
-  }
-};
-
-void validate_for_write(const std::string& where, const Recording& rec,
-                        const Hdf5WriteOptions& options) {
-  if (options.chunk_samples < 1) {
-    throw InputError(format_error(where, "Hdf5WriteOptions.chunk_samples", "must be >= 1"));
-  }
-  if (options.deflate_level < 0 || options.deflate_level > 9) {
-    throw InputError(format_error(where, "Hdf5WriteOptions.deflate_level",
-                                  std::to_string(options.deflate_level) + " is not in 0 ... 9"));
-  }
-  for (const auto* group : {&rec.signals, &rec.tachos}) {
-    std::set<std::string_view> names;
-    for (const Signal& s : *group) {
-      validate(s, where);
-      if (!names.insert(s.name).second) {
-        throw InputError(format_error(
-            where, "channel '" + s.name + "'",
-            std::string("appears twice in ") + (group == &rec.signals ? "signals" : "tachos")));
-      }
-    }
-  }
-  if (!(rec.speed_rpm >= 0) || !std::isfinite(rec.speed_rpm)) {
-    throw InputError(format_error(where, "input_speed_rpm",
-                                  std::to_string(rec.speed_rpm) + " is not a finite speed >= 0"));
-  }
-  for (const auto* group : {&rec.signals, &rec.tachos}) {
-    for (const Signal& s : *group) {
-      if (s.ppr < 0) {
-        throw InputError(format_error(where, "channel '" + s.name + "': ppr", "must be >= 0"));
-      }
-    }
-  }
-  for (const auto& [key, value] : rec.metadata) {
-    if (key.empty()) throw InputError(format_error(where, "metadata", "empty key"));
-    for (const char* reserved : kReservedAttributes) {
-      if (key == reserved) {
-        throw InputError(format_error(where, "metadata '" + key + "'",
-                                      "reserved for the file format; use another key"));
-      }
-    }
-  }
-}
-
-// ---- reading -------------------------------------------------------------------------------
 
 // An attribute that exists but cannot be read is damage, not absence: InputError naming it.
 [[noreturn]] void unreadable(const std::string& where, const std::string& what) {
@@ -514,17 +264,10 @@ void check_storage(hid_t ds, hsize_t length, std::size_t element_size, const std
 // Sampling rates a recording may state [Hz].
 constexpr double kMinFsHz = 1e-3, kMaxFsHz = 1e9;
 
-// The HDF5 library (1.10) can crash or loop on a corrupted file, e.g. on a global-heap entry
-// behind a variable-length string attribute; no check of ours can come before its own reads.
-// So every file is first read by a child process: everything RecordingReader and read_recording
+// The crash guard's child (crash_guard.hpp) reads everything RecordingReader and read_recording
 // read (survey_recording: the samples too when they are at most kSurveySampleBytes), or the
-// arrays read_hdf5_arrays reads. A child killed by a signal, or
-// not done within kSurveySeconds, means the file would crash or hang this process: refused. A
-// child that merely finds an error lets the parent read on and report that error itself.
-constexpr int kSurveySeconds = 30;
+// arrays read_hdf5_arrays reads.
 constexpr std::uint64_t kSurveySampleBytes = std::uint64_t{16} << 20;
-bool in_survey_child = false;
-constexpr int kSurveyFoundAnError = 97;  // the child's exit code for an exception it caught
 
 }  // namespace
 
@@ -550,55 +293,6 @@ struct SurveyedSamples {
 
 namespace {
 
-// Runs `body` (the reads of the file) in a forked child first; see above. Returns true when the
-// child ran `body` to its end without an error.
-bool survey_in_child(const std::string& where, const std::function<void()>& body) {
-  if (in_survey_child) return false;
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid < 0) return false;  // no child: read without the guard
-  if (pid == 0) {
-    in_survey_child = true;
-    // The child ends itself after kSurveySeconds (SIGALRM's default action), so the parent can
-    // wait for it without polling.
-    ::signal(SIGALRM, SIG_DFL);
-    sigset_t alarm_only;
-    sigemptyset(&alarm_only);
-    sigaddset(&alarm_only, SIGALRM);
-    ::sigprocmask(SIG_UNBLOCK, &alarm_only, nullptr);
-    ::alarm(kSurveySeconds);
-    int code = 0;
-    try {
-      body();
-    } catch (...) {
-      code = kSurveyFoundAnError;
-    }
-    ::_exit(code);
-  }
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return false;
-  }
-  if (WIFSIGNALED(status) && WTERMSIG(status) == SIGALRM) {
-    throw InputError(format_error(where, "",
-                                  "the HDF5 library did not finish reading the file within " +
-                                      std::to_string(kSurveySeconds) +
-                                      " s (corrupted file?); refused"));
-  }
-  // Any other end (a signal, or a sanitizer's exit code) is a crash.
-  if (WIFSIGNALED(status)) {
-    throw InputError(format_error(where, "",
-                                  "corrupted file: the HDF5 library crashed reading it (signal " +
-                                      std::to_string(WTERMSIG(status)) + "); refused"));
-  }
-  if (WIFEXITED(status) && WEXITSTATUS(status) != 0 && WEXITSTATUS(status) != kSurveyFoundAnError) {
-    throw InputError(format_error(where, "",
-                                  "corrupted file: reading it failed in the HDF5 library (exit " +
-                                      std::to_string(WEXITSTATUS(status)) + "); refused"));
-  }
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0;
-}
-
 // Bytes of all channels' samples (as doubles).
 std::uint64_t sample_bytes(const std::vector<ChannelInfo>& channels) {
   std::uint64_t total = 0;
@@ -608,8 +302,7 @@ std::uint64_t sample_bytes(const std::vector<ChannelInfo>& channels) {
 
 // What RecordingReader and read_recording read (the samples too when they are at most
 // kSurveySampleBytes: into `shared`, one channel after the other, when given).
-void survey_recording(const std::filesystem::path& path, double* shared) {
-  RecordingReader reader(path);
+void survey_recording(const RecordingReader& reader, double* shared) {
   (void)reader.metadata();
   (void)reader.format_attributes();
   (void)reader.gearbox_json();
@@ -682,18 +375,6 @@ void check_finite(std::span<const double> values, std::uint64_t offset, const st
 
 // ---- public ---------------------------------------------------------------------------------
 
-void write_recording(const std::filesystem::path& path, const Recording& rec,
-                     const Hdf5WriteOptions& options) {
-  silence_hdf5();
-  const std::string where = path.string();
-  validate_for_write(where, rec, options);
-
-  // Checked before the file is built; a FIFO, device or "-" gets the bytes of a finished file.
-  write_output_file_via(path, [&](const std::filesystem::path& file) {
-    Writer{where, options}.file(file.string(), rec);
-  });
-}
-
 bool is_hdf5_file(const std::filesystem::path& path) {
   static constexpr char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
   // Only a regular file is opened: opening a FIFO would wait for a writer.
@@ -707,30 +388,15 @@ bool is_hdf5_file(const std::filesystem::path& path) {
 
 RecordingReader::RecordingReader(const std::filesystem::path& path)
     : path_(path), decoded_(std::make_shared<DecodedChunk>()) {
-  silence_hdf5();
   const std::string where = path.string();
-  check_input_file(path);  // a FIFO, a device, a directory: refused before HDF5 opens it
-  if (!is_hdf5_file(path)) {
-    throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
-  }
-  auto surveyed = in_survey_child ? nullptr : std::make_shared<SurveyedSamples>();
-  const bool survey_done =
-      survey_in_child(where, [&] { survey_recording(path, surveyed ? surveyed->data : nullptr); });
-  {
-    Hid fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, where, "file properties");
-    check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), where, "file properties");
-    file_ = H5Fopen(where.c_str(), H5F_ACC_RDONLY, fapl.get());
-  }
-  if (file_ < 0) {
-    throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
-  }
-  try {
-    reading(where, [&] { open_channels(); });
-  } catch (...) {
-    H5Fclose(file_);
-    file_ = -1;
-    throw;
-  }
+  // Opened once: the guard's child and this process read the same file through its descriptor.
+  source_ = std::make_shared<const Hdf5Source>(path, true);
+  auto surveyed = hdf5_detail::in_guard_child() ? nullptr : std::make_shared<SurveyedSamples>();
+  const bool survey_done = hdf5_detail::run_guarded(where, [&] {
+    open_file();
+    survey_recording(*this, surveyed ? surveyed->data : nullptr);
+  });
+  open_file();
   // The child read the same file's channels in the same order, and all of them without error.
   if (survey_done && surveyed && surveyed->data != nullptr && hdf5_detail::reuse_survey() &&
       sample_bytes(channels_) <= kSurveySampleBytes) {
@@ -740,6 +406,19 @@ RecordingReader::RecordingReader(const std::filesystem::path& path)
       at += c.length;
     }
     surveyed_ = std::move(surveyed);
+  }
+}
+
+void RecordingReader::open_file() {
+  const std::string where = path_.string();
+  Hid file = reading(where, [&] { return source_->open(); });
+  file_ = file.release();
+  try {
+    reading(where, [&] { open_channels(); });
+  } catch (...) {
+    H5Fclose(file_);
+    file_ = -1;
+    throw;
   }
 }
 
@@ -819,6 +498,17 @@ void RecordingReader::open_channels() {
                                           "'; expected \"\", along_loa, normal_loa, "
                                           "horizontal, vertical, angle or tacho"));
       }
+      // Names and labels are printed: an escape sequence in them would reach the terminal.
+      for (const auto& [label, text] :
+           {std::pair<const char*, const std::string*>{"name", &info.name},
+            {"unit", &info.unit},
+            {"location", &info.location}}) {
+        if (has_control_characters(*text)) {
+          throw InputError(
+              format_error(where, printable_text(what) + ": " + label,
+                           "'" + printable_text(*text) + "' holds a control character"));
+        }
+      }
       if (format_version_ >= 2) {
         const std::string role = attribute_text(obj.get(), "role", where, what).value_or("");
         try {
@@ -837,6 +527,15 @@ void RecordingReader::open_channels() {
                                         std::to_string(ppr) + " is not an integer in [0, 1e6]"));
         }
         info.ppr = static_cast<int>(ppr);
+        for (const auto& [label, text] :
+             {std::pair<const char*, const std::string*>{"shaft", &info.shaft},
+              {"mesh", &info.mesh}}) {
+          if (has_control_characters(*text)) {
+            throw InputError(
+                format_error(where, printable_text(what) + ": " + label,
+                             "'" + printable_text(*text) + "' holds a control character"));
+          }
+        }
         if (info.group == "tacho" && (info.role != Role::kTacho || info.ppr < 1)) {
           throw InputError(
               format_error(where, what, "a /tacho channel must have role tacho and ppr >= 1"));
@@ -910,7 +609,7 @@ std::map<std::string, std::string> RecordingReader::metadata() const {
         continue;
       }
       if (auto text = attribute_text(root.get(), name.c_str(), where, "/")) {
-        out[name] = std::move(*text);
+        out[printable_text(name)] = printable_text(*text);  // shown to the user
       }
     }
     return out;
@@ -977,7 +676,7 @@ void RecordingReader::read_samples(const std::string& what, std::uint64_t offset
   const std::string where = path_.string();
   Hid ds = checked(H5Dopen2(file_, what.c_str(), H5P_DEFAULT), H5Dclose, where, what);
   // Shuffled and deflated float64 chunks are decoded here (diag/io/hdf5_inflate.hpp).
-  if (hdf5_detail::read_chunks_direct(ds.get(), what, offset, out, *decoded_)) return;
+  if (hdf5_detail::read_chunks_direct(ds.get(), where, what, offset, out, *decoded_)) return;
   Hid file_space = checked(H5Dget_space(ds.get()), H5Sclose, where, what);
   const hsize_t start = offset;
   const hsize_t count = out.size();
@@ -1150,14 +849,11 @@ std::optional<Hdf5Array> read_numeric_dataset(hid_t file, const std::string& pat
   return out;
 }
 
-std::map<std::string, Hdf5Array> read_arrays(const std::filesystem::path& path,
+std::map<std::string, Hdf5Array> read_arrays(const Hdf5Source& source,
                                              const std::vector<std::string>& names,
                                              std::size_t max_values) {
-  const std::string where = path.string();
-  Hid fapl = checked(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, where, "file properties");
-  check(H5Pset_fclose_degree(fapl.get(), H5F_CLOSE_STRONG), where, "file properties");
-  Hid file(H5Fopen(where.c_str(), H5F_ACC_RDONLY, fapl.get()), H5Fclose);
-  if (!file.valid()) throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
+  const std::string& where = source.where();
+  Hid file = source.open();
   std::map<std::string, Hdf5Array> out;
   for (const std::string& name : names) {
     if (auto a = read_numeric_dataset(file.get(), name, max_values, where)) {
@@ -1172,14 +868,10 @@ std::map<std::string, Hdf5Array> read_arrays(const std::filesystem::path& path,
 std::map<std::string, Hdf5Array> read_hdf5_arrays(const std::filesystem::path& path,
                                                   const std::vector<std::string>& names,
                                                   std::size_t max_values) {
-  silence_hdf5();
   const std::string where = path.string();
-  check_input_file(path);  // a FIFO, a device, a directory: refused before HDF5 opens it
-  if (!is_hdf5_file(path)) {
-    throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
-  }
-  survey_in_child(where, [&] { (void)read_arrays(path, names, max_values); });
-  return reading(where, [&] { return read_arrays(path, names, max_values); });
+  const Hdf5Source source(path, true);  // opened once: the guard's child reads this descriptor
+  hdf5_detail::run_guarded(where, [&] { (void)read_arrays(source, names, max_values); });
+  return reading(where, [&] { return read_arrays(source, names, max_values); });
 }
 
 }  // namespace diag

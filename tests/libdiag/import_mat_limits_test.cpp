@@ -1,0 +1,229 @@
+// MAT files at their limits (docs/limits.md): level-4 dimensions whose byte count would wrap, a
+// valid level-5 file with a large sparse matrix beside a vector (read, the matrix skipped with a
+// note), and level 7.3 files (HDF5), read through the checks every HDF5 file passes: external
+// storage and chunks never written refused, a numeric vector read as MATLAB wrote it.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <unistd.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "diag/error.hpp"
+#include "diag/io/import.hpp"
+#include "diag/io/recording.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+class ImportMatLimits : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const char* env = std::getenv("GEARDIAG_TMP");
+    const fs::path base =
+        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    dir_ = base / ("import_mat_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+void put32(std::string& out, std::uint32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
+void put_i32(std::string& out, std::int32_t v) { out.append(reinterpret_cast<const char*>(&v), 4); }
+
+// A level-5 data element (mat-file-format.pdf): tag, data, padding to 8 bytes.
+std::string element(std::uint32_t type, const std::string& data) {
+  std::string out;
+  put32(out, type);
+  put32(out, static_cast<std::uint32_t>(data.size()));
+  out += data;
+  out.append((8 - data.size() % 8) % 8, '\0');
+  return out;
+}
+
+std::string matrix(std::uint32_t cls, std::vector<std::int32_t> dims, const std::string& name,
+                   const std::vector<std::string>& parts) {
+  std::string flags, d;
+  put32(flags, cls);
+  put32(flags, 0);
+  for (std::int32_t x : dims) put_i32(d, x);
+  std::string body = element(6, flags) + element(5, d) + element(1, name);
+  for (const std::string& p : parts) body += p;
+  return element(14, body);
+}
+
+std::string doubles(const std::vector<double>& v) {
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
+}
+
+std::string level5_header() {
+  std::string h = "MATLAB 5.0 MAT-file, written by a test";
+  h.resize(124, ' ');
+  h += std::string("\x00\x01", 2);
+  h += "IM";
+  return h;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const diag::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A MAT 7.3 file: HDF5 with a 512-byte user block holding MATLAB's header; `fill(file)` adds
+// the variables.
+void write_mat73(const fs::path& path, const std::function<void(hid_t)>& fill) {
+  const hid_t fcpl = H5Pcreate(H5P_FILE_CREATE);
+  H5Pset_userblock(fcpl, 512);
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+  ASSERT_GE(file, 0);
+  fill(file);
+  H5Fclose(file);
+  H5Pclose(fcpl);
+  std::string header = "MATLAB 7.3 MAT-file, written by a test";
+  header.resize(124, ' ');
+  header += std::string("\x00\x02", 2);
+  header += "IM";
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.write(header.data(), static_cast<std::streamsize>(header.size()));
+}
+
+void matlab_class(hid_t obj, const char* cls) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, std::strlen(cls));
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate2(obj, "MATLAB_class", type, space, H5P_DEFAULT, H5P_DEFAULT);
+  H5Awrite(attr, type, cls);
+  H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+}
+
+}  // namespace
+
+// rows x columns x 8 bytes x 2 (complex) = 2^64 wrapped to 0 bytes needed: refused by the
+// dimensions themselves (before: an internal error, exit 3).
+TEST_F(ImportMatLimits, Level4DimensionsThatWrapAreRefused) {
+  std::string bytes;
+  for (std::int32_t v : {0, 1 << 30, 1 << 30, 1, 2}) put_i32(bytes, v);  // MOPT, rows, cols, imag
+  bytes += std::string("x\0", 2);
+  bytes += std::string(64, '\0');
+  const fs::path path = dir_ / "wrap.mat";
+  std::ofstream(path, std::ios::binary) << bytes;
+  const std::string e = error_of([&] { diag::import_recording(path, {.fs_hz = 100.0}); });
+  EXPECT_NE(e.find("wrap.mat"), std::string::npos) << e;
+  EXPECT_NE(e.find("1073741824 x 1073741824"), std::string::npos) << e;
+}
+
+// A 100000 x 100000 sparse matrix holding 3 values beside a 10-sample vector: a valid file. The
+// vector is the channel; the matrix is skipped, with a note.
+TEST_F(ImportMatLimits, SparseMatrixBesideAVectorIsSkippedWithANote) {
+  std::string ir, jc;
+  for (std::int32_t v : {0, 5, 99999}) put_i32(ir, v);
+  std::vector<std::int32_t> cols(100001, 3);
+  cols[0] = 0;
+  for (std::int32_t v : cols) put_i32(jc, v);
+  const std::string sparse = matrix(
+      5, {100000, 100000}, "S", {element(5, ir), element(5, jc), element(9, doubles({1, 2, 3}))});
+  std::vector<double> x;
+  for (int i = 0; i < 10; ++i) x.push_back(0.5 * i);
+  const std::string vector = matrix(6, {1, 10}, "x", {element(9, doubles(x))});
+  const fs::path path = dir_ / "sparse.mat";
+  std::ofstream(path, std::ios::binary) << level5_header() + sparse + vector;
+  const diag::Recording rec = diag::import_recording(path, {.fs_hz = 100.0});
+  ASSERT_EQ(rec.signals.size(), 1u);
+  EXPECT_EQ(rec.signals[0].name, "x");
+  EXPECT_EQ(rec.signals[0].samples, x);
+  bool noted = false;
+  for (const std::string& n : rec.notes)
+    noted |= n.find("variable S skipped: a sparse matrix") == 0;
+  EXPECT_TRUE(noted);
+}
+
+TEST_F(ImportMatLimits, Mat73VectorIsRead) {
+  std::vector<double> x;
+  for (int i = 0; i < 50; ++i) x.push_back(0.25 * i - 3);
+  const fs::path path = dir_ / "v73.mat";
+  write_mat73(path, [&](hid_t file) {
+    const hsize_t dims[2] = {50, 1};  // MATLAB's 1 x 50, reversed
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t ds =
+        H5Dcreate2(file, "x", H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, x.data());
+    matlab_class(ds, "double");
+    H5Dclose(ds);
+    H5Sclose(space);
+    const hid_t group = H5Gcreate2(file, "S", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    matlab_class(group, "double");
+    const hid_t scalar = H5Screate(H5S_SCALAR);
+    const hid_t attr =
+        H5Acreate2(group, "MATLAB_sparse", H5T_STD_U64LE, scalar, H5P_DEFAULT, H5P_DEFAULT);
+    const std::uint64_t rows = 100000;
+    H5Awrite(attr, H5T_NATIVE_UINT64, &rows);
+    H5Aclose(attr);
+    H5Sclose(scalar);
+    H5Gclose(group);
+  });
+  const diag::Recording rec = diag::import_recording(path, {.fs_hz = 10.0});
+  ASSERT_EQ(rec.signals.size(), 1u);
+  EXPECT_EQ(rec.signals[0].samples, x);
+  bool noted = false;
+  for (const std::string& n : rec.notes)
+    noted |= n.find("variable S skipped: a sparse matrix") == 0;
+  EXPECT_TRUE(noted);
+}
+
+// 1e8 doubles declared, none written, in a 2 KB file: refused at once (before: 8 GB of zeros).
+TEST_F(ImportMatLimits, Mat73UnwrittenVariableIsRefused) {
+  const fs::path path = dir_ / "empty_chunks.mat";
+  write_mat73(path, [&](hid_t file) {
+    const hsize_t dims[2] = {100000000, 1}, chunk[2] = {65536, 1};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(dcpl, 2, chunk);
+    H5Pset_deflate(dcpl, 3);
+    const hid_t ds = H5Dcreate2(file, "x", H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    matlab_class(ds, "double");
+    H5Dclose(ds);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+  });
+  const std::string e = error_of([&] { diag::import_recording(path, {.fs_hz = 10.0}); });
+  EXPECT_NE(e.find("empty_chunks.mat"), std::string::npos) << e;
+  EXPECT_NE(e.find("/x"), std::string::npos) << e;
+  EXPECT_NE(e.find("never written"), std::string::npos) << e;
+}
+
+TEST_F(ImportMatLimits, Mat73ExternalStorageIsRefused) {
+  const fs::path secret = dir_ / "secret.txt";
+  std::ofstream(secret) << std::string(400, 's');
+  const fs::path path = dir_ / "external.mat";
+  write_mat73(path, [&](hid_t file) {
+    const hsize_t dims[2] = {50, 1};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_external(dcpl, secret.c_str(), 0, 400);
+    const hid_t ds = H5Dcreate2(file, "x", H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    matlab_class(ds, "double");
+    H5Dclose(ds);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+  });
+  const std::string e = error_of([&] { diag::import_recording(path, {.fs_hz = 10.0}); });
+  EXPECT_NE(e.find("external.mat"), std::string::npos) << e;
+  EXPECT_NE(e.find("external files"), std::string::npos) << e;
+}
