@@ -6,7 +6,8 @@ Convention (what an example may assume):
 - Every fenced block whose info string is ``sh``, ``bash`` or ``shell`` is a shell example. It runs
   under ``bash -e -o pipefail`` in a fresh temporary folder, with the built ``geardiag`` first on
   PATH (as after ``export PATH="$PWD/build:$PATH"``), and with ``testdata`` in that folder a link
-  to the repository's ``testdata/``. So an example written to be run from the repository's root
+  to the repository's ``testdata/``; ``python3`` is the interpreter given by ``--python``
+  (Debian's ``/usr/bin/python3``, with numpy, scipy and h5py). So an example written to be run from the repository's root
   (``geardiag info --gearbox testdata/gearbox/three_shaft.json``) runs here unchanged, and the files
   it writes land in the temporary folder. ``GEARDIAG_REPO`` holds the repository's root.
 - Every ``python`` block runs the same way with ``/usr/bin/python3`` and ``PYTHONPATH`` set to the
@@ -19,8 +20,9 @@ Convention (what an example may assume):
     ``<!-- example: skip: REASON -->`` not run here (it builds or installs the project, or runs
                                        for minutes): skipped, listed with its reason.
   A ``sh-needs-data`` (or ``bash-needs-data``) fence is the same as the needs-data comment.
-- A shell example must be fenced: an indented code block whose first line calls ``geardiag``
-  fails the run, so that no example escapes this test.
+- A shell example must be fenced and labelled: an indented code block whose first line calls
+  ``geardiag``, or a fence without a language holding a ``geardiag`` command, fails the run, so
+  that no example escapes this test. Synopses and output go in ``text`` fences.
 
 A failing block is reported with its file and line, its exit code and the end of its output;
 the script exits 1 when any block failed, 0 otherwise. Blocks run one at a time, each with a time
@@ -83,6 +85,8 @@ def extract(path):
                 reason = mm.group(2) or ""
             if lang in NEEDS_DATA_LANGS:
                 marker, lang = "needs-data", "sh"
+            if not lang and any(re.match(r"\s*(\$\s*)?geardiag\s", row) for row in body):
+                unfenced.append(start + 1)
             if lang in SHELL_LANGS or lang == "python":
                 blocks.append(Block(path, start + 1, "python" if lang == "python" else "sh",
                                     "\n".join(body) + "\n", marker, reason))
@@ -134,8 +138,11 @@ def main():
         else:
             python_why = f"the module is not built ({pkg} holds no _geardiag*.so)"
 
+    # python3 in an example is the interpreter of --python (Debian's, with numpy, scipy, h5py).
+    shims = pathlib.Path(tempfile.mkdtemp(prefix="geardiag-example-bin-"))
+    (shims / "python3").symlink_to(args.python)
     env = dict(os.environ)
-    env["PATH"] = f"{geardiag.parent}{os.pathsep}{env.get('PATH', '')}"
+    env["PATH"] = os.pathsep.join([str(geardiag.parent), str(shims), env.get("PATH", "")])
     env["GEARDIAG_REPO"] = str(repo)
     if python_ok:
         env["PYTHONPATH"] = str(pathlib.Path(args.python_dir).resolve())
@@ -147,7 +154,7 @@ def main():
         blocks, unfenced = extract(f)
         for line in unfenced:
             failures.append((f"{f.relative_to(repo)}:{line}",
-                             "an indented shell example: fence it as ```sh (or mark it)"))
+                             "a shell example outside a ```sh fence: fence and label it (or use ```text for output)"))
         all_blocks.extend(blocks)
     if args.list:
         for b in all_blocks:
@@ -202,6 +209,7 @@ def main():
                                     f"{tail(out)}"))
             print(f"FAIL  {where} ({b.lang}, {dt:.1f} s): exit {code}", flush=True)
 
+    shutil.rmtree(shims, ignore_errors=True)
     if not args.keep:
         for d in made:
             shutil.rmtree(d, ignore_errors=True)
