@@ -114,7 +114,7 @@ def main():
     ap.add_argument("--python-dir", default=None,
                     help="folder holding the built Python package geardiag (build/python)")
     ap.add_argument("--python", default="/usr/bin/python3")
-    ap.add_argument("--timeout", type=float, default=120.0, help="seconds per block")
+    ap.add_argument("--timeout", type=float, default=300.0, help="seconds per block")
     ap.add_argument("--only", default=None, help="run only files whose path contains this")
     ap.add_argument("--keep", action="store_true", help="keep the temporary folders")
     ap.add_argument("--list", action="store_true", help="list the blocks and exit")
