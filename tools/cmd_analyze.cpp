@@ -124,7 +124,7 @@ int cmd_analyze(int argc, char** argv) {
   desc.add_options()("curves", po::value(&curves_out),
                      "write every curve the report draws (PSD, spectra, envelope spectra with the "
                      "fault bands, order spectra, TSA signals, speed) as HDF5 datasets with their "
-                     "axes and units (README \"Curves\")");
+                     "axes and units (docs/report.md)");
   const std::string max_samples_help =
       "a longer HDF5 recording is analysed on its first part holding at most this many samples "
       "in all (or " +
