@@ -162,6 +162,16 @@ def main():
             print(f"{b.where(repo)}\t{b.lang}\t{b.marker or 'run'}\t{b.reason}")
         return 0
 
+    # Tools the examples call besides geardiag and the shell's own (scripts/install-deps installs
+    # them): a missing one is named once rather than failing every block that uses it.
+    for tool in ("jq", "awk"):
+        used = [b for b in all_blocks if b.lang == "sh" and b.marker in (None, "continues")
+                and re.search(rf"\b{tool}\b", b.text)]
+        if used and shutil.which(tool) is None:
+            print(f"run_examples: {tool} is not on PATH (scripts/install-deps installs it); "
+                  f"{len(used)} examples need it, e.g. {used[0].where(repo)}", file=sys.stderr)
+            return 1
+
     start_all = time.monotonic()
     folder, folder_file, folder_ok = None, None, True
     made = []
