@@ -39,7 +39,7 @@ namespace {
 // The excerpt of a long HDF5 recording that analyze holds in memory (diag::ReadLimits): at most
 // 2^20 samples in all, or 2^18 per channel when there are many channels, never over 2^19 per
 // channel. analyze peaks at 80-190 bytes per sample held (bench/analyze_memory.sh): a 1 GB,
-// 8-channel recording in < 256 MB (docs/notes/analyze-perf.md).
+// 8-channel recording in < 256 MB (docs/cli/analyze.md).
 constexpr std::uint64_t kMaxSamples = std::uint64_t{1} << 20;
 constexpr std::uint64_t kKeptChannelSamples = std::uint64_t{1} << 18;
 constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
@@ -50,7 +50,7 @@ constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
 // 39-channel recording 168 000 page faults, a sixth of the command's CPU (kernel page clearing).
 // Serving buffers up to 64 MiB from the heap and trimming only above 256 MiB of free top keeps
 // freed pages for the next buffer: 65 000 faults (about the first touch of the peak), the same
-// peak RSS (docs/notes/speed-spectra-session9.md). A process-wide setting, made by the command only
+// peak RSS (docs/performance.md). A process-wide setting, made by the command only
 // (the library leaves the allocator alone).
 void keep_freed_memory() {
 #ifdef __GLIBC__

@@ -2,7 +2,7 @@
 // simulated recording per (class, draw), with its ground truth, a manifest and a class-balance
 // summary; reproducible, resumable, on every core and across MPI ranks (tools/parallel.hpp).
 //
-// Folder layout (docs/notes/dataset.md):
+// Folder layout (docs/cli/dataset.md):
 //   DIR/dataset.json        the spec, its hash, the number of recordings (written first)
 //   DIR/recordings/<id>.h5  one recording each, written under a temporary name and renamed, so a
 //                           name that exists is a complete file

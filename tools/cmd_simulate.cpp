@@ -1,5 +1,5 @@
 // geardiag simulate: a gearbox description with defects in, a recording with ground truth out.
-// Modes: dynamic (SPEC section 1: meshes, shafts, bearings, sensors) and kinematic (seed 003:
+// Modes: dynamic (seed 000 generalised: meshes, shafts, bearings, sensors) and kinematic (seed 003:
 // slow rotation, shaft angles).
 #include <boost/program_options.hpp>
 #include <filesystem>

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Dataset generation throughput (bench/RESULTS.md): the spec (12 recordings of 1 s at
+# Dataset generation throughput (bench/RESULTS.md): bench/dataset/spec.json (12 recordings of 1 s at
 # 20 kHz, three_shaft) on 1 and 2 threads and under mpirun -np 2, wall and CPU time and peak
 # memory (GNU time); then peak memory for 2 and 8 recordings per class (flat in the count).
 # Usage: bench/dataset/run.sh BUILD_DIR OUT_DIR

@@ -340,7 +340,7 @@ HalfGmfLine half_gmf_line(double rpm, double torque) {
 
 }  // namespace
 
-// Period doubling in the DTE spectrum (the "0.5 GMF when period-2"). At light load
+// Period doubling in the DTE spectrum (a line at 0.5 GMF when period-2). At light load
 // (12 N m) with 10x stiffness the analytical default pair is period-2 from 75 750 to 76 750 rpm
 // (geardiag bifurcation, 70 000-80 000 rpm in 250 rpm steps: chaos and period-n around it, with
 // double-sided impacts); 76 250 rpm stays period-2 at 64, 128 and 256 RK4 steps per period and

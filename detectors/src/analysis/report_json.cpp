@@ -1,4 +1,4 @@
-// analyze's JSON report writer (to_json, analyze.hpp; the keys are the README's).
+// analyze's JSON report writer (to_json, analyze.hpp; the keys are in docs/cli/analyze.md).
 #include <cmath>
 #include <nlohmann/json.hpp>
 

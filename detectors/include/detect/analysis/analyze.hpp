@@ -44,15 +44,14 @@
 // Findings (Finding, finding.hpp: the one finding type of every module; here the locator's, the
 // bearing vote's (evidence channels_pointing, channels_analysed, score_db) and, with a baseline,
 // the wear indicator's; the sideband vote is reported as a note, never as a finding: healthy
-// gears with ordinary pitch errors pass it on every recording, README "The sideband vote is not a
-// finding");
-// faults in the one vocabulary of diag/faults/fault_kind.hpp) summarise what points at a shaft,
-// gear or bearing, each with a confidence and a note; only sensor channels (sensor_channels below)
-// vote. The code is in stages (detectors/src/analysis/stages.hpp lists them, one file each:
-// kinematics, angle plans, per-channel spectra / envelope and bearings / sidebands / TSA, two
-// directions, findings, baseline, JSON and text writers). Steps that cannot run on this record (too
-// few revolutions for a TSA, a record too short for the kurtogram) are skipped with a note, not an
-// error: they are outcomes.
+// gears with ordinary pitch errors pass it on every recording, docs/validation.md, "The sideband
+// vote is not a finding"); faults in the one vocabulary of diag/faults/fault_kind.hpp) summarise
+// what points at a shaft, gear or bearing, each with a confidence and a note; only sensor channels
+// (sensor_channels below) vote. The code is in stages (detectors/src/analysis/stages.hpp lists
+// them, one file each: kinematics, angle plans, per-channel spectra / envelope and bearings /
+// sidebands / TSA, two directions, findings, baseline, JSON and text writers). Steps that cannot
+// run on this record (too few revolutions for a TSA, a record too short for the kurtogram) are
+// skipped with a note, not an error: they are outcomes.
 #pragma once
 
 #include <cstddef>
@@ -402,7 +401,7 @@ void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const 
 // baseline_features instead, see above). NaN features are left out.
 std::map<std::string, double> features(const AnalysisResult& r);
 
-// JSON with stable keys (README "geardiag analyze"). Amplitudes are in each channel's "unit"
+// JSON with stable keys (docs/cli/analyze.md). Amplitudes are in each channel's "unit"
 // (energies in unit^2, PSD in unit^2/Hz); keys with a physical unit of their own carry it
 // (frequency_hz, speed_hz, ..._db). Traces (plots) are not serialised.
 nlohmann::json to_json(const AnalysisResult& r);

@@ -12,7 +12,7 @@
 // location drive_end, fan_end, base (a note says so); nothing else is read from a name.
 // WAV: one channel per audio channel, named ch0, ch1, ...; fs from the file unless overridden.
 //
-// Damage is refused, never read as data (README "Limits and bad input"): a path that is not a
+// Damage is refused, never read as data (docs/limits.md): a path that is not a
 // regular file (FIFO, device, directory) before any reader opens it; CSV lines holding a NUL byte;
 // a corrupt or truncated gzip stream, or a ".gz" that is not gzip; a WAV "data" chunk shorter than
 // its header says; a .mat file whose declared sizes (dimensions, byte counts, compressed sizes) the

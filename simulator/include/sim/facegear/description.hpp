@@ -34,7 +34,7 @@
 // instead of the root's. Numbers of any integer or float type; other datasets are ignored.
 // Outside the load grid the nearest load's row is used (constant extrapolation, FlankTable).
 //
-// Analytical default (derivation in docs/notes/face-gear.md): mean torsional stiffness from
+// Analytical default (derivation in docs/face-gear.md): mean torsional stiffness from
 // ISO 6336-1's mesh stiffness c_gamma = 20 N/(mm um) times the face width, referred to the
 // pinion base radius and the face gear's mean radius; ISO 6336-1's low-load reduction
 // (w / 100 N/mm)^0.25 for a line load w < 100 N/mm gives the load dependence; the angle
