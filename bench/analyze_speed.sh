@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed of `geardiag analyze` (the whole command), the figure of issue 11: CPU time (user + sys,
+# Speed of `geardiag analyze` (the whole command; docs/performance.md): CPU time (user + sys,
 # /usr/bin/time) of `analyze --threads 1 --timing` and M samples/s per core = the samples of the
 # analysed channels / CPU seconds, on
 #   - ts10: 10 s of the two-stage box simulated at 20 kHz, 39 channels (7.8 M samples), and

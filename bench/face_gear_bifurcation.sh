@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Face-gear bifurcation benchmark (issue 15): 200 speeds x 200 mesh periods after 300 transient
+# Face-gear bifurcation benchmark: 200 speeds x 200 mesh periods after 300 transient
 # periods, the seed's light-load case (12 N m, 10x stiffness, analytic default tables),
 # 100..20000 rpm, on all cores. Prints wall and CPU time (the target: < 1 min wall on 2 cores).
 # Usage: bench/face_gear_bifurcation.sh [BUILD_DIR]   (default build)

@@ -1,4 +1,4 @@
-// Order-tracking resampler speed on one core (issue 11): resample_by_angle over 10 s at 20 kHz
+// Order-tracking resampler speed on one core: resample_by_angle over 10 s at 20 kHz
 // (2e5 samples, one channel of the simulated three-shaft recording) of a shaft running up
 // 20 -> 30 rev/s, at 256 and 1024 samples per revolution (Z = 16). items_per_second = input
 // samples/s per channel.

@@ -1,4 +1,4 @@
-// Wear history speed (issue 16: "a 100-step history of one pair in seconds"): the 18/36 seed pair
+// Wear history speed (the aim: a 100-step history of one pair in seconds): the 18/36 seed pair
 // (m = 3 mm, b = 20 mm, 50 N m), 100 blocks of each law with the default 101 profile points and 64
 // TE angles per mesh period; plus the pieces: rack generation of one flank and one unloaded TE
 // evaluation (one driver angle) of the healthy pair.

@@ -334,7 +334,7 @@ PYBIND11_MODULE(_geardiag, m) {
   // ---- gearbox ----
   py::class_<diag::Gearbox>(m, "Gearbox")
       .def_static("from_json", &gearbox_from, py::arg("source"),
-                  "A gearbox description from a JSON file path or a dict (the README's form).")
+                  "A gearbox description from a JSON file path or a dict (docs/formats.md).")
       .def_property_readonly("name", &diag::Gearbox::name)
       .def_property_readonly(
           "input_shaft", [](const diag::Gearbox& gb) { return gb.shafts()[gb.input_shaft()].name; })

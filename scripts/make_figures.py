@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Regenerates the README's figures (docs/figures/*.svg) from the geardiag binary.
+"""Regenerates the manual's figures (docs/figures/*.svg) from the geardiag binary.
 
 Usage: scripts/make_figures.py [path/to/geardiag]   (default build/geardiag)
 Needs /usr/bin/python3 with numpy and h5py (Debian python3-numpy, python3-h5py). Plain SVG, no

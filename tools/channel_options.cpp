@@ -24,7 +24,7 @@ std::string fmt(double v) {
 void ChannelOptions::add_to(po::options_description& desc, bool with_rpm) {
   desc.add_options()("channels", po::value(&channel_map)->value_name("MAP.json"),
                      "channel map: what each channel is (role, unit, direction, location, shaft, "
-                     "mesh, ppr; README \"Channel maps\")")(
+                     "mesh, ppr; docs/channels.md)")(
       "tacho", po::value(&tachos)->value_name("CHANNEL=SHAFT[:PPR]")->composing(),
       "CHANNEL is the tacho of SHAFT with PPR pulses per revolution (default 1); repeatable");
   if (with_rpm) {

@@ -39,7 +39,7 @@ namespace {
 // 39-channel recording 168 000 page faults, a sixth of the command's CPU (kernel page clearing).
 // Serving buffers up to 64 MiB from the heap and trimming only above 256 MiB of free top keeps
 // freed pages for the next buffer: 65 000 faults (about the first touch of the peak), the same
-// peak RSS (docs/notes/speed-spectra-session9.md). A process-wide setting, made by the command only
+// peak RSS (docs/performance.md). A process-wide setting, made by the command only
 // (the library leaves the allocator alone).
 void keep_freed_memory() {
 #ifdef __GLIBC__
@@ -114,7 +114,7 @@ int cmd_analyze(int argc, char** argv) {
   desc.add_options()("curves", po::value(&curves_out),
                      "write every curve the report draws (PSD, spectra, envelope spectra with the "
                      "fault bands, order spectra, TSA signals, speed) as HDF5 datasets with their "
-                     "axes and units (README \"Curves\")");
+                     "axes and units (docs/report.md)");
   const std::string max_samples_help =
       "a longer HDF5 recording is analysed on its first part holding at most this many samples "
       "in all (or " +

@@ -2,7 +2,7 @@
 // simulated recording per (class, draw), with its ground truth, a manifest and a class-balance
 // summary; reproducible, resumable, on every core and across MPI ranks (tools/parallel.hpp).
 //
-// Folder layout (docs/notes/dataset.md):
+// Folder layout (docs/cli/dataset.md):
 //   DIR/dataset.json        the spec, its hash, the number of recordings (written first)
 //   DIR/recordings/<id>.h5  one recording each, written under a temporary name and renamed, so a
 //                           name that exists is a complete file
@@ -240,7 +240,7 @@ int cmd_dataset(int argc, char** argv) {
       "every drawn parameter), DIR/summary.json (class balance). Recording k depends only on\n"
       "(seed, k): the same bytes whatever --jobs or the number of MPI ranks. Run the same\n"
       "command again to resume after an interruption; a folder made from another spec is\n"
-      "refused. Spec format: docs/notes/dataset.md.\n\noptions");
+      "refused. Spec format: docs/cli/dataset.md.\n\noptions");
   desc.add_options()("help,h", "this help")("spec", po::value(&spec_file)->required(),
                                             "dataset spec (JSON)")(
       "output,o", po::value(&out_dir)->required(), "output folder")(

@@ -1,5 +1,5 @@
 // geardiag simulate: a gearbox description with defects in, a recording with ground truth out.
-// Modes: dynamic (SPEC section 1: meshes, shafts, bearings, sensors) and kinematic (seed 003:
+// Modes: dynamic (seed 000 generalised: meshes, shafts, bearings, sensors) and kinematic (seed 003:
 // slow rotation, shaft angles).
 #include <boost/program_options.hpp>
 #include <filesystem>
@@ -70,11 +70,11 @@ int cmd_simulate(int argc, char** argv) {
   po::options_description desc(
       "geardiag simulate --gearbox GB.json [--scenario SC.json] --duration S --fs HZ -o OUT.h5\n"
       "geardiag simulate --mode kinematic --gearbox GB.json -o OUT.h5|OUT.csv [options]\n\n"
-      "Dynamic mode (default; SPEC section 1): the gearbox's meshes with time-varying stiffness,\n"
+      "Dynamic mode (default; docs/physics.md): the gearbox's meshes with time-varying stiffness,\n"
       "friction, backlash and tooth faults, its shafts on bearings; writes bearing accelerations\n"
       "along and normal to each line of action and horizontal/vertical, the transmission error,\n"
-      "mesh forces, tachometers and the ground truth. The scenario (JSON, see README) sets the\n"
-      "operating point, friction, oil, faults, sensors; the options below override it.\n"
+      "mesh forces, tachometers and the ground truth. The scenario (JSON, docs/formats.md) sets\n"
+      "the operating point, friction, oil, faults, sensors; the options below override it.\n"
       "Kinematic mode (seed 003): output angle vs input angle at slow speed with the gearbox's\n"
       "sporadic defects, over six recurrences of the longest defect period.\n\noptions");
   desc.add_options()("help,h", "this help")("gearbox", po::value(&gearbox)->required(),

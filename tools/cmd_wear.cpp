@@ -126,7 +126,7 @@ int cmd_wear(int argc, char** argv) {
       "              [--law archard|seed004] [--depth-limit-um D] -o OUT.h5\n"
       "              [--record-every M [--scenario SC.json] [--rpm R] [--torque T]\n"
       "               [--duration S] [--fs HZ]]\n\n"
-      "Wears the mesh's flanks over N driver revolutions in K blocks (README \"Wear\"): each "
+      "Wears the mesh's flanks over N driver revolutions in K blocks (docs/wear.md): each "
       "block\n"
       "wears both flanks by the chosen law at the input torque of the gearbox, then recomputes "
       "load\n"

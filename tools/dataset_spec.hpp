@@ -1,7 +1,7 @@
 // The description of a synthetic dataset (`geardiag dataset SPEC.json`) and the parameters of its
 // recording k, drawn from (seed, k) alone.
 //
-// Spec (JSON; unknown fields are refused naming the field; docs/notes/dataset.md):
+// Spec (JSON; unknown fields are refused naming the field; docs/cli/dataset.md):
 //   gearbox              path, or array of paths (drawn uniformly per recording); relative to
 //                        the spec's folder
 //   seed                 integer >= 0
@@ -11,7 +11,7 @@
 //   noise_m_per_s2       accelerometer noise RMS, number or [lo, hi] (default 0)
 //   accuracy_grade       ISO 1328-1 grade, integer or [lo, hi] integers (default 0: none)
 //   runout_um            eccentricity of every gear, number or [lo, hi] (default 0)
-//   scenario             any other scenario field (README "Scenario description") applied to
+//   scenario             any other scenario field (docs/formats.md, "Scenario") applied to
 //                        every recording: friction, oil grade, bearings, sensors, integrator ...
 //   classes[]            {name, recordings, faults[]}; each fault {type, gear, tooth, and the
 //                        size fields of its type as numbers or [lo, hi]}; gear: a name, an array
@@ -164,7 +164,7 @@ struct DrawnRecording {
   double speed_rpm = 0, torque_nm = 0, oil_c = 0, noise = 0, runout_um = 0;
   int grade = 0;
   std::vector<DrawnFault> faults;
-  nlohmann::json scenario;  // the scenario simulated (README "Scenario description")
+  nlohmann::json scenario;  // the scenario simulated (docs/formats.md)
   // Kinematic: the defects and settings; face gear: the drawn pair parameters. `model` is the
   // description simulated (the gearbox with its defects, or the face-gear pair's).
   std::vector<DrawnDefect> defects;

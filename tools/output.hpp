@@ -21,7 +21,7 @@ bool check_output(const std::string& path, const std::string& option);
 // diag::InputError naming `option` and the path.
 void write_output(const std::string& path, const std::string& text, const std::string& option = {});
 
-// The former name, kept for callers on other branches.
+// The former name, kept for existing callers.
 void write_text_atomic(const std::filesystem::path& path, const std::string& text);
 
 // Prints each warning as "geardiag <command>: warning: <text>" to stderr.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Dataset generation throughput (bench/RESULTS.md): the issue's spec (12 recordings of 1 s at
+# Dataset generation throughput (bench/RESULTS.md): bench/dataset/spec.json (12 recordings of 1 s at
 # 20 kHz, three_shaft) on 1 and 2 threads and under mpirun -np 2, wall and CPU time and peak
 # memory (GNU time); then peak memory for 2 and 8 recordings per class (flat in the count).
 # Usage: bench/dataset/run.sh BUILD_DIR OUT_DIR
@@ -15,11 +15,11 @@ run() {  # name, command...
   echo "$name load: $(cut -d" " -f1-3 /proc/loadavg)" >> "$out/times.txt"
 }
 : > "$out/times.txt"
-run jobs1 "$bin" dataset "$here/issue_spec.json" --jobs 1
-run jobs2 "$bin" dataset "$here/issue_spec.json" --jobs 2
-run mpi2 mpirun "${root[@]}" --oversubscribe -np 2 "$bin" dataset "$here/issue_spec.json" --jobs 1
+run jobs1 "$bin" dataset "$here/spec.json" --jobs 1
+run jobs2 "$bin" dataset "$here/spec.json" --jobs 2
+run mpi2 mpirun "${root[@]}" --oversubscribe -np 2 "$bin" dataset "$here/spec.json" --jobs 1
 for n in 2 8; do
-  sed "s/\"recordings_per_class\": 4/\"recordings_per_class\": $n/" "$here/issue_spec.json" \
+  sed "s/\"recordings_per_class\": 4/\"recordings_per_class\": $n/" "$here/spec.json" \
     > "$out/spec_$n.json"
   sed -i "s|\"../../testdata|\"$(realpath "$here/../../testdata")|" "$out/spec_$n.json"
   run "mem$n" "$bin" dataset "$out/spec_$n.json" --jobs 1

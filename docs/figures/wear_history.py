@@ -1,4 +1,4 @@
-# Draws docs/figures/wear_history.svg from two `geardiag wear` runs (see docs/notes/profiles-wear.md):
+# Draws docs/figures/wear_history.svg from two `geardiag wear` runs (see docs/wear.md):
 #   geardiag wear --gearbox testdata/gearbox/three_shaft.json --mesh z1_z2 --cycles 1e7 --steps 100 -o wa.h5
 #   geardiag wear ... --law seed004 -o ws.h5
 #   /usr/bin/python3 docs/figures/wear_history.py wa.h5 ws.h5 docs/figures/wear_history.svg

@@ -6,7 +6,7 @@ read in place when they are C-contiguous float64 (converted once otherwise), res
 buffer (no copy). Long calls release the GIL. Bad input raises :class:`InputError` (a
 ``ValueError``) naming the file, field and reason, as the command line does.
 
-Functions (see each docstring and docs/notes/python.md):
+Functions (see each docstring and docs/python.md):
   read_recording, write_recording, Recording, Signal, Gearbox,
   welch, spectrum, envelope, envelope_spectrum, kurtogram, tsa, order_spectrum, indicators,
   analyze, simulate, simulate_kinematic, attribute, pulse_times
@@ -275,8 +275,8 @@ def analyze(source, gearbox=None, fs_hz=None, rpm=0.0, channel_map=None, tachos=
 
 def simulate(gearbox, scenario=None, duration_s=None, fs_hz=None, seed=None):
     """The dynamic simulator (``geardiag simulate``): ``scenario`` is a dict or a JSON path in
-    the README's scenario form (None: the defaults). Returns a :class:`Recording` with the
-    ground truth (``.truth``) and the simulator's warnings (``.warnings``)."""
+    the scenario form of docs/formats.md (None: the defaults). Returns a :class:`Recording`
+    with the ground truth (``.truth``) and the simulator's warnings (``.warnings``)."""
     return Recording._from_dict(_g.simulate(gearbox, scenario, duration_s, fs_hz, seed))
 
 

@@ -1,4 +1,4 @@
-"""The notebook-style example of docs/notes/python.md runs as written (from a checkout whose
+"""The notebook-style example of docs/python.md runs as written (from a checkout whose
 ../shared/data holds the CWRU files) and finds the inner-race fault."""
 import contextlib
 import io
@@ -10,7 +10,7 @@ import pytest
 
 from conftest import SHARED_DATA, SOURCE
 
-DOC = SOURCE / "docs" / "notes" / "python.md"
+DOC = SOURCE / "docs" / "python.md"
 
 
 @pytest.mark.skipif(not (SHARED_DATA / "cwru-bearing" / "IR007_0.mat").exists(),

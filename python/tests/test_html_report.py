@@ -1,7 +1,7 @@
 """The HTML report in headless Chromium: it renders, every table-of-contents link resolves to an
 id, no element is wider than the page (every section open, in a narrow 700 px window),
 the report has no script of its own. The page height and screenshot size are printed (pytest -s)
-and recorded in docs/notes/python.md. Skipped only when Chromium is absent."""
+and recorded in docs/report.md. Skipped only when Chromium is absent."""
 
 import base64
 import re

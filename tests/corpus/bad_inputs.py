@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Bad-input corpus for geardiag's readers and output paths (issue 13).
+"""Bad-input corpus for geardiag's readers and output paths (docs/limits.md).
 
 Generates damaged inputs (CSV, CSV.gz, WAV, MAT, HDF5, channel maps, face-gear tables, special
 files, bad output paths, full disks) into DIR, runs the geardiag binary on each, and checks that

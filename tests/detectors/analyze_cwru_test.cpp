@@ -1,5 +1,5 @@
 // analyze_recording's bearing findings on measured data: the CWRU bearing set (drive end, 0 hp,
-// 0.007 in faults; ../shared/data/README.md) with the one-shaft "gearbox" (a motor on the
+// 0.007 in faults; the data set's README) with a one-shaft "gearbox" (a motor on the
 // SKF 6205 drive-end bearing, no gears) at the speed in the file. Skips when the data is absent.
 #include <gtest/gtest.h>
 
@@ -30,7 +30,7 @@ struct CwruAnalysis {
   double shaft_hz = 0;
 };
 
-// The bearing form, verbatim, on a one-shaft box turning at the file's X<nnn>RPM.
+// The bearing form of docs/python.md's example, on a one-shaft box turning at the file's X<nnn>RPM.
 CwruAnalysis analyse(const std::string& file, double fs_hz) {
   diag::ImportOptions opt;
   opt.fs_hz = fs_hz;

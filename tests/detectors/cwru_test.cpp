@@ -1,5 +1,5 @@
 // Bearing diagnosis on measured data: the Case Western Reserve University bearing set (drive end,
-// 0 hp, faults of 0.007 in; ../shared/data/README.md). Skips when the data folder is absent.
+// 0 hp, faults of 0.007 in; the data set's README). Skips when the data folder is absent.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -70,7 +70,7 @@ TEST(AnalyticSignal, MatchesTheNaiveDftRecipeOnRandomData) {
   }
 }
 
-// The brief's test. Carrier 3 kHz modulated at 97 Hz with depth m = 0.4, amplitude 1.7: the
+// The defining test. Carrier 3 kHz modulated at 97 Hz with depth m = 0.4, amplitude 1.7: the
 // envelope is 1.7 (1 + 0.4 cos(2 pi 97 t)), so the envelope spectrum reads A m = 0.68 at 97 Hz.
 // 1 s at 20 kHz puts every line on a bin and the rectangular window reads exactly (FFT
 // round-off). A second AM component (carrier 7 kHz modulated at 150 Hz) lies outside the

@@ -177,7 +177,7 @@ TEST(GearDamage, NoiseLowersTheToothScore) {
   EXPECT_EQ(noisy.status, "damaged");
 }
 
-// Pitch errors as the difference signal sees them (issue 12): a transient at every tooth of a
+// Pitch errors as the difference signal sees them: a transient at every tooth of a
 // gear, with a random amplitude (Gaussian, sigma = A / 3, redrawn beyond A, as the simulator
 // draws ISO 1328 pitch deviations). Each transient is impulsive, so the exclusive signal's
 // kurtosis is high (the former score flagged such gears), but no tooth stands out among the
@@ -252,7 +252,7 @@ TEST(GearDamage, ASpeedErrorOfTheTachoIsRefinedFromTheMeshLines) {
 // fit of the pulse times cannot remove. A loud mesh line then wanders in phase from revolution
 // to revolution and the average keeps part of its leakage in the exclusive orders, coherently:
 // without the refinement every shaft here has a significant exclusive signal (SNR 3.5-5.5)
-// with a damage-like kurtosis (FM4 8-14, the score before issue 12); only the level gate (its RMS
+// with a damage-like kurtosis (FM4 8-14, a kurtosis score); only the level gate (its RMS
 // is below 0.005 of the mesh lines here) keeps them from being flagged. In the simulated closed
 // loop the same error on a resonant 6th mesh harmonic passed the level gate too: the loop's one
 // false alarm before this correction. Correcting each revolution from the mesh line's own phase

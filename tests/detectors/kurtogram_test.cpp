@@ -68,7 +68,7 @@ TEST(FastKurtogram, SteadyToneReadsMinusOneInItsBandAtEveryLevel) {
   EXPECT_NEAR(k.levels[2].level, std::log2(3.0), 1e-15);
 }
 
-// The brief's test: the selected band contains the 4 kHz resonance even though the 1 kHz tone
+// The defining test: the selected band contains the 4 kHz resonance even though the 1 kHz tone
 // carries most of the energy, and its kurtosis is far above the noise bound of the next test.
 TEST(FastKurtogram, SelectsTheBandOfTheResonanceRungByImpulses) {
   const std::size_t n = 1 << 17;

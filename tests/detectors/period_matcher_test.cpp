@@ -115,7 +115,7 @@ TEST(PeriodMatcher, EventsThatNoPeriodExplainsGiveMultiplicity) {
   EXPECT_EQ(a.status, detect::AttributionStatus::kMultiplicity);
 }
 
-// Issue 12: a 14-tooth (undercut) input pinion driving 35 teeth: the countershaft turns once per
+// Overlap: a 14-tooth (undercut) input pinion driving 35 teeth: the countershaft turns once per
 // 2.5 input revolutions, so with the counter defect's first event placed 0.3 deg after an input
 // event, every second counter event falls inside an input pulse and leaves no event of its own.
 // Both defects must be found and sized from their clear events, with no multiplicity.

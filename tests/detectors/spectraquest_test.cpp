@@ -1,5 +1,5 @@
 // Baseline comparison on measured data: the SpectraQuest gearbox set (healthy vs broken tooth at
-// 0-80 % load; ../shared/data/README.md). Skips when the data folder is absent.
+// 0-80 % load; the data set's README). Skips when the data folder is absent.
 //
 // The set publishes no sampling rate. Every baseline feature depends on frequency only through
 // f / fs (band edges are fractions of fs), so a nominal rate is enough: kNominalFsHz = 1 Hz,

@@ -45,7 +45,7 @@ double reading(const detect::Spectrum& s, double f_hz) {
   return *std::max_element(s.amplitude.begin() + lo, s.amplitude.begin() + hi + 1);
 }
 
-// The brief's accuracy test. HFT95's amplitude flatness is 0.0044 dB = 0.051 % for any offset
+// The accuracy test. HFT95's amplitude flatness is 0.0044 dB = 0.051 % for any offset
 // from a bin centre (Heinzel 2002, D.1.6); the other tones and the negative-frequency images
 // leak at most -95 dB + 20 log10(amplitude ratio 8) = -77 dB = 1.4e-4 relative. Both together
 // stay under the 0.1 % asked for.

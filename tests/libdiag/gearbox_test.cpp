@@ -120,7 +120,7 @@ TEST(Gearbox, RefusesNonPositiveTeethAndModule) {
   EXPECT_NE(error_of(j).find("gears[0].module_mm: must be > 0"), std::string::npos);
 }
 
-// Undercut is a warning with its consequence, not a refusal (issue 12): attribution and the
+// Undercut is a warning with its consequence, not a refusal: attribution and the
 // kinematic simulator need only tooth counts.
 TEST(Gearbox, AcceptsAnUndercutPinionWithAWarningNamingItsConsequence) {
   json j = three_shaft();

@@ -298,7 +298,8 @@ TEST_F(Import, MatVectorsBecomeChannelsAndScalarsMetadata) {
   EXPECT_TRUE(noted);
 }
 
-// ---- damaged files (issue 13): refused naming the file and the damage, never read as data ----
+// ---- damaged files (docs/limits.md): refused naming the file and the damage, never read as data
+// ----
 
 TEST_F(Import, CsvNulByteIsRefusedNotGluedToTheNextRow) {
   // A C-string reader stopped at the NUL and read "3" + "5,6" as a = 35.
@@ -396,7 +397,7 @@ namespace {
 
 struct CwruFile {
   const char* file;
-  double fs_hz;         // from ../shared/data/README.md
+  double fs_hz;         // from the data set's README
   const char* prefix;   // variable name prefix
   bool has_base;        // X<nnn>_BA_time present
   std::size_t samples;  // per channel

@@ -54,7 +54,7 @@ ProfileDefect full_flank_chip(const Flank& f, double depth_m) {
   return d;
 }
 
-// The bound: the generated involute within 0.1 um of the analytic one, at the vertices
+// The bound: the generated involute within 0.1 um of the analytic one, at the vertices
 // and between them (the polyline's chord error is bounded by chord_tolerance_m = 5 nm).
 TEST(Profile, GeneratedInvoluteMatchesTheAnalyticOneWithinATenthOfAMicron) {
   constexpr double kTolM = 0.1e-6;

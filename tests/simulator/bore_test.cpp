@@ -70,7 +70,7 @@ TEST(Bore, DefaultIsHalfTheRootDiameter) {
 }
 
 // The seed pair's mean stiffness per face width against the bore. Measured (N/(mm um)): ratio
-// 0.5 -> 20.6, 0.2 -> 13.5 (the issue's figures); a solid disc (bore 0) is held at the 0.2
+// 0.5 -> 20.6, 0.2 -> 13.5 (docs/validation.md); a solid disc (bore 0) is held at the 0.2
 // value (mesh_stiffness.cpp: Sainsot's fit is not extrapolated). ISO 6336-1 method B gives
 // c_gamma_alpha = 22.0 for every bore (C_R = 1: ISO's rim factor concerns webbed blanks, not the
 // bore of a solid disc), so the cross-check holds only for the default bore: PEM/ISO = 0.94 at
@@ -88,7 +88,7 @@ TEST(Bore, MovesTheSeedPairsMeshStiffnessAndIsoDoesNotSeeIt) {
   EXPECT_NEAR(k02 / iso, 0.61, 0.01);
 }
 
-// The trend is physical (issue 16 asked whether a smaller bore should not give a stiffer mesh).
+// The trend is physical (one might expect a smaller bore to give a stiffer mesh).
 // Sainsot's FE models clamp the gear body at the bore (the shaft holds the gear there), and the
 // mesh stiffness relates the contact to the rotation of that shaft: the body between the root
 // circle and the bore is in series with the teeth. A thicker rim is a longer path, so a smaller

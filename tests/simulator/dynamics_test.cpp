@@ -1,6 +1,6 @@
-// The gearbox dynamics (SPEC section 1, seed 000) against physics: the stiffness matrix and natural
-// frequencies against the seed's printed matrix (with SPEC's K56 correction), the seed's results
-// 1-5, energy balance, RK4 against GSL's adaptive integrator, defaults and bad input.
+// The gearbox dynamics (seed 000, docs/physics.md) against physics: the stiffness matrix and
+// natural frequencies against the seed's printed matrix (with the K56 correction), the seed's
+// results 1-5, energy balance, RK4 against GSL's adaptive integrator, defaults and bad input.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -72,9 +72,9 @@ double rms(const std::vector<double>& x) {
 // ---- the stiffness matrix and natural frequencies ----
 
 // K built by hand from the seed's printed entries (q = phi1, phi2, x1, x2, y1, y2; delta =
-// r1 phi1 + r2 phi2 + (y1 - y2) cos a + (x1 - x2) sin a) with SPEC's correction K56 = -k cos^2 a,
-// M = diag(J1, J2, m1, m2, m1, m2) (SPEC's correction of the printed M). The model builds K from
-// delta's gradient in its own coordinates; the natural frequencies must agree to round-off
+// r1 phi1 + r2 phi2 + (y1 - y2) cos a + (x1 - x2) sin a) with the correction K56 = -k cos^2 a,
+// M = diag(J1, J2, m1, m2, m1, m2) (docs/physics.md corrects the printed M). The model builds K
+// from delta's gradient in its own coordinates; the natural frequencies must agree to round-off
 // (1e-9 relative: an eigenvalue problem of size 6 in double precision).
 TEST(GearboxModel, NaturalFrequenciesMatchTheSeedsCorrectedStiffnessMatrix) {
   const diag::Gearbox gb = seed_pair();
@@ -346,7 +346,7 @@ TEST(SeedResults, NormalToLoaLevelAtResonanceFallsAsContactRatioGrows) {
 
 // ---- seed result 5: the resonance and its jump ----
 
-// The README's sweep example as written: the seed's pair (testdata/gearbox/seed000_pair.json),
+// docs/cli/sweep.md's example as written: the seed's pair (testdata/gearbox/seed000_pair.json),
 // the scenario testdata/scenario/seed000_sweep_jump.json (bearings 1e10 N/m: the torsional mode
 // alone in the band; on the default 2e8 N/m bearings the resonance is the coupled mode of result 4
 // and shows no jump in this band), 2000..4500 rpm, 25 windows of 0.03 s, up and down.
@@ -358,7 +358,7 @@ TEST(SeedResults, NormalToLoaLevelAtResonanceFallsAsContactRatioGrows) {
 // it by the PEM's 6 % lower stiffness (3 % in frequency) and by the contact loss's softening (the
 // mesh is out of contact part of each period, > 5 % of the time at the peak), never above it.
 // The seed's own figure, 1560 Hz, cannot be the check: the paper gives neither its inertias nor
-// its FEM stiffness (see docs/notes/seed000.md).
+// its FEM stiffness (see docs/validation.md).
 // The jump: the run-down stays on the resonant branch below the run-up's peak and leaves it
 // later, > 200 rpm (3 windows) lower, with a larger peak; in the window where the run-down peaks
 // the two runs differ by more than 30 % of the run-up's largest force (a linear system, or a

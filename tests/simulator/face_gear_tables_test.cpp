@@ -206,11 +206,11 @@ TEST_F(FaceGearTables, BadHdf5TablesNameDatasetAndReason) {
   }
 }
 
-// The "a load outside the table: say how it is extrapolated or refuse": constant
-// extrapolation, the nearest load's row (FlankTable), documented in description.hpp and the
-// README. Below the first load and above the last the stiffness equals that row's exactly; within
-// the grid it is linear in load (bilinear with the angle), so the midpoint of two loads is the
-// mean of their rows (to rounding, 1e-15 relative).
+// A load outside the table: constant
+// extrapolation, the nearest load's row (FlankTable), documented in description.hpp and
+// docs/face-gear.md. Below the first load and above the last the stiffness equals that row's
+// exactly; within the grid it is linear in load (bilinear with the angle), so the midpoint of two
+// loads is the mean of their rows (to rounding, 1e-15 relative).
 TEST(FaceGearTableLoads, OutsideTheGridTheNearestLoadRowIsUsed) {
   fg::FlankTable t;
   const double period = 2 * std::numbers::pi / 15;

@@ -328,7 +328,7 @@ TEST(FrictionLaws, CapAppliesAtAndNearThePitchPoint) {
 // Both laws are mixed-lubrication correlations: mu falls as the film thickens, and the film
 // thickens with viscosity (Drozdov: nu^-0.07; Benedict-Kelley: -0.0127 log10(nu0)). Hot, thin
 // oil therefore gives a HIGHER mu than cold oil. This is the opposite of the seed's statement
-// (NASA data, Fig. 4: mu falls 4x from 25 to 100 degC) and of its Fig. 11; see the README note.
+// (NASA data, Fig. 4: mu falls 4x from 25 to 100 degC) and of its Fig. 11; see docs/physics.md.
 TEST(FrictionLaws, HotterThinnerOilRaisesMixedLubricationFriction) {
   const diag::GearPair pair = seed_pair();
   const double load_n = kSeedTorqueNm / pair.driver().base_radius_m();

@@ -1,4 +1,4 @@
-// Mesh stiffness of undercut gears (issue 16): the potential-energy tooth takes its section below
+// Mesh stiffness of undercut gears: the potential-energy tooth takes its section below
 // the form radius from the rack-generated profile instead of Chen & Shao's straight line.
 #include <gtest/gtest.h>
 

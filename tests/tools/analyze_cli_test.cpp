@@ -244,7 +244,7 @@ TEST(AnalyzeCli, BadBaselineFileExitsWithCodeTwoNamingItAndWritesNothing) {
   EXPECT_FALSE(fs::exists(js));
 }
 
-// The validation through the whole command line (import with --fs, features, fit, score,
+// The baseline's validation through the whole command line (import with --fs, features, fit, score,
 // JSON): SpectraQuest gearbox, leave one load out. For each load L in 0..80 %, the baseline is the
 // healthy files of the four other loads; h30hzL must not alarm and b30hzL must. The threshold is
 // the default 25, not tuned here (baseline.hpp). The set publishes no sampling rate: --fs 1 (the

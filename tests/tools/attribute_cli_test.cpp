@@ -187,7 +187,7 @@ TEST(SweepCli, RunsUpAndDownAndWritesJson) {
 
 namespace {
 
-// Issue 12: a 15-tooth pinion with no profile shift (undercut) is accepted by `info`, the
+// Undercut: a 15-tooth pinion with no profile shift (undercut) is accepted by `info`, the
 // kinematic simulator and `attribute`, each warning on stderr (and in `attribute`'s JSON).
 fs::path undercut_gearbox() {
   const fs::path p = scratch("gb_undercut.json");
@@ -224,7 +224,7 @@ TEST(AttributeCli, UndercutPinionIsAttributedWithAWarning) {
   EXPECT_FALSE(j["warnings"].empty());
 }
 
-// Issue 16: the mesh stiffness takes an undercut tooth's section from its rack-generated profile
+// Undercut: the mesh stiffness takes an undercut tooth's section from its rack-generated profile
 // (tests/simulator/undercut_stiffness_test.cpp), so the dynamic simulation and the wear history of
 // an undercut pinion run (they refused it with exit 2 before), still warning about the undercut.
 TEST(AttributeCli, DynamicSimulationAndWearOfAnUndercutPinionRun) {

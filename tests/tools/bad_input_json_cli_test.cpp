@@ -1,8 +1,8 @@
-// Issue 13, descriptions, scenarios and options: a table of generated bad inputs, each of which
+// Bad descriptions, scenarios and options: a table of generated bad inputs, each of which
 // must end with exit 2 (a diag::InputError), a message naming the file or option and the field,
 // no output file, and within a time limit (no hang, no memory exhaustion): deep nesting, numbers
 // beyond double range, tooth counts, speeds, rates, durations, sub-steps and settling times beyond
-// the documented limits (README "Limits"), names that cannot name channels, malformed JSON.
+// the documented limits (docs/limits.md), names that cannot name channels, malformed JSON.
 #include <gtest/gtest.h>
 
 #include <chrono>

@@ -28,7 +28,7 @@ using cli_test::write_text;
 
 fs::path scratch(const std::string& name) { return cli_test::scratch("dataset_cli", name); }
 
-// The tiny spec: the minimal form at 0.2 s, the gearbox given relative to the spec's
+// The tiny spec: the minimal form at 0.2 s, the gearbox given relative to the spec's
 // folder, plus noise, pitch errors, runout and a class with two faults at once. `extra` adds
 // top-level fields, `classes` replaces the classes.
 const char* const kClasses =

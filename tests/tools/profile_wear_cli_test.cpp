@@ -80,7 +80,7 @@ TEST(WearCli, WritesTheHistoryAndRefusesBadInput) {
 // Closed check from the output file alone (tests/tools/wear_contact_check.py): at every step the
 // loaded contact ratio and mesh stiffness recomputed in Python from the file's worn profiles, pair
 // stiffness and normal force (its own sharing solver) agree with what the tool wrote (within one
-// sample angle and 1 %), for both laws, on the seed pair of the README over 1e7 cycles.
+// sample angle and 1 %), for both laws, on the seed pair of docs/wear.md over 1e7 cycles.
 TEST(WearCli, LoadedContactRatioAgreesWithTheFilesProfiles) {
   for (const std::string law : {"archard", "seed004"}) {
     const auto h5 = cli_test::scratch("profile_wear", "check_" + law + ".h5").string();

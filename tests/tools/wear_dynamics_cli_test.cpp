@@ -6,10 +6,10 @@
 // start and end of contact (wear is zero at the pitch point and deepest at the roots), so the
 // load leaves the double-contact zones: the loaded transmission error's mesh-periodic part and
 // with it the bearing vibration along the line of action at the mesh frequency grow with wear.
-// Measured on this pair (18/36 teeth, m 3 mm, 50 N m, 1000 rpm, noise off; README "Worn profiles in
-// the dynamic simulator"), the mesh-frequency amplitude along the LOA: new 0.434, Archard wear
-// of 2.5e6 cycles 0.622, 5e6 0.678, 7.5e6 0.734, 1e7 0.789 m/s^2; a 20 um worn fault 0.644
-// (x 1.48). Tolerances below are margins under those figures, not fits.
+// Measured on this pair (18/36 teeth, m 3 mm, 50 N m, 1000 rpm, noise off; docs/wear.md, "Worn
+// profiles in the dynamic simulator"), the mesh-frequency amplitude along the LOA: new 0.434,
+// Archard wear of 2.5e6 cycles 0.622, 5e6 0.678, 7.5e6 0.734, 1e7 0.789 m/s^2; a 20 um worn fault
+// 0.644 (x 1.48). Tolerances below are margins under those figures, not fits.
 #include <gtest/gtest.h>
 
 #include <cmath>

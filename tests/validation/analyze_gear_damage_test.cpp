@@ -106,7 +106,7 @@ TEST(AnalyzeGearDamage, WithoutTachoTheVibrationOrTheNominalSpeedServesASteadyRi
 //
 // With the speed from the vibration (the default) the same wrong nominal speed gives the same
 // findings as the right one: the output gear's chip on the output shaft, nothing on the healthy
-// box (the "a nominal speed 3 % off must give the same findings").
+// box (a nominal speed 3 % off must give the same findings).
 TEST(AnalyzeGearDamage, AWrongNominalSpeedGivesNoFindingRatherThanAWrongOne) {
   const diag::Gearbox gb = two_stage();
   const diag::Recording faulty = as_imported(simulate(gb, "z4"));

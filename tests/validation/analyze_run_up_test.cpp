@@ -1,11 +1,11 @@
-// `analyze` on a run-up in the order domain (issue 11, "Varying speed"): the two-stage box
-// (testdata/gearbox/three_shaft.json, two_stage_case.hpp) accelerated linearly from 500 to
-// 3000 rpm at the input in 9 s, with and without its tacho. At varying speed the spectra,
-// sidebands and envelope spectra are order spectra (the channel resampled at uniform input-shaft
-// angles, read at the mean speed); without a tacho the speed comes from the vibration (the
-// estimator's run-up mode, followed from mid-record where the ramp passes the description's
-// nominal 1750 rpm). A chipped counter-shaft gear must be put on the counter shaft either way; a
-// healthy run-up, with or without ISO grade-6 pitch errors and runout, must give no gear finding.
+// `analyze` on a run-up in the order domain (docs/cli/analyze.md, "Varying speed"): the two-stage
+// box (testdata/gearbox/three_shaft.json, two_stage_case.hpp) accelerated linearly from 500 to 3000
+// rpm at the input in 9 s, with and without its tacho. At varying speed the spectra, sidebands and
+// envelope spectra are order spectra (the channel resampled at uniform input-shaft angles, read at
+// the mean speed); without a tacho the speed comes from the vibration (the estimator's run-up mode,
+// followed from mid-record where the ramp passes the description's nominal 1750 rpm). A chipped
+// counter-shaft gear must be put on the counter shaft either way; a healthy run-up, with or without
+// ISO grade-6 pitch errors and runout, must give no gear finding.
 #include <gtest/gtest.h>
 
 #include <cmath>

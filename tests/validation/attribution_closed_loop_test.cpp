@@ -3,7 +3,7 @@
 // 14..17-tooth input pinion at no profile shift), with runout 0.05 deg, mesh TE 0.005 deg, noise
 // 0.002 deg RMS and 16-bit encoders, sizes 0.1..1 deg at the output; attributed from the angles
 // alone and compared with the truth. A share of the two-defect cases put an input-shaft and a
-// counter-shaft defect with overlapping events (issue 12). Targets from the issues: >= 98 % right
+// counter-shaft defect with overlapping events. Targets (docs/validation.md): >= 98 % right
 // shaft for single defects, >= 95 % of defects attributed in two-defect cases, sizes within 15 %,
 // no finding on healthy cases; overlapping pairs: both found, sized within 15 %, no multiplicity.
 #include <gtest/gtest.h>
@@ -51,7 +51,7 @@ TEST(AttributionClosedLoop, MeetsTheAttributionTargetsOverRandomGearboxesAndDefe
   EXPECT_GE(undercut_cases, 30);
 }
 
-// Issue 12: an input-shaft and a counter-shaft defect whose events overlap once or more (one event
+// Overlap: an input-shaft and a counter-shaft defect whose events overlap once or more (one event
 // of the second placed inside a pulse of the first, then wherever the periods bring them
 // together). Both must be found and sized within 15 %, and the overlap must not raise
 // multiplicity. Same rig and gearboxes as above; 60 cases on other seeds.

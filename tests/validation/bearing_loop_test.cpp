@@ -45,9 +45,9 @@ TEST(BearingLoop, NamesNoWrongPartAndFindsMostFaultsAtWorkingSnrs) {
     EXPECT_EQ(c.wrong, 0);
   }
   // Measured on this grid (right of 24: healthy 24, outer 21, inner 21, rolling element 23,
-  // cage 24; README "Validation: right / silent / wrong" has the full table): the floors are one
-  // case under, so that a last-bit difference of the FFT library on another machine does not fail
-  // the test.
+  // cage 24; docs/validation.md ("Validation: right / silent / wrong") has the full table): the
+  // floors are one case under, so that a last-bit difference of the FFT library on another machine
+  // does not fail the test.
   struct Floor {
     K kind;
     int right;

@@ -26,9 +26,10 @@ diag::Gearbox load(const std::string& name) {
   return diag::load_gearbox(std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/" + name);
 }
 
-// The report set (README "Validation (closed loop on realistic gears)"): the two gearboxes the
-// thresholds were never tuned on (17/44 x 21/50 and the single-stage 29/47) and the two they were
-// tuned on (with other seeds there), all with non-integer ratios but the three-shaft box.
+// The report set (docs/validation.md, "The damaged-shaft locator on realistic gears"): the two
+// gearboxes the thresholds were never tuned on (17/44 x 21/50 and the single-stage 29/47) and the
+// two they were tuned on (with other seeds there), all with non-integer ratios but the three-shaft
+// box.
 std::vector<diag::Gearbox> report_gearboxes() {
   return {load("two_stage_17_44_21_50.json"), load("single_stage_29_47.json"),
           load("two_stage_23_41_19_53.json"), load("three_shaft.json")};
@@ -112,12 +113,12 @@ TEST(GearDamageLoop, BadOptionsAreRefused) {
   EXPECT_THROW(o.validate(), diag::InputError);
 }
 
-// Issue 12's acceptance: realistic gears (ISO 1328 grades 5-8, runout 0-20 um on every gear,
+// The acceptance: realistic gears (ISO 1328 grades 5-8, runout 0-20 um on every gear,
 // healthy and faulty alike) on four gearboxes, two never used for tuning, seed 2024 (tuning
 // used seed 11). The locator must rarely claim damage on a healthy box and almost never name
 // the wrong shaft; it is allowed to be silent, and is on small cracks, chips and spalls whose
 // effect on the vibration is below that of the largest pitch deviation of the gear (without a
-// baseline that cannot be told apart: README "Validation (closed loop on realistic gears)" gives
+// baseline that cannot be told apart: docs/validation.md ("The damaged-shaft locator") gives
 // the rates per class and the ROC). Every missing tooth must be found.
 TEST(GearDamageLoop, RealisticGearsRaiseFewFalseAlarmsAndNoWrongShaft) {
   validate::GearDamageLoopOptions o;

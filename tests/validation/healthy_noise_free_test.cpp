@@ -1,4 +1,4 @@
-// Issue 11, "Honest numbers": the README's example, the healthy two-stage box
+// docs/cli/analyze.md's example, the healthy two-stage box
 // (testdata/gearbox/three_shaft.json) simulated at 1500 rpm for 2 s WITHOUT sensor noise, gave
 // gear_sidebands findings "230 dB over the local floor". Its spectrum holds the mesh harmonics
 // (multiples of 225 Hz: both meshes) and, 55-130 dB below them, lines at every input-shaft order

@@ -1,4 +1,4 @@
-// `analyze` on a run-up (issue 11, "Varying speed"): the two-stage box
+// `analyze` on a run-up (docs/cli/analyze.md, "Varying speed"): the two-stage box
 // (testdata/gearbox/three_shaft.json) accelerated linearly from 500 to 3000 rpm at the input, with
 // a tacho on the input shaft, simulated with the dynamic simulator (10 kHz, sensor noise 4 m/s^2
 // as in the closed loop). A cracked or chipped counter-shaft gear must be put on the counter
@@ -70,7 +70,7 @@ TEST(RunUp, AChippedCounterGearIsAFindingOnTheCounterShaft) {
 
 // The crack is the smallest fault here: at steady speed (1000, 1750, 3000 rpm, the same 9 s) its
 // counter shaft level is 0.0051-0.0057, against min_level 0.005, and in this run-up 0.0054-0.0062
-// (seeds 1-4), SNR 2.4 (seed 3; 3.5 since issue 12) against min_snr 2: a finding at the
+// (seeds 1-4), SNR 2.4 (seed 3; 3.5 with the tooth score) against min_snr 2: a finding at the
 // locator's own margin, not a loosened one; tooth score 27 (seed 3) against 20. Before the fix (a
 // cubic t(k), the plain average): no finding at all on the counter shaft (SNR 0.8), and with only
 // the pulse fit fixed, the crack went to the input shaft (score 27, the counter's SNR 1.1).

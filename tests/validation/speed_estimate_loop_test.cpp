@@ -55,7 +55,7 @@ TEST(SpeedEstimateLoop, ABearingAccelerometerGivesTheInputSpeedAndItsRevolutions
   for (const double off : {0.97, 1.03}) {
     const auto e = detect::estimate_speed(acc->samples, acc->fs_hz, off * truth_hz, lines);
     ASSERT_EQ(e.status, detect::SpeedStatus::kTracked) << e.notes.back();
-    // The motor holds the set speed (speed-controlled input): 1e-4 is the brief's bound
+    // The motor holds the set speed (speed-controlled input): 1e-4 is the required bound
     // (measured 2e-7).
     constexpr double kRelTol = 1e-4;
     EXPECT_NEAR(e.mean_speed_hz / truth_hz, 1.0, kRelTol) << "nominal x " << off;
@@ -155,14 +155,14 @@ TEST(SpeedEstimateLoop, ARunUpIsFollowedFromTheStartSpeed) {
   }
   double worst = 0.0;
   for (double v : d) worst = std::max(worst, std::abs(v - mean));
-  // 0.02 rev, the brief's bound for a run-up. Unlike a steady record, the angle read from a line
+  // 0.02 rev, the required bound for a run-up. Unlike a steady record, the angle read from a line
   // carries the phase of the path from the mesh to the sensor at the line's frequency, which
   // changes as the line sweeps (a delay tau: f_shaft tau rev; a resonance crossed: up to
   // 1 / (2 order) rev). Measured 7.6e-3 rev: a step of ~7e-3 rev near 0.7 s (order 54 at
   // ~1200 Hz) and a drift of 4e-3 rev over the rest, beside 1.7e-3 rev of tacho quantisation.
   EXPECT_LT(worst, 0.02);
   // Frame speeds against the tacho's one-revolution speeds, linear between them: 0.5 % (the
-  // brief's bound; measured 1.9e-3, of which the tacho's own quantisation, half a sample at each
+  // required bound; measured 1.9e-3, of which the tacho's own quantisation, half a sample at each
   // end of a 30 to 60 ms revolution, is up to 1.7e-3).
   double worst_speed = 0.0;
   for (std::size_t m = 0; m < e.time_s.size(); ++m) {

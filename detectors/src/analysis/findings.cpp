@@ -62,11 +62,11 @@ void gear_damage_findings(AnalysisResult& r) {
 
 // Sideband families: a vote over channels, reported as a note, never as a finding. Shaft-rate
 // sidebands around a mesh are what a local defect or an eccentricity gives, but also what every
-// healthy gear with ordinary manufacturing errors gives: measured (README "The sideband vote is
-// not a finding"), healthy gears of ISO 1328 grades 5-7 with and without 8 um runout drew a
-// vote that passed the quorum below on 57 of 57 recordings (three gearboxes, four seeds; the
-// pitch errors' sidebands stand 20-30 dB above the -50 dB line gate), and a 1.2 mm chip or a
-// 1.5 mm root crack changed the vote's outcome in 7 of 54 recordings, in no consistent
+// healthy gear with ordinary manufacturing errors gives: measured (docs/validation.md, "The
+// sideband vote is not a finding"), healthy gears of ISO 1328 grades 5-7 with and without 8 um
+// runout drew a vote that passed the quorum below on 57 of 57 recordings (three gearboxes, four
+// seeds; the pitch errors' sidebands stand 20-30 dB above the -50 dB line gate), and a 1.2 mm chip
+// or a 1.5 mm root crack changed the vote's outcome in 7 of 54 recordings, in no consistent
 // direction. A claim that fires on every healthy gearbox is no evidence of damage; the
 // damaged-shaft locator (gear_damage) and the baseline comparisons are the detectors.
 void sideband_vote_notes(const AnalysisContext& ctx, AnalysisResult& r) {

@@ -501,7 +501,7 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
     }
   }
 
-  // 4b. Coincidences (issue 12). Where another train passes during an event, the event is the
+  // 4b. Coincidences. Where another train passes during an event, the event is the
   // overlap of two defects (the output stays stopped while either gap is taken up, and the hold
   // of one delays the other's onset): its height and onset belong to neither defect alone. Such
   // hits are left out of a train's size and period fit when it has at least two others, and an

@@ -1,6 +1,6 @@
 // Errors shared by every part of geardiag.
 //
-// Two kinds of failure (STYLE.md, practice 7):
+// Two kinds of failure:
 //  - InputError: bad input or a broken precondition that the user can fix (a file, a field, an
 //    option). The message names the file or function, the field, the value and the valid range.
 //    The CLI maps it to exit code 2.

@@ -148,7 +148,7 @@ ContactKinematics GearPair::kinematics(double s, double omega1) const {
   // Seed 000 gives the arm as l = (d_b1/2) tan(phi + alpha_p1), which is rho1 only if phi is the
   // increment of the profile angle; as a function of the gear's rotation the contact moves
   // linearly along the LOA (s = s_start + r_b1 phi), so the arm is simply rho1 (and rho2 for
-  // gear 2). Corrected here; see README "Corrections to the sources".
+  // gear 2). Corrected here; see docs/physics.md, "Corrections to the sources".
   k.friction_arm_1_m = k.rho1_m;
   k.friction_arm_2_m = k.rho2_m;
   return k;

@@ -201,8 +201,9 @@ struct GearboxModel::Impl {
     }
   }
 
-  // Stiffness matrix at mean mesh stiffness: each mesh k g g^T with g = d delta / dq (SPEC: K from
-  // the gradient of delta), the shafts' torsion, the bearings and the motor coupling.
+  // Stiffness matrix at mean mesh stiffness: each mesh k g g^T with g = d delta / dq
+  // (docs/physics.md: K from the gradient of delta), the shafts' torsion, the bearings and the
+  // motor coupling.
   Eigen::MatrixXd stiffness_matrix() const {
     Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
     for (const MeshData& d : meshes) {
@@ -562,7 +563,7 @@ std::pair<double, double> GearboxModel::loa_direction(int mesh) const {
 
 std::pair<double, double> GearboxModel::normal_direction(int mesh) const {
   const MeshData& d = impl_->meshes.at(mesh);
-  return {-d.tx, -d.ty};  // (cos a_w, -sin a_w) in the mesh frame (SPEC section 1)
+  return {-d.tx, -d.ty};  // (cos a_w, -sin a_w) in the mesh frame (docs/physics.md)
 }
 
 std::uint64_t GearboxModel::contact_signature(double t, const double* y) const {

@@ -577,7 +577,7 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     st.defects.push_back(std::move(d));
   }
   nlohmann::json& truth = st.extra;
-  truth["model"] = "lumped gearbox dynamics (SPEC section 1): rotations + shaft translations";
+  truth["model"] = "lumped gearbox dynamics (seed 000 generalised): rotations + shaft translations";
   truth["friction_law"] = static_cast<int>(opt.friction.law);
   truth["oil_temperature_c"] = opt.friction.oil_temperature_c;
   truth["mesh_damping_ratio"] = opt.mesh_damping_ratio;

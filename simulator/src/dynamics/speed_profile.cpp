@@ -68,7 +68,7 @@ void SpeedProfile::validate(const std::string& where) const {
       }
       break;
   }
-  // Documented bound (README "Limits"): beyond it the step per output sample overflows and the
+  // Documented bound (docs/limits.md): beyond it the step per output sample overflows and the
   // run would take days.
   if (max_rpm() > diag::kMaxSpeedRpm) {
     throw diag::InputError(diag::format_error(

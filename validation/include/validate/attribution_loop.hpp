@@ -32,7 +32,7 @@ struct AttributionLoopOptions {
   double size_tolerance = 0.15;  // relative size error that counts as right
   bool random_gearbox = false;   // draw tooth counts per case (a three-shaft box)
   // With random_gearbox: share of boxes whose input pinion has 14..17 teeth and no profile shift
-  // (undercut; accepted with a warning, issue 12).
+  // (undercut; accepted with a warning).
   double undercut_share = 0.0;
   // Measurement effects of the simulated rig (see sim::KinematicOptions).
   double runout_output_rad = 0.05 * 0.017453292519943295;

@@ -4,7 +4,7 @@
 // load and sensor noise, and, for healthy and faulty cases alike, with ISO 1328 pitch errors of a
 // random accuracy grade (DynamicsOptions::accuracy_grade, Gaussian sigma = f_pt / 3) and a random
 // runout of every gear (DynamicsOptions::runout_m): real gears are never perfect, and a locator
-// validated on perfect gears called every real gearbox damaged (issue 12). Each recording goes to
+// validated on perfect gears called every real gearbox damaged. Each recording goes to
 // the detector and its answer is compared with the shaft that carries the faulty gear: right,
 // silent (no finding, or "ambiguous") or wrong shaft; healthy cases count false alarms. Besides
 // the detector's own operating point the loop keeps every shaft's score and gates, so that the

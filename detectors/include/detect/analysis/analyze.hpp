@@ -44,8 +44,8 @@
 // Findings (Finding, finding.hpp: the one finding type of every module; here the locator's, the
 // bearing vote's (evidence channels_pointing, channels_analysed, score_db) and, with a baseline,
 // the wear indicator's; the sideband vote is reported as a note, never as a finding: healthy
-// gears with ordinary pitch errors pass it on every recording, README "The sideband vote is not a
-// finding");
+// gears with ordinary pitch errors pass it on every recording, docs/validation.md, "The sideband
+// vote is not a finding");
 // faults in the one vocabulary of diag/faults/fault_kind.hpp) summarise what points at a shaft,
 // gear or bearing, each with a confidence and a note; only sensor channels (sensor_channels below)
 // vote. The code is in stages (detectors/src/analysis/stages.hpp lists them: a table of

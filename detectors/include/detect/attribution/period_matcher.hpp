@@ -1,5 +1,5 @@
 // Defect attribution from the output shaft's kinematic irregularity by recurrence-period matching
-// (seed 003, Antipenko & Shambalova 2012, Fig. 10; SPEC.md section 3).
+// (seed 003, Antipenko & Shambalova 2012, Fig. 10; docs/physics.md).
 //
 // Input: the input and output shaft angles sampled together (any step, uniform or not, input
 // angle non-decreasing) and the gearbox description. Steps:
@@ -99,7 +99,8 @@ AttributionResult attribute_defects(std::span<const double> input_angle_rad,
                                     std::span<const double> output_angle_rad,
                                     const diag::Gearbox& gb, const AttributionOptions& options);
 
-// {"findings": [...], "multiplicity": bool, "unexplained": [...], ...} with the keys of README.
+// {"findings": [...], "multiplicity": bool, "unexplained": [...], ...} with the keys of
+// docs/cli/attribute.md.
 nlohmann::json to_json(const AttributionResult& r);
 std::string format_table(const AttributionResult& r);
 std::string_view to_string(AttributionStatus s);

@@ -2,7 +2,7 @@
 //
 // Flank wear takes the worn teeth away from conjugate action: the transmission error's mesh
 // harmonics, and with them the vibration at h f_mesh, grow with the wear depth once it exceeds a
-// couple of static deflections (sim/wear.hpp; README "Worn profiles in the dynamic simulator").
+// couple of static deflections (sim/wear.hpp; docs/wear.md).
 // The unit-free features of baseline.hpp normalise the level away and hardly move. This compares
 // levels, channel by channel, against baseline recordings of the same gears:
 //   A_h(c)  amplitude of channel c at h f_mesh, h = 1..harmonics: the largest bin of the Hann-
@@ -15,12 +15,12 @@
 // The mean over channels, not the largest: one channel near a structural resonance moves with
 // the pitch errors of the particular gears (measured: up to 7.3 dB for healthy gears on one
 // channel, 2 false alarms in 12 at 4 dB with the largest channel). Threshold 4 dB
-// (README "Wear indicator against the baseline"; the study scripts in docs/wear_indicator/): ISO
-// 1328 grade 6 pitch errors and 8 um runout, baseline 3 recordings at 0.95-1.05 x torque; tuned on
-// 29/47 seeds 1-6 (largest healthy growth 0.78 dB + 3 dB), reported on 29/47 seeds 7-12 and a 23/41
-// x 19/53 gearbox seeds 1-6: healthy (1.1 x torque, 0.95 / 1.05 x speed, other gears of the same
-// grade) 0 of 48 flagged, largest 2.0 dB; worn 20, 40, 54 um flagged 12 of 12 each (5.3-15.7 dB),
-// 10 um 0 of 12, 5 um 0 of 12 (light wear first lowers the harmonics). The baseline should be
+// (docs/validation.md, "Wear indicator against a baseline"; the scripts in docs/wear_indicator/):
+// ISO 1328 grade 6 pitch errors and 8 um runout, baseline 3 recordings at 0.95-1.05 x torque; tuned
+// on 29/47 seeds 1-6 (largest healthy growth 0.78 dB + 3 dB), reported on 29/47 seeds 7-12 and a
+// 23/41 x 19/53 gearbox seeds 1-6: healthy (1.1 x torque, 0.95 / 1.05 x speed, other gears of the
+// same grade) 0 of 48 flagged, largest 2.0 dB; worn 20, 40, 54 um flagged 12 of 12 each (5.3-15.7
+// dB), 10 um 0 of 12, 5 um 0 of 12 (light wear first lowers the harmonics). The baseline should be
 // within a few percent of the recording's speed (5 % moves the growth by up to 2 dB).
 #pragma once
 

@@ -31,7 +31,7 @@
 //     runout. Physically these are a distributed pattern: every tooth meshes a little early or
 //     late, so e_s holds a transient at EVERY tooth engagement with a random amplitude; each
 //     transient is impulsive, so the kurtosis of e_s (FM4, Stewart 1977) is high on a healthy
-//     gear (issue 12: healthy shafts of a grade-6 box scored FM4 6.8-9.3, above the former bar of
+//     gear (healthy shafts of a grade-6 box score FM4 6.8-9.3, above a bar of
 //     5). A local fault (crack, chip, spall, missing tooth) is one or two teeth of one gear. So
 //     the score compares each tooth with the other teeth of the same gear in the same
 //     revolution-averaged signal: for each gear on s (z teeth, z >= 8), e_s less its orders below
@@ -156,10 +156,10 @@ struct GearDamageOptions {
   double min_exclusive_share = 0.2;
   // Thresholds on the score (step 5: the outstanding tooth's local energy over the median of
   // the other teeth'). The names are historical (the score was the noise-corrected kurtosis
-  // FM4 until issue 12; analyze and its HTML report read them). Tuned on the gear-damage loop
+  // FM4; analyze and its HTML report read them). Tuned on the gear-damage loop
   // (seed 11, the three-shaft and the 23/41 x 19/53 boxes, grades 5-8, runout 0-20 um): healthy
   // shafts scored up to 15, so damaged_fm4 = 20 raised no false alarm there; reported on other
-  // seeds and gearboxes in README "Validation (closed loop on realistic gears)".
+  // seeds and gearboxes in docs/validation.md ("The damaged-shaft locator on realistic gears").
   double damaged_fm4 = 20.0;    // score above this: damaged, > healthy_fm4
   double healthy_fm4 = 12.0;    // score above this (and below damaged_fm4): uncertain, > 1
   std::string reference_shaft;  // shaft whose tacho gives the pulses; empty: the input shaft's

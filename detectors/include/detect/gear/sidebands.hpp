@@ -4,7 +4,7 @@
 // and phase once per revolution of the shaft carrying the gear; the mesh harmonics h f_mesh then
 // carry sidebands at h f_mesh +- k f_shaft (McFadden & Smith 1985; Randall 1982, "A new method of
 // modeling gear faults", J. Mech. Design 104; Lebold et al. 2000). Sidebands spaced at a shaft's
-// rotation frequency point at that shaft (SPEC.md, "The detectors").
+// rotation frequency point at that shaft (docs/physics.md, "Detectors").
 //
 // For each candidate shaft the amplitude spectrum is searched at h f_mesh +- k f_shaft,
 // h = 1..mesh_harmonics, k = 1..sidebands, within +- search_bins bins (speed jitter, leakage); each

@@ -1,4 +1,4 @@
-// The two-direction comparison (SPEC.md section 1, "Diagnostic consequence"; seed 000, Kalinin &
+// The two-direction comparison (docs/physics.md, "two directions"; seed 000, Kalinin &
 // Temis 2018): bearing vibration measured along a mesh's line of action (LOA) reflects the
 // transmission error (tooth geometry, defects, stiffness); normal to the LOA it is driven by
 // mesh friction alone (surface state, lubrication, temperature, early pitting). Comparing the
@@ -16,7 +16,7 @@
 // The indicator is the normal-to-along ratio at the mesh harmonics, in dB:
 //   R = 10 log10( sum_h E_h(normal) / sum_h E_h(along) ),
 // larger when friction (normal) grows relative to the transmission-error (along) excitation:
-// lower oil temperature, higher mu, a rougher surface (SPEC.md section 1, Fig. 11 of the seed).
+// lower oil temperature, higher mu, a rougher surface (Fig. 11 of seed 000).
 #pragma once
 
 #include <string>

@@ -1,10 +1,10 @@
 // A gearbox: shafts, gears on shafts, meshes (driver -> driven), bearings, the input operating
 // point and, for the simulator, defects. Everything derived from the topology lives here, in one
-// place: shaft speeds and ratios, mesh frequencies, each gear's defect recurrence period (SPEC.md
-// section 3, corrected formula), hunting-tooth periods, which gears share a shaft.
+// place: shaft speeds and ratios, mesh frequencies, each gear's defect recurrence period (seed
+// 003, corrected formula: docs/physics.md), hunting-tooth periods, which gears share a shaft.
 //
-// The JSON form is documented in README.md ("Gearbox description"); parse_gearbox() refuses bad
-// descriptions with an InputError naming the field and the reason.
+// The JSON form is documented in docs/formats.md ("Gearbox description"); parse_gearbox() refuses
+// bad descriptions with an InputError naming the field and the reason.
 #pragma once
 
 #include <filesystem>
@@ -18,7 +18,7 @@
 
 namespace diag {
 
-// Documented upper bounds of a description (README "Limits"); beyond them parse_gearbox refuses
+// Documented upper bounds of a description (docs/limits.md); beyond them parse_gearbox refuses
 // with the field named, before any derived quantity is computed.
 inline constexpr int kMaxTeeth = 1000;
 inline constexpr double kMinModuleMm = 0.05, kMaxModuleMm = 100.0;
@@ -54,8 +54,8 @@ struct BearingSpec {
   double contact_angle_rad = 0.0;   // phi [rad], [0, pi/2)
 };
 
-// A sporadic tooth defect (SPEC.md section 3): an angular loss of the gear's own rotation that
-// appears once per revolution of the gear.
+// A sporadic tooth defect (seed 003, docs/physics.md): an angular loss of the gear's own rotation
+// that appears once per revolution of the gear.
 struct DefectSpec {
   std::string gear;
   std::string type = "chip";  // chip | breakage | pit | crack | missing (free text kept in truth)
@@ -108,7 +108,7 @@ class Gearbox {
   double shaft_speed_rpm(int shaft) const;
   double mesh_frequency_hz(int mesh) const;  // z_driver * f_driver shaft [Hz]
   // Defect recurrence period in input-shaft revolutions: T = |omega_in / omega_shaft| for the shaft
-  // carrying the gear. Seed 003 eq. (5) corrected: T_i = 2 pi u_max / u_i (SPEC.md section 3).
+  // carrying the gear. Seed 003 eq. (5) corrected: T_i = 2 pi u_max / u_i (docs/physics.md).
   double recurrence_period_input_rev(int gear) const;
   double shaft_period_input_rev(int shaft) const;
   // Hunting-tooth period of a mesh: the same pair of teeth meets again after lcm(z1, z2) tooth

@@ -1,8 +1,8 @@
-// A gearbox defect given as a flank deviation (defects[i].profile, README "Gearbox description"):
-// the seed-003 route from a drawn contour to the angle the kinematic simulator uses. The deviation
-// is put on one tooth of the gear, the gear's mate in the first mesh of the description that holds
-// the gear rolls over it unloaded (diag::defect_angular_loss_rad), and the largest lag it opens,
-// as a rotation of the defective gear, is the defect's size.
+// A gearbox defect given as a flank deviation (defects[i].profile, docs/formats.md,
+// docs/profiles.md): the seed-003 route from a drawn contour to the angle the kinematic simulator
+// uses. The deviation is put on one tooth of the gear, the gear's mate in the first mesh of the
+// description that holds the gear rolls over it unloaded (diag::defect_angular_loss_rad), and the
+// largest lag it opens, as a rotation of the defective gear, is the defect's size.
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>

@@ -6,7 +6,7 @@
 // (gear 1's tip). The pitch point is at s_pitch = r_b1 tan(alpha_w).
 //
 // Formulas: ISO 21771 / Litvin & Fuentes, "Gear Geometry and Applied Theory" (2004), ch. 10;
-// specific sliding as in SPEC.md section 4 (seed 004).
+// specific sliding as in seed 004 (docs/physics.md).
 #pragma once
 
 #include <vector>

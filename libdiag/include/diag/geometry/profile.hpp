@@ -26,9 +26,10 @@
 // Deviations. Material removed normally to the flank by a depth delta at a point of the flank
 // turns psi at fixed r by
 //     d psi = delta sqrt(1 + (r psi')^2) / r                                   (*)
-// which is delta / r_b on an involute (r psi' = -tan(alpha_r)). CORRECTION to seed 004 (and SPEC
-// section 4, which copies it): the seed updates a worn profile by d theta = U / r, "valid when the
-// angle between the radius vector and the tangent is below 25 deg"; the exact small-depth update is
+// which is delta / r_b on an involute (r psi' = -tan(alpha_r)). CORRECTION to seed 004
+// (docs/physics.md, corrections): the seed updates a worn profile by d theta = U / r, "valid when
+// the angle between the radius vector and the tangent is below 25 deg"; the exact small-depth
+// update is
 // (*), i.e. U / (r cos(alpha_r)); U / r is its limit for a profile normal nearly circumferential
 // (alpha_r -> 0) and understates the change by 1 - cos(alpha_r) (6 % at alpha_r = 20 deg; 15.4 %
 // at the tip of an 18-tooth, 20 deg, unshifted gear, whose tip pressure angle is

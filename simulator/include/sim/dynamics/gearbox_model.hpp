@@ -1,4 +1,4 @@
-// Lumped-parameter dynamics of a gearbox (SPEC.md section 1; seed 000, Kalinin & Temis 2018,
+// Lumped-parameter dynamics of a gearbox (docs/physics.md; seed 000, Kalinin & Temis 2018,
 // generalised from one pair to the gearbox description's meshes).
 //
 // Degrees of freedom. Every gear g turns by theta_g = r_g theta_in,nom(t) + psi_g, where
@@ -6,7 +6,7 @@
 // counted in each gear's own sense of rotation (forward positive); psi_g is the vibratory part
 // (the state). Every shaft s that carries gears translates on its bearings by (x_s, y_s) in one
 // fixed frame (x horizontal, y vertical). A pair of gears on separate shafts is the seed's 6-DOF
-// model: q = {psi1, psi2, x1, y1, x2, y2} (the seed's order differs; SPEC's M correction).
+// model: q = {psi1, psi2, x1, y1, x2, y2} (the seed's order differs; docs/physics.md).
 //
 // Mesh j (driver a on shaft A, driven b on shaft B). Its frame has x along the centre line from A
 // to B and the line of action (LOA) along n = (sin a_w, cos a_w) when the driver turns
@@ -14,7 +14,7 @@
 // of both surfaces' sliding. The dynamic transmission error (compression of the mesh) is
 //     delta = r_ba psi_a - r_bb psi_b + n . (u_A - u_B) + e_runout(t) - e(theta_a)  (seed eq. 4)
 // and its gradient g = d delta / dq (r_ba, -r_bb, n, -n) is what couples the DOFs: the mesh
-// stiffness matrix is k g g^T (so K56 = -k cos^2 a_w, SPEC's correction of the seed).
+// stiffness matrix is k g g^T (so K56 = -k cos^2 a_w, corrected: docs/physics.md).
 // e(theta_a) = sum_h A_h cos(h z_a theta_a + phi_h) is the mesh-periodic static transmission
 // error (the unloaded TE of profile modifications and manufacture, as a displacement along the
 // LOA), the classic displacement excitation of a mesh (Ozguven & Houser, J. Sound Vib. 121 (1988)
@@ -26,7 +26,8 @@
 // (k_i, gap_i from MeshStiffness: load sharing, tooth faults, pitch errors). The back flank
 // carries k_sum (delta + b) + c_z delta' when delta < -b (three-state backlash, b the backlash
 // along the LOA); in between, free flight. c_z = 2 zeta sqrt(k_mean / (r_ba^2/J_a + r_bb^2/J_b)).
-// Friction on each drive pair, perpendicular to the LOA (SPEC's correction of the seed's eq. 6):
+// Friction on each drive pair, perpendicular to the LOA (the seed's eq. 6 corrected,
+// docs/physics.md):
 //     on gear a's centre  -sigma_i mu_i F_i t,   moment -sigma_i mu_i F_i rho1_i
 //     on gear b's centre  +sigma_i mu_i F_i t,   moment +sigma_i mu_i F_i rho2_i
 // sigma_i = sign of the sliding speed v1 - v2 at s_i (-1 in the approach, +1 in the recess, 0 at
@@ -74,7 +75,7 @@ struct StiffnessTable {
   std::vector<std::vector<double>> k_n_per_m;
 };
 
-// Worn flanks of one mesh (SPEC section 4, sim/wear.hpp): the scenario's faults[] entry
+// Worn flanks of one mesh (seed 004, sim/wear.hpp, docs/wear.md): the scenario's faults[] entry
 // {"type": "wear"} or a point of life of `geardiag wear --record-every`. Every tooth pair of the
 // mesh gets the worn flanks' separation g(s) (sim::worn_profile_gap) as a gap on the line of
 // action (MeshStiffness::set_profile_gap), the same path as a profile defect's gap on one tooth:

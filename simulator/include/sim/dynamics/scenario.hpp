@@ -1,6 +1,6 @@
 // The scenario of a dynamic run (JSON): operating point, drive, damping, bearings, friction and
 // oil, tooth faults, manufacturing errors, sensors, integrator. Every field is optional; the
-// defaults are DynamicsOptions' and RunOptions'. The form is documented in README.md
+// defaults are DynamicsOptions' and RunOptions'. The form is documented in docs/formats.md
 // ("Scenario description"); unknown fields and bad values are refused naming the field.
 #pragma once
 

@@ -24,7 +24,7 @@
 
 namespace sim {
 
-// Documented upper bounds of a dynamic run (README "Limits"), checked before it starts.
+// Documented upper bounds of a dynamic run (docs/limits.md), checked before it starts.
 inline constexpr double kMaxDurationS = 3600.0;              // recorded duration [s]
 inline constexpr double kMaxFsHz = 1e6;                      // output sampling rate [Hz]
 inline constexpr double kMaxSettleS = 600.0;                 // discarded transient [s]

@@ -1,5 +1,5 @@
-// Frequency-response sweep (SPEC section 1: "frequency-response sweeps, run up and run down, are
-// a simulator feature"). The input speed ramps slowly and continuously from from_rpm to to_rpm
+// Frequency-response sweep (seed 000's Fig. 9: the resonance and its jump differ between run up
+// and run down). The input speed ramps slowly and continuously from from_rpm to to_rpm
 // (run up) and back (run down); each run is cut into `steps` windows of equal speed span and the
 // peak and RMS (about the window mean) of the chosen channels are reported per window, with the
 // fraction of time the meshes spent out of contact. Because every window starts from the state
@@ -15,7 +15,7 @@
 
 namespace sim {
 
-inline constexpr int kMaxSweepSteps = 1000;  // windows per run (README "Limits")
+inline constexpr int kMaxSweepSteps = 1000;  // windows per run (docs/limits.md)
 
 struct SweepOptions {
   double from_rpm = 0.0;  // [rpm], > 0

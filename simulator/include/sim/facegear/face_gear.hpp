@@ -1,4 +1,4 @@
-// Torsional dynamics of a single-input single-output face-gear pair (seed 002, SPEC section 2):
+// Torsional dynamics of a single-input single-output face-gear pair (seed 002, docs/face-gear.md):
 //   G. Feng, X. Huang, X. Lan, M. Zhou, "Torsional vibration modeling and analysis of a
 //   face-gear pair", J. Tsinghua Univ. (Sci. & Tech.) (the seed's eqs. 1-8, 14-15).
 //
@@ -34,8 +34,9 @@
 //   I_g omega_g' = (N_g/N_p) T_mesh - T_g(t) - c_g omega_g
 // This is the seed's eqs. 1-2 with f = -d: the printed pinion equation, read with eq. 8's T_mesh,
 // is T_p - T_mesh, the same as above; what the potential fixes is which flank carries which sign
-// (SPEC section 2's remark), and it shows that the parametric terms (dk/dtheta_p, de0/dtheta_p)
-// are not forces of the pair but an energy exchange with the drive: the energy balance
+// (docs/face-gear.md, the model), and it shows that the parametric terms (dk/dtheta_p,
+// de0/dtheta_p) are not forces of the pair but an energy exchange with the drive: the energy
+// balance
 //   W_in - W_out + W_param = E_kin + V + D,
 //   W_param = int (1/2)(d^2/r) dk + (T_mesh/r) de0_flank,  D = int c_p w_p^2 + c_g w_g^2 + (c/r)
 //   d'^2
@@ -72,7 +73,7 @@ namespace sim::facegear {
 // pinion angle within one mesh period [0, 2 pi / N_p), strictly increasing; the table is
 // periodic in angle (linear interpolation across the period end). Loads [N m, pinion torque]
 // strictly increasing, >= 0; outside the load range the nearest load's row is used (constant
-// extrapolation, stated in the README). Bilinear interpolation.
+// extrapolation, stated in docs/face-gear.md). Bilinear interpolation.
 struct FlankTable {
   std::vector<double> angle_rad;  // n_a
   std::vector<double> load_nm;    // n_l

@@ -1,5 +1,5 @@
 // Kinematics of a multi-shaft gearbox with sporadic tooth defects (seed 003, Antipenko &
-// Shambalova 2012; SPEC.md section 3). Slow rotation, no dynamics: the output shaft's angle as a
+// Shambalova 2012; docs/physics.md). Slow rotation, no dynamics: the output shaft's angle as a
 // function of the input shaft's angle.
 //
 // Model. Each mesh on the power path maps its up-side gear's angle to the down-side gear's angle,

@@ -1,4 +1,4 @@
-// Coefficient of friction in a spur gear mesh (SPEC.md section 1; seed 000, Kalinin & Temis 2018,
+// Coefficient of friction in a spur gear mesh (docs/physics.md; seed 000, Kalinin & Temis 2018,
 // eqs. 1-3). The laws here return the magnitude mu >= 0; the dynamics applies the sign of the
 // sliding velocity (seed eq. 2: friction reverses at the pitch point).
 //

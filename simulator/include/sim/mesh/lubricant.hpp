@@ -1,5 +1,5 @@
 // Gear oil: kinematic viscosity vs temperature (Walther / ASTM D341), density vs temperature,
-// dynamic viscosity. Used by the mesh friction laws (SPEC.md section 1, seed 000: "oil viscosity
+// dynamic viscosity. Used by the mesh friction laws (docs/physics.md, seed 000: "oil viscosity
 // falls with temperature").
 //
 // Viscosity. ASTM D341 (Walther, 1931):

@@ -287,8 +287,8 @@ constexpr double to_n_per_mm_um(double n_per_m2) { return n_per_m2 * 1e-9; }
 // ISO 1328-1:1995 single pitch tolerance f_pt [m] for accuracy grade Q (0..12):
 //   f_pt = (0.3 (m + 0.4 sqrt(d)) + 4) 2^((Q - 5)/2) um,  m, d in mm
 // with the gear's own m and d (not the geometric means of the standard's ranges, and unrounded).
-// Correction: the brief printed 0.3 (m + 0.4 sqrt(d) + 4); the standard's grade-5 value for
-// d = 20..50 mm, m = 2..3.5 mm (5.5 um) fits only 0.3 (m + 0.4 sqrt(d)) + 4.
+// Correction (docs/physics.md): 0.3 (m + 0.4 sqrt(d) + 4) is wrong; the standard's grade-5 value
+// for d = 20..50 mm, m = 2..3.5 mm (5.5 um) fits only 0.3 (m + 0.4 sqrt(d)) + 4.
 double single_pitch_tolerance_iso1328_m(const diag::Gear& gear, int accuracy_grade);
 
 enum class PitchErrorDistribution {

@@ -1,5 +1,5 @@
-// Wear of a spur gear pair over its life (seed 004, Avsievich, Reut & Dubovskaya; SPEC.md
-// section 4), iterated in blocks of cycles: wear, update both flanks, recompute contact, load
+// Wear of a spur gear pair over its life (seed 004, Avsievich, Reut & Dubovskaya;
+// docs/wear.md), iterated in blocks of cycles: wear, update both flanks, recompute contact, load
 // sharing, contact ratio, mesh stiffness and the unloaded transmission error; stop at a depth
 // limit.
 //
