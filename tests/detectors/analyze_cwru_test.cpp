@@ -11,7 +11,7 @@
 
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/html_report.hpp"
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/import.hpp"
 

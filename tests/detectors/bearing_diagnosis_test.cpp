@@ -1,6 +1,6 @@
 // diagnose_bearings on synthetic signals: a ringing outer-race impact train under shaft lines and
 // noise (the closed-form case), noise alone, and bad input.
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <map>
 
-#include "detect/gear/bearing_diagnosis.hpp"
-#include "detect/gear/bearing_faults.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
 #include "detect/spectral/envelope.hpp"
 #include "detect/spectral/kurtogram.hpp"

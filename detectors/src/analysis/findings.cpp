@@ -7,7 +7,7 @@
 #include <map>
 #include <utility>
 
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 #include "detect/gear/gear_damage.hpp"
 #include "diag/error.hpp"
 #include "stages.hpp"

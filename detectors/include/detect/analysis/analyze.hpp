@@ -68,9 +68,9 @@
 
 #include "detect/angular/tsa.hpp"
 #include "detect/baseline/baseline.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 #include "detect/finding.hpp"
-#include "detect/gear/bearing_diagnosis.hpp"
-#include "detect/gear/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
 #include "detect/gear/gear_damage.hpp"
 #include "detect/gear/sidebands.hpp"

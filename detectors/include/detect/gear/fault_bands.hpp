@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "detect/gear/bearing_faults.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 #include "diag/faults/fault_kind.hpp"
 
 namespace detect {

@@ -1,4 +1,4 @@
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 
 #include <algorithm>
 #include <cmath>
