@@ -88,7 +88,7 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   constexpr int kTachoSmoothingHalfWindow = 10;
   const auto& input_pulses = kin.pulses_s[static_cast<std::size_t>(ctx.input)];
   a.order_pulses = ctx.order_domain && kin.speed.source == "tacho"
-                       ? smoothed_pulses(input_pulses, kTachoSmoothingHalfWindow)
+                       ? smooth_pulse_times_local_quadratic(input_pulses, kTachoSmoothingHalfWindow)
                        : input_pulses;
   std::vector<std::optional<AnglePlan>> tsa_plans(gb->shafts().size());
   // The plans may read the records decimated first (resample.hpp: half-band stages, shared by

@@ -128,7 +128,8 @@ void sideband_vote_notes(const AnalysisContext& ctx, AnalysisResult& r) {
   }
 }
 
-// Bearings: diagnose_bearings' decisions, voted over the channels that see each bearing.
+// Bearings: diagnose_bearings_from_signal' decisions, voted over the channels that see each
+// bearing.
 void bearing_findings(const AnalysisContext& ctx, AnalysisResult& r) {
   for (const diag::BearingSpec& b : ctx.gb->bearings()) {
     std::map<BearingFault, int> votes;

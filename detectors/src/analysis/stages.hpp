@@ -8,9 +8,9 @@
 //     spectrogram_stage   the record's spectrogram in time (channel_spectrogram.cpp)
 //     order_spectrum_stage
 //     envelope_stage      kurtogram band, envelope spectrum (demodulated in time)
-//     bearing_stage       fault bands and diagnose_bearings per bearing the channel sees
-//     sideband_stage      mesh harmonics and sideband families per mesh
-//     tsa_stage           TSA per shaft and the gear metrics
+//     bearing_stage       fault bands and diagnose_bearings_from_signal per bearing the channel
+//     sees sideband_stage      mesh harmonics and sideband families per mesh tsa_stage TSA per
+//     shaft and the gear metrics
 //   two_direction_stage (two_direction_stage.cpp)
 //   gear_damage_stage, fuse_findings (findings.cpp): the locator, the votes, one finding list
 //   report writers: to_json (report_json.cpp), format_summary (report_text.cpp); the baseline
@@ -160,7 +160,7 @@ double envelope_plot_max_hz(const AnalysisContext& ctx, double fs_hz);
 // The envelope peaks, trace and bearing band metrics of a channel from its envelope spectrum.
 void envelope_results(const AnalysisContext& ctx, const Spectrum& env, double fs_hz,
                       ChannelAnalysis& c);
-// Fault bands, band metrics and diagnose_bearings for the bearings this channel sees.
+// Fault bands, band metrics and diagnose_bearings_from_signal for the bearings this channel sees.
 void bearing_stage(const AnalysisContext& ctx, const diag::Signal& spectral, const Spectrum& env,
                    ChannelAnalysis& c);
 // Mesh harmonics and sideband families of every mesh.

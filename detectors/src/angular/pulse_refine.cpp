@@ -197,9 +197,10 @@ void check_pulses(std::span<const double> p, const std::string& where) {
 
 }  // namespace
 
-std::vector<double> smooth_pulse_times(std::span<const double> pulse_times_s, int degree) {
+std::vector<double> smooth_pulse_times_polynomial(std::span<const double> pulse_times_s,
+                                                  int degree) {
   if (degree < 0 || degree > 8) {
-    throw diag::InputError(diag::format_error("smooth_pulse_times", "degree",
+    throw diag::InputError(diag::format_error("smooth_pulse_times_polynomial", "degree",
                                               std::to_string(degree) + " is outside [0, 8]"));
   }
   return smooth_pulses(std::vector<double>(pulse_times_s.begin(), pulse_times_s.end()), degree);
@@ -353,7 +354,7 @@ RefinedPulses refine_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
   const auto& shafts = gb.shafts();
   RefinedPulses out;
   out.shaft = reference_shaft;
-  out.pulses = smooth_pulse_times(pulse_times_s, options.pulse_fit_degree);
+  out.pulses = smooth_pulse_times_polynomial(pulse_times_s, options.pulse_fit_degree);
   if (!options.phase_correction) return out;
   const double ref_ratio = std::abs(shafts[static_cast<std::size_t>(ref_index)].speed_ratio);
   const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());

@@ -17,6 +17,8 @@ namespace detect {
 
 namespace {
 
+// The prefix of its error messages (they reach the analysis report's channel notes, so it stays
+// the short name).
 constexpr const char* kWhere = "diagnose_bearings";
 
 [[noreturn]] void fail(const std::string& field, const std::string& reason) {
@@ -199,9 +201,9 @@ const char* finding_name(BearingFault f) {
   return f == BearingFault::kNone ? "" : to_string(f);
 }
 
-BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
-                                   std::span<const diag::BearingSpec> bearings,
-                                   const BearingDiagnosisOptions& options) {
+BearingDiagnosis diagnose_bearings_from_signal(const diag::Signal& channel, double shaft_hz,
+                                               std::span<const diag::BearingSpec> bearings,
+                                               const BearingDiagnosisOptions& options) {
   options.validate();
   diag::validate(channel, kWhere);
   if (!(shaft_hz > 0) || !std::isfinite(shaft_hz))
@@ -265,9 +267,10 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
   const SpectrumView band_view{band_ses.frequency_hz, band_ses.amplitude};
   const SpectrumView whole_view{whole_ses.frequency_hz, whole_ses.amplitude};
   for (BearingStatus& s : out.bearings) {
-    s.band_decision = diagnose_bearing(band_view, s.frequencies, options.decision);
+    s.band_decision = diagnose_bearing_from_envelope(band_view, s.frequencies, options.decision);
     if (options.whole_band_check)
-      s.whole_decision = diagnose_bearing(whole_view, s.frequencies, options.decision);
+      s.whole_decision =
+          diagnose_bearing_from_envelope(whole_view, s.frequencies, options.decision);
     combine(s, options.whole_band_check, band_view, whole_view, options);
     if (s.status != BearingDecisionStatus::kFault) continue;
     s.evidence = evidence(s);

@@ -357,8 +357,8 @@ double found_fundamental(const FamilyScore& family, double line_threshold_db) {
   return den > 0 ? num / den : family.fundamental_hz;
 }
 
-BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequencies& f,
-                                 const BearingDecisionOptions& opt) {
+BearingDecision diagnose_bearing_from_envelope(const SpectrumView& env, const BearingFrequencies& f,
+                                               const BearingDecisionOptions& opt) {
   opt.validate();
   env.validate("diagnose_bearing");
   const double df = bin_spacing(env);

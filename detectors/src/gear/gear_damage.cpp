@@ -252,7 +252,7 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
   const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
   const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
   const std::vector<double> ref_pulses =
-      smooth_pulse_times(pulse_times_s, options.pulse_fit_degree);
+      smooth_pulse_times_polynomial(pulse_times_s, options.pulse_fit_degree);
 
   ResampleOptions ro;
   ro.pulses_per_rev = 1;
