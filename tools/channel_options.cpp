@@ -1,26 +1,15 @@
 #include "channel_options.hpp"
 
 #include <cmath>
-#include <sstream>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace po = boost::program_options;
 
 namespace geardiag {
-
-namespace {
-
-std::string fmt(double v) {
-  std::ostringstream o;
-  o.precision(6);
-  o << v;
-  return o.str();
-}
-
-}  // namespace
 
 void ChannelOptions::add_to(po::options_description& desc, bool with_rpm) {
   desc.add_options()("channels", po::value(&channel_map)->value_name("MAP.json"),
@@ -32,8 +21,9 @@ void ChannelOptions::add_to(po::options_description& desc, bool with_rpm) {
     // Checked when given: 0 is "not given" inside the struct, so --rpm 0 must not pass silently.
     desc.add_options()("rpm", po::value(&rpm)->value_name("RPM")->notifier([](double v) {
       if (!(v > 0) || !std::isfinite(v) || v > diag::kMaxSpeedRpm) {
-        throw diag::InputError("--rpm: " + fmt(v) + " is not a speed in (0, " +
-                               fmt(diag::kMaxSpeedRpm) + "] rpm");
+        throw diag::InputError("--rpm: " + diag::format_significant(v, 6) +
+                               " is not a speed in (0, " +
+                               diag::format_significant(diag::kMaxSpeedRpm, 6) + "] rpm");
       }
     }),
                        "input shaft speed [rpm], (0, 1e5]: overrides the description's and the "
@@ -65,15 +55,18 @@ diag::Gearbox gearbox_at_speed(const diag::Gearbox& gb, const diag::Recording& r
   const double nominal = gb.input().speed_rpm;
   if (opt.rpm != 0) {
     if (!(opt.rpm > 0) || !std::isfinite(opt.rpm) || opt.rpm > 1e6) {
-      throw diag::InputError("--rpm: " + fmt(opt.rpm) + " is not a speed in (0, 1e6] rpm");
+      throw diag::InputError("--rpm: " + diag::format_significant(opt.rpm, 6) +
+                             " is not a speed in (0, 1e6] rpm");
     }
-    notes.push_back("input speed " + fmt(opt.rpm) +
-                    " rpm from --rpm (description: " + fmt(nominal) + " rpm)");
+    notes.push_back("input speed " + diag::format_significant(opt.rpm, 6) +
+                    " rpm from --rpm (description: " + diag::format_significant(nominal, 6) +
+                    " rpm)");
     return gb.with_input_speed_rpm(opt.rpm);
   }
   if (rec.speed_rpm > 0) {
-    notes.push_back("input speed " + fmt(rec.speed_rpm) + " rpm recorded with the file " +
-                    "(description: " + fmt(nominal) + " rpm)");
+    notes.push_back("input speed " + diag::format_significant(rec.speed_rpm, 6) +
+                    " rpm recorded with the file " +
+                    "(description: " + diag::format_significant(nominal, 6) + " rpm)");
     return gb.with_input_speed_rpm(rec.speed_rpm);
   }
   return gb;

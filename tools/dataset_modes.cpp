@@ -9,6 +9,7 @@
 #include "diag/faults/fault_kind.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
+#include "diag/util/number_format.hpp"
 #include "facegear_cmd.hpp"
 #include "sim/facegear/description.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
@@ -133,10 +134,10 @@ void check_kinematic(const DatasetSpec& s) {
           const double half_pitch = 0.5 * diag::Gear(gb.gears()[g].spec).angular_pitch_rad();
           if (!(deg_to_rad(d.size_deg.hi * u) < half_pitch)) {
             diag::fail(where, field + (d.size_at_output ? ".size_output_deg" : ".size_deg"),
-                       diag::Fields::fmt(d.size_deg.hi * u) + " deg at gear '" +
+                       diag::format_significant(d.size_deg.hi * u, 6) + " deg at gear '" +
                            gb.gears()[g].name + "' of " + s.gearbox_paths[b] +
                            " is not below half its angular pitch (" +
-                           diag::Fields::fmt(rad_to_deg(half_pitch)) +
+                           diag::format_significant(rad_to_deg(half_pitch), 6) +
                            " deg): the model rolls a defect in and out within one tooth");
           }
           smallest_pulse =
@@ -148,11 +149,13 @@ void check_kinematic(const DatasetSpec& s) {
     if (std::isfinite(smallest_pulse)) {
       if (s.kinematic.step_deg > 0 && step > smallest_pulse / 20) {
         diag::fail(where, "kinematic.step_deg",
-                   diag::Fields::fmt(s.kinematic.step_deg) +
+                   diag::format_significant(s.kinematic.step_deg, 6) +
                        " deg is too coarse for the smallest defect on " + s.gearbox_paths[b] +
-                       ": its pulse spans " + diag::Fields::fmt(rad_to_deg(smallest_pulse)) +
+                       ": its pulse spans " +
+                       diag::format_significant(rad_to_deg(smallest_pulse), 6) +
                        " deg of input angle; use step_deg <= " +
-                       diag::Fields::fmt(rad_to_deg(smallest_pulse / 20)) + " (or leave it out)");
+                       diag::format_significant(rad_to_deg(smallest_pulse / 20), 6) +
+                       " (or leave it out)");
       }
       if (s.kinematic.step_deg <= 0) step = std::min(step, smallest_pulse / kStepsPerPulse);
     }
@@ -160,9 +163,10 @@ void check_kinematic(const DatasetSpec& s) {
     if (!(samples <= kMaxSamples)) {
       diag::fail(
           where, "kinematic.revolutions",
-          diag::Fields::fmt(kinematic_revolutions(s, gb)) + " input revolutions of " +
-              s.gearbox_paths[b] + " at a step of " + diag::Fields::fmt(rad_to_deg(step)) +
-              " deg need " + diag::Fields::fmt(samples) +
+          diag::format_significant(kinematic_revolutions(s, gb), 6) + " input revolutions of " +
+              s.gearbox_paths[b] + " at a step of " +
+              diag::format_significant(rad_to_deg(step), 6) + " deg need " +
+              diag::format_significant(samples, 6) +
               " samples, more than 5e7: fewer revolutions, larger defects or a coarser step");
     }
   }
@@ -246,11 +250,12 @@ void check_face_gear(const DatasetSpec& s) {
       const double f = harmonics * np * r.speed_rpm.hi / 60.0;
       if (s.fs_hz < 2.5 * f) {
         diag::fail(where, "fs_hz",
-                   diag::Fields::fmt(s.fs_hz) + " Hz is below 2.5 x " + diag::Fields::fmt(f) +
-                       " Hz, mesh harmonic " + std::to_string(harmonics) + " of " +
-                       s.gearbox_paths[b] + " at " + diag::Fields::fmt(r.speed_rpm.hi) +
-                       " rpm (class " + s.classes[c].name +
-                       "); use fs_hz >= " + diag::Fields::fmt(std::ceil(2.5 * f)));
+                   diag::format_significant(s.fs_hz, 6) + " Hz is below 2.5 x " +
+                       diag::format_significant(f, 6) + " Hz, mesh harmonic " +
+                       std::to_string(harmonics) + " of " + s.gearbox_paths[b] + " at " +
+                       diag::format_significant(r.speed_rpm.hi, 6) + " rpm (class " +
+                       s.classes[c].name +
+                       "); use fs_hz >= " + diag::format_significant(std::ceil(2.5 * f), 6));
       }
       for (const bool hi : {false, true}) {
         auto v = [&](const Range& x) { return hi ? x.hi : x.lo; };

@@ -13,6 +13,7 @@
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/util/number_format.hpp"
 #include "sim/dynamics/gearbox_model.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
@@ -41,8 +42,9 @@ Range parse_range(const diag::Fields& f, const std::string& key, double min, dou
   }
   for (double x : {r.lo, r.hi}) {
     if (!std::isfinite(x) || (open_min ? !(x > min) : !(x >= min)) || x > max) {
-      f.fail(key, diag::Fields::fmt(x) + " is outside " + (open_min ? "(" : "[") +
-                      diag::Fields::fmt(min) + ", " + diag::Fields::fmt(max) + "]");
+      f.fail(key, diag::format_significant(x, 6) + " is outside " + (open_min ? "(" : "[") +
+                      diag::format_significant(min, 6) + ", " + diag::format_significant(max, 6) +
+                      "]");
     }
   }
   return r;
@@ -317,14 +319,14 @@ void check_sampling_rate(const DatasetSpec& s) {
     for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
       const double f = harmonics * gb.mesh_frequency_hz(static_cast<int>(m));
       if (s.fs_hz < 2.5 * f) {
-        diag::fail(s.file.string(), "fs_hz",
-                   diag::Fields::fmt(s.fs_hz) + " Hz is below 2.5 x " + diag::Fields::fmt(f) +
-                       " Hz, mesh harmonic " + std::to_string(harmonics) + " of mesh " +
-                       diag::mesh_name(gb, static_cast<int>(m)) + " of " + s.gearbox_paths[b] +
-                       " at " + diag::Fields::fmt(s.speed_rpm.hi) +
-                       " rpm (the detectors examine mesh harmonics 1.." +
-                       std::to_string(harmonics) +
-                       "); use fs_hz >= " + diag::Fields::fmt(std::ceil(2.5 * f)));
+        diag::fail(
+            s.file.string(), "fs_hz",
+            diag::format_significant(s.fs_hz, 6) + " Hz is below 2.5 x " +
+                diag::format_significant(f, 6) + " Hz, mesh harmonic " + std::to_string(harmonics) +
+                " of mesh " + diag::mesh_name(gb, static_cast<int>(m)) + " of " +
+                s.gearbox_paths[b] + " at " + diag::format_significant(s.speed_rpm.hi, 6) +
+                " rpm (the detectors examine mesh harmonics 1.." + std::to_string(harmonics) +
+                "); use fs_hz >= " + diag::format_significant(std::ceil(2.5 * f), 6));
       }
     }
   }
@@ -401,14 +403,15 @@ void warn_revolutions(DatasetSpec& s) {
       const double revs = s.duration_s * gb.shaft_speed_hz(static_cast<int>(sh));
       if (revs >= needed) continue;
       s.warnings.push_back(
-          s.file.string() + ": duration_s: " + diag::Fields::fmt(s.duration_s) + " s holds " +
-          diag::Fields::fmt(std::floor(revs * 10) / 10) + " revolutions of shaft '" +
-          gb.shafts()[sh].name + "' of " + s.gearbox_paths[b] + " at " +
-          diag::Fields::fmt(s.speed_rpm.lo) +
+          s.file.string() + ": duration_s: " + diag::format_significant(s.duration_s, 6) +
+          " s holds " + diag::format_significant(std::floor(revs * 10) / 10, 6) +
+          " revolutions of shaft '" + gb.shafts()[sh].name + "' of " + s.gearbox_paths[b] + " at " +
+          diag::format_significant(s.speed_rpm.lo, 6) +
           " rpm: the damaged-gear locator (validate "
           "--dataset) skips a shaft with fewer than " +
           std::to_string(needed) + " whole revolutions; use duration_s >= " +
-          diag::Fields::fmt(std::ceil(needed / gb.shaft_speed_hz(static_cast<int>(sh)) * 10) / 10));
+          diag::format_significant(
+              std::ceil(needed / gb.shaft_speed_hz(static_cast<int>(sh)) * 10) / 10, 6));
     }
   }
 }

@@ -12,17 +12,13 @@
 #include "detect/analysis/curves.hpp"
 #include "detect/analysis/svg_plot.hpp"
 #include "diag/error.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace detect {
 
 namespace {
 
-std::string f3(double v) {
-  if (!std::isfinite(v)) return "&ndash;";
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
+std::string f3(double v) { return std::isfinite(v) ? diag::format_significant(v, 4) : "&ndash;"; }
 
 // One verdict colour scheme for the whole page: .bad (red: a finding, an ALARM, a damaged
 // shaft), .warn (amber: uncertain, ambiguous), .good (green: nothing found). Healthy is never red.

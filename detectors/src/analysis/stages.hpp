@@ -31,6 +31,7 @@
 #include "detect/analysis/analyze.hpp"
 #include "detect/angular/resample.hpp"
 #include "detect/spectral/spectrum.hpp"
+#include "diag/util/number_format.hpp"
 #include "kinematics.hpp"
 
 namespace detect::analysis_stages {
@@ -42,11 +43,7 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline constexpr double kOrderOversampling = 2.8;
 inline constexpr int kMaxSamplesPerRev = 1 << 14;
 
-inline std::string fmt(double v, int prec = 3) {
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
+inline std::string fmt(double v, int prec = 3) { return diag::format_significant(v, prec); }
 
 inline std::string joined(const std::vector<std::string>& v) {
   std::string s;

@@ -7,14 +7,10 @@
 
 #include "detect/spectral/fft.hpp"
 #include "diag/error.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace detect {
 namespace {
-
-std::string num(double v) {
-  std::string s = std::to_string(v);
-  return s;
-}
 
 void check_finite(std::span<const double> x, const char* where) {
   for (std::size_t j = 0; j < x.size(); ++j) {
@@ -58,13 +54,16 @@ void BandOptions::validate() const {
   auto fail = [](const std::string& field, const std::string& reason) {
     throw diag::InputError(diag::format_error("band", field, reason));
   };
-  if (!(std::isfinite(fs_hz) && fs_hz > 0)) fail("fs_hz", num(fs_hz) + " is not finite and > 0");
+  if (!(std::isfinite(fs_hz) && fs_hz > 0))
+    fail("fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
   const double hi = upper_hz();
   if (!(std::isfinite(hi) && hi > 0 && hi <= 0.5 * fs_hz))
-    fail("high_hz", num(high_hz) + " is not in (low_hz, fs/2] = (" + num(low_hz) + ", " +
-                        num(0.5 * fs_hz) + "] (or 0 for fs/2)");
+    fail("high_hz", diag::format_fixed(high_hz, 6) + " is not in (low_hz, fs/2] = (" +
+                        diag::format_fixed(low_hz, 6) + ", " + diag::format_fixed(0.5 * fs_hz, 6) +
+                        "] (or 0 for fs/2)");
   if (!(std::isfinite(low_hz) && low_hz >= 0 && low_hz < hi))
-    fail("low_hz", num(low_hz) + " is not in [0, high_hz) = [0, " + num(hi) + ")");
+    fail("low_hz", diag::format_fixed(low_hz, 6) + " is not in [0, high_hz) = [0, " +
+                       diag::format_fixed(hi, 6) + ")");
 }
 
 std::vector<double> fft_bandpass(std::span<const double> x, const BandOptions& band) {
@@ -93,9 +92,11 @@ void FirLowpassOptions::validate() const {
   auto fail = [](const std::string& field, const std::string& reason) {
     throw diag::InputError(diag::format_error("fir_lowpass", field, reason));
   };
-  if (!(std::isfinite(fs_hz) && fs_hz > 0)) fail("fs_hz", num(fs_hz) + " is not finite and > 0");
+  if (!(std::isfinite(fs_hz) && fs_hz > 0))
+    fail("fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
   if (!(std::isfinite(cutoff_hz) && cutoff_hz > 0 && cutoff_hz < 0.5 * fs_hz))
-    fail("cutoff_hz", num(cutoff_hz) + " is not in (0, fs/2) = (0, " + num(0.5 * fs_hz) + ")");
+    fail("cutoff_hz", diag::format_fixed(cutoff_hz, 6) + " is not in (0, fs/2) = (0, " +
+                          diag::format_fixed(0.5 * fs_hz, 6) + ")");
   if (taps < 3 || taps % 2 == 0 || taps > (std::size_t{1} << 16) + 1)
     fail("taps", std::to_string(taps) + " is not odd and in [3, 2^16 + 1]");
 }

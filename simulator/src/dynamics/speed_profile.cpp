@@ -7,6 +7,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace sim {
 namespace {
@@ -71,9 +72,10 @@ void SpeedProfile::validate(const std::string& where) const {
   // Documented bound (README "Limits"): beyond it the step per output sample overflows and the
   // run would take days.
   if (max_rpm() > diag::kMaxSpeedRpm) {
-    throw diag::InputError(diag::format_error(
-        where, "rpm",
-        diag::Fields::fmt(max_rpm()) + " rpm exceeds " + diag::Fields::fmt(diag::kMaxSpeedRpm)));
+    throw diag::InputError(diag::format_error(where, "rpm",
+                                              diag::format_significant(max_rpm(), 6) +
+                                                  " rpm exceeds " +
+                                                  diag::format_significant(diag::kMaxSpeedRpm, 6)));
   }
 }
 
