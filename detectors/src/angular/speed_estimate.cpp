@@ -37,10 +37,6 @@ constexpr double kMinRidgeBins = 4.0;
 // Frames whose least-squares line extrapolates the ridge beyond the first and last frame centres.
 constexpr std::size_t kEndFitFrames = 5;
 
-void fail_opt(const std::string& field, const std::string& reason) {
-  fail("SpeedEstimateOptions", field, reason);
-}
-
 std::size_t next_pow2(std::size_t n) {
   std::size_t p = 1;
   while (p < n) p <<= 1;
@@ -242,35 +238,40 @@ class Demodulator {
 
 void SpeedEstimateOptions::validate() const {
   if (!(search_fraction > 0.0 && search_fraction < 0.5))
-    fail_opt("search_fraction",
-             diag::format_significant(search_fraction, 6) + " is not in (0, 0.5)");
+    fail("SpeedEstimateOptions", "search_fraction",
+         diag::format_significant(search_fraction, 6) + " is not in (0, 0.5)");
   if (!(frame_s > 0.0 && std::isfinite(frame_s)))
-    fail_opt("frame_s", diag::format_significant(frame_s, 6) + " is not a finite time > 0");
+    fail("SpeedEstimateOptions", "frame_s",
+         diag::format_significant(frame_s, 6) + " is not a finite time > 0");
   if (!(hop_s > 0.0 && hop_s <= frame_s))
-    fail_opt("hop_s", diag::format_significant(hop_s, 6) +
-                          " is not in (0, frame_s = " + diag::format_significant(frame_s, 6) + "]");
+    fail("SpeedEstimateOptions", "hop_s",
+         diag::format_significant(hop_s, 6) +
+             " is not in (0, frame_s = " + diag::format_significant(frame_s, 6) + "]");
   if (zero_padding < 1 || zero_padding > 16)
-    fail_opt("zero_padding", std::to_string(zero_padding) + " is not in [1, 16]");
+    fail("SpeedEstimateOptions", "zero_padding",
+         std::to_string(zero_padding) + " is not in [1, 16]");
   if (!(min_prominence_db >= 3.0 && min_prominence_db <= 60.0))
-    fail_opt("min_prominence_db",
-             diag::format_significant(min_prominence_db, 6) + " is not in [3, 60]");
+    fail("SpeedEstimateOptions", "min_prominence_db",
+         diag::format_significant(min_prominence_db, 6) + " is not in [3, 60]");
   if (!(max_step_fraction > 0.0 && max_step_fraction < 0.5))
-    fail_opt("max_step_fraction",
-             diag::format_significant(max_step_fraction, 6) + " is not in (0, 0.5)");
+    fail("SpeedEstimateOptions", "max_step_fraction",
+         diag::format_significant(max_step_fraction, 6) + " is not in (0, 0.5)");
   if (!std::isfinite(nominal_time_s))
-    fail_opt("nominal_time_s", "is NaN or Inf (< 0 means: the whole record)");
+    fail("SpeedEstimateOptions", "nominal_time_s", "is NaN or Inf (< 0 means: the whole record)");
   if (!(demod_passband > 0.0 && demod_passband < 0.5))
-    fail_opt("demod_passband", diag::format_significant(demod_passband, 6) + " is not in (0, 0.5)");
+    fail("SpeedEstimateOptions", "demod_passband",
+         diag::format_significant(demod_passband, 6) + " is not in (0, 0.5)");
   if (!(min_line_snr > 0.0 && std::isfinite(min_line_snr)))
-    fail_opt("min_line_snr",
-             diag::format_significant(min_line_snr, 6) + " is not a finite ratio > 0");
+    fail("SpeedEstimateOptions", "min_line_snr",
+         diag::format_significant(min_line_snr, 6) + " is not a finite ratio > 0");
   if (!(max_fade_fraction >= 0.0 && max_fade_fraction <= 1.0))
-    fail_opt("max_fade_fraction",
-             diag::format_significant(max_fade_fraction, 6) + " is not in [0, 1]");
+    fail("SpeedEstimateOptions", "max_fade_fraction",
+         diag::format_significant(max_fade_fraction, 6) + " is not in [0, 1]");
   if (!(stationary_tolerance > 0.0 && std::isfinite(stationary_tolerance)))
-    fail_opt("stationary_tolerance",
-             diag::format_significant(stationary_tolerance, 6) + " is not a finite ratio > 0");
-  if (points_per_rev < 8) fail_opt("points_per_rev", std::to_string(points_per_rev) + " is < 8");
+    fail("SpeedEstimateOptions", "stationary_tolerance",
+         diag::format_significant(stationary_tolerance, 6) + " is not a finite ratio > 0");
+  if (points_per_rev < 8)
+    fail("SpeedEstimateOptions", "points_per_rev", std::to_string(points_per_rev) + " is < 8");
 }
 
 std::string_view to_string(SpeedStatus s) {

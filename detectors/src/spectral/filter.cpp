@@ -51,19 +51,18 @@ double centred_sum(std::span<const double> x, std::span<const double> h, std::si
 }  // namespace
 
 void BandOptions::validate() const {
-  auto fail = [](const std::string& field, const std::string& reason) {
-    throw diag::InputError(diag::format_error("band", field, reason));
-  };
   if (!(std::isfinite(fs_hz) && fs_hz > 0))
-    fail("fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
+    diag::fail("band", "fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
   const double hi = upper_hz();
   if (!(std::isfinite(hi) && hi > 0 && hi <= 0.5 * fs_hz))
-    fail("high_hz", diag::format_fixed(high_hz, 6) + " is not in (low_hz, fs/2] = (" +
-                        diag::format_fixed(low_hz, 6) + ", " + diag::format_fixed(0.5 * fs_hz, 6) +
-                        "] (or 0 for fs/2)");
+    diag::fail("band", "high_hz",
+               diag::format_fixed(high_hz, 6) + " is not in (low_hz, fs/2] = (" +
+                   diag::format_fixed(low_hz, 6) + ", " + diag::format_fixed(0.5 * fs_hz, 6) +
+                   "] (or 0 for fs/2)");
   if (!(std::isfinite(low_hz) && low_hz >= 0 && low_hz < hi))
-    fail("low_hz", diag::format_fixed(low_hz, 6) + " is not in [0, high_hz) = [0, " +
-                       diag::format_fixed(hi, 6) + ")");
+    diag::fail("band", "low_hz",
+               diag::format_fixed(low_hz, 6) + " is not in [0, high_hz) = [0, " +
+                   diag::format_fixed(hi, 6) + ")");
 }
 
 std::vector<double> fft_bandpass(std::span<const double> x, const BandOptions& band) {
@@ -89,16 +88,14 @@ std::vector<double> fft_bandpass(std::span<const double> x, const BandOptions& b
 }
 
 void FirLowpassOptions::validate() const {
-  auto fail = [](const std::string& field, const std::string& reason) {
-    throw diag::InputError(diag::format_error("fir_lowpass", field, reason));
-  };
   if (!(std::isfinite(fs_hz) && fs_hz > 0))
-    fail("fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
+    diag::fail("fir_lowpass", "fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
   if (!(std::isfinite(cutoff_hz) && cutoff_hz > 0 && cutoff_hz < 0.5 * fs_hz))
-    fail("cutoff_hz", diag::format_fixed(cutoff_hz, 6) + " is not in (0, fs/2) = (0, " +
-                          diag::format_fixed(0.5 * fs_hz, 6) + ")");
+    diag::fail("fir_lowpass", "cutoff_hz",
+               diag::format_fixed(cutoff_hz, 6) + " is not in (0, fs/2) = (0, " +
+                   diag::format_fixed(0.5 * fs_hz, 6) + ")");
   if (taps < 3 || taps % 2 == 0 || taps > (std::size_t{1} << 16) + 1)
-    fail("taps", std::to_string(taps) + " is not odd and in [3, 2^16 + 1]");
+    diag::fail("fir_lowpass", "taps", std::to_string(taps) + " is not odd and in [3, 2^16 + 1]");
 }
 
 std::vector<double> design_lowpass_fir(const FirLowpassOptions& options) {

@@ -14,10 +14,9 @@ namespace {
 
 constexpr double kRpmToRadPerS = 2.0 * 3.14159265358979323846 / 60.0;
 
-void require_positive(double v, const std::string& where, const char* field) {
-  if (!(v > 0.0) || !std::isfinite(v)) {
-    throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not > 0"));
-  }
+// Speeds and durations: finite and > 0.
+void require_positive(double v, const std::string& where, const std::string& field) {
+  diag::require_range(v > 0.0 && std::isfinite(v), where, field, v, "> 0");
 }
 
 }  // namespace
@@ -61,7 +60,7 @@ void SpeedProfile::validate(const std::string& where) const {
         throw diag::InputError(diag::format_error(where, "time_s[0]", "must be 0"));
       }
       for (std::size_t i = 0; i < time_s.size(); ++i) {
-        require_positive(rpm_values[i], where, ("rpm[" + std::to_string(i) + "]").c_str());
+        require_positive(rpm_values[i], where, "rpm[" + std::to_string(i) + "]");
         if (i > 0 && !(time_s[i] > time_s[i - 1])) {
           throw diag::InputError(diag::format_error(where, "time_s[" + std::to_string(i) + "]",
                                                     "times must increase strictly"));
