@@ -33,6 +33,7 @@
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/util/parallel_for.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
 #include "sim/dynamics/scenario.hpp"
@@ -296,7 +297,7 @@ int cmd_dataset(int argc, char** argv) {
   std::vector<std::string> errors;
   long input_errors = 0, internal_errors = 0;
   Progress progress("dataset", mine.size(), world.root());
-  run_on_threads(mine.size(), jobs, [&](std::size_t i) {
+  diag::parallel_for(mine.size(), jobs, [&](std::size_t i) {
     const DrawnRecording d = draw_recording(spec, mine[i]);
     try {
       generate(spec, d, dir / "recordings" / (d.id + ".h5"), warnings, warnings_mutex);

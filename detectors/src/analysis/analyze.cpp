@@ -303,7 +303,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
   std::vector<Spectrum> spectra(nc);
   r.channels.resize(nc);
   std::vector<ChannelStageCpu> stage_cpu(opt.timing ? nc : 0, ChannelStageCpu{});
-  run_parallel(nc, opt.threads, [&](std::size_t ci) {
+  diag::parallel_for(nc, opt.threads, [&](std::size_t ci) {
     r.channels[ci] =
         analyse_channel(ctx, ang, ci, spectra[ci], opt.timing ? &stage_cpu[ci] : nullptr);
     // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or

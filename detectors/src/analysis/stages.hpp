@@ -32,6 +32,7 @@
 #include "detect/angular/resample.hpp"
 #include "detect/spectral/spectrum.hpp"
 #include "diag/util/number_format.hpp"
+#include "diag/util/parallel_for.hpp"
 #include "kinematics.hpp"
 
 namespace detect::analysis_stages {
@@ -62,10 +63,6 @@ inline std::size_t pow2_at_most(std::size_t v) {
   while (p * 2 <= v) p <<= 1;
   return p;
 }
-
-// Runs fn(0) .. fn(n - 1) on up to `threads` threads (0: one per hardware thread); rethrows the
-// first failure in index order, so the outcome does not depend on the thread count.
-void run_parallel(std::size_t n, int threads, const std::function<void(std::size_t)>& fn);
 
 // What every stage after the kinematics reads.
 struct AnalysisContext {
