@@ -13,6 +13,7 @@
 #include <numbers>
 #include <string>
 
+#include "diag/dsp/fir.hpp"
 #include "diag/error.hpp"
 
 namespace detect {
@@ -146,17 +147,19 @@ constexpr double kHalfBandEdge = 0.22;  // passband edge / the stage's input rat
 constexpr int kMaxStages = 4;
 const std::array<double, kHalfBandPairs>& half_band_taps() {
   static const std::array<double, kHalfBandPairs> taps = [] {
-    const double beta = 0.1102 * (100.0 - 8.7);
-    const double i0_beta = std::cyl_bessel_i(0.0, beta);
-    std::array<double, kHalfBandPairs> h{};
-    for (int j = 0; j < kHalfBandPairs; ++j) {
-      const int n = 2 * j + 1;
-      const double r = static_cast<double>(n) / kHalfBandReach;
-      const double x = std::numbers::pi * n / 2;
-      h[static_cast<std::size_t>(j)] =
-          0.5 * (std::sin(x) / x) * std::cyl_bessel_i(0.0, beta * std::sqrt(1 - r * r)) / i0_beta;
-    }
-    return h;
+    // fc = fs / 4 with a Kaiser window for 100 dB; not scaled, so that h[0] is exactly 1/2 and
+    // the even taps are zeros (dropped here: they are sin(k pi) ~ 1e-16, not 0).
+    diag::LowpassDesign design;
+    design.cutoff_fraction = 0.25;
+    design.half_length = kHalfBandReach;
+    design.window = diag::FirWindow::kKaiser;
+    design.kaiser_beta = 0.1102 * (100.0 - 8.7);
+    design.unit_dc_gain = false;
+    const std::vector<double> h = diag::design_lowpass(design);
+    std::array<double, kHalfBandPairs> odd{};
+    for (int j = 0; j < kHalfBandPairs; ++j)
+      odd[static_cast<std::size_t>(j)] = h[static_cast<std::size_t>(kHalfBandReach + 2 * j + 1)];
+    return odd;
   }();
   return taps;
 }

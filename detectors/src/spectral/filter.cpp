@@ -6,6 +6,7 @@
 #include <string>
 
 #include "detect/spectral/fft.hpp"
+#include "diag/dsp/fir.hpp"
 #include "diag/error.hpp"
 #include "diag/util/number_format.hpp"
 
@@ -100,25 +101,12 @@ void FirLowpassOptions::validate() const {
 
 std::vector<double> design_lowpass_fir(const FirLowpassOptions& options) {
   options.validate();
-  const std::vector<double> w =
-      make_window(options.window, options.taps, WindowSymmetry::kSymmetric);
-  const double fc = options.cutoff_hz / options.fs_hz;  // cycles per sample
-  const std::ptrdiff_t m = static_cast<std::ptrdiff_t>(options.taps / 2);
-  std::vector<double> h(options.taps);
-  // Computed on one half and mirrored, so the taps are exactly symmetric (exact linear phase).
-  for (std::ptrdiff_t j = 0; j <= m; ++j) {
-    const double t = static_cast<double>(m - j);
-    const double sinc =
-        t == 0.0 ? 1.0
-                 : std::sin(2.0 * std::numbers::pi * fc * t) / (2.0 * std::numbers::pi * fc * t);
-    const double v = w[static_cast<std::size_t>(j)] * 2.0 * fc * sinc;
-    h[static_cast<std::size_t>(j)] = v;
-    h[static_cast<std::size_t>(2 * m - j)] = v;
-  }
-  double sum = 0.0;
-  for (double v : h) sum += v;
-  for (double& v : h) v /= sum;
-  return h;
+  diag::LowpassDesign design;
+  design.cutoff_fraction = options.cutoff_hz / options.fs_hz;  // cycles per sample
+  design.half_length = static_cast<int>(options.taps / 2);
+  design.window = diag::FirWindow::kGiven;
+  design.window_values = make_window(options.window, options.taps, WindowSymmetry::kSymmetric);
+  return diag::design_lowpass(design);
 }
 
 std::vector<double> design_decimation_lowpass(double fs_hz, std::size_t factor, std::size_t taps) {
