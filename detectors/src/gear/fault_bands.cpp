@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace detect {
 

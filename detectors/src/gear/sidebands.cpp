@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace detect {
 

@@ -10,9 +10,6 @@
 
 #include <stdexcept>
 #include <string>
-#include <type_traits>
-
-#include "diag/util/number_format.hpp"
 
 namespace diag {
 
@@ -34,27 +31,6 @@ std::string format_error(const std::string& where, const std::string& field,
 inline void require(bool ok, const std::string& where, const std::string& field,
                     const std::string& reason) {
   if (!ok) fail(where, field, reason);
-}
-
-// A number outside its valid range: throws InputError("where: field: <value> (valid <range>)"),
-// the value printed exactly when it is an integer, else to 6 significant digits (as an ostream
-// prints it by default). range says what is allowed, e.g. ">= 3", "1..20", "(0, 300]".
-template <class T>
-[[noreturn]] void fail_range(const std::string& where, const std::string& field, T value,
-                             const std::string& range) {
-  static_assert(std::is_arithmetic_v<T>);
-  std::string text;
-  if constexpr (std::is_integral_v<T>) {
-    text = std::to_string(value);
-  } else {
-    text = format_significant(static_cast<double>(value), 6);
-  }
-  fail(where, field, text + " (valid " + range + ")");
-}
-template <class T>
-void require_range(bool ok, const std::string& where, const std::string& field, T value,
-                   const std::string& range) {
-  if (!ok) fail_range(where, field, value, range);
 }
 
 }  // namespace diag

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace diag {
 

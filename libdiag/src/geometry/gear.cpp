@@ -5,6 +5,7 @@
 
 #include "diag/error.hpp"
 #include "diag/geometry/gear_pair.hpp"
+#include "diag/range_check.hpp"
 #include "diag/units.hpp"
 
 namespace diag {

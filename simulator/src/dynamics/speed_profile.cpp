@@ -6,6 +6,7 @@
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/range_check.hpp"
 #include "diag/units.hpp"
 #include "diag/util/number_format.hpp"
 

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace sim {
 
