@@ -1,7 +1,6 @@
 #include "channel_options.hpp"
 
 #include <cmath>
-#include <sstream>
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
@@ -9,17 +8,6 @@
 namespace po = boost::program_options;
 
 namespace geardiag {
-
-namespace {
-
-std::string fmt(double v) {
-  std::ostringstream o;
-  o.precision(6);
-  o << v;
-  return o.str();
-}
-
-}  // namespace
 
 void ChannelOptions::add_to(po::options_description& desc, bool with_rpm) {
   desc.add_options()("channels", po::value(&channel_map)->value_name("MAP.json"),
@@ -31,8 +19,9 @@ void ChannelOptions::add_to(po::options_description& desc, bool with_rpm) {
     // Checked when given: 0 is "not given" inside the struct, so --rpm 0 must not pass silently.
     desc.add_options()("rpm", po::value(&rpm)->value_name("RPM")->notifier([](double v) {
       if (!(v > 0) || !std::isfinite(v) || v > diag::kMaxSpeedRpm) {
-        throw diag::InputError("--rpm: " + fmt(v) + " is not a speed in (0, " +
-                               fmt(diag::kMaxSpeedRpm) + "] rpm");
+        throw diag::InputError("--rpm: " + diag::format_significant(v, 6) +
+                               " is not a speed in (0, " +
+                               diag::format_significant(diag::kMaxSpeedRpm, 6) + "] rpm");
       }
     }),
                        "input shaft speed [rpm], (0, 1e5]: overrides the description's and the "

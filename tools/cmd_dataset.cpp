@@ -28,15 +28,14 @@
 
 #include "cli_options.hpp"
 #include "commands.hpp"
-#include "dataset_modes.hpp"
+#include "dataset_simulator.hpp"
 #include "dataset_spec.hpp"
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/util/parallel_for.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
-#include "sim/dynamics/scenario.hpp"
-#include "sim/dynamics/simulate.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -116,26 +115,17 @@ int prepare_folder(const fs::path& dir, const DatasetSpec& spec) {
 void generate(const DatasetSpec& spec, const DrawnRecording& d, const fs::path& file,
               std::set<std::string>& warnings, std::mutex& warnings_mutex) {
   const auto start = std::chrono::steady_clock::now();
-  diag::Recording rec;
+  const DatasetSimulator& simulator = simulator_of(spec);
   std::vector<std::string> sim_warnings;
-  if (spec.simulator == "dynamic") {
-    const sim::Scenario sc = sim::parse_scenario(d.scenario, d.id + ": scenario");
-    const diag::Gearbox& gb = spec.gearboxes[static_cast<std::size_t>(d.gearbox)];
-    const sim::DynamicResult r = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
-    rec = sim::to_recording(gb, r);
-    apply_sensor_set(spec, d, rec);
-    sim_warnings = r.warnings;
-  } else {
-    rec = simulate_mode_recording(spec, d);  // kinematic, face gear: dataset_modes.cpp
-  }
+  diag::Recording rec = simulator.simulate(spec, d, sim_warnings);
   json truth = json::parse(rec.truth_json);
   json row = manifest_row(spec, d);
-  add_mode_outcomes(spec, truth, row);
+  simulator.add_outcomes(truth, row);
   truth["dataset"] = {{"id", d.id},
                       {"class", d.cls},
                       {"index", d.index},
                       {"spec_hash", spec.hash},
-                      {"scenario", spec.simulator == "dynamic" ? d.scenario : d.model},
+                      {"scenario", simulator.model(d)},
                       {"manifest", row}};
   rec.truth_json = truth.dump();
   rec.metadata["dataset_id"] = d.id;
@@ -196,8 +186,9 @@ std::size_t write_manifest(const fs::path& dir, const DatasetSpec& spec, std::os
     ++complete;
     for (const DrawnFault& f : d.faults) ++per_fault[f.type + " " + f.gear];
     for (const DrawnDefect& f : d.defects) ++per_fault[f.type + " " + f.gear];
-    // A face-gear row holds the simulation's outcome (DLF, impact class): read back from the file.
-    const json row = spec.simulator == "face_gear"
+    // A row holding the simulation's outcome (face gear: DLF, impact class): read back from the
+    // file.
+    const json row = simulator_of(spec).has_outcomes()
                          ? json::parse(diag::RecordingReader(dir / ("recordings/" + d.id + ".h5"))
                                            .truth_json())["dataset"]["manifest"]
                          : manifest_row(spec, d);
@@ -296,7 +287,7 @@ int cmd_dataset(int argc, char** argv) {
   std::vector<std::string> errors;
   long input_errors = 0, internal_errors = 0;
   Progress progress("dataset", mine.size(), world.root());
-  run_on_threads(mine.size(), jobs, [&](std::size_t i) {
+  diag::parallel_for(mine.size(), jobs, [&](std::size_t i) {
     const DrawnRecording d = draw_recording(spec, mine[i]);
     try {
       generate(spec, d, dir / "recordings" / (d.id + ".h5"), warnings, warnings_mutex);

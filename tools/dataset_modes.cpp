@@ -1,14 +1,19 @@
 #include "dataset_modes.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 #include <set>
+#include <stdexcept>
+#include <string_view>
 
 #include "detect/gear/sidebands.hpp"
 #include "diag/error.hpp"
 #include "diag/faults/fault_kind.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
+#include "diag/util/number_format.hpp"
 #include "facegear_cmd.hpp"
 #include "sim/facegear/description.hpp"
 #include "sim/kinematic/sporadic_defects.hpp"
@@ -133,10 +138,10 @@ void check_kinematic(const DatasetSpec& s) {
           const double half_pitch = 0.5 * diag::Gear(gb.gears()[g].spec).angular_pitch_rad();
           if (!(deg_to_rad(d.size_deg.hi * u) < half_pitch)) {
             diag::fail(where, field + (d.size_at_output ? ".size_output_deg" : ".size_deg"),
-                       diag::Fields::fmt(d.size_deg.hi * u) + " deg at gear '" +
+                       diag::format_significant(d.size_deg.hi * u, 6) + " deg at gear '" +
                            gb.gears()[g].name + "' of " + s.gearbox_paths[b] +
                            " is not below half its angular pitch (" +
-                           diag::Fields::fmt(rad_to_deg(half_pitch)) +
+                           diag::format_significant(rad_to_deg(half_pitch), 6) +
                            " deg): the model rolls a defect in and out within one tooth");
           }
           smallest_pulse =
@@ -148,11 +153,13 @@ void check_kinematic(const DatasetSpec& s) {
     if (std::isfinite(smallest_pulse)) {
       if (s.kinematic.step_deg > 0 && step > smallest_pulse / 20) {
         diag::fail(where, "kinematic.step_deg",
-                   diag::Fields::fmt(s.kinematic.step_deg) +
+                   diag::format_significant(s.kinematic.step_deg, 6) +
                        " deg is too coarse for the smallest defect on " + s.gearbox_paths[b] +
-                       ": its pulse spans " + diag::Fields::fmt(rad_to_deg(smallest_pulse)) +
+                       ": its pulse spans " +
+                       diag::format_significant(rad_to_deg(smallest_pulse), 6) +
                        " deg of input angle; use step_deg <= " +
-                       diag::Fields::fmt(rad_to_deg(smallest_pulse / 20)) + " (or leave it out)");
+                       diag::format_significant(rad_to_deg(smallest_pulse / 20), 6) +
+                       " (or leave it out)");
       }
       if (s.kinematic.step_deg <= 0) step = std::min(step, smallest_pulse / kStepsPerPulse);
     }
@@ -160,9 +167,10 @@ void check_kinematic(const DatasetSpec& s) {
     if (!(samples <= kMaxSamples)) {
       diag::fail(
           where, "kinematic.revolutions",
-          diag::Fields::fmt(kinematic_revolutions(s, gb)) + " input revolutions of " +
-              s.gearbox_paths[b] + " at a step of " + diag::Fields::fmt(rad_to_deg(step)) +
-              " deg need " + diag::Fields::fmt(samples) +
+          diag::format_significant(kinematic_revolutions(s, gb), 6) + " input revolutions of " +
+              s.gearbox_paths[b] + " at a step of " +
+              diag::format_significant(rad_to_deg(step), 6) + " deg need " +
+              diag::format_significant(samples, 6) +
               " samples, more than 5e7: fewer revolutions, larger defects or a coarser step");
     }
   }
@@ -246,11 +254,12 @@ void check_face_gear(const DatasetSpec& s) {
       const double f = harmonics * np * r.speed_rpm.hi / 60.0;
       if (s.fs_hz < 2.5 * f) {
         diag::fail(where, "fs_hz",
-                   diag::Fields::fmt(s.fs_hz) + " Hz is below 2.5 x " + diag::Fields::fmt(f) +
-                       " Hz, mesh harmonic " + std::to_string(harmonics) + " of " +
-                       s.gearbox_paths[b] + " at " + diag::Fields::fmt(r.speed_rpm.hi) +
-                       " rpm (class " + s.classes[c].name +
-                       "); use fs_hz >= " + diag::Fields::fmt(std::ceil(2.5 * f)));
+                   diag::format_significant(s.fs_hz, 6) + " Hz is below 2.5 x " +
+                       diag::format_significant(f, 6) + " Hz, mesh harmonic " +
+                       std::to_string(harmonics) + " of " + s.gearbox_paths[b] + " at " +
+                       diag::format_significant(r.speed_rpm.hi, 6) + " rpm (class " +
+                       s.classes[c].name +
+                       "); use fs_hz >= " + diag::format_significant(std::ceil(2.5 * f), 6));
       }
       for (const bool hi : {false, true}) {
         auto v = [&](const Range& x) { return hi ? x.hi : x.lo; };
@@ -273,34 +282,53 @@ void check_face_gear(const DatasetSpec& s) {
 
 json or_null(bool has, const json& v) { return has ? v : json(nullptr); }
 
-}  // namespace
-
-std::string dataset_simulator(const nlohmann::json& spec, const std::filesystem::path& file) {
-  if (!spec.is_object()) return "dynamic";  // the dynamic parser names the error
-  if (spec.contains("simulator")) {
-    const json& v = spec["simulator"];
-    if (!v.is_string() || (v != "dynamic" && v != "kinematic" && v != "face_gear")) {
-      diag::fail(file.string(), "simulator", "must be \"dynamic\", \"kinematic\" or \"face_gear\"");
-    }
-    return v.get<std::string>();
-  }
-  const json* g = spec.contains("gearbox") ? &spec["gearbox"] : nullptr;
-  if (g && g->is_array() && !g->empty()) g = &(*g)[0];
-  if (!g || !g->is_string()) return "dynamic";
-  std::filesystem::path p = g->get<std::string>();
-  if (p.is_relative()) p = file.parent_path() / p;
-  std::error_code ec;
-  return std::filesystem::is_regular_file(p, ec) && fg::is_face_gear_file(p) ? "face_gear"
-                                                                             : "dynamic";
+// The gearbox paths of the spec, resolved; `add` reads each one into s and returns the text that
+// enters the spec's hash. Sets s.gearbox_paths and s.hash.
+void load_gearboxes(
+    const diag::Fields& f, DatasetSpec& s,
+    const std::function<std::string(const std::string&, const std::filesystem::path&)>& add) {
+  s.gearbox_paths = parse_gearbox_paths(f);
+  std::string hashed = s.json.dump();
+  for (const std::string& p : s.gearbox_paths) hashed += '\0' + add(p, resolve(s, p));
+  s.hash = fnv1a64_hex(hashed);
 }
 
-void load_mode_spec(DatasetSpec& s) {
-  const std::string where = s.file.string();
-  const bool kin = s.simulator == "kinematic";
-  std::set<std::string> allowed = {"simulator", "gearbox", "seed", "recordings_per_class",
-                                   "classes"};
-  if (kin) {
-    allowed.insert("kinematic");
+bool is_face_gear(const std::filesystem::path& path) {
+  return std::filesystem::exists(path) && fg::is_face_gear_file(path);
+}
+
+// seed and recordings_per_class, every simulator's: sets s.seed, returns recordings_per_class.
+int parse_seed_and_count(const diag::Fields& f, DatasetSpec& s) {
+  const int seed = f.integer("seed");
+  if (seed < 0) f.fail("seed", "must be >= 0");
+  s.seed = static_cast<std::uint64_t>(seed);
+  const int per_class = f.integer("recordings_per_class");
+  if (per_class < 1) f.fail("recordings_per_class", "must be >= 1");
+  return per_class;
+}
+
+// The manifest columns every simulator of this file starts with, and their values.
+std::vector<std::string> common_columns() {
+  return {"file", "id", "index", "class", "simulator", "gearbox"};
+}
+json common_row(const DatasetSpec& s, const DrawnRecording& r, const char* simulator) {
+  json row = json::object();
+  row["file"] = "recordings/" + r.id + ".h5";
+  row["id"] = r.id;
+  row["index"] = r.index;
+  row["class"] = r.cls;
+  row["simulator"] = simulator;
+  row["gearbox"] = s.gearbox_paths[static_cast<std::size_t>(r.gearbox)];
+  return row;
+}
+
+// Shaft angles at slow rotation with sporadic defects (sim/kinematic/sporadic_defects.hpp).
+class KinematicDataset final : public DatasetSimulator {
+ public:
+  const char* name() const override { return "kinematic"; }
+
+  void load(DatasetSpec& s) const override {
+    const std::string where = s.file.string();
     for (const char* key : {"duration_s", "fs_hz", "operating_points", "noise_m_per_s2",
                             "accuracy_grade", "runout_um", "scenario"}) {
       if (s.json.contains(key)) {
@@ -309,17 +337,12 @@ void load_mode_spec(DatasetSpec& s) {
                    "record's length and rig effects are in `kinematic`)");
       }
     }
-  } else {
-    allowed.insert({"duration_s", "fs_hz", "operating_points", "face_gear"});
-  }
-  const diag::Fields f(s.json, where, "", allowed);
-  s.gearbox_paths = parse_gearbox_paths(f);
-  std::string hashed = s.json.dump();
-  for (const std::string& p : s.gearbox_paths) {
-    const std::filesystem::path path = resolve(s, p);
-    const bool face = std::filesystem::exists(path) && fg::is_face_gear_file(path);
-    if (kin) {
-      if (face) f.fail("gearbox", "'" + p + "' is a face-gear pair: no kinematic model");
+    const diag::Fields f(
+        s.json, where, "",
+        {"simulator", "gearbox", "seed", "recordings_per_class", "classes", "kinematic"});
+    load_gearboxes(f, s, [&](const std::string& p, const std::filesystem::path& path) {
+      if (is_face_gear(path))
+        f.fail("gearbox", "'" + p + "' is a face-gear pair: no kinematic model");
       s.gearboxes.push_back(diag::load_gearbox(path));
       const diag::Gearbox& gb = s.gearboxes.back();
       if (!gb.defects().empty()) {
@@ -330,28 +353,9 @@ void load_mode_spec(DatasetSpec& s) {
       if (gb.power_path().empty()) {
         f.fail("gearbox", "'" + p + "': input and output are one shaft, no mesh carries a defect");
       }
-      hashed += '\0' + gb.description_json();
-    } else {
-      if (!face) {
-        f.fail("gearbox", "'" + p +
-                              "' is not a face-gear description (a face-gear dataset takes "
-                              "only face-gear pairs)");
-      }
-      const json desc = diag::load_json_file(path);
-      fg::parse_description(desc, path.string());
-      s.gearbox_json.push_back(desc);
-      s.gearbox_files.push_back(path);
-      hashed += '\0' + desc.dump();
-    }
-  }
-  s.hash = fnv1a64_hex(hashed);
-  const int seed = f.integer("seed");
-  if (seed < 0) f.fail("seed", "must be >= 0");
-  s.seed = static_cast<std::uint64_t>(seed);
-  const int per_class = f.integer("recordings_per_class");
-  if (per_class < 1) f.fail("recordings_per_class", "must be >= 1");
-  FaceGearRanges top;
-  if (kin) {
+      return gb.description_json();
+    });
+    const int per_class = parse_seed_and_count(f, s);
     if (f.has("kinematic")) {
       const diag::Fields k(
           f.raw("kinematic"), where, "kinematic",
@@ -376,38 +380,181 @@ void load_mode_spec(DatasetSpec& s) {
         ks.encoder_counts = counts;
       }
     }
-  } else {
-    s.duration_s = f.positive("duration_s");
-    if (s.duration_s > 600) f.fail("duration_s", "must be <= 600 s for a face-gear pair");
-    s.fs_hz = f.positive("fs_hz");
-    if (s.fs_hz > 1e6) f.fail("fs_hz", "must be <= 1e6 Hz");
-    parse_face_gear_fields(f, top);
-  }
-  const std::set<std::string> fields = kin ? std::set<std::string>{"defects"}
-                                           : std::set<std::string>{"operating_points", "face_gear"};
-  parse_classes(f, per_class, fields, s, [&](const diag::Fields& cf, DatasetClass& cls) {
-    if (kin && cf.has("defects")) {
+    parse_classes(f, per_class, {"defects"}, s, [&](const diag::Fields& cf, DatasetClass& cls) {
+      if (!cf.has("defects")) return;
       if (!cf.raw("defects").is_array()) cf.fail("defects", "must be an array");
       for (std::size_t i = 0; i < cf.raw("defects").size(); ++i) {
         cls.defects.push_back(
             parse_defect(cf.raw("defects")[i], where, cf.sub(indexed("defects", i))));
       }
-    }
-    if (!kin) {
-      cls.face_gear = top;
-      parse_face_gear_fields(cf, cls.face_gear);
-    }
-  });
-  if (kin) {
+    });
     check_kinematic(s);
-  } else {
+  }
+
+  void draw(const DatasetSpec& s, const DatasetClass& cls, DrawStream& rng,
+            DrawnRecording& r) const override {
+    r.gearbox = static_cast<int>(rng.pick(s.gearboxes.size()));
+    const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
+    r.runout_deg = rng.draw(s.kinematic.runout_deg);
+    r.mesh_te_deg = rng.draw(s.kinematic.mesh_te_deg);
+    r.kin_noise_deg = rng.draw(s.kinematic.noise_deg);
+    const double u_total = gb.total_ratio();
+    double max_out_deg = 0;  // the class's largest defect at the output
+    for (const KinematicDefect& d : cls.defects) {
+      for (int g : candidates(d, gb)) {
+        max_out_deg =
+            std::max(max_out_deg, d.size_deg.hi / (d.size_at_output ? 1.0 : gb.ratio_to_output(g)));
+      }
+    }
+    // Two defects on one shaft whose events fall within this input angle of each other are one
+    // event by construction (the attribution loop's rule, validation/src/attribution_loop.cpp):
+    // the later one moves on by it.
+    const double clash_deg = std::max(10.0, 8.0 * max_out_deg * u_total);
+    double smallest_pulse = INFINITY;
+    json desc = json::parse(gb.description_json());
+    desc["defects"] = json::array();
+    for (const KinematicDefect& kd : cls.defects) {
+      const std::vector<int> gears = candidates(kd, gb);
+      const int g = gears[rng.pick(gears.size())];
+      DrawnDefect d;
+      d.type = kd.type;
+      d.gear = gb.gears()[g].name;
+      d.shaft = gb.gears()[g].shaft;
+      const double u_i = gb.ratio_to_output(g);
+      const double size = rng.draw(kd.size_deg);
+      d.size_gear_deg = kd.size_at_output ? size * u_i : size;
+      d.size_output_deg = d.size_gear_deg / u_i;
+      d.phase_deg = kd.any_phase ? rng.draw(Range{0, 359.9999}) : rng.draw(kd.phase_deg);
+      d.period_input_rev = gb.recurrence_period_input_rev(g);
+      const double period_deg = 360.0 * d.period_input_rev;
+      for (int tries = 0; tries < 16; ++tries) {
+        const bool clash =
+            std::any_of(r.defects.begin(), r.defects.end(), [&](const DrawnDefect& o) {
+              if (o.shaft != d.shaft) return false;
+              double x = std::fmod(
+                  std::abs(o.phase_deg * o.period_input_rev - d.phase_deg * d.period_input_rev),
+                  period_deg);
+              return std::min(x, period_deg - x) < clash_deg;
+            });
+        if (!clash) break;
+        d.phase_deg =
+            std::round(std::fmod(d.phase_deg + clash_deg / d.period_input_rev, 360.0) * 1e4) / 1e4;
+        if (d.phase_deg >= 360.0) d.phase_deg = 0.0;
+      }
+      d.first_event_input_deg = d.phase_deg * d.period_input_rev;
+      smallest_pulse =
+          std::min(smallest_pulse, pulse_input_rad(gb, g, deg_to_rad(d.size_gear_deg)));
+      desc["defects"].push_back({{"gear", d.gear},
+                                 {"type", d.type},
+                                 {"size_deg", d.size_gear_deg},
+                                 {"phase_deg", d.phase_deg}});
+      r.defects.push_back(d);
+    }
+    r.seed = rng.next() % 1000000000ULL;
+    r.step_rad = s.kinematic.step_deg > 0
+                     ? deg_to_rad(s.kinematic.step_deg)
+                     : std::min(kDefaultStepRad, smallest_pulse / kStepsPerPulse);
+    r.revolutions = kinematic_revolutions(s, gb);
+    r.model = desc;
+  }
+
+  std::vector<std::string> manifest_columns(const DatasetSpec& s) const override {
+    std::vector<std::string> cols = common_columns();
+    for (const char* c : {"seed", "step_rad", "revolutions", "runout_deg", "mesh_te_deg",
+                          "noise_deg", "encoder_counts", "defects"}) {
+      cols.push_back(c);
+    }
+    for (std::size_t i = 1; i <= s.max_faults; ++i) {
+      for (const char* field : {"type", "gear", "shaft", "size_gear_deg", "size_output_deg",
+                                "phase_deg", "period_input_rev", "first_event_input_deg"}) {
+        cols.push_back("defect" + std::to_string(i) + "_" + field);
+      }
+    }
+    return cols;
+  }
+
+  json manifest_row(const DatasetSpec& s, const DrawnRecording& r) const override {
+    json row = common_row(s, r, name());
+    row["seed"] = r.seed;
+    row["step_rad"] = r.step_rad;
+    row["revolutions"] = r.revolutions;
+    row["runout_deg"] = r.runout_deg;
+    row["mesh_te_deg"] = r.mesh_te_deg;
+    row["noise_deg"] = r.kin_noise_deg;
+    row["encoder_counts"] = s.kinematic.encoder_counts;
+    row["defects"] = r.defects.size();
+    for (std::size_t i = 0; i < s.max_faults; ++i) {
+      const std::string p = "defect" + std::to_string(i + 1) + "_";
+      const bool has = i < r.defects.size();
+      const DrawnDefect d = has ? r.defects[i] : DrawnDefect{};
+      row[p + "type"] = or_null(has, d.type);
+      row[p + "gear"] = or_null(has, d.gear);
+      row[p + "shaft"] = or_null(has, d.shaft);
+      row[p + "size_gear_deg"] = or_null(has, d.size_gear_deg);
+      row[p + "size_output_deg"] = or_null(has, d.size_output_deg);
+      row[p + "phase_deg"] = or_null(has, d.phase_deg);
+      row[p + "period_input_rev"] = or_null(has, d.period_input_rev);
+      row[p + "first_event_input_deg"] = or_null(has, d.first_event_input_deg);
+    }
+    return row;
+  }
+
+  diag::Recording simulate(const DatasetSpec& s, const DrawnRecording& r,
+                           std::vector<std::string>& /*warnings*/) const override {
+    const diag::Gearbox gb = diag::parse_gearbox(r.model, r.id + ": gearbox");
+    sim::KinematicOptions o;
+    o.step_rad = r.step_rad;
+    o.revolutions = r.revolutions;
+    o.runout_output_rad = deg_to_rad(r.runout_deg);
+    o.mesh_te_output_rad = deg_to_rad(r.mesh_te_deg);
+    o.noise_output_rad = deg_to_rad(r.kin_noise_deg);
+    o.encoder_counts_per_rev = s.kinematic.encoder_counts;
+    o.seed = r.seed;
+    return sim::to_recording(gb, sim::simulate_kinematic(gb, o));
+  }
+
+  const json& model(const DrawnRecording& r) const override { return r.model; }
+};
+
+// The face-gear pair (sim/facegear/face_gear.hpp), as `geardiag simulate` runs it.
+class FaceGearDataset final : public DatasetSimulator {
+ public:
+  const char* name() const override { return "face_gear"; }
+
+  void load(DatasetSpec& s) const override {
+    const std::string where = s.file.string();
+    const diag::Fields f(s.json, where, "",
+                         {"simulator", "gearbox", "seed", "recordings_per_class", "classes",
+                          "duration_s", "fs_hz", "operating_points", "face_gear"});
+    load_gearboxes(f, s, [&](const std::string& p, const std::filesystem::path& path) {
+      if (!is_face_gear(path)) {
+        f.fail("gearbox", "'" + p +
+                              "' is not a face-gear description (a face-gear dataset takes "
+                              "only face-gear pairs)");
+      }
+      const json desc = diag::load_json_file(path);
+      fg::parse_description(desc, path.string());
+      s.gearbox_json.push_back(desc);
+      s.gearbox_files.push_back(path);
+      return desc.dump();
+    });
+    const int per_class = parse_seed_and_count(f, s);
+    s.duration_s = f.positive("duration_s");
+    if (s.duration_s > 600) f.fail("duration_s", "must be <= 600 s for a face-gear pair");
+    s.fs_hz = f.positive("fs_hz");
+    if (s.fs_hz > 1e6) f.fail("fs_hz", "must be <= 1e6 Hz");
+    FaceGearRanges top;
+    parse_face_gear_fields(f, top);
+    parse_classes(f, per_class, {"operating_points", "face_gear"}, s,
+                  [&](const diag::Fields& cf, DatasetClass& cls) {
+                    cls.face_gear = top;
+                    parse_face_gear_fields(cf, cls.face_gear);
+                  });
     check_face_gear(s);
   }
-}
 
-void draw_mode_recording(const DatasetSpec& s, const DatasetClass& cls, DrawStream& rng,
-                         DrawnRecording& r) {
-  if (s.simulator == "face_gear") {
+  void draw(const DatasetSpec& s, const DatasetClass& cls, DrawStream& rng,
+            DrawnRecording& r) const override {
     r.gearbox = static_cast<int>(rng.pick(s.gearbox_json.size()));
     const json& desc = s.gearbox_json[static_cast<std::size_t>(r.gearbox)];
     const FaceGearRanges& fr = cls.face_gear;
@@ -424,74 +571,10 @@ void draw_mode_recording(const DatasetSpec& s, const DatasetClass& cls, DrawStre
     r.model = face_gear_model(desc, r.speed_rpm, r.torque_nm, fr, r.backlash_um, r.stiffness_scale,
                               r.input_amplitude, r.input_frequency_hz, r.load_amplitude,
                               r.load_frequency_hz);
-    return;
   }
-  r.gearbox = static_cast<int>(rng.pick(s.gearboxes.size()));
-  const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
-  r.runout_deg = rng.draw(s.kinematic.runout_deg);
-  r.mesh_te_deg = rng.draw(s.kinematic.mesh_te_deg);
-  r.kin_noise_deg = rng.draw(s.kinematic.noise_deg);
-  const double u_total = gb.total_ratio();
-  double max_out_deg = 0;  // the class's largest defect at the output
-  for (const KinematicDefect& d : cls.defects) {
-    for (int g : candidates(d, gb)) {
-      max_out_deg =
-          std::max(max_out_deg, d.size_deg.hi / (d.size_at_output ? 1.0 : gb.ratio_to_output(g)));
-    }
-  }
-  // Two defects on one shaft whose events fall within this input angle of each other are one
-  // event by construction (the attribution loop's rule, validation/src/attribution_loop.cpp):
-  // the later one moves on by it.
-  const double clash_deg = std::max(10.0, 8.0 * max_out_deg * u_total);
-  double smallest_pulse = INFINITY;
-  json desc = json::parse(gb.description_json());
-  desc["defects"] = json::array();
-  for (const KinematicDefect& kd : cls.defects) {
-    const std::vector<int> gears = candidates(kd, gb);
-    const int g = gears[rng.pick(gears.size())];
-    DrawnDefect d;
-    d.type = kd.type;
-    d.gear = gb.gears()[g].name;
-    d.shaft = gb.gears()[g].shaft;
-    const double u_i = gb.ratio_to_output(g);
-    const double size = rng.draw(kd.size_deg);
-    d.size_gear_deg = kd.size_at_output ? size * u_i : size;
-    d.size_output_deg = d.size_gear_deg / u_i;
-    d.phase_deg = kd.any_phase ? rng.draw(Range{0, 359.9999}) : rng.draw(kd.phase_deg);
-    d.period_input_rev = gb.recurrence_period_input_rev(g);
-    const double period_deg = 360.0 * d.period_input_rev;
-    for (int tries = 0; tries < 16; ++tries) {
-      const bool clash = std::any_of(r.defects.begin(), r.defects.end(), [&](const DrawnDefect& o) {
-        if (o.shaft != d.shaft) return false;
-        double x =
-            std::fmod(std::abs(o.phase_deg * o.period_input_rev - d.phase_deg * d.period_input_rev),
-                      period_deg);
-        return std::min(x, period_deg - x) < clash_deg;
-      });
-      if (!clash) break;
-      d.phase_deg =
-          std::round(std::fmod(d.phase_deg + clash_deg / d.period_input_rev, 360.0) * 1e4) / 1e4;
-      if (d.phase_deg >= 360.0) d.phase_deg = 0.0;
-    }
-    d.first_event_input_deg = d.phase_deg * d.period_input_rev;
-    smallest_pulse = std::min(smallest_pulse, pulse_input_rad(gb, g, deg_to_rad(d.size_gear_deg)));
-    desc["defects"].push_back({{"gear", d.gear},
-                               {"type", d.type},
-                               {"size_deg", d.size_gear_deg},
-                               {"phase_deg", d.phase_deg}});
-    r.defects.push_back(d);
-  }
-  r.seed = rng.next() % 1000000000ULL;
-  r.step_rad = s.kinematic.step_deg > 0
-                   ? deg_to_rad(s.kinematic.step_deg)
-                   : std::min(kDefaultStepRad, smallest_pulse / kStepsPerPulse);
-  r.revolutions = kinematic_revolutions(s, gb);
-  r.model = desc;
-}
 
-std::vector<std::string> mode_manifest_columns(const DatasetSpec& s) {
-  std::vector<std::string> cols = {"file", "id", "index", "class", "simulator", "gearbox"};
-  if (s.simulator == "face_gear") {
+  std::vector<std::string> manifest_columns(const DatasetSpec& /*s*/) const override {
+    std::vector<std::string> cols = common_columns();
     for (const char* c :
          {"speed_rpm", "torque_nm", "backlash_um", "stiffness_scale", "static_te_scale",
           "input_amplitude", "input_frequency_hz", "load_amplitude", "load_frequency_hz",
@@ -501,28 +584,9 @@ std::vector<std::string> mode_manifest_columns(const DatasetSpec& s) {
     }
     return cols;
   }
-  for (const char* c : {"seed", "step_rad", "revolutions", "runout_deg", "mesh_te_deg", "noise_deg",
-                        "encoder_counts", "defects"}) {
-    cols.push_back(c);
-  }
-  for (std::size_t i = 1; i <= s.max_faults; ++i) {
-    for (const char* field : {"type", "gear", "shaft", "size_gear_deg", "size_output_deg",
-                              "phase_deg", "period_input_rev", "first_event_input_deg"}) {
-      cols.push_back("defect" + std::to_string(i) + "_" + field);
-    }
-  }
-  return cols;
-}
 
-nlohmann::json mode_manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
-  json row = json::object();
-  row["file"] = "recordings/" + r.id + ".h5";
-  row["id"] = r.id;
-  row["index"] = r.index;
-  row["class"] = r.cls;
-  row["simulator"] = s.simulator;
-  row["gearbox"] = s.gearbox_paths[static_cast<std::size_t>(r.gearbox)];
-  if (s.simulator == "face_gear") {
+  json manifest_row(const DatasetSpec& s, const DrawnRecording& r) const override {
+    json row = common_row(s, r, name());
     row["speed_rpm"] = r.speed_rpm;
     row["torque_nm"] = r.torque_nm;
     row["backlash_um"] = r.backlash_um;
@@ -536,36 +600,13 @@ nlohmann::json mode_manifest_row(const DatasetSpec& s, const DrawnRecording& r) 
     row["fs_hz"] = s.fs_hz;
     for (const char* c : {"mesh_frequency_hz", "natural_frequency_hz", "dlf", "impact", "period",
                           "dte_peak_to_peak_urad"}) {
-      row[c] = nullptr;  // the outcome: add_mode_outcomes
+      row[c] = nullptr;  // the outcome: add_outcomes
     }
     return row;
   }
-  row["seed"] = r.seed;
-  row["step_rad"] = r.step_rad;
-  row["revolutions"] = r.revolutions;
-  row["runout_deg"] = r.runout_deg;
-  row["mesh_te_deg"] = r.mesh_te_deg;
-  row["noise_deg"] = r.kin_noise_deg;
-  row["encoder_counts"] = s.kinematic.encoder_counts;
-  row["defects"] = r.defects.size();
-  for (std::size_t i = 0; i < s.max_faults; ++i) {
-    const std::string p = "defect" + std::to_string(i + 1) + "_";
-    const bool has = i < r.defects.size();
-    const DrawnDefect d = has ? r.defects[i] : DrawnDefect{};
-    row[p + "type"] = or_null(has, d.type);
-    row[p + "gear"] = or_null(has, d.gear);
-    row[p + "shaft"] = or_null(has, d.shaft);
-    row[p + "size_gear_deg"] = or_null(has, d.size_gear_deg);
-    row[p + "size_output_deg"] = or_null(has, d.size_output_deg);
-    row[p + "phase_deg"] = or_null(has, d.phase_deg);
-    row[p + "period_input_rev"] = or_null(has, d.period_input_rev);
-    row[p + "first_event_input_deg"] = or_null(has, d.first_event_input_deg);
-  }
-  return row;
-}
 
-diag::Recording simulate_mode_recording(const DatasetSpec& s, const DrawnRecording& r) {
-  if (s.simulator == "face_gear") {
+  diag::Recording simulate(const DatasetSpec& s, const DrawnRecording& r,
+                           std::vector<std::string>& /*warnings*/) const override {
     fg::Description d =
         fg::parse_description(r.model, s.gearbox_files[static_cast<std::size_t>(r.gearbox)]);
     if (r.static_te_scale != 1.0) {
@@ -576,26 +617,67 @@ diag::Recording simulate_mode_recording(const DatasetSpec& s, const DrawnRecordi
     a.fs_hz = s.fs_hz;
     return face_gear_recording(d, r.model.dump(2), a);
   }
-  const diag::Gearbox gb = diag::parse_gearbox(r.model, r.id + ": gearbox");
-  sim::KinematicOptions o;
-  o.step_rad = r.step_rad;
-  o.revolutions = r.revolutions;
-  o.runout_output_rad = deg_to_rad(r.runout_deg);
-  o.mesh_te_output_rad = deg_to_rad(r.mesh_te_deg);
-  o.noise_output_rad = deg_to_rad(r.kin_noise_deg);
-  o.encoder_counts_per_rev = s.kinematic.encoder_counts;
-  o.seed = r.seed;
-  return sim::to_recording(gb, sim::simulate_kinematic(gb, o));
+
+  const json& model(const DrawnRecording& r) const override { return r.model; }
+
+  // DLF, impact and period classes, DTE peak to peak: read back from the simulation's truth.
+  bool has_outcomes() const override { return true; }
+  void add_outcomes(const json& truth, json& row) const override {
+    for (const char* c : {"mesh_frequency_hz", "natural_frequency_hz", "dlf", "impact", "period"}) {
+      if (truth.contains(c)) row[c] = truth[c];
+    }
+    if (truth.contains("dte_peak_to_peak_rad")) {
+      row["dte_peak_to_peak_urad"] = truth["dte_peak_to_peak_rad"].get<double>() * 1e6;
+    }
+  }
+};
+
+}  // namespace
+
+const DatasetSimulator& kinematic_dataset_simulator() {
+  static const KinematicDataset instance;
+  return instance;
 }
 
-void add_mode_outcomes(const DatasetSpec& s, const nlohmann::json& truth, nlohmann::json& row) {
-  if (s.simulator != "face_gear") return;
-  for (const char* c : {"mesh_frequency_hz", "natural_frequency_hz", "dlf", "impact", "period"}) {
-    if (truth.contains(c)) row[c] = truth[c];
+const DatasetSimulator& face_gear_dataset_simulator() {
+  static const FaceGearDataset instance;
+  return instance;
+}
+
+const DatasetSimulator* find_dataset_simulator(std::string_view name) {
+  static const std::array<const DatasetSimulator*, 3> table = {
+      &dynamic_dataset_simulator(), &kinematic_dataset_simulator(), &face_gear_dataset_simulator()};
+  for (const DatasetSimulator* d : table) {
+    if (name == d->name()) return d;
   }
-  if (truth.contains("dte_peak_to_peak_rad")) {
-    row["dte_peak_to_peak_urad"] = truth["dte_peak_to_peak_rad"].get<double>() * 1e6;
+  return nullptr;
+}
+
+const DatasetSimulator& simulator_of(const DatasetSpec& s) {
+  const DatasetSimulator* d = find_dataset_simulator(s.simulator);
+  if (!d) throw std::logic_error("dataset simulator '" + s.simulator + "' is not in the table");
+  return *d;
+}
+
+std::string dataset_simulator(const nlohmann::json& spec, const std::filesystem::path& file) {
+  const std::string dynamic = dynamic_dataset_simulator().name();
+  if (!spec.is_object()) return dynamic;  // the dynamic parser names the error
+  if (spec.contains("simulator")) {
+    const json& v = spec["simulator"];
+    if (!v.is_string() || !find_dataset_simulator(v.get<std::string>())) {
+      diag::fail(file.string(), "simulator", "must be \"dynamic\", \"kinematic\" or \"face_gear\"");
+    }
+    return v.get<std::string>();
   }
+  const json* g = spec.contains("gearbox") ? &spec["gearbox"] : nullptr;
+  if (g && g->is_array() && !g->empty()) g = &(*g)[0];
+  if (!g || !g->is_string()) return dynamic;
+  std::filesystem::path p = g->get<std::string>();
+  if (p.is_relative()) p = file.parent_path() / p;
+  std::error_code ec;
+  return std::filesystem::is_regular_file(p, ec) && fg::is_face_gear_file(p)
+             ? face_gear_dataset_simulator().name()
+             : dynamic;
 }
 
 }  // namespace geardiag

@@ -1,5 +1,6 @@
 // Datasets of the other simulators (`geardiag dataset` with "simulator": "kinematic" or a
-// face-gear pair; tools/dataset_spec.hpp holds the dynamic simulator's and the common parts).
+// face-gear pair; tools/dataset_spec.hpp holds the dynamic simulator's and the common parts;
+// each is a DatasetSimulator, dataset_simulator.hpp).
 //
 // Kinematic (seed 003, Antipenko & Shambalova 2012; sim/kinematic/sporadic_defects.hpp): every
 // recording is the input and output shaft angles at slow rotation with the class's sporadic
@@ -20,36 +21,6 @@
 // is read back from each file's truth into the manifest.
 #pragma once
 
-#include <filesystem>
-#include <nlohmann/json.hpp>
-#include <string>
-#include <vector>
-
-#include "dataset_spec.hpp"
-#include "diag/io/recording.hpp"
-
-namespace geardiag {
-
-// "dynamic", "kinematic" or "face_gear": the spec's `simulator` field, else "face_gear" when its
-// first gearbox is a face-gear description, else "dynamic".
-std::string dataset_simulator(const nlohmann::json& spec, const std::filesystem::path& file);
-
-// Parses and checks a kinematic or face-gear spec into s (s.file, s.json and s.simulator set).
-// Throws diag::InputError naming the field before anything is written.
-void load_mode_spec(DatasetSpec& s);
-
-// Recording k's draws (r.index, id, cls set; rng seeded from (seed, k)).
-void draw_mode_recording(const DatasetSpec& s, const DatasetClass& cls, DrawStream& rng,
-                         DrawnRecording& r);
-
-std::vector<std::string> mode_manifest_columns(const DatasetSpec& s);
-nlohmann::json mode_manifest_row(const DatasetSpec& s, const DrawnRecording& r);
-
-// Simulates one drawn recording (its /truth is the simulator's).
-diag::Recording simulate_mode_recording(const DatasetSpec& s, const DrawnRecording& r);
-
-// Face gear: the outcome columns from the simulator's truth (dlf, impact, period,
-// dte_peak_to_peak_urad) into a manifest row; nothing for the other simulators.
-void add_mode_outcomes(const DatasetSpec& s, const nlohmann::json& truth, nlohmann::json& row);
-
-}  // namespace geardiag
+// The two simulators' DatasetSimulator rows (kinematic_dataset_simulator,
+// face_gear_dataset_simulator) are declared in dataset_simulator.hpp.
+#include "dataset_simulator.hpp"

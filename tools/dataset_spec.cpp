@@ -7,12 +7,13 @@
 #include <cstdio>
 #include <set>
 
-#include "dataset_modes.hpp"
+#include "dataset_simulator.hpp"
 #include "detect/gear/gear_damage.hpp"
 #include "detect/gear/sidebands.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/util/number_format.hpp"
 #include "sim/dynamics/gearbox_model.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
@@ -41,8 +42,9 @@ Range parse_range(const diag::Fields& f, const std::string& key, double min, dou
   }
   for (double x : {r.lo, r.hi}) {
     if (!std::isfinite(x) || (open_min ? !(x > min) : !(x >= min)) || x > max) {
-      f.fail(key, diag::Fields::fmt(x) + " is outside " + (open_min ? "(" : "[") +
-                      diag::Fields::fmt(min) + ", " + diag::Fields::fmt(max) + "]");
+      f.fail(key, diag::format_significant(x, 6) + " is outside " + (open_min ? "(" : "[") +
+                      diag::format_significant(min, 6) + ", " + diag::format_significant(max, 6) +
+                      "]");
     }
   }
   return r;
@@ -317,14 +319,14 @@ void check_sampling_rate(const DatasetSpec& s) {
     for (std::size_t m = 0; m < gb.meshes().size(); ++m) {
       const double f = harmonics * gb.mesh_frequency_hz(static_cast<int>(m));
       if (s.fs_hz < 2.5 * f) {
-        diag::fail(s.file.string(), "fs_hz",
-                   diag::Fields::fmt(s.fs_hz) + " Hz is below 2.5 x " + diag::Fields::fmt(f) +
-                       " Hz, mesh harmonic " + std::to_string(harmonics) + " of mesh " +
-                       diag::mesh_name(gb, static_cast<int>(m)) + " of " + s.gearbox_paths[b] +
-                       " at " + diag::Fields::fmt(s.speed_rpm.hi) +
-                       " rpm (the detectors examine mesh harmonics 1.." +
-                       std::to_string(harmonics) +
-                       "); use fs_hz >= " + diag::Fields::fmt(std::ceil(2.5 * f)));
+        diag::fail(
+            s.file.string(), "fs_hz",
+            diag::format_significant(s.fs_hz, 6) + " Hz is below 2.5 x " +
+                diag::format_significant(f, 6) + " Hz, mesh harmonic " + std::to_string(harmonics) +
+                " of mesh " + diag::mesh_name(gb, static_cast<int>(m)) + " of " +
+                s.gearbox_paths[b] + " at " + diag::format_significant(s.speed_rpm.hi, 6) +
+                " rpm (the detectors examine mesh harmonics 1.." + std::to_string(harmonics) +
+                "); use fs_hz >= " + diag::format_significant(std::ceil(2.5 * f), 6));
       }
     }
   }
@@ -401,14 +403,15 @@ void warn_revolutions(DatasetSpec& s) {
       const double revs = s.duration_s * gb.shaft_speed_hz(static_cast<int>(sh));
       if (revs >= needed) continue;
       s.warnings.push_back(
-          s.file.string() + ": duration_s: " + diag::Fields::fmt(s.duration_s) + " s holds " +
-          diag::Fields::fmt(std::floor(revs * 10) / 10) + " revolutions of shaft '" +
-          gb.shafts()[sh].name + "' of " + s.gearbox_paths[b] + " at " +
-          diag::Fields::fmt(s.speed_rpm.lo) +
+          s.file.string() + ": duration_s: " + diag::format_significant(s.duration_s, 6) +
+          " s holds " + diag::format_significant(std::floor(revs * 10) / 10, 6) +
+          " revolutions of shaft '" + gb.shafts()[sh].name + "' of " + s.gearbox_paths[b] + " at " +
+          diag::format_significant(s.speed_rpm.lo, 6) +
           " rpm: the damaged-gear locator (validate "
           "--dataset) skips a shaft with fewer than " +
           std::to_string(needed) + " whole revolutions; use duration_s >= " +
-          diag::Fields::fmt(std::ceil(needed / gb.shaft_speed_hz(static_cast<int>(sh)) * 10) / 10));
+          diag::format_significant(
+              std::ceil(needed / gb.shaft_speed_hz(static_cast<int>(sh)) * 10) / 10, 6));
     }
   }
 }
@@ -418,85 +421,9 @@ void warn_revolutions(DatasetSpec& s) {
 DatasetSpec load_dataset_spec(const std::filesystem::path& file) {
   DatasetSpec s;
   s.file = file;
-  const std::string where = file.string();
   s.json = diag::load_json_file(file);
-  // Kinematic and face-gear datasets: dataset_modes.cpp.
   s.simulator = dataset_simulator(s.json, file);
-  if (s.simulator != "dynamic") {
-    load_mode_spec(s);
-    return s;
-  }
-  const diag::Fields f(s.json, where, "",
-                       {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz",
-                        "operating_points", "noise_m_per_s2", "accuracy_grade", "runout_um",
-                        "scenario", "classes", "simulator", "sensor_sets"});
-  // Gearboxes, relative to the spec's folder.
-  s.gearbox_paths = parse_gearbox_paths(f);
-  std::string hashed = s.json.dump();
-  for (std::size_t i = 0; i < s.gearbox_paths.size(); ++i) {
-    std::filesystem::path p = s.gearbox_paths[i];
-    if (p.is_relative()) p = file.parent_path() / p;
-    s.gearboxes.push_back(diag::load_gearbox(p));
-    hashed += '\0' + s.gearboxes.back().description_json();
-  }
-  s.hash = fnv1a64_hex(hashed);
-  const int seed = f.integer("seed");
-  if (seed < 0) f.fail("seed", "must be >= 0");
-  s.seed = static_cast<std::uint64_t>(seed);
-  const int per_class = f.integer("recordings_per_class");
-  if (per_class < 1)
-    f.fail("recordings_per_class", "must be >= 1 (got " + std::to_string(per_class) + ")");
-  s.duration_s = f.positive("duration_s");
-  if (s.duration_s > sim::kMaxDurationS) f.fail("duration_s", "must be <= 3600 s");
-  s.fs_hz = f.positive("fs_hz");
-  if (s.fs_hz > sim::kMaxFsHz) f.fail("fs_hz", "must be <= 1e6 Hz");
-  if (!f.has("operating_points")) f.fail("operating_points", "required: {speed_rpm, torque_nm}");
-  {
-    const diag::Fields op(f.raw("operating_points"), where, "operating_points",
-                          {"speed_rpm", "torque_nm", "oil_temperature_c"});
-    if (!op.has("speed_rpm")) op.fail("speed_rpm", "required number or range is missing");
-    if (!op.has("torque_nm")) op.fail("torque_nm", "required number or range is missing");
-    s.speed_rpm = parse_range(op, "speed_rpm", 0, diag::kMaxSpeedRpm, true);
-    s.torque_nm = parse_range(op, "torque_nm", 0, diag::kMaxTorqueNm, false);
-    if (op.has("oil_temperature_c")) {
-      s.has_oil = true;
-      s.oil_c = parse_range(op, "oil_temperature_c", -50, 200, false);
-    }
-  }
-  if (f.has("noise_m_per_s2")) s.noise = parse_range(f, "noise_m_per_s2", 0, 1e6, false);
-  if (f.has("accuracy_grade")) s.grade = parse_int_range(f, "accuracy_grade", 0, 12);
-  if (f.has("runout_um")) s.runout_um = parse_range(f, "runout_um", 0, 1e4, false);
-  if (f.has("scenario")) {
-    if (!f.raw("scenario").is_object()) f.fail("scenario", "must be a JSON object");
-    s.scenario = f.raw("scenario");
-    for (const auto& [key, value] : s.scenario.items()) {
-      if (kDrawnScenarioFields.count(key)) {
-        f.fail("scenario." + key,
-               "is set by the dataset spec (operating_points, classes, "
-               "duration_s, fs_hz, seed ...), not by the base scenario");
-      }
-    }
-    if (s.scenario.contains("sensors") && s.scenario["sensors"].is_object() &&
-        s.scenario["sensors"].contains("noise_m_per_s2")) {
-      f.fail("scenario.sensors.noise_m_per_s2", "is set by the spec's noise_m_per_s2");
-    }
-    if (s.has_oil && s.scenario.contains("oil") && s.scenario["oil"].is_object() &&
-        s.scenario["oil"].contains("temperature_c")) {
-      f.fail("scenario.oil.temperature_c", "is set by operating_points.oil_temperature_c");
-    }
-    sim::parse_scenario(s.scenario, where + ": scenario");
-  }
-  parse_classes(f, per_class, {"faults"}, s, [&](const diag::Fields& cf, DatasetClass& cls) {
-    if (!cf.has("faults")) return;
-    if (!cf.raw("faults").is_array()) cf.fail("faults", "must be an array");
-    for (std::size_t i = 0; i < cf.raw("faults").size(); ++i) {
-      cls.faults.push_back(parse_fault(cf.raw("faults")[i], where, cf.sub(indexed("faults", i))));
-    }
-  });
-  check_sampling_rate(s);
-  check_classes(s);
-  warn_revolutions(s);
-  if (f.has("sensor_sets")) parse_sensor_sets(f, s);
+  simulator_of(s).load(s);
   return s;
 }
 
@@ -514,49 +441,7 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
   std::string index = std::to_string(k);
   r.id = std::string(static_cast<std::size_t>(digits) - index.size(), '0') + index + "-" + r.cls;
   Stream rng(s.seed, k);
-  if (s.simulator != "dynamic") {
-    draw_mode_recording(s, cls, rng, r);
-    return r;
-  }
-  r.gearbox = static_cast<int>(rng.pick(s.gearboxes.size()));
-  const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
-  r.speed_rpm = rng.draw(s.speed_rpm);
-  r.torque_nm = rng.draw(s.torque_nm);
-  r.oil_c = rng.draw(s.oil_c);
-  r.noise = rng.draw(s.noise);
-  r.grade = rng.draw(s.grade);
-  r.runout_um = rng.draw(s.runout_um);
-  for (const DatasetFault& f : cls.faults) {
-    const std::vector<int> gears = candidate_gears(f, gb);
-    const int g = gears[rng.pick(gears.size())];
-    DrawnFault d;
-    d.type = f.type;
-    d.gear = gb.gears()[g].name;
-    d.shaft = gb.gears()[g].shaft;
-    const int teeth = gb.gears()[g].spec.teeth;
-    d.tooth = rng.draw(f.any_tooth ? IntRange{0, teeth - 1} : f.tooth);
-    // Two faults drawn onto the same tooth of the same gear: the later one moves on (a fixed
-    // tooth stays where the spec put it).
-    for (int tries = 0; f.any_tooth && tries < teeth; ++tries) {
-      const bool taken = std::any_of(r.faults.begin(), r.faults.end(), [&](const DrawnFault& o) {
-        return o.gear == d.gear && o.tooth == d.tooth;
-      });
-      if (!taken) break;
-      d.tooth = (d.tooth + 1) % teeth;
-    }
-    d.size_mm = f.type == "missing" || f.type == "wear" ? 0.0 : rng.draw(f.size_mm);
-    d.has_depth = f.type == "spall" || f.type == "wear";
-    d.depth_um = rng.draw(f.depth_um);
-    d.has_position = f.has_position;
-    d.position_mm = rng.draw(f.position_mm);
-    d.width_fraction = rng.draw(f.width_fraction);
-    r.faults.push_back(d);
-  }
-  r.seed = rng.next() % 1000000000ULL;
-  // Drawn last, and only when there are sets: the other draws stay those of a spec without them.
-  if (!s.sensor_sets.empty()) r.sensor_set = static_cast<int>(rng.pick(s.sensor_sets.size()));
-  r.scenario = scenario_json(s, r.speed_rpm, r.torque_nm, r.oil_c, r.noise, r.grade, r.runout_um,
-                             r.seed, r.faults);
+  simulator_of(s).draw(s, cls, rng, r);
   return r;
 }
 
@@ -572,66 +457,219 @@ void apply_sensor_set(const DatasetSpec& s, const DrawnRecording& r, diag::Recor
 }
 
 std::vector<std::string> manifest_columns(const DatasetSpec& s) {
-  if (s.simulator != "dynamic") return mode_manifest_columns(s);
-  std::vector<std::string> cols = {"file",
-                                   "id",
-                                   "index",
-                                   "class",
-                                   "gearbox",
-                                   "seed",
-                                   "speed_rpm",
-                                   "torque_nm",
-                                   "oil_temperature_c",
-                                   "noise_m_per_s2",
-                                   "accuracy_grade",
-                                   "runout_um",
-                                   "duration_s",
-                                   "fs_hz",
-                                   "faults"};
-  for (std::size_t i = 1; i <= s.max_faults; ++i) {
-    for (const char* field : {"type", "gear", "shaft", "tooth", "size_mm", "depth_um",
-                              "position_mm", "width_fraction"}) {
-      cols.push_back("fault" + std::to_string(i) + "_" + field);
-    }
-  }
-  if (!s.sensor_sets.empty()) cols.push_back("sensor_set");
-  return cols;
+  return simulator_of(s).manifest_columns(s);
 }
 
 nlohmann::json manifest_row(const DatasetSpec& s, const DrawnRecording& r) {
-  if (s.simulator != "dynamic") return mode_manifest_row(s, r);
-  json row = json::object();
-  row["file"] = "recordings/" + r.id + ".h5";
-  row["id"] = r.id;
-  row["index"] = r.index;
-  row["class"] = r.cls;
-  row["gearbox"] = s.gearbox_paths[static_cast<std::size_t>(r.gearbox)];
-  row["seed"] = r.seed;
-  row["speed_rpm"] = r.speed_rpm;
-  row["torque_nm"] = r.torque_nm;
-  row["oil_temperature_c"] = s.has_oil ? json(r.oil_c) : json(nullptr);
-  row["noise_m_per_s2"] = r.noise;
-  row["accuracy_grade"] = r.grade;
-  row["runout_um"] = r.runout_um;
-  row["duration_s"] = s.duration_s;
-  row["fs_hz"] = s.fs_hz;
-  row["faults"] = r.faults.size();
-  for (std::size_t i = 0; i < s.max_faults; ++i) {
-    const std::string p = "fault" + std::to_string(i + 1) + "_";
-    const DrawnFault* f = i < r.faults.size() ? &r.faults[i] : nullptr;
-    row[p + "type"] = f ? json(f->type) : json(nullptr);
-    row[p + "gear"] = f ? json(f->gear) : json(nullptr);
-    row[p + "shaft"] = f ? json(f->shaft) : json(nullptr);
-    row[p + "tooth"] = f && f->type != "wear" ? json(f->tooth) : json(nullptr);
-    row[p + "size_mm"] =
-        f && f->type != "missing" && f->type != "wear" ? json(f->size_mm) : json(nullptr);
-    row[p + "depth_um"] = f && f->has_depth ? json(f->depth_um) : json(nullptr);
-    row[p + "position_mm"] = f && f->has_position ? json(f->position_mm) : json(nullptr);
-    row[p + "width_fraction"] = f ? json(f->width_fraction) : json(nullptr);
+  return simulator_of(s).manifest_row(s, r);
+}
+
+namespace {
+
+// The dynamic model (sim/dynamics/simulate.hpp): the spec fields of this file's header.
+class DynamicDataset final : public DatasetSimulator {
+ public:
+  const char* name() const override { return "dynamic"; }
+
+  void load(DatasetSpec& s) const override {
+    const std::filesystem::path& file = s.file;
+    const std::string where = file.string();
+    const diag::Fields f(s.json, where, "",
+                         {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz",
+                          "operating_points", "noise_m_per_s2", "accuracy_grade", "runout_um",
+                          "scenario", "classes", "simulator", "sensor_sets"});
+    // Gearboxes, relative to the spec's folder.
+    s.gearbox_paths = parse_gearbox_paths(f);
+    std::string hashed = s.json.dump();
+    for (std::size_t i = 0; i < s.gearbox_paths.size(); ++i) {
+      std::filesystem::path p = s.gearbox_paths[i];
+      if (p.is_relative()) p = file.parent_path() / p;
+      s.gearboxes.push_back(diag::load_gearbox(p));
+      hashed += '\0' + s.gearboxes.back().description_json();
+    }
+    s.hash = fnv1a64_hex(hashed);
+    const int seed = f.integer("seed");
+    if (seed < 0) f.fail("seed", "must be >= 0");
+    s.seed = static_cast<std::uint64_t>(seed);
+    const int per_class = f.integer("recordings_per_class");
+    if (per_class < 1)
+      f.fail("recordings_per_class", "must be >= 1 (got " + std::to_string(per_class) + ")");
+    s.duration_s = f.positive("duration_s");
+    if (s.duration_s > sim::kMaxDurationS) f.fail("duration_s", "must be <= 3600 s");
+    s.fs_hz = f.positive("fs_hz");
+    if (s.fs_hz > sim::kMaxFsHz) f.fail("fs_hz", "must be <= 1e6 Hz");
+    if (!f.has("operating_points")) f.fail("operating_points", "required: {speed_rpm, torque_nm}");
+    {
+      const diag::Fields op(f.raw("operating_points"), where, "operating_points",
+                            {"speed_rpm", "torque_nm", "oil_temperature_c"});
+      if (!op.has("speed_rpm")) op.fail("speed_rpm", "required number or range is missing");
+      if (!op.has("torque_nm")) op.fail("torque_nm", "required number or range is missing");
+      s.speed_rpm = parse_range(op, "speed_rpm", 0, diag::kMaxSpeedRpm, true);
+      s.torque_nm = parse_range(op, "torque_nm", 0, diag::kMaxTorqueNm, false);
+      if (op.has("oil_temperature_c")) {
+        s.has_oil = true;
+        s.oil_c = parse_range(op, "oil_temperature_c", -50, 200, false);
+      }
+    }
+    if (f.has("noise_m_per_s2")) s.noise = parse_range(f, "noise_m_per_s2", 0, 1e6, false);
+    if (f.has("accuracy_grade")) s.grade = parse_int_range(f, "accuracy_grade", 0, 12);
+    if (f.has("runout_um")) s.runout_um = parse_range(f, "runout_um", 0, 1e4, false);
+    if (f.has("scenario")) {
+      if (!f.raw("scenario").is_object()) f.fail("scenario", "must be a JSON object");
+      s.scenario = f.raw("scenario");
+      for (const auto& [key, value] : s.scenario.items()) {
+        if (kDrawnScenarioFields.count(key)) {
+          f.fail("scenario." + key,
+                 "is set by the dataset spec (operating_points, classes, "
+                 "duration_s, fs_hz, seed ...), not by the base scenario");
+        }
+      }
+      if (s.scenario.contains("sensors") && s.scenario["sensors"].is_object() &&
+          s.scenario["sensors"].contains("noise_m_per_s2")) {
+        f.fail("scenario.sensors.noise_m_per_s2", "is set by the spec's noise_m_per_s2");
+      }
+      if (s.has_oil && s.scenario.contains("oil") && s.scenario["oil"].is_object() &&
+          s.scenario["oil"].contains("temperature_c")) {
+        f.fail("scenario.oil.temperature_c", "is set by operating_points.oil_temperature_c");
+      }
+      sim::parse_scenario(s.scenario, where + ": scenario");
+    }
+    parse_classes(f, per_class, {"faults"}, s, [&](const diag::Fields& cf, DatasetClass& cls) {
+      if (!cf.has("faults")) return;
+      if (!cf.raw("faults").is_array()) cf.fail("faults", "must be an array");
+      for (std::size_t i = 0; i < cf.raw("faults").size(); ++i) {
+        cls.faults.push_back(parse_fault(cf.raw("faults")[i], where, cf.sub(indexed("faults", i))));
+      }
+    });
+    check_sampling_rate(s);
+    check_classes(s);
+    warn_revolutions(s);
+    if (f.has("sensor_sets")) parse_sensor_sets(f, s);
   }
-  if (r.sensor_set >= 0)
-    row["sensor_set"] = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)].name;
-  return row;
+
+  void draw(const DatasetSpec& s, const DatasetClass& cls, DrawStream& rng,
+            DrawnRecording& r) const override {
+    r.gearbox = static_cast<int>(rng.pick(s.gearboxes.size()));
+    const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
+    r.speed_rpm = rng.draw(s.speed_rpm);
+    r.torque_nm = rng.draw(s.torque_nm);
+    r.oil_c = rng.draw(s.oil_c);
+    r.noise = rng.draw(s.noise);
+    r.grade = rng.draw(s.grade);
+    r.runout_um = rng.draw(s.runout_um);
+    for (const DatasetFault& f : cls.faults) {
+      const std::vector<int> gears = candidate_gears(f, gb);
+      const int g = gears[rng.pick(gears.size())];
+      DrawnFault d;
+      d.type = f.type;
+      d.gear = gb.gears()[g].name;
+      d.shaft = gb.gears()[g].shaft;
+      const int teeth = gb.gears()[g].spec.teeth;
+      d.tooth = rng.draw(f.any_tooth ? IntRange{0, teeth - 1} : f.tooth);
+      // Two faults drawn onto the same tooth of the same gear: the later one moves on (a fixed
+      // tooth stays where the spec put it).
+      for (int tries = 0; f.any_tooth && tries < teeth; ++tries) {
+        const bool taken = std::any_of(r.faults.begin(), r.faults.end(), [&](const DrawnFault& o) {
+          return o.gear == d.gear && o.tooth == d.tooth;
+        });
+        if (!taken) break;
+        d.tooth = (d.tooth + 1) % teeth;
+      }
+      d.size_mm = f.type == "missing" || f.type == "wear" ? 0.0 : rng.draw(f.size_mm);
+      d.has_depth = f.type == "spall" || f.type == "wear";
+      d.depth_um = rng.draw(f.depth_um);
+      d.has_position = f.has_position;
+      d.position_mm = rng.draw(f.position_mm);
+      d.width_fraction = rng.draw(f.width_fraction);
+      r.faults.push_back(d);
+    }
+    r.seed = rng.next() % 1000000000ULL;
+    // Drawn last, and only when there are sets: the other draws stay those of a spec without them.
+    if (!s.sensor_sets.empty()) r.sensor_set = static_cast<int>(rng.pick(s.sensor_sets.size()));
+    r.scenario = scenario_json(s, r.speed_rpm, r.torque_nm, r.oil_c, r.noise, r.grade, r.runout_um,
+                               r.seed, r.faults);
+  }
+
+  std::vector<std::string> manifest_columns(const DatasetSpec& s) const override {
+    std::vector<std::string> cols = {"file",
+                                     "id",
+                                     "index",
+                                     "class",
+                                     "gearbox",
+                                     "seed",
+                                     "speed_rpm",
+                                     "torque_nm",
+                                     "oil_temperature_c",
+                                     "noise_m_per_s2",
+                                     "accuracy_grade",
+                                     "runout_um",
+                                     "duration_s",
+                                     "fs_hz",
+                                     "faults"};
+    for (std::size_t i = 1; i <= s.max_faults; ++i) {
+      for (const char* field : {"type", "gear", "shaft", "tooth", "size_mm", "depth_um",
+                                "position_mm", "width_fraction"}) {
+        cols.push_back("fault" + std::to_string(i) + "_" + field);
+      }
+    }
+    if (!s.sensor_sets.empty()) cols.push_back("sensor_set");
+    return cols;
+  }
+
+  json manifest_row(const DatasetSpec& s, const DrawnRecording& r) const override {
+    json row = json::object();
+    row["file"] = "recordings/" + r.id + ".h5";
+    row["id"] = r.id;
+    row["index"] = r.index;
+    row["class"] = r.cls;
+    row["gearbox"] = s.gearbox_paths[static_cast<std::size_t>(r.gearbox)];
+    row["seed"] = r.seed;
+    row["speed_rpm"] = r.speed_rpm;
+    row["torque_nm"] = r.torque_nm;
+    row["oil_temperature_c"] = s.has_oil ? json(r.oil_c) : json(nullptr);
+    row["noise_m_per_s2"] = r.noise;
+    row["accuracy_grade"] = r.grade;
+    row["runout_um"] = r.runout_um;
+    row["duration_s"] = s.duration_s;
+    row["fs_hz"] = s.fs_hz;
+    row["faults"] = r.faults.size();
+    for (std::size_t i = 0; i < s.max_faults; ++i) {
+      const std::string p = "fault" + std::to_string(i + 1) + "_";
+      const DrawnFault* f = i < r.faults.size() ? &r.faults[i] : nullptr;
+      row[p + "type"] = f ? json(f->type) : json(nullptr);
+      row[p + "gear"] = f ? json(f->gear) : json(nullptr);
+      row[p + "shaft"] = f ? json(f->shaft) : json(nullptr);
+      row[p + "tooth"] = f && f->type != "wear" ? json(f->tooth) : json(nullptr);
+      row[p + "size_mm"] =
+          f && f->type != "missing" && f->type != "wear" ? json(f->size_mm) : json(nullptr);
+      row[p + "depth_um"] = f && f->has_depth ? json(f->depth_um) : json(nullptr);
+      row[p + "position_mm"] = f && f->has_position ? json(f->position_mm) : json(nullptr);
+      row[p + "width_fraction"] = f ? json(f->width_fraction) : json(nullptr);
+    }
+    if (r.sensor_set >= 0)
+      row["sensor_set"] = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)].name;
+    return row;
+  }
+
+  diag::Recording simulate(const DatasetSpec& s, const DrawnRecording& r,
+                           std::vector<std::string>& warnings) const override {
+    const sim::Scenario sc = sim::parse_scenario(r.scenario, r.id + ": scenario");
+    const diag::Gearbox& gb = s.gearboxes[static_cast<std::size_t>(r.gearbox)];
+    const sim::DynamicResult result = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
+    diag::Recording rec = sim::to_recording(gb, result);
+    apply_sensor_set(s, r, rec);
+    warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
+    return rec;
+  }
+
+  const json& model(const DrawnRecording& r) const override { return r.scenario; }
+};
+
+}  // namespace
+
+const DatasetSimulator& dynamic_dataset_simulator() {
+  static const DynamicDataset instance;
+  return instance;
 }
 
 }  // namespace geardiag

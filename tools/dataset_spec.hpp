@@ -133,7 +133,8 @@ struct DatasetSpec {
   nlohmann::json json;  // the spec as read
   // The simulator: "dynamic" (default), "kinematic" (seed 003: shaft angles with sporadic
   // defects) or "face_gear" (seed 002: the face-gear pair; gearbox_json holds its descriptions
-  // and gearbox_files their resolved paths). dataset_modes.cpp.
+  // and gearbox_files their resolved paths); simulator_of (dataset_simulator.hpp) gives its
+  // DatasetSimulator.
   std::string simulator = "dynamic";
   KinematicSettings kinematic;
   std::vector<nlohmann::json> gearbox_json;

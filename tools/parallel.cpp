@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "diag/error.hpp"
+#include "diag/util/parallel_for.hpp"
 
 #if GEARDIAG_WITH_MPI
 #include <mpi.h>
@@ -154,39 +155,13 @@ int resolve_jobs(int jobs) {
   return jobs;
 }
 
-void run_on_threads(std::size_t items, int jobs, const std::function<void(std::size_t)>& task) {
-  std::atomic<std::size_t> next{0};
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  auto worker = [&] {
-    for (std::size_t i = next++; i < items; i = next++) {
-      try {
-        task(i);
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = items;  // stop the others after their current item
-      }
-    }
-  };
-  const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(std::max(1, jobs)), items);
-  if (n <= 1) {
-    worker();
-  } else {
-    std::vector<std::thread> threads;
-    for (std::size_t t = 0; t < n; ++t) threads.emplace_back(worker);
-    for (std::thread& t : threads) t.join();
-  }
-  if (error) std::rethrow_exception(error);
-}
-
 void run_in_rounds(std::size_t items, int jobs, const std::function<void(std::size_t)>& serial,
                    const std::function<void(std::size_t)>& task) {
   const std::size_t round = static_cast<std::size_t>(std::max(1, jobs));
   for (std::size_t first = 0; first < items; first += round) {
     const std::size_t n = std::min(round, items - first);
     for (std::size_t j = 0; j < n; ++j) serial(first + j);
-    run_on_threads(n, jobs, [&](std::size_t j) { task(first + j); });
+    diag::parallel_for(n, jobs, [&](std::size_t j) { task(first + j); });
   }
 }
 

@@ -9,9 +9,9 @@
 // every file) rather than silently duplicating the work.
 //
 // Work split: item i of n belongs to rank i mod size (static, so that each rank knows its share
-// without messages); inside a rank, `jobs` std::thread workers take the rank's items in order
-// from an atomic counter. Results must not depend on either: each item is computed from its index
-// alone (dataset: a seed derived from (seed, index)).
+// without messages); inside a rank, `jobs` threads take the rank's items in order from a shared
+// counter (diag::parallel_for). Results must not depend on either: each item is computed from its
+// index alone (dataset: a seed derived from (seed, index)).
 #pragma once
 
 #include <chrono>
@@ -56,13 +56,9 @@ int default_jobs();
 // Checks a --jobs value: 0 = default_jobs(), else 1..1024. Throws diag::InputError.
 int resolve_jobs(int jobs);
 
-// Calls task(i) for every i in `items` (indices into the caller's list) on `jobs` threads. An
-// exception thrown by a task is the task's to handle: tasks must catch their own errors (the
-// first uncaught one is rethrown here after every worker stopped).
-void run_on_threads(std::size_t items, int jobs, const std::function<void(std::size_t)>& task);
-
-// As run_on_threads, in rounds of `jobs` items: serial(i) for each item of a round on the calling
-// thread while no worker thread exists, then task(i) for them on the threads. For work that must
+// diag::parallel_for (diag/util/parallel_for.hpp) in rounds of `jobs` items: serial(i) for each
+// item of a round on the calling thread while no worker thread exists, then task(i) for them on
+// the threads. For work that must
 // run with one thread alive: the HDF5 reader forks a survey child (diag/io/hdf5), and a fork while
 // another thread holds a lock (an allocator's, a library's) can deadlock the child (GCC 12's
 // AddressSanitizer allocator did, in `batch` under ASan). serial must not throw (keep its errors

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 #include "detect/gear/gear_damage.hpp"
 #include "report/report.hpp"
 

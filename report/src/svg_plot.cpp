@@ -7,16 +7,13 @@
 
 #include "detect/analysis/analyze.hpp"
 #include "diag/error.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace report {
 
 namespace {
 
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.1f", v);
-  return b;
-}
+std::string num(double v) { return diag::format_fixed(v, 1); }
 
 std::string tick_label(double v, double step) {
   char b[32];

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "detect/analysis/analyze.hpp"
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/import.hpp"
 #include "report/html_report.hpp"
@@ -58,10 +58,10 @@ std::vector<detect::Finding> bearing_findings(const CwruAnalysis& r) {
   return f;
 }
 
-// The drive-end channel's decision inside the analysis is diagnose_bearings' on that channel
-// (same options: the analysis adds nothing of its own); the finding names the fault, the family's
-// nominal fundamental at the file's speed (the data centre's multiple, printed to 5 digits: 1e-4
-// relative) and the channel that shows it best.
+// The drive-end channel's decision inside the analysis is diagnose_bearings_from_signal' on that
+// channel (same options: the analysis adds nothing of its own); the finding names the fault, the
+// family's nominal fundamental at the file's speed (the data centre's multiple, printed to 5
+// digits: 1e-4 relative) and the channel that shows it best.
 void expect_fault(const CwruAnalysis& r, const std::string& fault, double multiple) {
   const auto f = bearing_findings(r);
   ASSERT_EQ(f.size(), 1u) << report::to_json(r.result)["findings"].dump(1);
@@ -84,7 +84,7 @@ void expect_fault(const CwruAnalysis& r, const std::string& fault, double multip
 
   const diag::Signal& de = r.rec.require(r.de, "test");
   const auto& spec = r.gb.bearings().front();
-  const auto direct = detect::diagnose_bearings(de, r.shaft_hz, std::span(&spec, 1));
+  const auto direct = detect::diagnose_bearings_from_signal(de, r.shaft_hz, std::span(&spec, 1));
   for (const auto& c : r.result.channels) {
     if (c.name != r.de) continue;
     ASSERT_EQ(c.bearings.size(), 1u);

@@ -1,5 +1,5 @@
 // analyze's tacho smoothing for the order domain (detectors/src/analysis/kinematics.hpp,
-// smoothed_pulses): a local quadratic least-squares fit of the pulse times t(k).
+// smooth_pulse_times_local_quadratic): a local quadratic least-squares fit of the pulse times t(k).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -27,7 +27,7 @@ TEST(AnalyzeKinematics, SmoothedPulsesKeepAQuadraticExactly) {
     const double x = static_cast<double>(k);
     t[k] = 0.05 + 0.02 * x + 1e-5 * x * x;
   }
-  const auto s = detect::smoothed_pulses(t, 10);
+  const auto s = detect::smooth_pulse_times_local_quadratic(t, 10);
   ASSERT_EQ(s.size(), t.size());
   for (std::size_t k = 0; k < t.size(); ++k) EXPECT_NEAR(s[k], t[k], 1e-12) << k;
 }
@@ -44,7 +44,7 @@ TEST(AnalyzeKinematics, SmoothedPulsesReduceTheJitterByTheFitsGain) {
   std::uniform_real_distribution<double> jitter(-kT / 2, kT / 2);
   std::vector<double> t = truth;
   for (double& x : t) x += jitter(rng);
-  const auto s = detect::smoothed_pulses(t, 10);
+  const auto s = detect::smooth_pulse_times_local_quadratic(t, 10);
   double e2 = 0;
   int n = 0;
   for (std::size_t k = 50; k + 50 < t.size(); ++k, ++n) e2 += (s[k] - truth[k]) * (s[k] - truth[k]);
@@ -56,8 +56,8 @@ TEST(AnalyzeKinematics, SmoothedPulsesReduceTheJitterByTheFitsGain) {
 
 TEST(AnalyzeKinematics, FewerPulsesThanTheWindowAreReturnedAsGiven) {
   const std::vector<double> t{0.0, 0.1, 0.25};
-  EXPECT_EQ(detect::smoothed_pulses(t, 10), t);
-  EXPECT_EQ(detect::smoothed_pulses(t, 0), t);
+  EXPECT_EQ(detect::smooth_pulse_times_local_quadratic(t, 10), t);
+  EXPECT_EQ(detect::smooth_pulse_times_local_quadratic(t, 0), t);
 }
 
 }  // namespace

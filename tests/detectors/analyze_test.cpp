@@ -273,7 +273,7 @@ TEST(Analyze, OuterRaceImpactsAtBpfoAreReportedAsABearingFinding) {
   // (1 ms decay) on a vertical channel at bearing1; the kurtogram finds the band. The impact
   // spacing jitters by 0.5 % (rolling elements slip): a strictly periodic train sampled at 10 kHz
   // repeats its sub-sample phase pattern every 9 impacts, i.e. at exactly FTF = BPFO / 9, and
-  // diagnose_bearings rightly sees a cage family too (ambiguous: no finding).
+  // diagnose_bearings_from_signal rightly sees a cage family too (ambiguous: no finding).
   const double bpfo = 9 * kInputHz / 2 * (1 - 8.0 / 40.0);
   auto rec = pair_recording(kInputHz);
   const std::size_t n = rec.signals[0].samples.size();

@@ -1,6 +1,6 @@
-// diagnose_bearings on synthetic signals: a ringing outer-race impact train under shaft lines and
-// noise (the closed-form case), noise alone, and bad input.
-#include "detect/gear/bearing_diagnosis.hpp"
+// diagnose_bearings_from_signal on synthetic signals: a ringing outer-race impact train under shaft
+// lines and noise (the closed-form case), noise alone, and bad input.
+#include "detect/bearing/bearing_diagnosis.hpp"
 
 #include <gtest/gtest.h>
 
@@ -61,7 +61,7 @@ TEST(BearingDiagnosis, OuterRaceImpactTrainUnderShaftLinesIsOuterRace) {
   const auto f = detect::bearing_frequencies(b, kShaftHz);
   diag::Signal s = noise_and_shaft_lines(1);
   add_outer_race_impacts(s, f.bpfo_hz, 2);
-  const auto d = detect::diagnose_bearings(s, kShaftHz, std::span(&b, 1));
+  const auto d = detect::diagnose_bearings_from_signal(s, kShaftHz, std::span(&b, 1));
   ASSERT_EQ(d.findings.size(), 1u) << detect::to_json(d).dump(1);
   EXPECT_EQ(diag::to_string(d.findings[0].fault), "outer_race");
   EXPECT_EQ(d.findings[0].bearing, "de");
@@ -78,8 +78,8 @@ TEST(BearingDiagnosis, OuterRaceImpactTrainUnderShaftLinesIsOuterRace) {
 TEST(BearingDiagnosis, NoiseAndShaftLinesAloneGiveNoFinding) {
   const diag::BearingSpec b = skf6205();
   for (unsigned seed : {3u, 4u, 5u}) {
-    const auto d =
-        detect::diagnose_bearings(noise_and_shaft_lines(seed), kShaftHz, std::span(&b, 1));
+    const auto d = detect::diagnose_bearings_from_signal(noise_and_shaft_lines(seed), kShaftHz,
+                                                         std::span(&b, 1));
     EXPECT_TRUE(d.findings.empty()) << detect::to_json(d).dump(1);
   }
 }
@@ -87,16 +87,17 @@ TEST(BearingDiagnosis, NoiseAndShaftLinesAloneGiveNoFinding) {
 TEST(BearingDiagnosis, RejectsBadInputNamingTheField) {
   const diag::BearingSpec b = skf6205();
   const diag::Signal s = noise_and_shaft_lines(1);
-  EXPECT_THROW(detect::diagnose_bearings(s, 0.0, std::span(&b, 1)), diag::InputError);
-  EXPECT_THROW(detect::diagnose_bearings(s, kShaftHz, {}), diag::InputError);
+  EXPECT_THROW(detect::diagnose_bearings_from_signal(s, 0.0, std::span(&b, 1)), diag::InputError);
+  EXPECT_THROW(detect::diagnose_bearings_from_signal(s, kShaftHz, {}), diag::InputError);
   detect::BearingDiagnosisOptions opt;
   opt.min_band_low_factor = -1;
-  EXPECT_THROW(detect::diagnose_bearings(s, kShaftHz, std::span(&b, 1), opt), diag::InputError);
+  EXPECT_THROW(detect::diagnose_bearings_from_signal(s, kShaftHz, std::span(&b, 1), opt),
+               diag::InputError);
   // At 1 kHz no band can be 3 BPFI wide above BPFI: the rate is too low, said so.
   diag::Signal slow = s;
   slow.fs_hz = 1000.0;
   try {
-    detect::diagnose_bearings(slow, kShaftHz, std::span(&b, 1));
+    detect::diagnose_bearings_from_signal(slow, kShaftHz, std::span(&b, 1));
     FAIL() << "no throw";
   } catch (const diag::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("too low"), std::string::npos) << e.what();

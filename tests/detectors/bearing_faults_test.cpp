@@ -1,4 +1,4 @@
-#include "detect/gear/bearing_faults.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 
 #include <gtest/gtest.h>
 
@@ -232,7 +232,7 @@ TEST(DiagnoseBearing, NamesAnOuterRaceComb) {
   const auto bf = cwru_at_1797_rpm();
   for (std::uint64_t seed = 1; seed <= 10; ++seed) {
     const auto a = envelope_spectrum(f, seed, {{bf.bpfo_hz, 10.0, 0.0}});
-    const auto d = detect::diagnose_bearing({f, a}, bf);
+    const auto d = detect::diagnose_bearing_from_envelope({f, a}, bf);
     EXPECT_EQ(d.status, BearingDecisionStatus::kFault) << "seed " << seed;
     EXPECT_EQ(d.fault, BearingFault::kOuterRace) << "seed " << seed;
   }
@@ -243,11 +243,11 @@ TEST(DiagnoseBearing, NamesAnOuterRaceComb) {
 TEST(DiagnoseBearing, NamesInnerRaceAndBallCombs) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
-  const auto inner =
-      detect::diagnose_bearing({f, envelope_spectrum(f, 3, {{bf.bpfi_hz, 10.0, bf.shaft_hz}})}, bf);
+  const auto inner = detect::diagnose_bearing_from_envelope(
+      {f, envelope_spectrum(f, 3, {{bf.bpfi_hz, 10.0, bf.shaft_hz}})}, bf);
   EXPECT_EQ(inner.fault, BearingFault::kInnerRace);
   // Sidebands at a third of the carrier: 30 x median / 3 = 20 dB over the floor.
-  const auto ball = detect::diagnose_bearing(
+  const auto ball = detect::diagnose_bearing_from_envelope(
       {f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 30.0, bf.ftf_hz}})}, bf);
   EXPECT_EQ(ball.fault, BearingFault::kRollingElement);
   EXPECT_GE(ball.families[3].sidebands_detected, 2);
@@ -258,8 +258,8 @@ TEST(DiagnoseBearing, NamesInnerRaceAndBallCombs) {
 TEST(DiagnoseBearing, CallsBallLinesWithoutCageModulationAmbiguous) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
-  const auto d =
-      detect::diagnose_bearing({f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 10.0, 0.0}})}, bf);
+  const auto d = detect::diagnose_bearing_from_envelope(
+      {f, envelope_spectrum(f, 4, {{bf.ball_fault_hz, 10.0, 0.0}})}, bf);
   EXPECT_EQ(d.status, BearingDecisionStatus::kAmbiguous);
   EXPECT_EQ(d.fault, BearingFault::kNone);
   EXPECT_TRUE(d.unmodulated_ball);
@@ -272,8 +272,8 @@ TEST(DiagnoseBearing, GivesACageNoteNotAFindingForFtfLinesAlone) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-    const auto d =
-        detect::diagnose_bearing({f, envelope_spectrum(f, seed, {{bf.ftf_hz, 10.0, 0.0}})}, bf);
+    const auto d = detect::diagnose_bearing_from_envelope(
+        {f, envelope_spectrum(f, seed, {{bf.ftf_hz, 10.0, 0.0}})}, bf);
     EXPECT_EQ(d.status, BearingDecisionStatus::kNoFault) << "seed " << seed;
     EXPECT_EQ(d.fault, BearingFault::kNone);
     EXPECT_TRUE(d.cage_note) << "seed " << seed;
@@ -291,7 +291,7 @@ TEST(DiagnoseBearing, BallModulationExplainsCoincidentInnerRaceLines) {
   const auto a = envelope_spectrum(
       f, 12,
       {{bf.ball_fault_hz, 30.0, bf.ftf_hz}, {bf.bpfi_hz, 12.0, 0.0}, {bf.ftf_hz, 10.0, 0.0}});
-  const auto d = detect::diagnose_bearing({f, a}, bf);
+  const auto d = detect::diagnose_bearing_from_envelope({f, a}, bf);
   EXPECT_EQ(d.fault, BearingFault::kRollingElement);
   EXPECT_TRUE(d.families[2].passes);
   EXPECT_TRUE(d.families[2].explained);
@@ -300,7 +300,8 @@ TEST(DiagnoseBearing, BallModulationExplainsCoincidentInnerRaceLines) {
                                    {{bf.ball_fault_hz, 30.0, bf.ftf_hz},
                                     {bf.bpfi_hz, 30.0, bf.shaft_hz},
                                     {bf.ftf_hz, 10.0, 0.0}});
-  EXPECT_EQ(detect::diagnose_bearing({f, b}, bf).status, BearingDecisionStatus::kAmbiguous);
+  EXPECT_EQ(detect::diagnose_bearing_from_envelope({f, b}, bf).status,
+            BearingDecisionStatus::kAmbiguous);
 }
 
 // Comb support: 8 harmonics of BPFO at 2 x the noise median (6 dB, under every line threshold)
@@ -334,7 +335,8 @@ TEST(DiagnoseBearing, NamesNothingOnNoiseAlone) {
   const auto bf = cwru_at_1797_rpm();
   int alarms = 0;
   for (std::uint64_t seed = 1; seed <= 200; ++seed) {
-    const auto d = detect::diagnose_bearing({f, envelope_spectrum(f, 1000 + seed, {})}, bf);
+    const auto d =
+        detect::diagnose_bearing_from_envelope({f, envelope_spectrum(f, 1000 + seed, {})}, bf);
     if (d.status != BearingDecisionStatus::kNoFault) ++alarms;
     EXPECT_EQ(d.fault, BearingFault::kNone);
   }
@@ -347,7 +349,7 @@ TEST(DiagnoseBearing, CallsTwoEqualFamiliesAmbiguous) {
   const auto f = grid();
   const auto bf = cwru_at_1797_rpm();
   const auto a = envelope_spectrum(f, 11, {{bf.bpfo_hz, 10.0, 0.0}, {bf.bpfi_hz, 10.0, 0.0}});
-  const auto d = detect::diagnose_bearing({f, a}, bf);
+  const auto d = detect::diagnose_bearing_from_envelope({f, a}, bf);
   EXPECT_EQ(d.status, BearingDecisionStatus::kAmbiguous);
   EXPECT_EQ(d.fault, BearingFault::kNone);
   ASSERT_EQ(d.candidates.size(), 2u);
@@ -355,7 +357,7 @@ TEST(DiagnoseBearing, CallsTwoEqualFamiliesAmbiguous) {
   EXPECT_EQ(d.candidates[1], BearingFault::kInnerRace);
   // The same two families with one 12 dB weaker: the stronger is named.
   const auto b = envelope_spectrum(f, 11, {{bf.bpfo_hz, 16.0, 0.0}, {bf.bpfi_hz, 4.0, 0.0}});
-  EXPECT_EQ(detect::diagnose_bearing({f, b}, bf).fault, BearingFault::kOuterRace);
+  EXPECT_EQ(detect::diagnose_bearing_from_envelope({f, b}, bf).fault, BearingFault::kOuterRace);
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 #include "diag/gearbox/bearing_rates.hpp"
 #include "diag/io/import.hpp"
 
@@ -39,7 +39,7 @@ CwruRun diagnose(const std::string& file, double fs_hz) {
   CwruRun r;
   r.shaft_hz = rpm / 60.0;
   const diag::BearingSpec b = skf6205();
-  r.diagnosis = detect::diagnose_bearings(*de, r.shaft_hz, std::span(&b, 1));
+  r.diagnosis = detect::diagnose_bearings_from_signal(*de, r.shaft_hz, std::span(&b, 1));
   std::cout << "[ " << file << " ] " << detect::to_json(r.diagnosis).dump() << "\n";
   return r;
 }

@@ -358,6 +358,36 @@ TEST(FirLowpass, IsSymmetricWithUnitDcGainAndAStopBandBelowMinus90Db) {
   EXPECT_THROW((detect::FirLowpassOptions{1000.0, 100.0, 200}).validate(), diag::InputError);
 }
 
+// design_lowpass_fir is diag::design_lowpass with the window's values; before, it computed
+// each tap as w 2 fc sin(2 pi fc t) / (2 pi fc t), which rounds differently from
+// sin(2 pi fc t) / (pi t). Tolerance 1e-15 of the largest tap: a few ulps of each tap.
+TEST(FirLowpass, MatchesTheFormerDesignToRounding) {
+  for (const auto window : {detect::WindowType::kBlackmanHarris, detect::WindowType::kHann}) {
+    detect::FirLowpassOptions o;
+    o.fs_hz = 1000.0;
+    o.cutoff_hz = 120.0;
+    o.taps = 129;
+    o.window = window;
+    const auto h = detect::design_lowpass_fir(o);
+    const auto w = detect::make_window(window, o.taps, detect::WindowSymmetry::kSymmetric);
+    const double fc = o.cutoff_hz / o.fs_hz;
+    const std::ptrdiff_t m = static_cast<std::ptrdiff_t>(o.taps / 2);
+    std::vector<double> before(o.taps);
+    for (std::ptrdiff_t j = 0; j <= m; ++j) {
+      const double t = static_cast<double>(m - j);
+      const double sinc = t == 0.0 ? 1.0 : std::sin(kTwoPi * fc * t) / (kTwoPi * fc * t);
+      before[static_cast<std::size_t>(j)] = before[static_cast<std::size_t>(2 * m - j)] =
+          w[static_cast<std::size_t>(j)] * 2.0 * fc * sinc;
+    }
+    double sum = 0.0;
+    for (double v : before) sum += v;
+    for (double& v : before) v /= sum;
+    ASSERT_EQ(h.size(), before.size());
+    const double kTol = 1e-15 * *std::max_element(before.begin(), before.end());
+    for (std::size_t j = 0; j < h.size(); ++j) EXPECT_NEAR(h[j], before[j], kTol) << j;
+  }
+}
+
 // Zero phase: a pass-band sine comes out with no delay and unit gain (interior samples; the
 // mirrored ends are approximate); decimation by 4 keeps a tone at 0.7 of the new Nyquist and
 // suppresses one above the new Nyquist below -90 dB (it would alias otherwise).

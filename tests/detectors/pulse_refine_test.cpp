@@ -36,14 +36,14 @@ std::vector<double> quantised_pulses(double rate_error) {
 
 TEST(PulseRefine, TheFitAveragesTheQuantisationOfTheEdges) {
   const std::vector<double> p = quantised_pulses(0.0);
-  const std::vector<double> s = detect::smooth_pulse_times(p, 3);
+  const std::vector<double> s = detect::smooth_pulse_times_polynomial(p, 3);
   ASSERT_EQ(s.size(), p.size());
   // Each detected pulse is off by up to 1/fs (100 us); the fit of 56 pulses by about
   // 0.3 / fs / sqrt(56) around the mean delay 0.5 / fs; tolerance: 0.5 / fs + 0.2 / fs.
   for (std::size_t k = 0; k < s.size(); ++k) {
     EXPECT_NEAR(s[k], k / kInputHz, 0.7 / kFs) << k;
   }
-  EXPECT_EQ(detect::smooth_pulse_times(p, 0), p);  // degree 0: as detected
+  EXPECT_EQ(detect::smooth_pulse_times_polynomial(p, 0), p);  // degree 0: as detected
 }
 
 // A loud input mesh line (order 18) and a tacho whose rate is off by 3e-5: the phase of the
@@ -99,7 +99,7 @@ TEST(PulseRefine, BadInputsAreRefused) {
                diag::InputError);
   EXPECT_THROW(detect::refine_pulses(rec, gb, "input", std::vector<double>{0.0, 0.2, 0.1}),
                diag::InputError);
-  EXPECT_THROW(detect::smooth_pulse_times(p, 9), diag::InputError);
+  EXPECT_THROW(detect::smooth_pulse_times_polynomial(p, 9), diag::InputError);
   detect::PulseRefineOptions o;
   o.band_fraction = 0.0;
   EXPECT_THROW(detect::refine_pulses(rec, gb, "input", p, o), diag::InputError);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "diag/error.hpp"
@@ -63,7 +64,80 @@ TEST(Decimator, KeepsALinearRampExactly) {
 TEST(Decimator, RefusesBadParameters) {
   EXPECT_THROW(diag::Decimator(0), diag::InputError);
   EXPECT_THROW(diag::Decimator(4, 1.0), diag::InputError);
-  EXPECT_THROW(diag::lowpass_taps(0.5, 10), diag::InputError);
+  diag::LowpassDesign bad;
+  bad.cutoff_fraction = 0.5;
+  EXPECT_THROW(diag::design_lowpass(bad), diag::InputError);
+}
+
+// The designs the simulator and the resampler were built with, written out as they were: the
+// Blackman low-pass of the simulator's decimator and the Kaiser half-band of the resampler's
+// decimation stages. design_lowpass must give the same bits (the simulated and analysed outputs
+// must not move), so the comparison is exact.
+std::vector<double> blackman_as_before(double fc, int half_length) {
+  const int n = 2 * half_length + 1;
+  std::vector<double> h(n);
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double x = i - half_length;
+    const double sinc = x == 0.0 ? 2 * fc : std::sin(2 * kPi * fc * x) / (kPi * x);
+    const double a = 2 * kPi * i / (n - 1);
+    const double w = 0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2 * a);
+    h[i] = sinc * w;
+    sum += h[i];
+  }
+  for (double& v : h) v /= sum;
+  return h;
+}
+
+TEST(LowpassDesign, BlackmanGivesTheSimulatorsDecimatorTapsBitForBit) {
+  for (const auto& [fc, half] :
+       {std::pair{0.45 / 2, 28}, std::pair{0.09, 50}, std::pair{0.0225, 250}, std::pair{0.3, 1},
+        std::pair{0.01, 1000}}) {
+    diag::LowpassDesign d;
+    d.cutoff_fraction = fc;
+    d.half_length = half;
+    EXPECT_EQ(diag::design_lowpass(d), blackman_as_before(fc, half)) << fc << ", M = " << half;
+  }
+}
+
+TEST(LowpassDesign, KaiserHalfBandGivesTheResamplersTapsBitForBit) {
+  constexpr int kReach = 55;  // the resampler's half-band: taps at odd n up to 55, beta for 100 dB
+  const double beta = 0.1102 * (100.0 - 8.7);
+  diag::LowpassDesign d;
+  d.cutoff_fraction = 0.25;
+  d.half_length = kReach;
+  d.window = diag::FirWindow::kKaiser;
+  d.kaiser_beta = beta;
+  d.unit_dc_gain = false;
+  const std::vector<double> h = diag::design_lowpass(d);
+  EXPECT_EQ(h[kReach], 0.5);
+  const double i0_beta = std::cyl_bessel_i(0.0, beta);
+  for (int n = 1; n <= kReach; n += 2) {
+    const double r = static_cast<double>(n) / kReach;
+    const double x = kPi * n / 2;
+    const double before =
+        0.5 * (std::sin(x) / x) * std::cyl_bessel_i(0.0, beta * std::sqrt(1 - r * r)) / i0_beta;
+    EXPECT_EQ(h[kReach + n], before) << n;
+    EXPECT_EQ(h[kReach - n], before) << n;
+  }
+}
+
+TEST(LowpassDesign, GivenWindowIsUsedSymmetricallyAndScaledToUnitDcGain) {
+  diag::LowpassDesign d;
+  d.cutoff_fraction = 0.1;
+  d.half_length = 3;
+  d.window = diag::FirWindow::kGiven;
+  d.window_values = {0.1, 0.5, 0.9, 1.0, 0.9, 0.5, 0.2};  // the last value is not used
+  const std::vector<double> h = diag::design_lowpass(d);
+  double sum = 0;
+  for (double v : h) sum += v;
+  EXPECT_NEAR(sum, 1.0, 1e-15);  // one rounding per tap
+  for (std::size_t j = 0; j < h.size(); ++j) EXPECT_EQ(h[j], h[h.size() - 1 - j]);
+  d.window_values.pop_back();
+  EXPECT_THROW(diag::design_lowpass(d), diag::InputError);
+  d.window = diag::FirWindow::kKaiser;
+  d.kaiser_beta = -1;
+  EXPECT_THROW(diag::design_lowpass(d), diag::InputError);
 }
 
 }  // namespace

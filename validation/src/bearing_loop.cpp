@@ -120,8 +120,8 @@ BearingLoopReport run_bearing_loop(const BearingLoopOptions& opt) {
             c.size = size;
             c.snr_db = so.snr_db;
             c.seed = seed;
-            const detect::BearingDiagnosis d =
-                detect::diagnose_bearings(sig.signal, shaft, std::span(&bearing, 1), opt.detector);
+            const detect::BearingDiagnosis d = detect::diagnose_bearings_from_signal(
+                sig.signal, shaft, std::span(&bearing, 1), opt.detector);
             c.answer = answer_of(d);
             c.outcome = judge(c.truth, c.answer);
             add(r.by_class[ci], c.outcome);

@@ -21,17 +21,15 @@ double uniform(std::mt19937_64& rng, double lo, double hi) {
   return lo + (hi - lo) * (static_cast<double>(rng() >> 11) * 0x1.0p-53);
 }
 
-void fail(const std::string& field, const std::string& reason) {
-  throw diag::InputError(diag::format_error("GearDamageLoopOptions", field, reason));
-}
-
 void check_range(const std::string& lo_name, double lo, const std::string& hi_name, double hi,
                  double lower_bound, bool strict) {
   if (!std::isfinite(lo) || (strict ? !(lo > lower_bound) : !(lo >= lower_bound))) {
-    fail(lo_name, std::to_string(lo) + (strict ? " must be > " : " must be >= ") +
-                      std::to_string(lower_bound));
+    diag::fail("GearDamageLoopOptions", lo_name,
+               std::to_string(lo) + (strict ? " must be > " : " must be >= ") +
+                   std::to_string(lower_bound));
   }
-  if (!std::isfinite(hi) || hi < lo) fail(hi_name, std::to_string(hi) + " is below " + lo_name);
+  if (!std::isfinite(hi) || hi < lo)
+    diag::fail("GearDamageLoopOptions", hi_name, std::to_string(hi) + " is below " + lo_name);
 }
 
 // Half thickness of the tooth at the root circle, perpendicular to its centre line: the h_root of
@@ -50,9 +48,11 @@ double root_half_thickness_m(const diag::Gear& g, const diag::GearSpec& sp) {
 }  // namespace
 
 void GearDamageLoopOptions::validate() const {
-  if (cases < 1) fail("cases", std::to_string(cases) + " is below 1");
+  if (cases < 1)
+    diag::fail("GearDamageLoopOptions", "cases", std::to_string(cases) + " is below 1");
   if (!(healthy_share >= 0.0 && healthy_share <= 1.0)) {
-    fail("healthy_share", std::to_string(healthy_share) + " is outside [0, 1]");
+    diag::fail("GearDamageLoopOptions", "healthy_share",
+               std::to_string(healthy_share) + " is outside [0, 1]");
   }
   check_range("min_rpm", min_rpm, "max_rpm", max_rpm, 0.0, true);
   check_range("min_torque_nm", min_torque_nm, "max_torque_nm", max_torque_nm, 0.0, true);
@@ -60,31 +60,38 @@ void GearDamageLoopOptions::validate() const {
               0.0, false);
   if (min_accuracy_grade < 0 || max_accuracy_grade > 12 ||
       max_accuracy_grade < min_accuracy_grade) {
-    fail("min_accuracy_grade/max_accuracy_grade", std::to_string(min_accuracy_grade) + ".." +
-                                                      std::to_string(max_accuracy_grade) +
-                                                      " is not a range inside [0, 12]");
+    diag::fail("GearDamageLoopOptions", "min_accuracy_grade/max_accuracy_grade",
+               std::to_string(min_accuracy_grade) + ".." + std::to_string(max_accuracy_grade) +
+                   " is not a range inside [0, 12]");
   }
   check_range("min_runout_m", min_runout_m, "max_runout_m", max_runout_m, 0.0, false);
   check_range("min_crack_fraction", min_crack_fraction, "max_crack_fraction", max_crack_fraction,
               0.0, true);
-  if (max_crack_fraction > 1.0) fail("max_crack_fraction", "must be <= 1");
+  if (max_crack_fraction > 1.0)
+    diag::fail("GearDamageLoopOptions", "max_crack_fraction", "must be <= 1");
   check_range("min_chip_modules", min_chip_modules, "max_chip_modules", max_chip_modules, 0.0,
               true);
-  if (max_chip_modules > 2.0) fail("max_chip_modules", "must be <= 2");
+  if (max_chip_modules > 2.0)
+    diag::fail("GearDamageLoopOptions", "max_chip_modules", "must be <= 2");
   check_range("min_spall_modules", min_spall_modules, "max_spall_modules", max_spall_modules, 0.0,
               true);
-  if (max_spall_modules > 2.0) fail("max_spall_modules", "must be <= 2");
+  if (max_spall_modules > 2.0)
+    diag::fail("GearDamageLoopOptions", "max_spall_modules", "must be <= 2");
   check_range("min_spall_depth_m", min_spall_depth_m, "max_spall_depth_m", max_spall_depth_m, 0.0,
               true);
   if (!root_crack && !chip && !missing && !spall) {
-    fail("root_crack/chip/missing/spall", "no fault kind enabled");
+    diag::fail("GearDamageLoopOptions", "root_crack/chip/missing/spall", "no fault kind enabled");
   }
-  if (!(fs_hz > 0)) fail("fs_hz", std::to_string(fs_hz) + " must be > 0");
+  if (!(fs_hz > 0))
+    diag::fail("GearDamageLoopOptions", "fs_hz", std::to_string(fs_hz) + " must be > 0");
   if (slowest_shaft_revolutions < detector.min_revolutions + 3) {
-    fail("slowest_shaft_revolutions",
-         std::to_string(slowest_shaft_revolutions) + " is below detector.min_revolutions + 3");
+    diag::fail(
+        "GearDamageLoopOptions", "slowest_shaft_revolutions",
+        std::to_string(slowest_shaft_revolutions) + " is below detector.min_revolutions + 3");
   }
-  if (steps_per_period < 8) fail("steps_per_period", std::to_string(steps_per_period) + " < 8");
+  if (steps_per_period < 8)
+    diag::fail("GearDamageLoopOptions", "steps_per_period",
+               std::to_string(steps_per_period) + " < 8");
   detector.validate();
 }
 
@@ -96,7 +103,7 @@ GearDamageLoopReport run_gear_damage_loop(const diag::Gearbox& gb,
 GearDamageLoopReport run_gear_damage_loop(std::span<const diag::Gearbox> gearboxes,
                                           const GearDamageLoopOptions& opt) {
   opt.validate();
-  if (gearboxes.empty()) fail("gearboxes", "none given");
+  if (gearboxes.empty()) diag::fail("GearDamageLoopOptions", "gearboxes", "none given");
   std::mt19937_64 rng(opt.seed);
   std::vector<std::string> kinds;
   if (opt.root_crack) kinds.push_back("crack");

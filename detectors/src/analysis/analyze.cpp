@@ -14,6 +14,7 @@
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/util/parallel_for.hpp"
 #include "kinematics.hpp"
 #include "stages.hpp"
 
@@ -248,7 +249,7 @@ void channels_stage(RecordWork& w) {
   w.spectra.assign(nc, Spectrum{});
   r.channels.resize(nc);
   std::vector<double> cpu(opt.timing ? nc * kStages : 0, 0.0);
-  run_parallel(nc, opt.threads, [&](std::size_t ci) {
+  diag::parallel_for(nc, opt.threads, [&](std::size_t ci) {
     const std::span<double> own =
         opt.timing ? std::span<double>(cpu).subspan(ci * kStages, kStages) : std::span<double>();
     r.channels[ci] = analyse_channel(ctx, w.ang, ci, w.spectra[ci], own);

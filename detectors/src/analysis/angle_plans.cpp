@@ -12,31 +12,6 @@
 
 namespace detect::analysis_stages {
 
-void run_parallel(std::size_t n, int threads, const std::function<void(std::size_t)>& fn) {
-  std::vector<std::exception_ptr> failed(n);
-  std::atomic<std::size_t> next{0};
-  auto worker = [&] {
-    for (std::size_t k = next++; k < n; k = next++) {
-      try {
-        fn(k);
-      } catch (...) {
-        failed[k] = std::current_exception();
-      }
-    }
-  };
-  const std::size_t workers =
-      std::min<std::size_t>(n, threads > 0 ? static_cast<std::size_t>(threads)
-                                           : std::max(1u, std::thread::hardware_concurrency()));
-  {
-    std::vector<std::jthread> pool;
-    for (std::size_t t = 1; t < workers; ++t) pool.emplace_back(worker);
-    worker();
-  }
-  for (const auto& e : failed) {
-    if (e) std::rethrow_exception(e);  // the first failure, in index order
-  }
-}
-
 int tsa_samples_per_rev(const diag::Gearbox& gb, std::size_t s, const AnalyzeOptions& opt) {
   int zmax = 1;
   for (int g : gb.shafts()[s].gears)
@@ -88,7 +63,7 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   constexpr int kTachoSmoothingHalfWindow = 10;
   const auto& input_pulses = kin.pulses_s[static_cast<std::size_t>(ctx.input)];
   a.order_pulses = ctx.order_domain && kin.speed.source == "tacho"
-                       ? smoothed_pulses(input_pulses, kTachoSmoothingHalfWindow)
+                       ? smooth_pulse_times_local_quadratic(input_pulses, kTachoSmoothingHalfWindow)
                        : input_pulses;
   std::vector<std::optional<AnglePlan>> tsa_plans(gb->shafts().size());
   // The plans may read the records decimated first (resample.hpp: half-band stages, shared by
@@ -138,7 +113,7 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   }
   std::vector<std::vector<std::vector<double>>> decimated(static_cast<std::size_t>(stages));
   for (auto& d : decimated) d.resize(which.size());
-  run_parallel(which.size(), opt.threads, [&](std::size_t k) {
+  diag::parallel_for(which.size(), opt.threads, [&](std::size_t k) {
     std::span<const double> x = rec.signals[which[k]].samples;
     for (std::size_t s = 0; s < decimated.size(); ++s) {
       decimated[s][k] = decimate_half_band(x, 1);
@@ -172,7 +147,7 @@ AngularRecords angle_plans_stage(const AnalysisContext& ctx) {
   for (std::size_t s = 0; s < tsa_plans.size(); ++s) {
     if (tsa_plans[s]) jobs.emplace_back([&, s] { a.tsa_resampled[s] = through(*tsa_plans[s]); });
   }
-  run_parallel(jobs.size(), opt.threads, [&](std::size_t k) { jobs[k](); });
+  diag::parallel_for(jobs.size(), opt.threads, [&](std::size_t k) { jobs[k](); });
   return a;
 }
 

@@ -1,11 +1,11 @@
 // analyze's per-channel stages: the envelope spectrum in the kurtogram's band and the bearings
-// (fault bands, band metrics, diagnose_bearings) (stages.hpp).
+// (fault bands, band metrics, diagnose_bearings_from_signal) (stages.hpp).
 #include <algorithm>
 #include <cmath>
 #include <map>
 
-#include "detect/gear/bearing_diagnosis.hpp"
-#include "detect/gear/bearing_faults.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
 #include "detect/spectral/envelope.hpp"
 #include "detect/spectral/kurtogram.hpp"
@@ -189,8 +189,8 @@ void bearing_stage(ChannelWork& w) {
   if (gb->bearings().empty()) return;
   const AnalyzeOptions& opt = ctx.opt;
   const auto& speeds = ctx.kin.speeds;
-  // diagnose_bearings once per shaft, on the bearings this channel sees: those at its location,
-  // and those no sensor channel sits at.
+  // diagnose_bearings_from_signal once per shaft, on the bearings this channel sees: those at its
+  // location, and those no sensor channel sits at.
   std::map<int, std::vector<diag::BearingSpec>> by_shaft;
   for (std::size_t b = 0; b < ctx.located.size(); ++b) {
     const diag::BearingSpec& spec = gb->bearings()[b];
@@ -212,8 +212,8 @@ void bearing_stage(ChannelWork& w) {
       continue;
     }
     try {
-      diagnoses.push_back(
-          diagnose_bearings(spectral, speeds[static_cast<std::size_t>(s)].speed_hz, specs, bo));
+      diagnoses.push_back(diagnose_bearings_from_signal(
+          spectral, speeds[static_cast<std::size_t>(s)].speed_hz, specs, bo));
     } catch (const diag::InputError& e) {
       c.notes.push_back("bearing diagnosis (" + names + ") skipped: " + e.what());
       continue;

@@ -7,7 +7,7 @@
 #include <map>
 #include <utility>
 
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 #include "detect/gear/gear_damage.hpp"
 #include "diag/error.hpp"
 #include "stages.hpp"
@@ -128,7 +128,8 @@ void sideband_vote_notes(const AnalysisContext& ctx, AnalysisResult& r) {
   }
 }
 
-// Bearings: diagnose_bearings' decisions, voted over the channels that see each bearing.
+// Bearings: diagnose_bearings_from_signal' decisions, voted over the channels that see each
+// bearing.
 void bearing_findings(const AnalysisContext& ctx, AnalysisResult& r) {
   for (const diag::BearingSpec& b : ctx.gb->bearings()) {
     std::map<BearingFault, int> votes;

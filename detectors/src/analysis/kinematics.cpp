@@ -49,7 +49,8 @@ void from_reference(ShaftKinematics& k, const diag::Gearbox& gb, int ref,
 
 }  // namespace
 
-std::vector<double> smoothed_pulses(const std::vector<double>& pulses_s, int half_window) {
+std::vector<double> smooth_pulse_times_local_quadratic(const std::vector<double>& pulses_s,
+                                                       int half_window) {
   const std::size_t n = pulses_s.size(), w = static_cast<std::size_t>(half_window);
   if (half_window < 1 || n < 2 * w + 1) return pulses_s;
   std::vector<double> out(n);

@@ -34,7 +34,8 @@ struct ShaftKinematics {
 // timing jitter of each pulse (up to half a sampling period for a sharp tacho edge, tacho.hpp)
 // averaged out, a smooth run-up kept (t(k) is locally quadratic for a constant acceleration).
 // Fewer pulses than the window: returned as given.
-std::vector<double> smoothed_pulses(const std::vector<double>& pulses_s, int half_window);
+std::vector<double> smooth_pulse_times_local_quadratic(const std::vector<double>& pulses_s,
+                                                       int half_window);
 
 // The pulse correction of the tacho/TSA layer (pulse_refine.hpp: smoothed, then corrected from a
 // mesh line's phase on the fastest shaft), run once on the reference shaft's pulses with the

@@ -25,6 +25,8 @@
 #include "detect/analysis/analyze.hpp"
 #include "detect/angular/resample.hpp"
 #include "detect/spectral/spectrum.hpp"
+#include "diag/util/number_format.hpp"
+#include "diag/util/parallel_for.hpp"
 #include "kinematics.hpp"
 
 namespace detect::analysis_stages {
@@ -36,11 +38,7 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline constexpr double kOrderOversampling = 2.8;
 inline constexpr int kMaxSamplesPerRev = 1 << 14;
 
-inline std::string fmt(double v, int prec = 3) {
-  std::ostringstream o;
-  o << std::setprecision(prec) << v;
-  return o.str();
-}
+inline std::string fmt(double v, int prec = 3) { return diag::format_significant(v, prec); }
 
 inline std::string joined(const std::vector<std::string>& v) {
   std::string s;
@@ -59,10 +57,6 @@ inline std::size_t pow2_at_most(std::size_t v) {
   while (p * 2 <= v) p <<= 1;
   return p;
 }
-
-// Runs fn(0) .. fn(n - 1) on up to `threads` threads (0: one per hardware thread); rethrows the
-// first failure in index order, so the outcome does not depend on the thread count.
-void run_parallel(std::size_t n, int threads, const std::function<void(std::size_t)>& fn);
 
 // What every stage after the kinematics reads.
 struct AnalysisContext {
@@ -170,7 +164,8 @@ void spectrogram_stage(ChannelWork& w);
 // The kurtogram band of the channel in time and its envelope spectrum (in the order domain: the
 // envelope in time resampled like the channel), kept whole in w.envelope.
 void envelope_stage(ChannelWork& w);
-// Fault bands, band metrics and diagnose_bearings for the bearings this channel sees.
+// Fault bands, band metrics and diagnose_bearings_from_signal for the bearings this channel
+// sees.
 void bearing_stage(ChannelWork& w);
 // Mesh harmonics and sideband families of every mesh.
 void sideband_stage(ChannelWork& w);

@@ -113,7 +113,7 @@ void whole_record_stage(const AnalysisContext& ctx, AnalysisResult& r) {
   const diag::RecordingReader reader(file);
   std::mutex read_lock;
   std::vector<WholeChannel> done(r.channels.size());
-  run_parallel(r.channels.size(), ctx.opt.threads, [&](std::size_t ci) {
+  diag::parallel_for(r.channels.size(), ctx.opt.threads, [&](std::size_t ci) {
     ChannelAnalysis& c = r.channels[ci];
     const diag::ChannelInfo* info = find_signal(reader, c.name);
     // A channel the file does not hold as read (another rate), or read whole: as it is.

@@ -14,32 +14,25 @@ namespace detect {
 
 using diag::InputError;
 
-namespace {
-void require(bool ok, const std::string& where, const std::string& field,
-             const std::string& reason) {
-  if (!ok) throw InputError(diag::format_error(where, field, reason));
-}
-}  // namespace
-
 void OrderSpectrumOptions::validate() const {
-  require(segment_revs >= 0, "OrderSpectrumOptions", "segment_revs",
-          std::to_string(segment_revs) + " is not >= 0");
-  require(overlap >= 0 && overlap <= 0.9, "OrderSpectrumOptions", "overlap",
-          std::to_string(overlap) + " is not in [0, 0.9]");
-  require(max_order >= 0 && std::isfinite(max_order), "OrderSpectrumOptions", "max_order",
-          std::to_string(max_order) + " is not >= 0");
+  diag::require(segment_revs >= 0, "OrderSpectrumOptions", "segment_revs",
+                std::to_string(segment_revs) + " is not >= 0");
+  diag::require(overlap >= 0 && overlap <= 0.9, "OrderSpectrumOptions", "overlap",
+                std::to_string(overlap) + " is not in [0, 0.9]");
+  diag::require(max_order >= 0 && std::isfinite(max_order), "OrderSpectrumOptions", "max_order",
+                std::to_string(max_order) + " is not >= 0");
 }
 
 OrderSpectrum order_spectrum(const AngleResampled& r, const OrderSpectrumOptions& opt) {
   opt.validate();
   const int spr = r.samples_per_rev;
-  require(spr >= 2 && r.revolutions >= 1 &&
-              r.samples.size() == static_cast<std::size_t>(r.revolutions) * spr,
-          "order_spectrum", "resampled", "holds no whole revolution");
+  diag::require(spr >= 2 && r.revolutions >= 1 &&
+                    r.samples.size() == static_cast<std::size_t>(r.revolutions) * spr,
+                "order_spectrum", "resampled", "holds no whole revolution");
   const int seg_revs = opt.segment_revs == 0 ? r.revolutions : opt.segment_revs;
-  require(seg_revs <= r.revolutions, "order_spectrum", "segment_revs",
-          std::to_string(seg_revs) + " exceeds the " + std::to_string(r.revolutions) +
-              " revolutions held");
+  diag::require(seg_revs <= r.revolutions, "order_spectrum", "segment_revs",
+                std::to_string(seg_revs) + " exceeds the " + std::to_string(r.revolutions) +
+                    " revolutions held");
   const int hop_revs = std::max(1, static_cast<int>(std::lround(seg_revs * (1 - opt.overlap))));
   const std::size_t n = static_cast<std::size_t>(seg_revs) * spr;
 

@@ -197,9 +197,10 @@ void check_pulses(std::span<const double> p, const std::string& where) {
 
 }  // namespace
 
-std::vector<double> smooth_pulse_times(std::span<const double> pulse_times_s, int degree) {
+std::vector<double> smooth_pulse_times_polynomial(std::span<const double> pulse_times_s,
+                                                  int degree) {
   if (degree < 0 || degree > 8) {
-    throw diag::InputError(diag::format_error("smooth_pulse_times", "degree",
+    throw diag::InputError(diag::format_error("smooth_pulse_times_polynomial", "degree",
                                               std::to_string(degree) + " is outside [0, 8]"));
   }
   return smooth_pulses(std::vector<double>(pulse_times_s.begin(), pulse_times_s.end()), degree);
@@ -321,21 +322,21 @@ std::vector<const diag::Signal*> shaft_vibration_channels(const diag::Recording&
 }
 
 void PulseRefineOptions::validate() const {
-  auto fail = [](const std::string& field, const std::string& reason) {
-    throw diag::InputError(diag::format_error("PulseRefineOptions", field, reason));
-  };
   if (pulse_fit_degree < 0 || pulse_fit_degree > 8) {
-    fail("pulse_fit_degree", std::to_string(pulse_fit_degree) + " is outside [0, 8]");
+    diag::fail("PulseRefineOptions", "pulse_fit_degree",
+               std::to_string(pulse_fit_degree) + " is outside [0, 8]");
   }
   if (!(band_fraction > 0.0 && band_fraction <= 1.0)) {
-    fail("band_fraction", std::to_string(band_fraction) + " is outside (0, 1]");
+    diag::fail("PulseRefineOptions", "band_fraction",
+               std::to_string(band_fraction) + " is outside (0, 1]");
   }
   if (samples_per_rev != 0 &&
       (samples_per_rev < 64 || (samples_per_rev & (samples_per_rev - 1)) != 0)) {
-    fail("samples_per_rev",
-         std::to_string(samples_per_rev) + " is not 0 (automatic) or a power of two >= 64");
+    diag::fail("PulseRefineOptions", "samples_per_rev",
+               std::to_string(samples_per_rev) + " is not 0 (automatic) or a power of two >= 64");
   }
-  if (min_revolutions < 2) fail("min_revolutions", std::to_string(min_revolutions) + " < 2");
+  if (min_revolutions < 2)
+    diag::fail("PulseRefineOptions", "min_revolutions", std::to_string(min_revolutions) + " < 2");
 }
 
 RefinedPulses refine_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
@@ -353,7 +354,7 @@ RefinedPulses refine_pulses(const diag::Recording& rec, const diag::Gearbox& gb,
   const auto& shafts = gb.shafts();
   RefinedPulses out;
   out.shaft = reference_shaft;
-  out.pulses = smooth_pulse_times(pulse_times_s, options.pulse_fit_degree);
+  out.pulses = smooth_pulse_times_polynomial(pulse_times_s, options.pulse_fit_degree);
   if (!options.phase_correction) return out;
   const double ref_ratio = std::abs(shafts[static_cast<std::size_t>(ref_index)].speed_ratio);
   const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());

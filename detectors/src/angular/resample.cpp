@@ -1,3 +1,6 @@
+// AnglePlan and resample_by_angle (resample.hpp): the plan of output angles and their kernel
+// taps, and the dot products of the records with them. The shaft angle is in shaft_angle.cpp,
+// the kernel table in resample_kernel.cpp, the half-band decimation in half_band.cpp.
 #include "detect/angular/resample.hpp"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -9,11 +12,12 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <mutex>
-#include <numbers>
 #include <string>
 
 #include "diag/error.hpp"
+#include "resample_internal.hpp"
 
 namespace detect {
 
@@ -23,88 +27,7 @@ namespace {
 
 using diag::fail;
 using diag::require;
-
-// The inner loops, written once for 2- and 4-wide vectors (SSE2, the x86-64 baseline, and AVX2
-// where the CPU has it, chosen at run time). Each vector lane does what the scalar code would
-// do for its elements, and no fused multiply-add is enabled for either, so both give the same
-// bytes.
-using V2 = double __attribute__((vector_size(16)));
-using V4 = double __attribute__((vector_size(32)));
-
-// Cubic Hermite basis on [0, 1]: p(s) = H01(s) + m0 H10(s) + m1 H11(s) goes from 0 to 1 with
-// slopes m0, m1 (slopes normalised by the secant).
-double hermite(double s, double m0, double m1) {
-  const double s2 = s * s, s3 = s2 * s;
-  return (-2 * s3 + 3 * s2) + m0 * (s3 - 2 * s2 + s) + m1 * (s3 - s2);
-}
-double hermite_slope(double s, double m0, double m1) {
-  const double s2 = s * s;
-  return (-6 * s2 + 6 * s) + m0 * (3 * s2 - 4 * s + 1) + m1 * (3 * s2 - 2 * s);
-}
-
-// Kaiser beta for 80 dB stopband (Kaiser's formula 0.1102 (A - 8.7)), and the matching
-// transition width relative to the cutoff for Z zero crossings: (A - 8) / (2.285 * 2 pi * Z).
-constexpr double kKaiserBeta = 0.1102 * (80.0 - 8.7);
-double transition_rel(int zero_crossings) {
-  return (80.0 - 8.0) / (2.285 * 2 * std::numbers::pi * zero_crossings);
-}
-
-// The kernel h(v) = sinc(v) w(v / Z), v = g (u - n) in zero crossings, w the Kaiser window
-// I0(beta sqrt(1 - r^2)) / I0(beta), as a piecewise cubic Hermite table: cell i covers
-// [i, i + 1) / kCellsPerZeroCrossing and holds c0..c3 of h = c0 + f (c1 + f (c2 + f c3)), f the
-// position in the cell. Value and slope are exact at the cell ends, so the error is at most
-// max|h''''| d^4 / 384, d = 1 / 64: 4.5e-9 of the peak at Z = 4, 3.1e-9 at Z = 16 (resample.hpp
-// gives h''''(0), the maximum). One extra cell of zeros after v = Z takes v == Z (and v a few
-// ulps above it) without a branch.
-constexpr int kCellsPerZeroCrossing = 64;
-
-std::vector<double> kernel_table(int z, double beta) {
-  const int cells = kCellsPerZeroCrossing * z;
-  const double i0_beta = std::cyl_bessel_i(0.0, beta);
-  const double pi = std::numbers::pi;
-  std::vector<double> h(static_cast<std::size_t>(cells) + 1), dh(h.size());
-  for (int i = 0; i <= cells; ++i) {
-    const double v = static_cast<double>(i) / kCellsPerZeroCrossing;
-    const double r = v / z;
-    const double sinc = i == 0 ? 1.0 : std::sin(pi * v) / (pi * v);
-    const double dsinc = i == 0 ? 0.0 : (std::cos(pi * v) - sinc) / v;
-    const double arg = beta * std::sqrt(std::max(0.0, 1 - r * r));
-    const double w = std::cyl_bessel_i(0.0, arg) / i0_beta;
-    // dw/dr = -beta^2 r (I1(arg) / arg) / I0(beta); I1(a) / a -> 1/2 as a -> 0 (r = 1).
-    const double i1_over = arg > 1e-8 ? std::cyl_bessel_i(1.0, arg) / arg : 0.5;
-    const double dw = -beta * beta * r * i1_over / i0_beta;
-    h[static_cast<std::size_t>(i)] = sinc * w;
-    dh[static_cast<std::size_t>(i)] = dsinc * w + sinc * dw / z;
-  }
-  const double d = 1.0 / kCellsPerZeroCrossing;
-  std::vector<double> table(4 * (static_cast<std::size_t>(cells) + 1), 0.0);
-  for (std::size_t i = 0; i < static_cast<std::size_t>(cells); ++i) {
-    const double h0 = h[i], h1 = h[i + 1], s0 = d * dh[i], s1 = d * dh[i + 1];
-    table[4 * i] = h0;
-    table[4 * i + 1] = s0;
-    table[4 * i + 2] = 3 * (h1 - h0) - 2 * s0 - s1;
-    table[4 * i + 3] = 2 * (h0 - h1) + s0 + s1;
-  }
-  return table;
-}
-
-// The table of each Z, built once per process (it does not depend on the plan).
-const std::vector<double>& shared_kernel_table(int z) {
-  static std::array<std::once_flag, 65> once;
-  static std::array<std::vector<double>, 65> tables;
-  const auto i = static_cast<std::size_t>(z);
-  std::call_once(once[i], [&] { tables[i] = kernel_table(z, kKaiserBeta); });
-  return tables[i];
-}
-
-double table_kernel(const double* table, int z, double v) {
-  const double p = std::abs(v) * kCellsPerZeroCrossing;
-  const auto i =
-      std::min(static_cast<std::size_t>(p), static_cast<std::size_t>(z) * kCellsPerZeroCrossing);
-  const double f = p - static_cast<double>(i);
-  const double* c = table + 4 * i;
-  return c[0] + f * (c[1] + f * (c[2] + f * c[3]));
-}
+using namespace resample_internal;
 
 // Polyphase form of the kernel for a plan whose cutoff g is the same for every output (see
 // resample.hpp): the taps of an output at u = b + phi (b = floor(u)) are c_j = h(g (phi - j)),
@@ -118,223 +41,7 @@ constexpr double kSameCutoff = 1e-10;
 // Largest polyphase table [doubles]; larger (a cutoff far below fs / 2, many taps): per tap.
 constexpr std::size_t kMaxPolyphase = std::size_t{1} << 17;
 
-// Safeguarded Newton on the monotone cubic hermite(s, m0, m1) = q in [0, 1], from s.
-double solve_hermite(double q, double m0, double m1, double s) {
-  double lo = 0, hi = 1;
-  for (int it = 0; it < 60; ++it) {
-    const double f = hermite(s, m0, m1) - q;
-    if (std::abs(f) <= 4e-16) break;  // p is in [0, 1]: a few ulps
-    if (f > 0)
-      hi = s;
-    else
-      lo = s;
-    const double df = hermite_slope(s, m0, m1);
-    double next = df > 0 ? s - f / df : 0.5 * (lo + hi);
-    if (!(next >= lo && next <= hi)) next = 0.5 * (lo + hi);
-    const bool done = std::abs(next - s) <= 1e-15;
-    s = next;
-    if (done) break;
-  }
-  return s;
-}
-
-// The half-band filter of resample.hpp: h[0] = 1/2, h[+-n] for odd n = 1 .. kHalfBandReach
-// (kHalfBandPairs of them), every other even tap 0. Built once per process.
-constexpr int kHalfBandReach = 55;
-constexpr int kHalfBandPairs = (kHalfBandReach + 1) / 2;
-constexpr double kHalfBandEdge = 0.22;  // passband edge / the stage's input rate
-constexpr int kMaxStages = 4;
-const std::array<double, kHalfBandPairs>& half_band_taps() {
-  static const std::array<double, kHalfBandPairs> taps = [] {
-    const double beta = 0.1102 * (100.0 - 8.7);
-    const double i0_beta = std::cyl_bessel_i(0.0, beta);
-    std::array<double, kHalfBandPairs> h{};
-    for (int j = 0; j < kHalfBandPairs; ++j) {
-      const int n = 2 * j + 1;
-      const double r = static_cast<double>(n) / kHalfBandReach;
-      const double x = std::numbers::pi * n / 2;
-      h[static_cast<std::size_t>(j)] =
-          0.5 * (std::sin(x) / x) * std::cyl_bessel_i(0.0, beta * std::sqrt(1 - r * r)) / i0_beta;
-    }
-    return h;
-  }();
-  return taps;
-}
-std::size_t decimated_length(std::size_t n, int stages) {
-  for (int s = 0; s < stages; ++s) n = (n + 1) / 2;
-  return n;
-}
-// Samples at each end of a record decimated `stages` times that the zeros beyond the record
-// reach (an upper bound: a sample k of stage s is exact when 2k -+ kHalfBandReach lies inside
-// the exact part of stage s - 1).
-long decimated_edge(int stages) {
-  long edge = 0;
-  for (int s = 0; s < stages; ++s) edge = (edge + kHalfBandReach + 1) / 2 + 1;
-  return edge;
-}
-
 }  // namespace
-
-// ---------------------------------------------------------------------------------------------
-// ShaftAngle
-
-ShaftAngle::ShaftAngle(std::span<const double> t, int pulses_per_rev) : ppr_(pulses_per_rev) {
-  require(pulses_per_rev >= 1, "ShaftAngle", "pulses_per_rev",
-          std::to_string(pulses_per_rev) + " is not >= 1");
-  require(t.size() >= static_cast<std::size_t>(pulses_per_rev) + 1, "ShaftAngle", "pulse_times_s",
-          "has " + std::to_string(t.size()) + " pulses; one revolution needs " +
-              std::to_string(pulses_per_rev + 1));
-  for (std::size_t i = 0; i < t.size(); ++i) {
-    if (!std::isfinite(t[i]))
-      fail("ShaftAngle", "pulse_times_s", "pulse " + std::to_string(i) + " is NaN or Inf");
-    if (i > 0 && !(t[i] > t[i - 1]))
-      fail("ShaftAngle", "pulse_times_s", "not strictly increasing at pulse " + std::to_string(i));
-  }
-  t_.assign(t.begin(), t.end());
-  const std::size_t n = t_.size();
-  const double dth = 1.0 / ppr_;
-  slope_.resize(n);
-  if (n == 2) {
-    slope_[0] = slope_[1] = dth / (t_[1] - t_[0]);
-    return;
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    // The parabola through three consecutive pulses, differentiated at pulse i.
-    const std::size_t c = std::clamp<std::size_t>(i, 1, n - 2);
-    const double h0 = t_[c] - t_[c - 1], h1 = t_[c + 1] - t_[c];
-    const double s0 = dth / h0, s1 = dth / h1;
-    double d, smin;
-    if (i == c) {
-      d = (h1 * s0 + h0 * s1) / (h0 + h1);
-      smin = std::min(s0, s1);
-    } else if (i < c) {
-      d = ((2 * h0 + h1) * s0 - h0 * s1) / (h0 + h1);
-      smin = s0;
-    } else {
-      d = ((2 * h1 + h0) * s1 - h1 * s0) / (h0 + h1);
-      smin = s1;
-    }
-    slope_[i] = std::clamp(d, 0.0, 3 * smin);  // Fritsch-Carlson: monotone on both sides
-  }
-}
-
-double ShaftAngle::max_speed_rev_per_s() const {
-  // p'(s) = a s^2 + b s + c on each interval (hermite_slope): its largest value is at an end or
-  // at the vertex of a downward parabola.
-  double most = *std::max_element(slope_.begin(), slope_.end());
-  const double dth = 1.0 / ppr_;
-  for (std::size_t i = 0; i + 1 < t_.size(); ++i) {
-    const double h = t_[i + 1] - t_[i];
-    const double m0 = slope_[i] * h / dth, m1 = slope_[i + 1] * h / dth;
-    const double a = -6 + 3 * m0 + 3 * m1, b = 6 - 4 * m0 - 2 * m1;
-    if (a < 0) {
-      const double s = -b / (2 * a);
-      if (s > 0 && s < 1) most = std::max(most, hermite_slope(s, m0, m1) * dth / h);
-    }
-  }
-  return most;
-}
-
-double ShaftAngle::total_revs() const { return static_cast<double>(t_.size() - 1) / ppr_; }
-
-std::size_t ShaftAngle::interval_of_time(double t) const {
-  const auto it = std::upper_bound(t_.begin(), t_.end(), t);
-  const std::size_t k = static_cast<std::size_t>(it - t_.begin());
-  return std::clamp<std::size_t>(k == 0 ? 0 : k - 1, 0, t_.size() - 2);
-}
-
-double ShaftAngle::revs_at(double t) const {
-  const double dth = 1.0 / ppr_;
-  if (t <= t_.front()) return (t - t_.front()) * slope_.front();
-  if (t >= t_.back()) return total_revs() + (t - t_.back()) * slope_.back();
-  const std::size_t i = interval_of_time(t);
-  const double h = t_[i + 1] - t_[i];
-  const double s = (t - t_[i]) / h;
-  return (static_cast<double>(i) + hermite(s, slope_[i] * h / dth, slope_[i + 1] * h / dth)) * dth;
-}
-
-double ShaftAngle::speed_rev_per_s(double t) const {
-  if (t <= t_.front()) return slope_.front();
-  if (t >= t_.back()) return slope_.back();
-  const double dth = 1.0 / ppr_;
-  const std::size_t i = interval_of_time(t);
-  const double h = t_[i + 1] - t_[i];
-  const double s = (t - t_[i]) / h;
-  return hermite_slope(s, slope_[i] * h / dth, slope_[i + 1] * h / dth) * dth / h;
-}
-
-double ShaftAngle::time_at(double revs) const {
-  const double total = total_revs();
-  // Linear extrapolation beyond the pulses; a zero end slope cannot be inverted, use the secant.
-  if (revs <= 0) {
-    const double sl = slope_.front() > 0 ? slope_.front() : (1.0 / ppr_) / (t_[1] - t_[0]);
-    return t_.front() + revs / sl;
-  }
-  if (revs >= total) {
-    const std::size_t n = t_.size();
-    const double sl = slope_.back() > 0 ? slope_.back() : (1.0 / ppr_) / (t_[n - 1] - t_[n - 2]);
-    return t_.back() + (revs - total) / sl;
-  }
-  const double pos = revs * ppr_;
-  const std::size_t i = std::min(static_cast<std::size_t>(pos), t_.size() - 2);
-  const double q = pos - static_cast<double>(i);  // target of p(s), in [0, 1]
-  const double h = t_[i + 1] - t_[i];
-  const double dth = 1.0 / ppr_;
-  const double m0 = slope_[i] * h / dth, m1 = slope_[i + 1] * h / dth;
-  return t_[i] + solve_hermite(q, m0, m1, q) * h;
-}
-
-void ShaftAngle::times_at_uniform_angles(double first_revs, int spr, std::span<double> times,
-                                         std::span<double> speeds) const {
-  require(spr >= 1, "ShaftAngle::times_at_uniform_angles", "samples_per_rev",
-          std::to_string(spr) + " is not >= 1");
-  require(speeds.empty() || speeds.size() == times.size(), "ShaftAngle::times_at_uniform_angles",
-          "speeds_rev_per_s", "is neither empty nor as long as times_s");
-  const double total = total_revs();
-  const double dth = 1.0 / ppr_;
-  std::size_t seg = t_.size();  // the pulse interval of the previous angle (none yet)
-  double h = 0, m0 = 0, m1 = 0, s = 0, q_prev = 0;
-  for (std::size_t m = 0; m < times.size(); ++m) {
-    const double revs = first_revs + static_cast<double>(m) / spr;
-    if (!(revs > 0 && revs < total)) {  // extrapolated: rare, at most the ends
-      times[m] = time_at(revs);
-      if (!speeds.empty()) speeds[m] = speed_rev_per_s(times[m]);
-      seg = t_.size();
-      continue;
-    }
-    const double pos = revs * ppr_;
-    const std::size_t i = std::min(static_cast<std::size_t>(pos), t_.size() - 2);
-    const double q = pos - static_cast<double>(i);
-    double guess = q;
-    if (i != seg) {
-      seg = i;
-      h = t_[i + 1] - t_[i];
-      m0 = slope_[i] * h / dth;
-      m1 = slope_[i + 1] * h / dth;
-    } else {
-      // One Newton step from the previous angle's solution: the Newton below then converges in
-      // one or two evaluations.
-      const double df = hermite_slope(s, m0, m1);
-      guess = df > 0 ? std::clamp(s + (q - q_prev) / df, s, 1.0) : q;
-    }
-    s = solve_hermite(q, m0, m1, guess);
-    q_prev = q;
-    times[m] = t_[i] + s * h;
-    if (!speeds.empty()) speeds[m] = hermite_slope(s, m0, m1) * dth / h;
-  }
-}
-
-std::vector<double> scale_pulses(std::span<const double> pulse_times_s, double ratio,
-                                 int pulses_per_rev) {
-  require(ratio > 0 && std::isfinite(ratio), "scale_pulses", "ratio",
-          std::to_string(ratio) + " is not > 0");
-  const ShaftAngle a(pulse_times_s, pulses_per_rev);
-  // Relative slack of 1e-9 keeps the last revolution when ratio * total is an integer.
-  const auto k_max = static_cast<long>(std::floor(ratio * a.total_revs() * (1 + 1e-12) + 1e-9));
-  std::vector<double> out(static_cast<std::size_t>(k_max + 1));
-  for (long k = 0; k <= k_max; ++k) out[static_cast<std::size_t>(k)] = a.time_at(k / ratio);
-  return out;
-}
 
 // ---------------------------------------------------------------------------------------------
 // resample_by_angle
@@ -738,53 +445,10 @@ void poly_taps_sse2(const double* c0, const double* c1, const double* c2, double
                     std::size_t count) {
   poly_taps<V2>(c0, c1, c2, f, c, count);
 }
-// The half-band stage (half_band_stage) for outputs k0 .. k1: y[k] = x[2k] / 2 + sum_j h_j
-// (o[k - 1 - j] + o[k + j]), o the odd samples with zeros around them; kHalfBandBlock outputs at
-// a time in independent accumulators (the sum of each output in the order j = 0, 1, ..., the
-// same in every lane and in half_band_one: the same bytes at either width).
-constexpr std::size_t kHalfBandBlock = 16;
-using HalfBand = void (*)(const double* x, const double* o, double* y, std::size_t k0,
-                          std::size_t k1);
-void half_band_one(const double* x, const double* o, double* y, std::size_t k0, std::size_t k1) {
-  const auto& h = half_band_taps();
-  for (std::size_t k = k0; k < k1; ++k) {
-    double acc = 0.5 * x[2 * k];
-    for (std::size_t j = 0; j < h.size(); ++j) acc += h[j] * (o[k - 1 - j] + o[k + j]);
-    y[k] = acc;
-  }
-}
-template <class V>
-[[gnu::always_inline]] inline void half_band_block(const double* x, const double* o, double* y,
-                                                   std::size_t k0, std::size_t k1) {
-  constexpr std::size_t kW = sizeof(V) / sizeof(double), kRegs = kHalfBandBlock / kW;
-  const auto& h = half_band_taps();
-  for (std::size_t k = k0; k < k1; k += kHalfBandBlock) {
-    V acc[kRegs];
-    for (std::size_t r = 0; r < kRegs; ++r) {
-      for (std::size_t l = 0; l < kW; ++l) acc[r][l] = 0.5 * x[2 * (k + r * kW + l)];
-    }
-    for (std::size_t j = 0; j < h.size(); ++j) {
-      V hj;
-      for (std::size_t l = 0; l < kW; ++l) hj[l] = h[j];
-#pragma GCC unroll 8
-      for (std::size_t r = 0; r < kRegs; ++r) {
-        V a, b;
-        std::memcpy(&a, o + k + r * kW - 1 - j, sizeof(V));
-        std::memcpy(&b, o + k + r * kW + j, sizeof(V));
-        acc[r] += hj * (a + b);
-      }
-    }
-    for (std::size_t r = 0; r < kRegs; ++r) std::memcpy(y + k + r * kW, &acc[r], sizeof(V));
-  }
-}
-void half_band_sse2(const double* x, const double* o, double* y, std::size_t k0, std::size_t k1) {
-  half_band_block<V2>(x, o, y, k0, k1);
-}
 struct Kernels {
   BlockDot dot;
   AnglePlanAccess::PolyTaps poly;
   AnglePlanAccess::TableTaps table;
-  HalfBand half_band;
 };
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 [[gnu::target("avx2")]] void block_dot_avx2(const double* const* x, std::size_t n, const double* t,
@@ -798,11 +462,18 @@ struct Kernels {
                                             double f, double* c, std::size_t count) {
   poly_taps<V4>(c0, c1, c2, f, c, count);
 }
-[[gnu::target("avx2")]] void half_band_avx2(const double* x, const double* o, double* y,
-                                            std::size_t k0, std::size_t k1) {
-  half_band_block<V4>(x, o, y, k0, k1);
-}
 #endif
+Kernels kernels() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+  if (use_avx2()) return {block_dot_avx2, poly_taps_avx2, table_taps_avx2};
+#endif
+  return {block_dot_sse2, poly_taps_sse2, table_taps_scalar};
+}
+
+}  // namespace
+
+namespace resample_internal {
+
 // SimdPath::kAuto: AVX2 where the CPU has it.
 std::atomic<SimdPath> g_simd{SimdPath::kAuto};
 bool use_avx2() {
@@ -814,30 +485,8 @@ bool use_avx2() {
   return false;
 #endif
 }
-Kernels kernels() {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-  if (use_avx2()) return {block_dot_avx2, poly_taps_avx2, table_taps_avx2, half_band_avx2};
-#endif
-  return {block_dot_sse2, poly_taps_sse2, table_taps_scalar, half_band_sse2};
-}
 
-// One half-band stage: y[k] = x[2k] / 2 + sum_j h_j (x[2k - 1 - 2j] + x[2k + 1 + 2j]), zeros
-// beyond x. The odd samples are copied with kHalfBandPairs zeros on each side, so that the sum
-// over j reads two contiguous rows of them.
-std::vector<double> half_band_stage(std::span<const double> x, const Kernels& kern) {
-  const std::size_t n = x.size(), ny = (n + 1) / 2, no = n / 2;
-  constexpr std::size_t kPad = kHalfBandPairs;
-  std::vector<double> odd(no + 2 * kPad + 8, 0.0);
-  for (std::size_t i = 0; i < no; ++i) odd[kPad + i] = x[2 * i + 1];
-  std::vector<double> y(ny);
-  // Whole blocks where x[2k] exists for every k of the block; the rest one by one.
-  const std::size_t whole = std::min(ny, n / 2) / kHalfBandBlock * kHalfBandBlock;
-  kern.half_band(x.data(), odd.data() + kPad, y.data(), 0, whole);
-  half_band_one(x.data(), odd.data() + kPad, y.data(), whole, ny);
-  return y;
-}
-
-}  // namespace
+}  // namespace resample_internal
 
 bool set_resample_simd(SimdPath path) {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -847,16 +496,6 @@ bool set_resample_simd(SimdPath path) {
 #endif
   g_simd.store(path, std::memory_order_relaxed);
   return true;
-}
-
-std::vector<double> decimate_half_band(std::span<const double> x, int stages) {
-  require(stages >= 0 && stages <= kMaxStages, "decimate_half_band", "stages",
-          std::to_string(stages) + " is not in [0, " + std::to_string(kMaxStages) + "]");
-  if (stages == 0) return {x.begin(), x.end()};
-  const Kernels kern = kernels();
-  std::vector<double> y = half_band_stage(x, kern);
-  for (int s = 1; s < stages; ++s) y = half_band_stage(y, kern);
-  return y;
 }
 
 struct AnglePlan::KeptTaps {

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
-#include <sstream>
 
 #include "detect/spectral/fft.hpp"
 #include "detect/spectral/welch.hpp"
@@ -12,6 +11,7 @@
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace detect {
 
@@ -36,17 +36,6 @@ constexpr double kDistinctPeakBins = 2.0;
 constexpr double kMinRidgeBins = 4.0;
 // Frames whose least-squares line extrapolates the ridge beyond the first and last frame centres.
 constexpr std::size_t kEndFitFrames = 5;
-
-std::string fmt(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
-void fail_opt(const std::string& field, const std::string& reason) {
-  fail("SpeedEstimateOptions", field, reason);
-}
 
 std::size_t next_pow2(std::size_t n) {
   std::size_t p = 1;
@@ -249,28 +238,40 @@ class Demodulator {
 
 void SpeedEstimateOptions::validate() const {
   if (!(search_fraction > 0.0 && search_fraction < 0.5))
-    fail_opt("search_fraction", fmt(search_fraction) + " is not in (0, 0.5)");
+    fail("SpeedEstimateOptions", "search_fraction",
+         diag::format_significant(search_fraction, 6) + " is not in (0, 0.5)");
   if (!(frame_s > 0.0 && std::isfinite(frame_s)))
-    fail_opt("frame_s", fmt(frame_s) + " is not a finite time > 0");
+    fail("SpeedEstimateOptions", "frame_s",
+         diag::format_significant(frame_s, 6) + " is not a finite time > 0");
   if (!(hop_s > 0.0 && hop_s <= frame_s))
-    fail_opt("hop_s", fmt(hop_s) + " is not in (0, frame_s = " + fmt(frame_s) + "]");
+    fail("SpeedEstimateOptions", "hop_s",
+         diag::format_significant(hop_s, 6) +
+             " is not in (0, frame_s = " + diag::format_significant(frame_s, 6) + "]");
   if (zero_padding < 1 || zero_padding > 16)
-    fail_opt("zero_padding", std::to_string(zero_padding) + " is not in [1, 16]");
+    fail("SpeedEstimateOptions", "zero_padding",
+         std::to_string(zero_padding) + " is not in [1, 16]");
   if (!(min_prominence_db >= 3.0 && min_prominence_db <= 60.0))
-    fail_opt("min_prominence_db", fmt(min_prominence_db) + " is not in [3, 60]");
+    fail("SpeedEstimateOptions", "min_prominence_db",
+         diag::format_significant(min_prominence_db, 6) + " is not in [3, 60]");
   if (!(max_step_fraction > 0.0 && max_step_fraction < 0.5))
-    fail_opt("max_step_fraction", fmt(max_step_fraction) + " is not in (0, 0.5)");
+    fail("SpeedEstimateOptions", "max_step_fraction",
+         diag::format_significant(max_step_fraction, 6) + " is not in (0, 0.5)");
   if (!std::isfinite(nominal_time_s))
-    fail_opt("nominal_time_s", "is NaN or Inf (< 0 means: the whole record)");
+    fail("SpeedEstimateOptions", "nominal_time_s", "is NaN or Inf (< 0 means: the whole record)");
   if (!(demod_passband > 0.0 && demod_passband < 0.5))
-    fail_opt("demod_passband", fmt(demod_passband) + " is not in (0, 0.5)");
+    fail("SpeedEstimateOptions", "demod_passband",
+         diag::format_significant(demod_passband, 6) + " is not in (0, 0.5)");
   if (!(min_line_snr > 0.0 && std::isfinite(min_line_snr)))
-    fail_opt("min_line_snr", fmt(min_line_snr) + " is not a finite ratio > 0");
+    fail("SpeedEstimateOptions", "min_line_snr",
+         diag::format_significant(min_line_snr, 6) + " is not a finite ratio > 0");
   if (!(max_fade_fraction >= 0.0 && max_fade_fraction <= 1.0))
-    fail_opt("max_fade_fraction", fmt(max_fade_fraction) + " is not in [0, 1]");
+    fail("SpeedEstimateOptions", "max_fade_fraction",
+         diag::format_significant(max_fade_fraction, 6) + " is not in [0, 1]");
   if (!(stationary_tolerance > 0.0 && std::isfinite(stationary_tolerance)))
-    fail_opt("stationary_tolerance", fmt(stationary_tolerance) + " is not a finite ratio > 0");
-  if (points_per_rev < 8) fail_opt("points_per_rev", std::to_string(points_per_rev) + " is < 8");
+    fail("SpeedEstimateOptions", "stationary_tolerance",
+         diag::format_significant(stationary_tolerance, 6) + " is not a finite ratio > 0");
+  if (points_per_rev < 8)
+    fail("SpeedEstimateOptions", "points_per_rev", std::to_string(points_per_rev) + " is < 8");
 }
 
 std::string_view to_string(SpeedStatus s) {
@@ -311,16 +312,18 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
                              const SpeedEstimateOptions& options) {
   const std::string where = "estimate_speed";
   options.validate();
-  require(fs_hz > 0.0 && std::isfinite(fs_hz), where, "fs_hz", fmt(fs_hz) + " is not > 0");
+  require(fs_hz > 0.0 && std::isfinite(fs_hz), where, "fs_hz",
+          diag::format_significant(fs_hz, 6) + " is not > 0");
   require(nominal_speed_hz > 0.0 && std::isfinite(nominal_speed_hz), where, "nominal_speed_hz",
-          fmt(nominal_speed_hz) + " is not a finite speed > 0");
+          diag::format_significant(nominal_speed_hz, 6) + " is not a finite speed > 0");
   require(!channels.empty(), where, "channels", "none given");
   const std::size_t n = channels.front().size();
   const auto nperseg = static_cast<std::size_t>(std::llround(options.frame_s * fs_hz));
   const auto hop = std::max<std::size_t>(
       1, std::min(nperseg, static_cast<std::size_t>(std::llround(options.hop_s * fs_hz))));
   require(nperseg >= 16, where, "frame_s",
-          fmt(options.frame_s) + " s is " + std::to_string(nperseg) + " samples, < 16");
+          diag::format_significant(options.frame_s, 6) + " s is " + std::to_string(nperseg) +
+              " samples, < 16");
   for (std::size_t c = 0; c < channels.size(); ++c) {
     require(channels[c].size() == n, where, "channels",
             "channel " + std::to_string(c) + " has " + std::to_string(channels[c].size()) +
@@ -332,15 +335,17 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
     }
   }
   require(n >= nperseg, where, "channels",
-          std::to_string(n) + " samples, fewer than one frame (frame_s = " + fmt(options.frame_s) +
-              " s: " + std::to_string(nperseg) + ")");
+          std::to_string(n) + " samples, fewer than one frame (frame_s = " +
+              diag::format_significant(options.frame_s, 6) + " s: " + std::to_string(nperseg) +
+              ")");
   require(!lines.empty(), where, "lines", "no candidate line");
   for (std::size_t i = 0; i < lines.size(); ++i) {
     require(lines[i].order > 0.0 && std::isfinite(lines[i].order), where,
-            "lines[" + std::to_string(i) + "].order", fmt(lines[i].order) + " is not > 0");
+            "lines[" + std::to_string(i) + "].order",
+            diag::format_significant(lines[i].order, 6) + " is not > 0");
     require(lines[i].modulation_order > 0.0 && std::isfinite(lines[i].modulation_order), where,
             "lines[" + std::to_string(i) + "].modulation_order",
-            fmt(lines[i].modulation_order) + " is not > 0");
+            diag::format_significant(lines[i].modulation_order, 6) + " is not > 0");
   }
 
   SpeedEstimate est;
@@ -353,8 +358,9 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
     const double lo = l.order * nominal_speed_hz * (1.0 - s);
     const double hi = l.order * nominal_speed_hz * (1.0 + s);
     if (hi > kMaxNyquistFraction * nyquist) {
-      est.notes.push_back("candidate '" + l.label + "' (order " + fmt(l.order) + ", up to " +
-                          fmt(hi) + " Hz) dropped: above 0.8 x Nyquist");
+      est.notes.push_back("candidate '" + l.label + "' (order " +
+                          diag::format_significant(l.order, 6) + ", up to " +
+                          diag::format_significant(hi, 6) + " Hz) dropped: above 0.8 x Nyquist");
       continue;
     }
     bool merged = false;
@@ -439,7 +445,8 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   if (!best.found) {
     est.status = ambiguous ? SpeedStatus::kAmbiguous : SpeedStatus::kNoLine;
     est.notes.push_back(ambiguous ? "only ambiguous lines: no speed claimed"
-                                  : "no candidate line stands " + fmt(options.min_prominence_db) +
+                                  : "no candidate line stands " +
+                                        diag::format_significant(options.min_prominence_db, 6) +
                                         " dB over its band: no speed claimed");
     return est;
   }
@@ -447,8 +454,10 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   est.line_frequency_hz = best.frequency_hz;
   est.prominence_db = best.prominence_db;
   est.channel = best.channel;
-  est.notes.push_back("line '" + est.line.label + "' (order " + fmt(est.line.order) + ") at " +
-                      fmt(best.frequency_hz) + " Hz, " + fmt(best.prominence_db) +
+  est.notes.push_back("line '" + est.line.label + "' (order " +
+                      diag::format_significant(est.line.order, 6) + ") at " +
+                      diag::format_significant(best.frequency_hz, 6) + " Hz, " +
+                      diag::format_significant(best.prominence_db, 6) +
                       " dB over its band, channel " + std::to_string(best.channel));
   const double order = est.line.order;
   // Cross-check: the other prominent lines of the same channel should imply the same speed, to
@@ -461,10 +470,11 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
       ++est.confirmations;
     } else {
       ++est.contradictions;
-      est.notes.push_back("line '" + o.cand.line.label + "' at " + fmt(o.frequency_hz) +
-                          " Hz implies " + fmt(o.frequency_hz / o.cand.line.order) +
-                          " Hz, the line followed " + fmt(best.frequency_hz / order) +
-                          " Hz: one of them may be a sideband or a foreign line");
+      est.notes.push_back(
+          "line '" + o.cand.line.label + "' at " + diag::format_significant(o.frequency_hz, 6) +
+          " Hz implies " + diag::format_significant(o.frequency_hz / o.cand.line.order, 6) +
+          " Hz, the line followed " + diag::format_significant(best.frequency_hz / order, 6) +
+          " Hz: one of them may be a sideband or a foreign line");
     }
   }
 
@@ -578,8 +588,9 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   est.status = est.faded_fraction > options.max_fade_fraction ? SpeedStatus::kLowConfidence
                                                               : SpeedStatus::kTracked;
   if (faded > 0) {
-    est.notes.push_back("the line is under " + fmt(options.min_line_snr) +
-                        " x the noise in its band for " + fmt(100.0 * est.faded_fraction) +
+    est.notes.push_back("the line is under " + diag::format_significant(options.min_line_snr, 6) +
+                        " x the noise in its band for " +
+                        diag::format_significant(100.0 * est.faded_fraction, 6) +
                         " % of the record: phase slips of 1/order rev possible there");
   }
 

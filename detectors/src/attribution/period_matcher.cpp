@@ -20,10 +20,6 @@ using diag::units::kTwoPi;
 
 namespace {
 
-void require(bool ok, const std::string& field, const std::string& reason) {
-  if (!ok) throw InputError(diag::format_error("attribution", field, reason));
-}
-
 // The smooth part of the irregularity that turns with one shaft: a table over one revolution of
 // the shaft, fitted by weighted least squares to a few Fourier orders of the bin means.
 struct ShaftComponent {
@@ -160,48 +156,53 @@ struct Train {
 }  // namespace
 
 void AttributionOptions::validate() const {
-  require(threshold_sigma >= 3 && std::isfinite(threshold_sigma), "threshold_sigma",
-          "must be >= 3");
-  require(min_event_rad >= 0, "min_event_rad", "must be >= 0");
-  require(position_tolerance_rad >= 0, "position_tolerance_rad", "must be >= 0");
-  require(period_tolerance > 0 && period_tolerance <= 0.2, "period_tolerance",
-          "must be in (0, 0.2]");
-  require(min_coverage > 0 && min_coverage <= 1, "min_coverage", "must be in (0, 1]");
-  require(smooth_harmonics >= 0 && smooth_harmonics <= 64, "smooth_harmonics",
-          "must be in [0, 64]");
-  require(mesh_harmonics >= 0 && mesh_harmonics <= 8, "mesh_harmonics", "must be in [0, 8]");
-  require(min_recurrences >= 2, "min_recurrences", "must be >= 2");
+  diag::require(threshold_sigma >= 3 && std::isfinite(threshold_sigma), "attribution",
+                "threshold_sigma", "must be >= 3");
+  diag::require(min_event_rad >= 0, "attribution", "min_event_rad", "must be >= 0");
+  diag::require(position_tolerance_rad >= 0, "attribution", "position_tolerance_rad",
+                "must be >= 0");
+  diag::require(period_tolerance > 0 && period_tolerance <= 0.2, "attribution", "period_tolerance",
+                "must be in (0, 0.2]");
+  diag::require(min_coverage > 0 && min_coverage <= 1, "attribution", "min_coverage",
+                "must be in (0, 1]");
+  diag::require(smooth_harmonics >= 0 && smooth_harmonics <= 64, "attribution", "smooth_harmonics",
+                "must be in [0, 64]");
+  diag::require(mesh_harmonics >= 0 && mesh_harmonics <= 8, "attribution", "mesh_harmonics",
+                "must be in [0, 8]");
+  diag::require(min_recurrences >= 2, "attribution", "min_recurrences", "must be >= 2");
 }
 
 AttributionResult attribute_defects(std::span<const double> in, std::span<const double> out,
                                     const diag::Gearbox& gb, const AttributionOptions& opt) {
   opt.validate();
-  require(in.size() == out.size(), "output_angle_rad",
-          "has " + std::to_string(out.size()) + " samples but input_angle_rad has " +
-              std::to_string(in.size()));
-  require(in.size() >= 16, "input_angle_rad", "needs at least 16 samples");
+  diag::require(in.size() == out.size(), "attribution", "output_angle_rad",
+                "has " + std::to_string(out.size()) + " samples but input_angle_rad has " +
+                    std::to_string(in.size()));
+  diag::require(in.size() >= 16, "attribution", "input_angle_rad", "needs at least 16 samples");
   for (std::size_t i = 0; i < in.size(); ++i) {
     if (!std::isfinite(in[i]) || !std::isfinite(out[i])) {
-      require(false, std::isfinite(in[i]) ? "output_angle_rad" : "input_angle_rad",
-              "sample " + std::to_string(i) + " is NaN or Inf");
+      diag::require(false, "attribution",
+                    std::isfinite(in[i]) ? "output_angle_rad" : "input_angle_rad",
+                    "sample " + std::to_string(i) + " is NaN or Inf");
     }
     if (i > 0 && in[i] < in[i - 1]) {
-      require(false, "input_angle_rad",
-              "angles not increasing: sample " + std::to_string(i) + " (" + std::to_string(in[i]) +
-                  ") is below sample " + std::to_string(i - 1) + " (" + std::to_string(in[i - 1]) +
-                  ")");
+      diag::require(false, "attribution", "input_angle_rad",
+                    "angles not increasing: sample " + std::to_string(i) + " (" +
+                        std::to_string(in[i]) + ") is below sample " + std::to_string(i - 1) +
+                        " (" + std::to_string(in[i - 1]) + ")");
     }
   }
   const std::size_t n = in.size();
   const double span_in = in[n - 1] - in[0];
   const double span_out = out[n - 1] - out[0];
-  require(span_in > 0, "input_angle_rad", "the input shaft does not turn");
+  diag::require(span_in > 0, "attribution", "input_angle_rad", "the input shaft does not turn");
   const double u = gb.total_ratio();
   const double seen_ratio = span_in / std::abs(span_out);
-  require(std::abs(span_out) > 0 && std::abs(seen_ratio / u - 1.0) < 0.02, "output_angle_rad",
-          "the recording turns the output " + std::to_string(seen_ratio) +
-              " times slower than the input, but the gearbox's overall ratio is " +
-              std::to_string(u) + ": wrong gearbox description or channels");
+  diag::require(std::abs(span_out) > 0 && std::abs(seen_ratio / u - 1.0) < 0.02, "attribution",
+                "output_angle_rad",
+                "the recording turns the output " + std::to_string(seen_ratio) +
+                    " times slower than the input, but the gearbox's overall ratio is " +
+                    std::to_string(u) + ": wrong gearbox description or channels");
 
   // Path shafts and their periods in input angle.
   const auto& path = gb.power_path();
@@ -222,7 +223,7 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
       << opt.min_recurrences * longest_rev << " are needed (" << opt.min_recurrences
       << " recurrences of the longest period, " << longest_rev << " input revolutions of shaft '"
       << gb.shafts()[longest_shaft].name << "')";
-    require(false, "input_angle_rad", m.str());
+    diag::require(false, "attribution", "input_angle_rad", m.str());
   }
 
   // 1. The lag of the output behind its theoretical angle.

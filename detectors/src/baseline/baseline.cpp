@@ -13,11 +13,6 @@ namespace detect {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& where, const std::string& field,
-                       const std::string& reason) {
-  throw diag::InputError(diag::format_error(where, field, reason));
-}
-
 // Median of v (v is reordered).
 double median_of(std::vector<double>& v) {
   const std::size_t n = v.size();
@@ -36,12 +31,12 @@ constexpr double kMadToSigma = 1.482602218505602;
 void BaselineFeatureOptions::validate() const {
   const std::string w = "baseline_features";
   if (nperseg < 64 || nperseg > (std::size_t(1) << 20))
-    fail(w, "nperseg", std::to_string(nperseg) + " is not in [64, 2^20]");
+    diag::fail(w, "nperseg", std::to_string(nperseg) + " is not in [64, 2^20]");
   if (!(lowest_band_fraction >= 1.0 / static_cast<double>(nperseg)) ||
       !(lowest_band_fraction <= 0.125))
-    fail(w, "lowest_band_fraction",
-         std::to_string(lowest_band_fraction) + " is not in [1/nperseg, 1/8]");
-  if (bands < 1 || bands > 32) fail(w, "bands", std::to_string(bands) + " is not in [1, 32]");
+    diag::fail(w, "lowest_band_fraction",
+               std::to_string(lowest_band_fraction) + " is not in [1/nperseg, 1/8]");
+  if (bands < 1 || bands > 32) diag::fail(w, "bands", std::to_string(bands) + " is not in [1, 32]");
 }
 
 FeatureSet baseline_features(const diag::Signal& channel, const BaselineFeatureOptions& options) {
@@ -49,12 +44,12 @@ FeatureSet baseline_features(const diag::Signal& channel, const BaselineFeatureO
   diag::validate(channel, "baseline_features");
   const std::span<const double> x(channel.samples);
   if (x.size() < 4 * options.nperseg)
-    fail("baseline_features", "channel " + channel.name,
-         std::to_string(x.size()) +
-             " samples, needs at least 4 nperseg = " + std::to_string(4 * options.nperseg));
+    diag::fail("baseline_features", "channel " + channel.name,
+               std::to_string(x.size()) +
+                   " samples, needs at least 4 nperseg = " + std::to_string(4 * options.nperseg));
 
   const Moments m = moments(x);
-  if (!(m.m2 > 0)) fail("baseline_features", "channel " + channel.name, "all samples equal");
+  if (!(m.m2 > 0)) diag::fail("baseline_features", "channel " + channel.name, "all samples equal");
   const double sd = std::sqrt(m.variance());
   const double peak_dev = std::max(m.max - m.mean, m.mean - m.min);
 
@@ -89,7 +84,8 @@ FeatureSet baseline_features(const diag::Signal& channel, const BaselineFeatureO
     log_sum += std::log(std::max(p, 1e-300));
     ++bins;
   }
-  if (!(total > 0)) fail("baseline_features", "channel " + channel.name, "no energy above f_lo");
+  if (!(total > 0))
+    diag::fail("baseline_features", "channel " + channel.name, "no energy above f_lo");
   for (int b = 0; b < options.bands; ++b) {
     // An empty band (all its bins zero) reads ln(1e-300 / total): very negative, finite.
     const double share = std::max(band_energy[static_cast<std::size_t>(b)] / total, 1e-300);
@@ -109,37 +105,37 @@ FeatureSet prefixed(const std::string& prefix, const FeatureSet& features) {
 void BaselineOptions::validate() const {
   const std::string w = "baseline";
   if (!(alarm_threshold > 0) || !std::isfinite(alarm_threshold))
-    fail(w, "alarm_threshold", std::to_string(alarm_threshold) + " is not finite and > 0");
+    diag::fail(w, "alarm_threshold", std::to_string(alarm_threshold) + " is not finite and > 0");
   if (!(spread_floor > 0) || !std::isfinite(spread_floor))
-    fail(w, "spread_floor", std::to_string(spread_floor) + " is not finite and > 0");
-  if (min_samples < 3) fail(w, "min_samples", std::to_string(min_samples) + " is not >= 3");
+    diag::fail(w, "spread_floor", std::to_string(spread_floor) + " is not finite and > 0");
+  if (min_samples < 3) diag::fail(w, "min_samples", std::to_string(min_samples) + " is not >= 3");
 }
 
 Baseline Baseline::fit(const std::vector<FeatureSet>& healthy, const BaselineOptions& options) {
   options.validate();
   const std::string w = "Baseline::fit";
   if (healthy.size() < options.min_samples)
-    fail(w, "healthy",
-         std::to_string(healthy.size()) +
-             " feature sets, needs at least min_samples = " + std::to_string(options.min_samples));
-  if (healthy.front().empty()) fail(w, "healthy[0]", "no features");
+    diag::fail(w, "healthy",
+               std::to_string(healthy.size()) + " feature sets, needs at least min_samples = " +
+                   std::to_string(options.min_samples));
+  if (healthy.front().empty()) diag::fail(w, "healthy[0]", "no features");
   Baseline b;
   b.options_ = options;
   b.samples_ = healthy.size();
   for (std::size_t i = 1; i < healthy.size(); ++i)
     if (healthy[i].size() != healthy.front().size())
-      fail(w, "healthy[" + std::to_string(i) + "]",
-           std::to_string(healthy[i].size()) + " features, healthy[0] has " +
-               std::to_string(healthy.front().size()));
+      diag::fail(w, "healthy[" + std::to_string(i) + "]",
+                 std::to_string(healthy[i].size()) + " features, healthy[0] has " +
+                     std::to_string(healthy.front().size()));
   std::vector<double> values(healthy.size()), dev(healthy.size());
   for (const auto& [name, unused] : healthy.front()) {
     (void)unused;
     for (std::size_t i = 0; i < healthy.size(); ++i) {
       const auto it = healthy[i].find(name);
       if (it == healthy[i].end())
-        fail(w, "healthy[" + std::to_string(i) + "]", "feature '" + name + "' missing");
+        diag::fail(w, "healthy[" + std::to_string(i) + "]", "feature '" + name + "' missing");
       if (!std::isfinite(it->second))
-        fail(w, "healthy[" + std::to_string(i) + "]." + name, "not finite");
+        diag::fail(w, "healthy[" + std::to_string(i) + "]." + name, "not finite");
       values[i] = it->second;
     }
     std::vector<double> tmp = values;
@@ -157,8 +153,8 @@ Baseline::Score Baseline::score(const FeatureSet& features) const {
   double sum_sq = 0, largest = -1;
   for (const auto& [name, st] : stats_) {
     const auto it = features.find(name);
-    if (it == features.end()) fail("Baseline::score", name, "feature missing");
-    if (!std::isfinite(it->second)) fail("Baseline::score", name, "not finite");
+    if (it == features.end()) diag::fail("Baseline::score", name, "feature missing");
+    if (!std::isfinite(it->second)) diag::fail("Baseline::score", name, "not finite");
     const double z = (it->second - st.centre) / st.spread;
     s.deviation[name] = z;
     sum_sq += z * z;
@@ -197,13 +193,13 @@ Baseline Baseline::from_json(const nlohmann::json& j) {
     for (const auto& [name, st] : j.at("features").items()) {
       const FeatureStats fs{st.at("centre").get<double>(), st.at("spread").get<double>()};
       if (!std::isfinite(fs.centre) || !(fs.spread > 0) || !std::isfinite(fs.spread))
-        fail(w, name, "centre must be finite and spread finite and > 0");
+        diag::fail(w, name, "centre must be finite and spread finite and > 0");
       b.stats_[name] = fs;
     }
-    if (b.stats_.empty()) fail(w, "features", "empty");
+    if (b.stats_.empty()) diag::fail(w, "features", "empty");
     return b;
   } catch (const nlohmann::json::exception& e) {
-    fail(w, "", e.what());
+    diag::fail(w, "", e.what());
   }
 }
 

@@ -13,17 +13,14 @@ namespace {
 
 const char* const kWhere = "mesh_harmonic_growth";
 
-[[noreturn]] void fail(const std::string& field, const std::string& reason) {
-  throw diag::InputError(std::string(kWhere) + ": " + field + ": " + reason);
-}
-
 // A_h, h = 1..harmonics, of one channel (header).
 std::vector<double> harmonic_amplitudes(const diag::Signal& s, double mesh_hz,
                                         const MeshHarmonicGrowthOptions& o) {
   if (o.harmonics * mesh_hz >= 0.5 * s.fs_hz) {
-    fail("channel " + s.name, "harmonic " + std::to_string(o.harmonics) + " of the mesh (" +
-                                  std::to_string(o.harmonics * mesh_hz) +
-                                  " Hz) is not below fs / 2 = " + std::to_string(0.5 * s.fs_hz));
+    diag::fail(kWhere, "channel " + s.name,
+               "harmonic " + std::to_string(o.harmonics) + " of the mesh (" +
+                   std::to_string(o.harmonics * mesh_hz) +
+                   " Hz) is not below fs / 2 = " + std::to_string(0.5 * s.fs_hz));
   }
   SpectrumOptions so;
   so.fs_hz = s.fs_hz;
@@ -56,9 +53,10 @@ double median(std::vector<double> v) {
 }  // namespace
 
 void MeshHarmonicGrowthOptions::validate() const {
-  if (harmonics < 1 || harmonics > 20) fail("harmonics", "must be in [1, 20]");
-  if (search_bins < 0 || search_bins > 50) fail("search_bins", "must be in [0, 50]");
-  if (!(threshold_db > 0) || !std::isfinite(threshold_db)) fail("threshold_db", "must be > 0");
+  if (harmonics < 1 || harmonics > 20) diag::fail(kWhere, "harmonics", "must be in [1, 20]");
+  if (search_bins < 0 || search_bins > 50) diag::fail(kWhere, "search_bins", "must be in [0, 50]");
+  if (!(threshold_db > 0) || !std::isfinite(threshold_db))
+    diag::fail(kWhere, "threshold_db", "must be > 0");
 }
 
 MeshHarmonicGrowth mesh_harmonic_growth(const diag::Recording& rec, double mesh_hz,
@@ -66,13 +64,14 @@ MeshHarmonicGrowth mesh_harmonic_growth(const diag::Recording& rec, double mesh_
                                         std::span<const double> baseline_mesh_hz,
                                         const MeshHarmonicGrowthOptions& o) {
   o.validate();
-  if (baseline.empty()) fail("baseline", "no recording given");
+  if (baseline.empty()) diag::fail(kWhere, "baseline", "no recording given");
   if (baseline_mesh_hz.size() != baseline.size()) {
-    fail("baseline_mesh_hz", std::to_string(baseline_mesh_hz.size()) + " frequencies for " +
-                                 std::to_string(baseline.size()) + " baseline recordings");
+    diag::fail(kWhere, "baseline_mesh_hz",
+               std::to_string(baseline_mesh_hz.size()) + " frequencies for " +
+                   std::to_string(baseline.size()) + " baseline recordings");
   }
   auto check_hz = [](double f, const std::string& field) {
-    if (!(f > 0) || !std::isfinite(f)) fail(field, "must be > 0 Hz");
+    if (!(f > 0) || !std::isfinite(f)) diag::fail(kWhere, field, "must be > 0 Hz");
   };
   check_hz(mesh_hz, "mesh_hz");
   for (std::size_t i = 0; i < baseline_mesh_hz.size(); ++i) {
@@ -96,12 +95,12 @@ MeshHarmonicGrowth mesh_harmonic_growth(const diag::Recording& rec, double mesh_
     std::vector<double> ref;
     for (const auto& v : per_h) ref.push_back(median(v));
     if (!(rms(ref) > 0))
-      fail("channel " + s.name, "the baseline has no level at the mesh harmonics");
+      diag::fail(kWhere, "channel " + s.name, "the baseline has no level at the mesh harmonics");
     out.channels.push_back(s.name);
     out.channel_db.push_back(20.0 * std::log10(rms(a) / rms(ref)));
   }
   if (out.channels.empty()) {
-    fail("recording", "no vibration channel found in every baseline recording");
+    diag::fail(kWhere, "recording", "no vibration channel found in every baseline recording");
   }
   double sum = 0;
   for (double g : out.channel_db) sum += g;

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace detect {
 
@@ -14,14 +14,6 @@ using diag::InputError;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-template <typename T>
-[[noreturn]] void fail(const std::string& where, const std::string& field, T value,
-                       const std::string& range) {
-  std::ostringstream os;
-  os << value << " (valid " << range << ")";
-  throw InputError(diag::format_error(where, field, os.str()));
-}
 
 std::string band_label(const std::string& family, int h, int k) {
   std::string s = std::to_string(h) + "x" + family;
@@ -63,23 +55,26 @@ void SpectrumView::validate(const std::string& where) const {
                                         "frequency_hz has " + std::to_string(frequency_hz.size()) +
                                             " bins but value has " + std::to_string(value.size())));
   if (frequency_hz.size() < 3)
-    fail(where, "spectrum.frequency_hz.size", frequency_hz.size(), ">= 3 bins");
+    diag::fail_range(where, "spectrum.frequency_hz.size", frequency_hz.size(), ">= 3 bins");
   for (std::size_t k = 0; k < frequency_hz.size(); ++k) {
     if (!std::isfinite(frequency_hz[k]) || (k > 0 && !(frequency_hz[k] > frequency_hz[k - 1])))
-      fail(where, "spectrum.frequency_hz[" + std::to_string(k) + "]", frequency_hz[k],
-           "finite, strictly increasing");
+      diag::fail_range(where, "spectrum.frequency_hz[" + std::to_string(k) + "]", frequency_hz[k],
+                       "finite, strictly increasing");
     if (!(value[k] >= 0) || !std::isfinite(value[k]))
-      fail(where, "spectrum.value[" + std::to_string(k) + "]", value[k], "finite, >= 0");
+      diag::fail_range(where, "spectrum.value[" + std::to_string(k) + "]", value[k],
+                       "finite, >= 0");
   }
 }
 
 // ---- Bands --------------------------------------------------------------------------------------
 
 void FaultBandOptions::validate() const {
-  if (harmonics < 1 || harmonics > 100) fail("FaultBandOptions", "harmonics", harmonics, "1..100");
-  if (sidebands < 0 || sidebands > 20) fail("FaultBandOptions", "sidebands", sidebands, "0..20");
+  if (harmonics < 1 || harmonics > 100)
+    diag::fail_range("FaultBandOptions", "harmonics", harmonics, "1..100");
+  if (sidebands < 0 || sidebands > 20)
+    diag::fail_range("FaultBandOptions", "sidebands", sidebands, "0..20");
   if (!(width_hz >= 0) || !std::isfinite(width_hz))
-    fail("FaultBandOptions", "width_hz", width_hz, ">= 0");
+    diag::fail_range("FaultBandOptions", "width_hz", width_hz, ">= 0");
 }
 
 std::vector<FaultBand> fault_bands(std::span<const FaultFrequency> families,
@@ -90,9 +85,9 @@ std::vector<FaultBand> fault_bands(std::span<const FaultFrequency> families,
     const FaultFrequency& fam = families[i];
     const std::string field = "families[" + std::to_string(i) + "]";
     if (!(fam.frequency_hz > 0) || !std::isfinite(fam.frequency_hz))
-      fail("fault_bands", field + ".frequency_hz", fam.frequency_hz, "> 0");
+      diag::fail_range("fault_bands", field + ".frequency_hz", fam.frequency_hz, "> 0");
     if (!(fam.sideband_hz >= 0) || !std::isfinite(fam.sideband_hz))
-      fail("fault_bands", field + ".sideband_hz", fam.sideband_hz, ">= 0");
+      diag::fail_range("fault_bands", field + ".sideband_hz", fam.sideband_hz, ">= 0");
     const double width = opt.width_hz > 0 ? opt.width_hz : 0.1 * fam.frequency_hz;
     const int k_max = fam.sideband_hz > 0 ? opt.sidebands : 0;
     for (int h = 1; h <= opt.harmonics; ++h) {
@@ -158,7 +153,7 @@ FaultBandMetrics fault_band_metrics(const SpectrumView& s, std::span<const Fault
 
 double precision_floor(const SpectrumView& s, double dynamic_range_db) {
   if (!(dynamic_range_db > 0 && dynamic_range_db <= kMaxProminenceDb))
-    fail("precision_floor", "dynamic_range_db", dynamic_range_db, "(0, 300]");
+    diag::fail_range("precision_floor", "dynamic_range_db", dynamic_range_db, "(0, 300]");
   double top = 0;
   for (double v : s.value) top = std::max(top, v);
   return top * std::pow(10.0, -dynamic_range_db / 20.0);
@@ -172,7 +167,7 @@ LineMeasurement measure_line(const SpectrumView& s, double expected_hz, double s
                                             std::to_string(floor_hw) + " and " +
                                             std::to_string(search_hw) + ")"));
   if (!(min_floor >= 0) || !std::isfinite(min_floor))
-    fail("measure_line", "min_floor", min_floor, "finite, >= 0");
+    diag::fail_range("measure_line", "min_floor", min_floor, "finite, >= 0");
   LineMeasurement m;
   m.expected_hz = expected_hz;
   const auto& f = s.frequency_hz;
@@ -259,25 +254,27 @@ const char* to_string(BearingDecisionStatus s) {
 
 void BearingDecisionOptions::validate() const {
   const std::string w = "BearingDecisionOptions";
-  if (harmonics < 1 || harmonics > 20) fail(w, "harmonics", harmonics, "1..20");
+  if (harmonics < 1 || harmonics > 20) diag::fail_range(w, "harmonics", harmonics, "1..20");
   if (min_harmonics < 1 || min_harmonics > harmonics)
-    fail(w, "min_harmonics", min_harmonics, "1..harmonics");
+    diag::fail_range(w, "min_harmonics", min_harmonics, "1..harmonics");
   if (!(slip_fraction >= 0 && slip_fraction <= 0.1))
-    fail(w, "slip_fraction", slip_fraction, "[0, 0.1]");
-  if (search_bins < 0 || search_bins > 50) fail(w, "search_bins", search_bins, "0..50");
-  if (floor_bins < 3) fail(w, "floor_bins", floor_bins, ">= 3");
-  if (!(line_threshold_db > 0)) fail(w, "line_threshold_db", line_threshold_db, "> 0");
-  if (!(score_threshold_db > 0)) fail(w, "score_threshold_db", score_threshold_db, "> 0");
-  if (!(margin_db >= 0)) fail(w, "margin_db", margin_db, ">= 0");
-  if (!(sideband_threshold_db > 0)) fail(w, "sideband_threshold_db", sideband_threshold_db, "> 0");
+    diag::fail_range(w, "slip_fraction", slip_fraction, "[0, 0.1]");
+  if (search_bins < 0 || search_bins > 50) diag::fail_range(w, "search_bins", search_bins, "0..50");
+  if (floor_bins < 3) diag::fail_range(w, "floor_bins", floor_bins, ">= 3");
+  if (!(line_threshold_db > 0)) diag::fail_range(w, "line_threshold_db", line_threshold_db, "> 0");
+  if (!(score_threshold_db > 0))
+    diag::fail_range(w, "score_threshold_db", score_threshold_db, "> 0");
+  if (!(margin_db >= 0)) diag::fail_range(w, "margin_db", margin_db, ">= 0");
+  if (!(sideband_threshold_db > 0))
+    diag::fail_range(w, "sideband_threshold_db", sideband_threshold_db, "> 0");
   if (!(dynamic_range_db > line_threshold_db && dynamic_range_db <= kMaxProminenceDb))
-    fail(w, "dynamic_range_db", dynamic_range_db, "(line_threshold_db, 300]");
+    diag::fail_range(w, "dynamic_range_db", dynamic_range_db, "(line_threshold_db, 300]");
   if (support_harmonics < 2 || support_harmonics > 50)
-    fail(w, "support_harmonics", support_harmonics, "2..50");
+    diag::fail_range(w, "support_harmonics", support_harmonics, "2..50");
   if (support_surrogates < 9 || support_surrogates > 500)
-    fail(w, "support_surrogates", support_surrogates, "9..500");
+    diag::fail_range(w, "support_surrogates", support_surrogates, "9..500");
   if (!(support_max_detune > 0 && support_max_detune <= 0.5))
-    fail(w, "support_max_detune", support_max_detune, "(0, 0.5]");
+    diag::fail_range(w, "support_max_detune", support_max_detune, "(0, 0.5]");
 }
 
 namespace {
@@ -357,8 +354,8 @@ double found_fundamental(const FamilyScore& family, double line_threshold_db) {
   return den > 0 ? num / den : family.fundamental_hz;
 }
 
-BearingDecision diagnose_bearing(const SpectrumView& env, const BearingFrequencies& f,
-                                 const BearingDecisionOptions& opt) {
+BearingDecision diagnose_bearing_from_envelope(const SpectrumView& env, const BearingFrequencies& f,
+                                               const BearingDecisionOptions& opt) {
   opt.validate();
   env.validate("diagnose_bearing");
   const double df = bin_spacing(env);
@@ -450,7 +447,8 @@ double comb_statistic(const SpectrumView& s, double f0, int k_max, double df, do
 CombSupport comb_support(const SpectrumView& s, double f0, const BearingDecisionOptions& opt) {
   opt.validate();
   s.validate("comb_support");
-  if (!(f0 > 0) || !std::isfinite(f0)) fail("comb_support", "fundamental_hz", f0, "> 0");
+  if (!(f0 > 0) || !std::isfinite(f0))
+    diag::fail_range("comb_support", "fundamental_hz", f0, "> 0");
   const double df = bin_spacing(s);
   const double min_floor = precision_floor(s, opt.dynamic_range_db);
   CombSupport c;

@@ -38,10 +38,6 @@ constexpr double kVaryingSpeedSpread = 0.01;
 // than 15 % over them in a run-up 500 -> 3000 rpm over 9 s.
 constexpr std::ptrdiff_t kWeightHalfWindow = 4;
 
-void fail(const std::string& field, const std::string& reason) {
-  throw diag::InputError(diag::format_error("GearDamageOptions", field, reason));
-}
-
 bool is_integer(double x, int* n) {
   const double r = std::round(x);
   if (r < 1 || std::abs(x - r) > kRatioTol * std::max(1.0, x)) return false;
@@ -179,37 +175,45 @@ double baseline_rotation(const std::vector<std::complex<double>>& x,
 void GearDamageOptions::validate() const {
   if (samples_per_rev != 0 &&
       (samples_per_rev < 64 || (samples_per_rev & (samples_per_rev - 1)) != 0)) {
-    fail("samples_per_rev",
-         std::to_string(samples_per_rev) + " is not 0 (automatic) or a power of two >= 64");
+    diag::fail("GearDamageOptions", "samples_per_rev",
+               std::to_string(samples_per_rev) + " is not 0 (automatic) or a power of two >= 64");
   }
   if (pulse_fit_degree < 0 || pulse_fit_degree > 8) {
-    fail("pulse_fit_degree", std::to_string(pulse_fit_degree) + " is outside [0, 8]");
+    diag::fail("GearDamageOptions", "pulse_fit_degree",
+               std::to_string(pulse_fit_degree) + " is outside [0, 8]");
   }
   if (extra_sideband_orders < 0) {
-    fail("extra_sideband_orders", std::to_string(extra_sideband_orders) + " is negative");
+    diag::fail("GearDamageOptions", "extra_sideband_orders",
+               std::to_string(extra_sideband_orders) + " is negative");
   }
   if (!(band_fraction > 0.0 && band_fraction <= 1.0)) {
-    fail("band_fraction", std::to_string(band_fraction) + " is outside (0, 1]");
+    diag::fail("GearDamageOptions", "band_fraction",
+               std::to_string(band_fraction) + " is outside (0, 1]");
   }
   if (!(min_level >= 0.0) || !std::isfinite(min_level)) {
-    fail("min_level", std::to_string(min_level) + " must be finite and >= 0");
+    diag::fail("GearDamageOptions", "min_level",
+               std::to_string(min_level) + " must be finite and >= 0");
   }
   if (!(min_exclusive_share >= 0.0 && min_exclusive_share < 1.0)) {
-    fail("min_exclusive_share", std::to_string(min_exclusive_share) + " is outside [0, 1)");
+    diag::fail("GearDamageOptions", "min_exclusive_share",
+               std::to_string(min_exclusive_share) + " is outside [0, 1)");
   }
   if (!(min_snr >= 1.0) || !std::isfinite(min_snr)) {
-    fail("min_snr", std::to_string(min_snr) + " must be finite and >= 1 (noise alone)");
+    diag::fail("GearDamageOptions", "min_snr",
+               std::to_string(min_snr) + " must be finite and >= 1 (noise alone)");
   }
   if (min_revolutions < 2) {
-    fail("min_revolutions", std::to_string(min_revolutions) + " is below 2");
+    diag::fail("GearDamageOptions", "min_revolutions",
+               std::to_string(min_revolutions) + " is below 2");
   }
   if (!(healthy_fm4 > 1.0) || !std::isfinite(healthy_fm4)) {
-    fail("healthy_fm4",
-         std::to_string(healthy_fm4) + " must be finite and > 1 (no tooth stands out)");
+    diag::fail("GearDamageOptions", "healthy_fm4",
+               std::to_string(healthy_fm4) + " must be finite and > 1 (no tooth stands out)");
   }
   if (!(damaged_fm4 > healthy_fm4) || !std::isfinite(damaged_fm4)) {
-    fail("damaged_fm4", std::to_string(damaged_fm4) + " must be finite and > healthy_fm4 (" +
-                            std::to_string(healthy_fm4) + ")");
+    diag::fail("GearDamageOptions", "damaged_fm4",
+               std::to_string(damaged_fm4) + " must be finite and > healthy_fm4 (" +
+                   std::to_string(healthy_fm4) + ")");
   }
 }
 
@@ -252,7 +256,7 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
   const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
   const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
   const std::vector<double> ref_pulses =
-      smooth_pulse_times(pulse_times_s, options.pulse_fit_degree);
+      smooth_pulse_times_polynomial(pulse_times_s, options.pulse_fit_degree);
 
   ResampleOptions ro;
   ro.pulses_per_rev = 1;

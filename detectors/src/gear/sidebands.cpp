@@ -2,37 +2,28 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace detect {
 
-namespace {
-
-template <typename T>
-[[noreturn]] void fail(const std::string& where, const std::string& field, T value,
-                       const std::string& range) {
-  std::ostringstream os;
-  os << value << " (valid " << range << ")";
-  throw diag::InputError(diag::format_error(where, field, os.str()));
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void SidebandOptions::validate() const {
   const std::string w = "SidebandOptions";
-  if (mesh_harmonics < 1 || mesh_harmonics > 20) fail(w, "mesh_harmonics", mesh_harmonics, "1..20");
-  if (sidebands < 1 || sidebands > 20) fail(w, "sidebands", sidebands, "1..20");
-  if (search_bins < 0 || search_bins > 20) fail(w, "search_bins", search_bins, "0..20");
-  if (floor_bins < 3) fail(w, "floor_bins", floor_bins, ">= 3");
-  if (!(line_threshold_db > 0)) fail(w, "line_threshold_db", line_threshold_db, "> 0");
-  if (min_lines < 1) fail(w, "min_lines", min_lines, ">= 1");
-  if (!(margin_db >= 0)) fail(w, "margin_db", margin_db, ">= 0");
+  if (mesh_harmonics < 1 || mesh_harmonics > 20)
+    diag::fail_range(w, "mesh_harmonics", mesh_harmonics, "1..20");
+  if (sidebands < 1 || sidebands > 20) diag::fail_range(w, "sidebands", sidebands, "1..20");
+  if (search_bins < 0 || search_bins > 20) diag::fail_range(w, "search_bins", search_bins, "0..20");
+  if (floor_bins < 3) diag::fail_range(w, "floor_bins", floor_bins, ">= 3");
+  if (!(line_threshold_db > 0)) diag::fail_range(w, "line_threshold_db", line_threshold_db, "> 0");
+  if (min_lines < 1) diag::fail_range(w, "min_lines", min_lines, ">= 1");
+  if (!(margin_db >= 0)) diag::fail_range(w, "margin_db", margin_db, ">= 0");
   if (!(min_sideband_to_mesh_db >= -200 && min_sideband_to_mesh_db <= 0))
-    fail(w, "min_sideband_to_mesh_db", min_sideband_to_mesh_db, "[-200, 0]");
+    diag::fail_range(w, "min_sideband_to_mesh_db", min_sideband_to_mesh_db, "[-200, 0]");
   if (!(dynamic_range_db > line_threshold_db && dynamic_range_db <= kMaxProminenceDb))
-    fail(w, "dynamic_range_db", dynamic_range_db, "(line_threshold_db, 300]");
+    diag::fail_range(w, "dynamic_range_db", dynamic_range_db, "(line_threshold_db, 300]");
 }
 
 SidebandAnalysis analyse_sidebands(const SpectrumView& spectrum, double mesh_hz,
@@ -41,15 +32,15 @@ SidebandAnalysis analyse_sidebands(const SpectrumView& spectrum, double mesh_hz,
   opt.validate();
   spectrum.validate("analyse_sidebands");
   if (!(mesh_hz > 0) || !std::isfinite(mesh_hz))
-    fail("analyse_sidebands", "mesh_hz", mesh_hz, "> 0");
+    diag::fail_range("analyse_sidebands", "mesh_hz", mesh_hz, "> 0");
   for (std::size_t i = 0; i < shafts.size(); ++i)
     if (!(shafts[i].frequency_hz > 0) || !std::isfinite(shafts[i].frequency_hz))
-      fail("analyse_sidebands", "shafts[" + std::to_string(i) + "].frequency_hz",
-           shafts[i].frequency_hz, "> 0");
+      diag::fail_range("analyse_sidebands", "shafts[" + std::to_string(i) + "].frequency_hz",
+                       shafts[i].frequency_hz, "> 0");
   for (std::size_t i = 0; i < context.other_mesh_hz.size(); ++i)
     if (!(context.other_mesh_hz[i] > 0) || !std::isfinite(context.other_mesh_hz[i]))
-      fail("analyse_sidebands", "context.other_mesh_hz[" + std::to_string(i) + "]",
-           context.other_mesh_hz[i], "> 0");
+      diag::fail_range("analyse_sidebands", "context.other_mesh_hz[" + std::to_string(i) + "]",
+                       context.other_mesh_hz[i], "> 0");
 
   const auto& f = spectrum.frequency_hz;
   const double df = (f.back() - f.front()) / static_cast<double>(f.size() - 1);

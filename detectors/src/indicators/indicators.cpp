@@ -221,24 +221,26 @@ std::vector<double> order_amplitudes(std::span<const double> tsa_rev) {
 }
 
 void GearMetricOptions::validate(std::size_t tsa_samples) const {
-  auto fail = [](const std::string& field, const std::string& reason) {
-    throw InputError(diag::format_error("GearMetricOptions", field, reason));
-  };
-  if (mesh_order < 1) fail("mesh_order", std::to_string(mesh_order) + " (must be >= 1)");
+  if (mesh_order < 1)
+    diag::fail("GearMetricOptions", "mesh_order", std::to_string(mesh_order) + " (must be >= 1)");
   if (mesh_harmonics < 1 || mesh_harmonics > 32)
-    fail("mesh_harmonics", std::to_string(mesh_harmonics) + " (valid 1..32)");
+    diag::fail("GearMetricOptions", "mesh_harmonics",
+               std::to_string(mesh_harmonics) + " (valid 1..32)");
   if (ser_sidebands < 1 || ser_sidebands > 64)
-    fail("ser_sidebands", std::to_string(ser_sidebands) + " (valid 1..64)");
+    diag::fail("GearMetricOptions", "ser_sidebands",
+               std::to_string(ser_sidebands) + " (valid 1..64)");
   if (ser_sidebands >= mesh_order)
-    fail("ser_sidebands", std::to_string(ser_sidebands) +
-                              " (must be < mesh_order = " + std::to_string(mesh_order) + ")");
+    diag::fail("GearMetricOptions", "ser_sidebands",
+               std::to_string(ser_sidebands) +
+                   " (must be < mesh_order = " + std::to_string(mesh_order) + ")");
   const long top = std::max(static_cast<long>(mesh_harmonics) * mesh_order,
                             static_cast<long>(mesh_order) + ser_sidebands);
   if (2 * top >= static_cast<long>(tsa_samples))
-    fail("mesh_order", "order " + std::to_string(top) + " needed but a TSA of " +
-                           std::to_string(tsa_samples) + " samples/rev resolves orders < " +
-                           std::to_string(tsa_samples / 2) +
-                           " (lower mesh_harmonics or ser_sidebands, or sample the TSA finer)");
+    diag::fail("GearMetricOptions", "mesh_order",
+               "order " + std::to_string(top) + " needed but a TSA of " +
+                   std::to_string(tsa_samples) + " samples/rev resolves orders < " +
+                   std::to_string(tsa_samples / 2) +
+                   " (lower mesh_harmonics or ser_sidebands, or sample the TSA finer)");
 }
 
 namespace {

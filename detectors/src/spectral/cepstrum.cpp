@@ -10,35 +10,30 @@
 #include "diag/error.hpp"
 
 namespace detect {
-namespace {
-
-[[noreturn]] void fail(const std::string& field, const std::string& reason) {
-  throw diag::InputError(diag::format_error("cepstrum", field, reason));
-}
-
-}  // namespace
-
 void CepstrumOptions::validate() const {
   if (!(std::isfinite(fs_hz) && fs_hz > 0))
-    fail("fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
-  if (nfft > (std::size_t{1} << 28)) fail("nfft", std::to_string(nfft) + " is not in [0, 2^28]");
+    diag::fail("cepstrum", "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
+  if (nfft > (std::size_t{1} << 28))
+    diag::fail("cepstrum", "nfft", std::to_string(nfft) + " is not in [0, 2^28]");
   if (!(floor_relative > 0 && floor_relative < 1))
-    fail("floor_relative", std::to_string(floor_relative) + " is not in (0, 1)");
+    diag::fail("cepstrum", "floor_relative", std::to_string(floor_relative) + " is not in (0, 1)");
 }
 
 Cepstrum real_cepstrum(std::span<const double> x, const CepstrumOptions& options) {
   options.validate();
   const std::size_t n = x.size();
-  if (n < 2) fail("x", std::to_string(n) + " samples; need at least 2");
+  if (n < 2) diag::fail("cepstrum", "x", std::to_string(n) + " samples; need at least 2");
   const std::size_t nfft = options.nfft == 0 ? n : options.nfft;
   if (nfft < n)
-    fail("nfft", std::to_string(nfft) + " is shorter than the record (" + std::to_string(n) +
-                     " samples); 0 or >= the record length");
+    diag::fail("cepstrum", "nfft",
+               std::to_string(nfft) + " is shorter than the record (" + std::to_string(n) +
+                   " samples); 0 or >= the record length");
   const std::shared_ptr<const std::vector<double>> window = shared_window(options.window, n);
   const std::vector<double>& w = *window;
   std::vector<double> buf(nfft, 0.0);
   for (std::size_t j = 0; j < n; ++j) {
-    if (!std::isfinite(x[j])) fail("x", "sample " + std::to_string(j) + " is not finite");
+    if (!std::isfinite(x[j]))
+      diag::fail("cepstrum", "x", "sample " + std::to_string(j) + " is not finite");
     buf[j] = w[j] * x[j];
   }
   RealFft fft(nfft);
@@ -46,7 +41,8 @@ Cepstrum real_cepstrum(std::span<const double> x, const CepstrumOptions& options
   fft.forward(buf, X);
   double peak = 0.0;
   for (const auto& v : X) peak = std::max(peak, magnitude(v));
-  if (peak == 0.0) fail("x", "all samples are zero (the log spectrum is undefined)");
+  if (peak == 0.0)
+    diag::fail("cepstrum", "x", "all samples are zero (the log spectrum is undefined)");
   const double floor = options.floor_relative * peak;
   for (auto& v : X) v = std::log(std::max(magnitude(v), floor));
   fft.inverse(X, buf);

@@ -6,15 +6,12 @@
 #include <string>
 
 #include "detect/spectral/fft.hpp"
+#include "diag/dsp/fir.hpp"
 #include "diag/error.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace detect {
 namespace {
-
-std::string num(double v) {
-  std::string s = std::to_string(v);
-  return s;
-}
 
 void check_finite(std::span<const double> x, const char* where) {
   for (std::size_t j = 0; j < x.size(); ++j) {
@@ -55,16 +52,18 @@ double centred_sum(std::span<const double> x, std::span<const double> h, std::si
 }  // namespace
 
 void BandOptions::validate() const {
-  auto fail = [](const std::string& field, const std::string& reason) {
-    throw diag::InputError(diag::format_error("band", field, reason));
-  };
-  if (!(std::isfinite(fs_hz) && fs_hz > 0)) fail("fs_hz", num(fs_hz) + " is not finite and > 0");
+  if (!(std::isfinite(fs_hz) && fs_hz > 0))
+    diag::fail("band", "fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
   const double hi = upper_hz();
   if (!(std::isfinite(hi) && hi > 0 && hi <= 0.5 * fs_hz))
-    fail("high_hz", num(high_hz) + " is not in (low_hz, fs/2] = (" + num(low_hz) + ", " +
-                        num(0.5 * fs_hz) + "] (or 0 for fs/2)");
+    diag::fail("band", "high_hz",
+               diag::format_fixed(high_hz, 6) + " is not in (low_hz, fs/2] = (" +
+                   diag::format_fixed(low_hz, 6) + ", " + diag::format_fixed(0.5 * fs_hz, 6) +
+                   "] (or 0 for fs/2)");
   if (!(std::isfinite(low_hz) && low_hz >= 0 && low_hz < hi))
-    fail("low_hz", num(low_hz) + " is not in [0, high_hz) = [0, " + num(hi) + ")");
+    diag::fail("band", "low_hz",
+               diag::format_fixed(low_hz, 6) + " is not in [0, high_hz) = [0, " +
+                   diag::format_fixed(hi, 6) + ")");
 }
 
 std::vector<double> fft_bandpass(std::span<const double> x, const BandOptions& band) {
@@ -90,37 +89,24 @@ std::vector<double> fft_bandpass(std::span<const double> x, const BandOptions& b
 }
 
 void FirLowpassOptions::validate() const {
-  auto fail = [](const std::string& field, const std::string& reason) {
-    throw diag::InputError(diag::format_error("fir_lowpass", field, reason));
-  };
-  if (!(std::isfinite(fs_hz) && fs_hz > 0)) fail("fs_hz", num(fs_hz) + " is not finite and > 0");
+  if (!(std::isfinite(fs_hz) && fs_hz > 0))
+    diag::fail("fir_lowpass", "fs_hz", diag::format_fixed(fs_hz, 6) + " is not finite and > 0");
   if (!(std::isfinite(cutoff_hz) && cutoff_hz > 0 && cutoff_hz < 0.5 * fs_hz))
-    fail("cutoff_hz", num(cutoff_hz) + " is not in (0, fs/2) = (0, " + num(0.5 * fs_hz) + ")");
+    diag::fail("fir_lowpass", "cutoff_hz",
+               diag::format_fixed(cutoff_hz, 6) + " is not in (0, fs/2) = (0, " +
+                   diag::format_fixed(0.5 * fs_hz, 6) + ")");
   if (taps < 3 || taps % 2 == 0 || taps > (std::size_t{1} << 16) + 1)
-    fail("taps", std::to_string(taps) + " is not odd and in [3, 2^16 + 1]");
+    diag::fail("fir_lowpass", "taps", std::to_string(taps) + " is not odd and in [3, 2^16 + 1]");
 }
 
 std::vector<double> design_lowpass_fir(const FirLowpassOptions& options) {
   options.validate();
-  const std::vector<double> w =
-      make_window(options.window, options.taps, WindowSymmetry::kSymmetric);
-  const double fc = options.cutoff_hz / options.fs_hz;  // cycles per sample
-  const std::ptrdiff_t m = static_cast<std::ptrdiff_t>(options.taps / 2);
-  std::vector<double> h(options.taps);
-  // Computed on one half and mirrored, so the taps are exactly symmetric (exact linear phase).
-  for (std::ptrdiff_t j = 0; j <= m; ++j) {
-    const double t = static_cast<double>(m - j);
-    const double sinc =
-        t == 0.0 ? 1.0
-                 : std::sin(2.0 * std::numbers::pi * fc * t) / (2.0 * std::numbers::pi * fc * t);
-    const double v = w[static_cast<std::size_t>(j)] * 2.0 * fc * sinc;
-    h[static_cast<std::size_t>(j)] = v;
-    h[static_cast<std::size_t>(2 * m - j)] = v;
-  }
-  double sum = 0.0;
-  for (double v : h) sum += v;
-  for (double& v : h) v /= sum;
-  return h;
+  diag::LowpassDesign design;
+  design.cutoff_fraction = options.cutoff_hz / options.fs_hz;  // cycles per sample
+  design.half_length = static_cast<int>(options.taps / 2);
+  design.window = diag::FirWindow::kGiven;
+  design.window_values = make_window(options.window, options.taps, WindowSymmetry::kSymmetric);
+  return diag::design_lowpass(design);
 }
 
 std::vector<double> design_decimation_lowpass(double fs_hz, std::size_t factor, std::size_t taps) {

@@ -16,13 +16,10 @@
 namespace detect {
 namespace {
 
-[[noreturn]] void fail(const char* where, const std::string& field, const std::string& reason) {
-  throw diag::InputError(diag::format_error(where, field, reason));
-}
-
 void check_finite(std::span<const double> x, const char* where) {
   for (std::size_t j = 0; j < x.size(); ++j) {
-    if (!std::isfinite(x[j])) fail(where, "x", "sample " + std::to_string(j) + " is not finite");
+    if (!std::isfinite(x[j]))
+      diag::fail(where, "x", "sample " + std::to_string(j) + " is not finite");
   }
 }
 
@@ -50,13 +47,13 @@ double complex_kurtosis(const std::vector<double>& a, const std::vector<double>&
 void SpectralKurtosisOptions::validate() const {
   const char* w = "spectral_kurtosis";
   if (!(std::isfinite(fs_hz) && fs_hz > 0))
-    fail(w, "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
+    diag::fail(w, "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
   if (nperseg < 8 || nperseg > (std::size_t{1} << 24))
-    fail(w, "nperseg", std::to_string(nperseg) + " is not in [8, 2^24]");
+    diag::fail(w, "nperseg", std::to_string(nperseg) + " is not in [8, 2^24]");
   if (noverlap < -1 || (noverlap >= 0 && static_cast<std::size_t>(noverlap) >= nperseg))
-    fail(w, "noverlap",
-         std::to_string(noverlap) + " is not in [0, nperseg) = [0, " + std::to_string(nperseg) +
-             ") or -1 (3 nperseg / 4)");
+    diag::fail(w, "noverlap",
+               std::to_string(noverlap) + " is not in [0, nperseg) = [0, " +
+                   std::to_string(nperseg) + ") or -1 (3 nperseg / 4)");
 }
 
 SpectralKurtosis spectral_kurtosis(std::span<const double> x,
@@ -68,9 +65,9 @@ SpectralKurtosis spectral_kurtosis(std::span<const double> x,
   const std::size_t step = n - overlap;
   const std::size_t needed = n + 3 * step;
   if (x.size() < needed)
-    fail("spectral_kurtosis", "x",
-         std::to_string(x.size()) +
-             " samples; need at least 4 segments = " + std::to_string(needed));
+    diag::fail("spectral_kurtosis", "x",
+               std::to_string(x.size()) +
+                   " samples; need at least 4 segments = " + std::to_string(needed));
   check_finite(x, "spectral_kurtosis");
   const double mean = mean_of(x);
   const std::vector<double> w = make_window(options.window, n);
@@ -101,26 +98,27 @@ SpectralKurtosis spectral_kurtosis(std::span<const double> x,
 
 void KurtogramOptions::validate() const {
   if (!(std::isfinite(fs_hz) && fs_hz > 0))
-    fail("kurtogram", "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
+    diag::fail("kurtogram", "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
   if (max_level < 1 || max_level > 20)
-    fail("kurtogram", "max_level", std::to_string(max_level) + " is not in [1, 20]");
+    diag::fail("kurtogram", "max_level", std::to_string(max_level) + " is not in [1, 20]");
   if (!(taper_fraction >= 0 && taper_fraction <= 0.25))
-    fail("kurtogram", "taper_fraction", std::to_string(taper_fraction) + " is not in [0, 0.25]");
+    diag::fail("kurtogram", "taper_fraction",
+               std::to_string(taper_fraction) + " is not in [0, 0.25]");
   if (!(std::isfinite(min_bandwidth_hz) && min_bandwidth_hz >= 0))
-    fail("kurtogram", "min_bandwidth_hz",
-         std::to_string(min_bandwidth_hz) + " is not finite and >= 0");
+    diag::fail("kurtogram", "min_bandwidth_hz",
+               std::to_string(min_bandwidth_hz) + " is not finite and >= 0");
   if (!(std::isfinite(min_low_hz) && min_low_hz >= 0))
-    fail("kurtogram", "min_low_hz", std::to_string(min_low_hz) + " is not finite and >= 0");
+    diag::fail("kurtogram", "min_low_hz", std::to_string(min_low_hz) + " is not finite and >= 0");
 }
 
 Kurtogram fast_kurtogram(std::span<const double> x, const KurtogramOptions& options) {
   options.validate();
   const std::size_t needed = std::size_t{1} << (options.max_level + 7);
   if (x.size() < needed)
-    fail("kurtogram", "x",
-         std::to_string(x.size()) + " samples; max_level " + std::to_string(options.max_level) +
-             " needs at least 2^(max_level + 7) = " + std::to_string(needed) +
-             " (lower max_level or give a longer record)");
+    diag::fail("kurtogram", "x",
+               std::to_string(x.size()) + " samples; max_level " +
+                   std::to_string(options.max_level) + " needs at least 2^(max_level + 7) = " +
+                   std::to_string(needed) + " (lower max_level or give a longer record)");
   check_finite(x, "kurtogram");
   const std::size_t n = x.size();
   const double mean = mean_of(x);

@@ -14,26 +14,24 @@ namespace {
 
 constexpr std::size_t kMaxNfft = std::size_t{1} << 28;
 
-[[noreturn]] void fail(const std::string& field, const std::string& reason) {
-  throw diag::InputError(diag::format_error("amplitude_spectrum", field, reason));
-}
-
 }  // namespace
 
 void SpectrumOptions::validate() const {
   if (!(std::isfinite(fs_hz) && fs_hz > 0))
-    fail("fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
-  if (nfft > kMaxNfft) fail("nfft", std::to_string(nfft) + " is not in [0, 2^28]");
+    diag::fail("amplitude_spectrum", "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
+  if (nfft > kMaxNfft)
+    diag::fail("amplitude_spectrum", "nfft", std::to_string(nfft) + " is not in [0, 2^28]");
 }
 
 Spectrum amplitude_spectrum(std::span<const double> x, const SpectrumOptions& options) {
   options.validate();
   const std::size_t n = x.size();
-  if (n < 2) fail("x", std::to_string(n) + " samples; need at least 2");
+  if (n < 2) diag::fail("amplitude_spectrum", "x", std::to_string(n) + " samples; need at least 2");
   const std::size_t nfft = options.nfft == 0 ? n : options.nfft;
   if (nfft < n)
-    fail("nfft", std::to_string(nfft) + " is shorter than the record (" + std::to_string(n) +
-                     " samples); 0 or >= the record length");
+    diag::fail("amplitude_spectrum", "nfft",
+               std::to_string(nfft) + " is shorter than the record (" + std::to_string(n) +
+                   " samples); 0 or >= the record length");
   // The sum with four partial sums (no dependency chain); the samples are checked one by one
   // only when the sum is not finite (a non-finite sample makes it so).
   double part[4] = {0, 0, 0, 0};
@@ -45,9 +43,11 @@ Spectrum amplitude_spectrum(std::span<const double> x, const SpectrumOptions& op
   const double total = (part[0] + part[1]) + (part[2] + part[3]);
   if (!std::isfinite(total)) {
     for (i = 0; i < n; ++i) {
-      if (!std::isfinite(x[i])) fail("x", "sample " + std::to_string(i) + " is not finite");
+      if (!std::isfinite(x[i]))
+        diag::fail("amplitude_spectrum", "x", "sample " + std::to_string(i) + " is not finite");
     }
-    if (options.remove_mean) fail("x", "the sum of the samples overflows (no finite mean)");
+    if (options.remove_mean)
+      diag::fail("amplitude_spectrum", "x", "the sum of the samples overflows (no finite mean)");
   }
   const double mean = options.remove_mean ? total / static_cast<double>(n) : 0.0;
 

@@ -14,10 +14,6 @@ constexpr std::size_t kMinNperseg = 8;
 constexpr std::size_t kMaxNperseg = std::size_t{1} << 24;
 constexpr std::size_t kMaxNfft = std::size_t{1} << 26;
 
-[[noreturn]] void fail(const std::string& field, const std::string& reason) {
-  throw diag::InputError(diag::format_error("welch", field, reason));
-}
-
 // Sum with four independent accumulators: four times the throughput of a single dependent
 // chain (the compiler may not reassociate floating-point adds itself).
 double sum4(const double* x, std::size_t n) {
@@ -37,15 +33,17 @@ double sum4(const double* x, std::size_t n) {
 
 void WelchOptions::validate() const {
   if (!(std::isfinite(fs_hz) && fs_hz > 0))
-    fail("fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
+    diag::fail("welch", "fs_hz", std::to_string(fs_hz) + " is not finite and > 0");
   if (nperseg < kMinNperseg || nperseg > kMaxNperseg)
-    fail("nperseg", std::to_string(nperseg) + " is not in [8, 2^24]");
+    diag::fail("welch", "nperseg", std::to_string(nperseg) + " is not in [8, 2^24]");
   if (noverlap < -1 || (noverlap >= 0 && static_cast<std::size_t>(noverlap) >= nperseg))
-    fail("noverlap", std::to_string(noverlap) + " is not in [0, nperseg) = [0, " +
-                         std::to_string(nperseg) + ") or -1 (nperseg / 2)");
+    diag::fail("welch", "noverlap",
+               std::to_string(noverlap) + " is not in [0, nperseg) = [0, " +
+                   std::to_string(nperseg) + ") or -1 (nperseg / 2)");
   if (nfft != 0 && (nfft < nperseg || nfft > kMaxNfft))
-    fail("nfft", std::to_string(nfft) + " is not 0 or in [nperseg, 2^26] = [" +
-                     std::to_string(nperseg) + ", 2^26]");
+    diag::fail("welch", "nfft",
+               std::to_string(nfft) + " is not 0 or in [nperseg, 2^26] = [" +
+                   std::to_string(nperseg) + ", 2^26]");
 }
 
 void detrend(std::span<double> x, Detrend type) {
@@ -97,8 +95,9 @@ void WelchAccumulator::reset() {
 void WelchAccumulator::process(const double* segment) {
   const double total = sum4(segment, nperseg_);
   if (!std::isfinite(total))
-    fail("x", "non-finite sample (or overflow) in segment " + std::to_string(segments_) +
-                  " (samples from " + std::to_string(segments_ * step_) + ")");
+    diag::fail("welch", "x",
+               "non-finite sample (or overflow) in segment " + std::to_string(segments_) +
+                   " (samples from " + std::to_string(segments_ * step_) + ")");
   const double* w = window_.data();
   double* y = fft_.input().data();
   switch (options_.detrend) {
@@ -159,11 +158,13 @@ void WelchAccumulator::push(std::span<const double> chunk) {
 Psd WelchAccumulator::result() const {
   for (std::size_t j = 0; j < pending_size_; ++j) {
     if (!std::isfinite(pending_[j]))
-      fail("x", "sample " + std::to_string(samples_ - pending_size_ + j) + " is not finite");
+      diag::fail("welch", "x",
+                 "sample " + std::to_string(samples_ - pending_size_ + j) + " is not finite");
   }
   if (segments_ == 0)
-    fail("x",
-         std::to_string(samples_) + " samples is fewer than nperseg = " + std::to_string(nperseg_));
+    diag::fail(
+        "welch", "x",
+        std::to_string(samples_) + " samples is fewer than nperseg = " + std::to_string(nperseg_));
   Psd r;
   r.scaling = options_.scaling;
   r.segments = segments_;

@@ -1,36 +1,73 @@
 #include "diag/dsp/fir.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace diag {
 
-std::vector<double> lowpass_taps(double cutoff_fraction, int half_length) {
-  if (!(cutoff_fraction > 0.0 && cutoff_fraction < 0.5)) {
-    throw InputError(format_error("lowpass_taps", "cutoff_fraction",
-                                  std::to_string(cutoff_fraction) + " is not in (0, 0.5)"));
+namespace {
+
+// 2 fc sinc(2 fc x) = sin(2 pi fc x) / (pi x), the ideal low-pass's impulse response.
+double ideal_lowpass(double fc, double x) {
+  return x == 0.0 ? 2 * fc : std::sin(2 * std::numbers::pi * fc * x) / (std::numbers::pi * x);
+}
+
+}  // namespace
+
+void LowpassDesign::validate() const {
+  const std::string w = "lowpass design";
+  require_range(cutoff_fraction > 0.0 && cutoff_fraction < 0.5, w, "cutoff_fraction",
+                cutoff_fraction, "(0, 0.5)");
+  require_range(half_length >= 1, w, "half_length", half_length, ">= 1");
+  if (window == FirWindow::kKaiser) {
+    require_range(kaiser_beta >= 0.0 && std::isfinite(kaiser_beta), w, "kaiser_beta", kaiser_beta,
+                  ">= 0");
   }
-  if (half_length < 1) {
-    throw InputError(
-        format_error("lowpass_taps", "half_length", std::to_string(half_length) + " is not >= 1"));
+  if (window == FirWindow::kGiven) {
+    const std::size_t n = 2 * static_cast<std::size_t>(half_length) + 1;
+    require(window_values.size() == n, w, "window_values",
+            std::to_string(window_values.size()) + " values for " + std::to_string(n) + " taps");
+    for (double v : window_values) require(std::isfinite(v), w, "window_values", "not finite");
   }
+}
+
+std::vector<double> design_lowpass(const LowpassDesign& design) {
+  design.validate();
+  const double fc = design.cutoff_fraction;
+  const int half_length = design.half_length;
   const int n = 2 * half_length + 1;
+  const double i0_beta =
+      design.window == FirWindow::kKaiser ? std::cyl_bessel_i(0.0, design.kaiser_beta) : 1.0;
   std::vector<double> h(n);
   double sum = 0.0;
   for (int i = 0; i < n; ++i) {
     const double x = i - half_length;
-    const double sinc =
-        x == 0.0 ? 2 * cutoff_fraction
-                 : std::sin(2 * std::numbers::pi * cutoff_fraction * x) / (std::numbers::pi * x);
-    const double a = 2 * std::numbers::pi * i / (n - 1);
-    const double w = 0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2 * a);
-    h[i] = sinc * w;
+    const double sinc = ideal_lowpass(fc, x);
+    switch (design.window) {
+      case FirWindow::kBlackman: {
+        const double a = 2 * std::numbers::pi * i / (n - 1);
+        h[i] = sinc * (0.42 - 0.5 * std::cos(a) + 0.08 * std::cos(2 * a));
+        break;
+      }
+      case FirWindow::kKaiser: {
+        const double r = x / half_length;
+        h[i] = sinc * std::cyl_bessel_i(0.0, design.kaiser_beta * std::sqrt(1 - r * r)) / i0_beta;
+        break;
+      }
+      case FirWindow::kGiven:
+        h[i] = sinc * design.window_values[static_cast<std::size_t>(std::min(i, n - 1 - i))];
+        break;
+    }
     sum += h[i];
   }
-  for (double& v : h) v /= sum;
+  if (design.unit_dc_gain) {
+    for (double& v : h) v /= sum;
+  }
   return h;
 }
 
@@ -52,7 +89,10 @@ Decimator::Decimator(int factor, double passband_fraction) : factor_(factor) {
   int half = static_cast<int>(std::ceil(5.5 / transition / 2.0));
   half = ((half + factor - 1) / factor) * factor;
   half_ = half;
-  taps_ = lowpass_taps(0.5 * (f_pass + f_stop), half_);
+  LowpassDesign design;  // Blackman, unit DC gain
+  design.cutoff_fraction = 0.5 * (f_pass + f_stop);
+  design.half_length = half_;
+  taps_ = design_lowpass(design);
   history_.assign(taps_.size(), 0.0);
 }
 

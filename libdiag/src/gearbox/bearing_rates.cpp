@@ -3,28 +3,23 @@
 
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <utility>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace diag {
 
 BearingRates bearing_rates(const BearingSpec& b, double shaft_hz, const std::string& where) {
-  auto fail = [&](const std::string& field, double value, const std::string& range) {
-    std::ostringstream os;
-    os << value << " (valid " << range << ")";
-    throw InputError(format_error(where + (b.name.empty() ? std::string() : " '" + b.name + "'"),
-                                  field, os.str()));
-  };
-  if (b.rolling_elements < 3) fail("rolling_elements", b.rolling_elements, ">= 3");
+  const std::string who = where + (b.name.empty() ? std::string() : " '" + b.name + "'");
+  if (b.rolling_elements < 3) fail_range(who, "rolling_elements", b.rolling_elements, ">= 3");
   if (!(b.pitch_diameter_m > 0) || !std::isfinite(b.pitch_diameter_m))
-    fail("pitch_diameter_m", b.pitch_diameter_m, "> 0");
+    fail_range(who, "pitch_diameter_m", b.pitch_diameter_m, "> 0");
   if (!(b.element_diameter_m > 0 && b.element_diameter_m < b.pitch_diameter_m))
-    fail("element_diameter_m", b.element_diameter_m, "0 < B_d < pitch_diameter_m");
+    fail_range(who, "element_diameter_m", b.element_diameter_m, "0 < B_d < pitch_diameter_m");
   if (!(b.contact_angle_rad >= 0 && b.contact_angle_rad < std::numbers::pi / 2))
-    fail("contact_angle_rad", b.contact_angle_rad, "[0, pi/2)");
-  if (!(shaft_hz > 0) || !std::isfinite(shaft_hz)) fail("shaft_hz", shaft_hz, "> 0");
+    fail_range(who, "contact_angle_rad", b.contact_angle_rad, "[0, pi/2)");
+  if (!(shaft_hz > 0) || !std::isfinite(shaft_hz)) fail_range(who, "shaft_hz", shaft_hz, "> 0");
 
   const double rho = b.element_diameter_m / b.pitch_diameter_m * std::cos(b.contact_angle_rad);
   const double n = b.rolling_elements;

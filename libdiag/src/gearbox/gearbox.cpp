@@ -14,6 +14,7 @@
 #include "diag/gearbox/profile_defect.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/units.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace diag {
 
@@ -80,9 +81,9 @@ double Gearbox::ratio_to_output(int gear) const {
 
 Gearbox Gearbox::with_input_speed_rpm(double speed_rpm) const {
   if (!(speed_rpm > 0) || !std::isfinite(speed_rpm) || speed_rpm > kMaxSpeedRpm) {
-    throw InputError(format_error(
-        name_, "input speed",
-        Fields::fmt(speed_rpm) + " rpm is not in (0, " + Fields::fmt(kMaxSpeedRpm) + "]"));
+    throw InputError(format_error(name_, "input speed",
+                                  format_significant(speed_rpm, 6) + " rpm is not in (0, " +
+                                      format_significant(kMaxSpeedRpm, 6) + "]"));
   }
   Gearbox g = *this;
   g.input_.speed_rpm = speed_rpm;
@@ -184,9 +185,9 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     }
     const double module_mm = f.positive("module_mm");
     if (module_mm < kMinModuleMm || module_mm > kMaxModuleMm) {
-      f.fail("module_mm", "must be in [" + Fields::fmt(kMinModuleMm) + ", " +
-                              Fields::fmt(kMaxModuleMm) + "] mm (got " + Fields::fmt(module_mm) +
-                              ")");
+      f.fail("module_mm", "must be in [" + format_significant(kMinModuleMm, 6) + ", " +
+                              format_significant(kMaxModuleMm, 6) + "] mm (got " +
+                              format_significant(module_mm, 6) + ")");
     }
     g.spec.module_m = units::mm_to_m(module_mm);
     g.spec.pressure_angle_rad = units::deg_to_rad(f.positive("pressure_angle_deg", 20.0));
@@ -206,11 +207,11 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
       std::ostringstream m;
       m << "gear '" << g.name << "' (z = " << g.spec.teeth << ", profile_shift "
         << g.spec.profile_shift << ") is undercut (no undercut from profile_shift >= "
-        << Fields::fmt(gear.min_profile_shift_without_undercut())
+        << format_significant(gear.min_profile_shift_without_undercut(), 6)
         << "): its involute starts at diameter "
-        << Fields::fmt(2 * units::m_to_mm(gear.form_radius_m()))
+        << format_significant(2 * units::m_to_mm(gear.form_radius_m()), 6)
         << " mm instead of the base circle ("
-        << Fields::fmt(2 * units::m_to_mm(gear.base_radius_m()))
+        << format_significant(2 * units::m_to_mm(gear.base_radius_m()), 6)
         << " mm), which shortens the contact of its meshes, and its root is thinner, so its "
            "stiffness is lower than the involute tooth model's; tooth counts, ratios and periods "
            "(attribute, kinematic simulation) are unaffected";
@@ -219,10 +220,10 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     // Tip land thinner than 0.2 m: the usual design guideline against tip chipping and through-
     // hardening of the tip (s_a >= 0.2 m to 0.4 m); a warning, the geometry is still valid.
     if (gear.tip_thickness_m() < 0.2 * g.spec.module_m) {
-      gb.warnings_.push_back(format_error(where, path,
-                                          "gear '" + g.name + "' has a thin tip land: " +
-                                              Fields::fmt(units::m_to_mm(gear.tip_thickness_m())) +
-                                              " mm < 0.2 modules"));
+      gb.warnings_.push_back(format_error(
+          where, path,
+          "gear '" + g.name + "' has a thin tip land: " +
+              format_significant(units::m_to_mm(gear.tip_thickness_m()), 6) + " mm < 0.2 modules"));
     }
     gb.shafts_[shaft].gears.push_back(static_cast<int>(gb.gears_.size()));
     gb.gears_.push_back(g);
@@ -253,8 +254,8 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
       gb.warnings_.push_back(
           format_error(where, path,
                        "'" + spec.driver + "' -> '" + spec.driven + "': contact ratio " +
-                           Fields::fmt(pair.contact_ratio()) + " instead of " +
-                           Fields::fmt(pair.uncut_contact_ratio()) +
+                           format_significant(pair.contact_ratio(), 6) + " instead of " +
+                           format_significant(pair.uncut_contact_ratio(), 6) +
                            " because of the undercut (contact is lost below the form circle)"));
     }
     gb.meshes_.push_back(Mesh{d, n, spec, pair});
@@ -269,12 +270,12 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     if (gb.input_shaft_ < 0) f.fail("shaft", "unknown shaft '" + gb.input_.shaft + "'");
     gb.input_.speed_rpm = f.positive("speed_rpm");
     if (gb.input_.speed_rpm > kMaxSpeedRpm) {
-      f.fail("speed_rpm", "must be <= " + Fields::fmt(kMaxSpeedRpm) + " rpm (got " +
-                              Fields::fmt(gb.input_.speed_rpm) + ")");
+      f.fail("speed_rpm", "must be <= " + format_significant(kMaxSpeedRpm, 6) + " rpm (got " +
+                              format_significant(gb.input_.speed_rpm, 6) + ")");
     }
     gb.input_.torque_nm = f.non_negative("torque_nm", 0.0);
     if (gb.input_.torque_nm > kMaxTorqueNm) {
-      f.fail("torque_nm", "must be <= " + Fields::fmt(kMaxTorqueNm) + " N m");
+      f.fail("torque_nm", "must be <= " + format_significant(kMaxTorqueNm, 6) + " N m");
     }
   }
 
@@ -412,7 +413,7 @@ Gearbox parse_gearbox(const json& j, const std::string& where) {
     if (d.size_rad >= 0.5 * gear.angular_pitch_rad()) {
       f.fail(f.has("size_deg") ? "size_deg" : "size_um",
              "must be smaller than half an angular pitch (" +
-                 Fields::fmt(units::rad_to_deg(0.5 * gear.angular_pitch_rad())) +
+                 format_significant(units::rad_to_deg(0.5 * gear.angular_pitch_rad()), 6) +
                  " deg) of the gear");
     }
     if (f.has("tooth") && f.has("phase_deg")) f.fail("tooth", "give tooth or phase_deg, not both");

@@ -5,51 +5,46 @@
 
 #include "diag/error.hpp"
 #include "diag/geometry/gear_pair.hpp"
+#include "diag/range_check.hpp"
 #include "diag/units.hpp"
 
 namespace diag {
 
-namespace {
-
-void require(bool ok, const std::string& where, const std::string& field, double value,
-             const std::string& range) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "must be " << range << " (got " << value << ")";
-  throw InputError(format_error(where, field, msg.str()));
-}
-
-}  // namespace
+namespace {}  // namespace
 
 void validate(const GearSpec& s, const std::string& where) {
-  require(s.teeth >= 5, where, "teeth", s.teeth, "an integer >= 5");
-  require(s.module_m > 0 && std::isfinite(s.module_m), where, "module", s.module_m, "> 0");
-  require(
+  diag::require_range(s.teeth >= 5, where, "teeth", s.teeth, ">= 5");
+  diag::require_range(s.module_m > 0 && std::isfinite(s.module_m), where, "module", s.module_m,
+                      "> 0");
+  diag::require_range(
       s.pressure_angle_rad > units::deg_to_rad(5) && s.pressure_angle_rad < units::deg_to_rad(45),
-      where, "pressure_angle", units::rad_to_deg(s.pressure_angle_rad), "between 5 and 45 degrees");
-  require(std::isfinite(s.profile_shift) && std::abs(s.profile_shift) <= 2.0, where,
-          "profile_shift", s.profile_shift, "within [-2, 2]");
-  require(s.face_width_m > 0 && std::isfinite(s.face_width_m), where, "face_width", s.face_width_m,
-          "> 0");
-  require(s.addendum_coefficient > 0 && s.addendum_coefficient <= 2, where, "addendum_coefficient",
-          s.addendum_coefficient, "in (0, 2]");
-  require(s.clearance_coefficient >= 0 && s.clearance_coefficient <= 1, where,
-          "clearance_coefficient", s.clearance_coefficient, "in [0, 1]");
+      where, "pressure_angle", units::rad_to_deg(s.pressure_angle_rad), "(5, 45) degrees");
+  diag::require_range(std::isfinite(s.profile_shift) && std::abs(s.profile_shift) <= 2.0, where,
+                      "profile_shift", s.profile_shift, "[-2, 2]");
+  diag::require_range(s.face_width_m > 0 && std::isfinite(s.face_width_m), where, "face_width",
+                      s.face_width_m, "> 0");
+  diag::require_range(s.addendum_coefficient > 0 && s.addendum_coefficient <= 2, where,
+                      "addendum_coefficient", s.addendum_coefficient, "(0, 2]");
+  diag::require_range(s.clearance_coefficient >= 0 && s.clearance_coefficient <= 1, where,
+                      "clearance_coefficient", s.clearance_coefficient, "[0, 1]");
   const Material& m = s.material;
-  require(m.youngs_modulus_pa > 0, where, "material.youngs_modulus", m.youngs_modulus_pa, "> 0");
-  require(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5, where, "material.poisson_ratio",
-          m.poisson_ratio, "in [0, 0.5)");
-  require(m.density_kg_per_m3 > 0, where, "material.density", m.density_kg_per_m3, "> 0");
-  require(m.hardness_hb > 0, where, "material.hardness_hb", m.hardness_hb, "> 0");
-  require(m.roughness_ra_m > 0, where, "material.roughness_ra", m.roughness_ra_m, "> 0");
+  diag::require_range(m.youngs_modulus_pa > 0, where, "material.youngs_modulus",
+                      m.youngs_modulus_pa, "> 0");
+  diag::require_range(m.poisson_ratio >= 0 && m.poisson_ratio < 0.5, where,
+                      "material.poisson_ratio", m.poisson_ratio, "[0, 0.5)");
+  diag::require_range(m.density_kg_per_m3 > 0, where, "material.density", m.density_kg_per_m3,
+                      "> 0");
+  diag::require_range(m.hardness_hb > 0, where, "material.hardness_hb", m.hardness_hb, "> 0");
+  diag::require_range(m.roughness_ra_m > 0, where, "material.roughness_ra", m.roughness_ra_m,
+                      "> 0");
   // The root circle must stay outside the centre.
   const double rf = s.module_m * (0.5 * s.teeth - s.addendum_coefficient - s.clearance_coefficient +
                                   s.profile_shift);
-  require(rf > 0, where, "teeth", s.teeth, "large enough for a positive root radius");
+  diag::require_range(rf > 0, where, "teeth", s.teeth, "large enough for a positive root radius");
   if (s.bore_diameter_m >= 0 || !std::isfinite(s.bore_diameter_m)) {
-    require(std::isfinite(s.bore_diameter_m) && s.bore_diameter_m < 2 * rf, where, "bore_diameter",
-            units::m_to_mm(s.bore_diameter_m),
-            "in [0, root diameter " + std::to_string(units::m_to_mm(2 * rf)) + " mm)");
+    diag::require_range(std::isfinite(s.bore_diameter_m) && s.bore_diameter_m < 2 * rf, where,
+                        "bore_diameter", units::m_to_mm(s.bore_diameter_m),
+                        "in [0, root diameter " + std::to_string(units::m_to_mm(2 * rf)) + " mm)");
   }
   // A pointed tooth (no tip land) cannot be made: the flanks cross below the tip circle.
   const double sa = Gear::tip_thickness_unchecked(s);

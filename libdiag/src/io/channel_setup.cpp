@@ -2,21 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace diag {
 
 namespace {
 
-std::string fmt(double v) {
-  std::ostringstream o;
-  o.precision(6);
-  o << v;
-  return o.str();
-}
+std::string fmt(double v) { return format_significant(v, 6); }
 
 }  // namespace
 

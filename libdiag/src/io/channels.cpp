@@ -5,12 +5,12 @@
 #include <cctype>
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <stdexcept>
 
 #include "diag/error.hpp"
 #include "diag/io/input_file.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace diag {
 
@@ -32,13 +32,6 @@ int bearing_shaft(const Gearbox& gb, const std::string& location) {
     if (b.name == location) return gb.shaft_index(b.shaft);
   }
   return -1;
-}
-
-std::string fmt(double v, int precision = 4) {
-  std::ostringstream o;
-  o.precision(precision);
-  o << v;
-  return o.str();
 }
 
 // Tokens of a channel name split at anything but letters and digits, lower case.
@@ -466,7 +459,8 @@ std::vector<std::string> infer_tachos(Recording& rec, const Gearbox* gb,
     if (!gb) {
       s.role = Role::kOther;
       s.direction = Direction::kUnspecified;
-      notes.push_back("channel '" + s.name + "': " + how + " at " + fmt(*rate) +
+      notes.push_back("channel '" + s.name + "': " + how + " at " +
+                      diag::format_significant(*rate, 4) +
                       " pulses/s; without a gearbox its shaft is unknown: not analysed as "
                       "vibration");
       keep.push_back(std::move(s));
@@ -499,10 +493,11 @@ std::vector<std::string> infer_tachos(Recording& rec, const Gearbox* gb,
     if (shaft < 0) {
       s.role = Role::kOther;
       s.direction = Direction::kUnspecified;
-      notes.push_back("channel '" + s.name + "': " + how + " at " + fmt(*rate) +
+      notes.push_back("channel '" + s.name + "': " + how + " at " +
+                      diag::format_significant(*rate, 4) +
                       " pulses/s, consistent with no single shaft of the description (nominal "
                       "input " +
-                      fmt(gb->input().speed_rpm) +
+                      diag::format_significant(gb->input().speed_rpm, 4) +
                       " rpm): not used as a tacho, not analysed as vibration (say --tacho "
                       "CHANNEL=SHAFT[:PPR])");
       keep.push_back(std::move(s));
@@ -510,10 +505,11 @@ std::vector<std::string> infer_tachos(Recording& rec, const Gearbox* gb,
     }
     s.shaft = gb->shafts()[static_cast<std::size_t>(shaft)].name;
     s.ppr = ppr;
-    notes.push_back("channel '" + s.name + "': " + how + " at " + fmt(*rate) +
-                    " pulses/s: taken as the tacho of shaft " + s.shaft + " (" +
-                    std::to_string(ppr) + " pulse" + (ppr > 1 ? "s" : "") +
-                    " per revolution; nominal " + fmt(gb->shaft_speed_hz(shaft) * 60) + " rpm)");
+    notes.push_back("channel '" + s.name + "': " + how + " at " +
+                    diag::format_significant(*rate, 4) + " pulses/s: taken as the tacho of shaft " +
+                    s.shaft + " (" + std::to_string(ppr) + " pulse" + (ppr > 1 ? "s" : "") +
+                    " per revolution; nominal " +
+                    diag::format_significant(gb->shaft_speed_hz(shaft) * 60, 4) + " rpm)");
     rec.tachos.push_back(std::move(s));
   }
   rec.signals = std::move(keep);

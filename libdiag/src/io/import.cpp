@@ -22,6 +22,7 @@
 #include "diag/io/hdf5.hpp"
 #include "diag/io/input_file.hpp"
 #include "diag/io/printable.hpp"
+#include "diag/util/number_format.hpp"
 #include "mat_file.hpp"
 
 namespace diag {
@@ -42,21 +43,14 @@ bool ends_with(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
 
-// Shortest text that reads back to the same double.
-std::string number_text(double value) {
-  char buffer[64];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return std::string(buffer, result.ptr);
-}
-
 std::string finite_error(double value) {
   return std::string(std::isnan(value) ? "NaN" : "infinite") + " value; samples must be finite";
 }
 
 void check_option_fs(const std::string& where, const ImportOptions& options) {
   if (options.fs_hz && (!(*options.fs_hz > 0.0) || !std::isfinite(*options.fs_hz))) {
-    throw InputError(
-        format_error(where, "fs_hz", number_text(*options.fs_hz) + " Hz is not a finite rate > 0"));
+    throw InputError(format_error(
+        where, "fs_hz", format_shortest(*options.fs_hz) + " Hz is not a finite rate > 0"));
   }
 }
 
@@ -318,17 +312,17 @@ Recording import_csv(const std::filesystem::path& path, const std::string& where
       if (std::abs(step - dt) > tolerance) {
         throw InputError(format_error(where, field,
                                       "time stamps are not uniformly spaced within 0.1 %: step " +
-                                          number_text(step) + " s between rows " +
+                                          format_shortest(step) + " s between rows " +
                                           std::to_string(i) + " and " + std::to_string(i + 1) +
-                                          " of the data, mean step " + number_text(dt) + " s"));
+                                          " of the data, mean step " + format_shortest(dt) + " s"));
       }
     }
     const double fs_time_hz = 1.0 / dt;
     if (options.fs_hz && !rates_agree(*options.fs_hz, fs_time_hz)) {
       throw InputError(format_error(where, "fs_hz",
-                                    "the given " + number_text(*options.fs_hz) +
+                                    "the given " + format_shortest(*options.fs_hz) +
                                         " Hz disagrees with the time column's " +
-                                        number_text(fs_time_hz) + " Hz by more than 0.1 %"));
+                                        format_shortest(fs_time_hz) + " Hz by more than 0.1 %"));
     }
     if (!options.fs_hz) fs_hz = fs_time_hz;
   }
@@ -446,7 +440,7 @@ Recording import_sound(const std::filesystem::path& path, const std::string& whe
 std::string scalar_text(const mat::Variable& v) {
   if (!v.exact_text.empty()) return v.exact_text;
   if (v.integer_class) return std::to_string(static_cast<long long>(v.values[0]));
-  return number_text(v.values[0]);
+  return format_shortest(v.values[0]);
 }
 
 // The Case Western Reserve University bearing data's naming (its "Data Files" pages): variable
@@ -526,7 +520,7 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
                             [](const auto& a, const auto& b) { return a.second < b.second; });
     if (hi->second <= lo->second * 1.001) {
       rec.speed_rpm = rpm_values.front().second;
-      rec.notes.push_back("speed " + number_text(rec.speed_rpm) + " rpm from variable " +
+      rec.notes.push_back("speed " + format_shortest(rec.speed_rpm) + " rpm from variable " +
                           rpm_values.front().first);
     } else {
       rec.notes.push_back("speed variables " + lo->first + " and " + hi->first +
@@ -547,9 +541,9 @@ Recording import_hdf5(const std::filesystem::path& path, const std::string& wher
       for (const Signal& s : *group) {
         if (!rates_agree(*options.fs_hz, s.fs_hz)) {
           throw InputError(format_error(where, "fs_hz",
-                                        "the given " + number_text(*options.fs_hz) +
+                                        "the given " + format_shortest(*options.fs_hz) +
                                             " Hz disagrees with channel " + s.name + "'s " +
-                                            number_text(s.fs_hz) + " Hz by more than 0.1 %"));
+                                            format_shortest(s.fs_hz) + " Hz by more than 0.1 %"));
         }
       }
     }

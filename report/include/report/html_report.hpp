@@ -20,10 +20,10 @@
 //    amplitude spectrum with the mesh harmonics and Welch PSD in (unit)^2/Hz; each mesh's zoom
 //    with its candidate shafts' sideband positions (detected lines solid); for a channel whose
 //    bearings were diagnosed, the envelope spectrum the decision read (the squared envelope of
-//    the prewhitened signal in the band diagnose_bearings chose, which is not the raw kurtogram's)
-//    on an axis to 1.1 x the highest harmonic scored, every scored line of FTF, BPFO, BPFI, 2BSF
-//    labelled, solid where the decision counted it and dashed where it expected one and saw
-//    none, and the lines' table; otherwise the envelope spectrum of the kurtogram's band with
+//    the prewhitened signal in the band diagnose_bearings_from_signal chose, which is not the raw
+//    kurtogram's) on an axis to 1.1 x the highest harmonic scored, every scored line of FTF, BPFO,
+//    BPFI, 2BSF labelled, solid where the decision counted it and dashed where it expected one and
+//    saw none, and the lines' table; otherwise the envelope spectrum of the kurtogram's band with
 //    the families labelled and the fault bands shaded; order spectrum up to 1.15 x the third
 //    harmonic of the highest mesh order; per shaft the TSA and, on its own scale, the difference
 //    signal, with the gear indicator table.

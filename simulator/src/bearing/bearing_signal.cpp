@@ -18,10 +18,6 @@ namespace {
 
 constexpr const char* kWhere = "bearing signal";
 
-void require(bool ok, const std::string& field, const std::string& reason) {
-  diag::require(ok, kWhere, field, reason);
-}
-
 // Stribeck's load distribution, normalised to 1 at theta = 0 (see the header).
 double load(double theta_rad, double eps) {
   const double b = 1.0 - (1.0 - std::cos(theta_rad)) / (2.0 * eps);
@@ -77,28 +73,33 @@ diag::FaultKind fault_kind(BearingFaultKind k) {
 const char* to_string(BearingFaultKind k) { return diag::to_string(fault_kind(k)).data(); }
 
 void BearingSignalOptions::validate() const {
-  require(std::isfinite(fs_hz) && fs_hz > 0, "fs_hz", "must be finite and > 0");
-  require(duration_s > 0 && duration_s <= 600, "duration_s", "must be in (0, 600]");
-  require(std::isfinite(shaft_hz) && shaft_hz > 0, "shaft_hz", "must be finite and > 0");
-  require(impact_amplitude > 0 && std::isfinite(impact_amplitude), "impact_amplitude",
-          "must be finite and > 0");
-  require(snr_db >= -60 && snr_db <= 60, "snr_db", "must be in [-60, 60]");
-  require(resonance_hz > 0 && resonance_hz < 0.45 * fs_hz, "resonance_hz",
-          "must be in (0, 0.45 fs_hz)");
-  require(damping_ratio > 0 && damping_ratio <= 0.5, "damping_ratio", "must be in (0, 0.5]");
-  require(mean_slip >= -0.05 && mean_slip <= 0.05, "mean_slip", "must be in [-0.05, 0.05]");
-  require(jitter >= 0 && jitter <= 0.1, "jitter", "must be in [0, 0.1]");
-  require(load_zone_factor > 0 && load_zone_factor <= 1, "load_zone_factor", "must be in (0, 1]");
-  require(std::isfinite(defect_angle_rad), "defect_angle_rad", "must be finite");
-  require(inner_strike_gain >= 0 && inner_strike_gain <= 1, "inner_strike_gain",
-          "must be in [0, 1]");
-  require(ball_track_probability >= 0 && ball_track_probability <= 1, "ball_track_probability",
-          "must be in [0, 1]");
-  require(shaft_amplitude >= 0 && std::isfinite(shaft_amplitude), "shaft_amplitude",
-          "must be finite and >= 0");
-  require(mesh_hz >= 0 && mesh_hz < 0.5 * fs_hz, "mesh_hz", "must be in [0, fs_hz / 2)");
-  require(mesh_amplitude >= 0 && std::isfinite(mesh_amplitude), "mesh_amplitude",
-          "must be finite and >= 0");
+  diag::require(std::isfinite(fs_hz) && fs_hz > 0, kWhere, "fs_hz", "must be finite and > 0");
+  diag::require(duration_s > 0 && duration_s <= 600, kWhere, "duration_s", "must be in (0, 600]");
+  diag::require(std::isfinite(shaft_hz) && shaft_hz > 0, kWhere, "shaft_hz",
+                "must be finite and > 0");
+  diag::require(impact_amplitude > 0 && std::isfinite(impact_amplitude), kWhere, "impact_amplitude",
+                "must be finite and > 0");
+  diag::require(snr_db >= -60 && snr_db <= 60, kWhere, "snr_db", "must be in [-60, 60]");
+  diag::require(resonance_hz > 0 && resonance_hz < 0.45 * fs_hz, kWhere, "resonance_hz",
+                "must be in (0, 0.45 fs_hz)");
+  diag::require(damping_ratio > 0 && damping_ratio <= 0.5, kWhere, "damping_ratio",
+                "must be in (0, 0.5]");
+  diag::require(mean_slip >= -0.05 && mean_slip <= 0.05, kWhere, "mean_slip",
+                "must be in [-0.05, 0.05]");
+  diag::require(jitter >= 0 && jitter <= 0.1, kWhere, "jitter", "must be in [0, 0.1]");
+  diag::require(load_zone_factor > 0 && load_zone_factor <= 1, kWhere, "load_zone_factor",
+                "must be in (0, 1]");
+  diag::require(std::isfinite(defect_angle_rad), kWhere, "defect_angle_rad", "must be finite");
+  diag::require(inner_strike_gain >= 0 && inner_strike_gain <= 1, kWhere, "inner_strike_gain",
+                "must be in [0, 1]");
+  diag::require(ball_track_probability >= 0 && ball_track_probability <= 1, kWhere,
+                "ball_track_probability", "must be in [0, 1]");
+  diag::require(shaft_amplitude >= 0 && std::isfinite(shaft_amplitude), kWhere, "shaft_amplitude",
+                "must be finite and >= 0");
+  diag::require(mesh_hz >= 0 && mesh_hz < 0.5 * fs_hz, kWhere, "mesh_hz",
+                "must be in [0, fs_hz / 2)");
+  diag::require(mesh_amplitude >= 0 && std::isfinite(mesh_amplitude), kWhere, "mesh_amplitude",
+                "must be finite and >= 0");
 }
 
 BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
@@ -109,7 +110,7 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
   const BearingRates& r = out.rates;
   const double fs = opt.fs_hz;
   const auto n = static_cast<std::size_t>(std::llround(opt.duration_s * fs));
-  require(n >= 16, "duration_s", "gives fewer than 16 samples");
+  diag::require(n >= 16, kWhere, "duration_s", "gives fewer than 16 samples");
   const double wn = kTwoPi * opt.resonance_hz, zeta = opt.damping_ratio;
   const double slip = 1 - opt.mean_slip;
   const double eps = opt.load_zone_factor, a = opt.impact_amplitude;

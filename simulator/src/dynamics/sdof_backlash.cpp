@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 #include "diag/units.hpp"
 
 namespace sim {
@@ -14,16 +14,8 @@ using diag::units::kTwoPi;
 
 namespace {
 
-void require(bool ok, const std::string& where, const std::string& field, double value,
-             const std::string& range) {
-  if (ok) return;
-  std::ostringstream m;
-  m << value << " is out of range: " << range;
-  throw InputError(diag::format_error(where, field, m.str()));
-}
-
 void check_omega(double omega, const char* where) {
-  require(std::isfinite(omega) && omega > 0.0, where, "omega", omega, "> 0");
+  diag::require_range(std::isfinite(omega) && omega > 0.0, where, "omega", omega, "> 0");
 }
 
 double backlash_force(double x, double b) {
@@ -35,29 +27,32 @@ double backlash_force(double x, double b) {
 }  // namespace
 
 void SdofBacklashOptions::validate(const std::string& where) const {
-  require(std::isfinite(damping_ratio) && damping_ratio >= 0.0 && damping_ratio < 1.0, where,
-          "damping_ratio", damping_ratio, "[0, 1)");
-  require(std::isfinite(mean_load) && mean_load >= 0.0, where, "mean_load", mean_load, ">= 0");
-  require(std::isfinite(half_backlash) && half_backlash >= 0.0, where, "half_backlash",
-          half_backlash, ">= 0");
+  diag::require_range(std::isfinite(damping_ratio) && damping_ratio >= 0.0 && damping_ratio < 1.0,
+                      where, "damping_ratio", damping_ratio, "[0, 1)");
+  diag::require_range(std::isfinite(mean_load) && mean_load >= 0.0, where, "mean_load", mean_load,
+                      ">= 0");
+  diag::require_range(std::isfinite(half_backlash) && half_backlash >= 0.0, where, "half_backlash",
+                      half_backlash, ">= 0");
   double alpha_sum = 0.0;
   for (std::size_t r = 0; r < stiffness.size(); ++r) {
     const Harmonic& h = stiffness[r];
-    require(std::isfinite(h.amplitude) && std::isfinite(h.phase_rad), where,
-            "stiffness[" + std::to_string(r) + "]", h.amplitude, "finite amplitude and phase");
+    diag::require_range(std::isfinite(h.amplitude) && std::isfinite(h.phase_rad), where,
+                        "stiffness[" + std::to_string(r) + "]", h.amplitude,
+                        "finite amplitude and phase");
     alpha_sum += std::abs(h.amplitude);
   }
-  require(alpha_sum < 1.0, where, "stiffness", alpha_sum,
-          "sum of |alpha_r| < 1 (mesh stiffness must stay positive)");
+  diag::require_range(alpha_sum < 1.0, where, "stiffness", alpha_sum,
+                      "sum of |alpha_r| < 1 (mesh stiffness must stay positive)");
   for (std::size_t r = 0; r < transmission_error.size(); ++r) {
     const Harmonic& h = transmission_error[r];
-    require(std::isfinite(h.amplitude) && std::isfinite(h.phase_rad), where,
-            "transmission_error[" + std::to_string(r) + "]", h.amplitude,
-            "finite amplitude and phase");
+    diag::require_range(std::isfinite(h.amplitude) && std::isfinite(h.phase_rad), where,
+                        "transmission_error[" + std::to_string(r) + "]", h.amplitude,
+                        "finite amplitude and phase");
   }
-  require(steps_per_period >= 32, where, "steps_per_period", steps_per_period, ">= 32");
-  require(transient_periods >= 0, where, "transient_periods", transient_periods, ">= 0");
-  require(record_periods >= 1, where, "record_periods", record_periods, ">= 1");
+  diag::require_range(steps_per_period >= 32, where, "steps_per_period", steps_per_period, ">= 32");
+  diag::require_range(transient_periods >= 0, where, "transient_periods", transient_periods,
+                      ">= 0");
+  diag::require_range(record_periods >= 1, where, "record_periods", record_periods, ">= 1");
 }
 
 double sdof_acceleration(const SdofBacklashOptions& o, double omega, double tau, double x,
@@ -142,10 +137,11 @@ SdofResponse sdof_steady_state(const SdofBacklashOptions& o, double omega, SdofS
 SdofSweep sdof_sweep(const SdofBacklashOptions& o, double omega_min, double omega_max, int points) {
   const char* where = "sdof_sweep";
   o.validate(where);
-  require(std::isfinite(omega_min) && omega_min > 0.0, where, "omega_min", omega_min, "> 0");
-  require(std::isfinite(omega_max) && omega_max > omega_min, where, "omega_max", omega_max,
-          "> omega_min");
-  require(points >= 2, where, "points", points, ">= 2");
+  diag::require_range(std::isfinite(omega_min) && omega_min > 0.0, where, "omega_min", omega_min,
+                      "> 0");
+  diag::require_range(std::isfinite(omega_max) && omega_max > omega_min, where, "omega_max",
+                      omega_max, "> omega_min");
+  diag::require_range(points >= 2, where, "points", points, ">= 2");
   SdofSweep sweep;
   sweep.up.reserve(static_cast<std::size_t>(points));
   sweep.down.reserve(static_cast<std::size_t>(points));

@@ -15,6 +15,7 @@
 #include "diag/io/channels.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/io/truth.hpp"
+#include "diag/util/number_format.hpp"
 #include "sim/dynamics/rk4.hpp"
 
 namespace sim {
@@ -83,9 +84,10 @@ void RunOptions::validate() const {
   positive(fs_hz, "fs_hz");
   auto at_most = [&](double v, double limit, const char* field, const char* unit) {
     if (v > limit) {
-      throw diag::InputError(diag::format_error(
-          where, field,
-          diag::Fields::fmt(v) + unit + " exceeds the limit " + diag::Fields::fmt(limit) + unit));
+      throw diag::InputError(diag::format_error(where, field,
+                                                diag::format_significant(v, 6) + unit +
+                                                    " exceeds the limit " +
+                                                    diag::format_significant(limit, 6) + unit));
     }
   };
   at_most(duration_s, kMaxDurationS, "duration_s", " s");
@@ -177,10 +179,10 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     } else {
       const double d_wanted = std::round(1.0 / (run.fs_hz * run.step_s));
       if (!(d_wanted <= kMaxStepsPerSample)) {
-        throw diag::InputError(
-            diag::format_error("simulate", "step_s",
-                               diag::Fields::fmt(d_wanted) + " steps per output sample; at most " +
-                                   diag::Fields::fmt(kMaxStepsPerSample) + " are supported"));
+        throw diag::InputError(diag::format_error(
+            "simulate", "step_s",
+            diag::format_significant(d_wanted, 6) + " steps per output sample; at most " +
+                diag::format_significant(kMaxStepsPerSample, 6) + " are supported"));
       }
       const int d_user = std::max(1, static_cast<int>(d_wanted));
       D = d_user;

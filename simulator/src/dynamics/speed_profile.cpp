@@ -6,17 +6,18 @@
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/range_check.hpp"
 #include "diag/units.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace sim {
 namespace {
 
 constexpr double kRpmToRadPerS = 2.0 * 3.14159265358979323846 / 60.0;
 
-void require_positive(double v, const std::string& where, const char* field) {
-  if (!(v > 0.0) || !std::isfinite(v)) {
-    throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not > 0"));
-  }
+// Speeds and durations: finite and > 0.
+void require_positive(double v, const std::string& where, const std::string& field) {
+  diag::require_range(v > 0.0 && std::isfinite(v), where, field, v, "> 0");
 }
 
 }  // namespace
@@ -60,7 +61,7 @@ void SpeedProfile::validate(const std::string& where) const {
         throw diag::InputError(diag::format_error(where, "time_s[0]", "must be 0"));
       }
       for (std::size_t i = 0; i < time_s.size(); ++i) {
-        require_positive(rpm_values[i], where, ("rpm[" + std::to_string(i) + "]").c_str());
+        require_positive(rpm_values[i], where, "rpm[" + std::to_string(i) + "]");
         if (i > 0 && !(time_s[i] > time_s[i - 1])) {
           throw diag::InputError(diag::format_error(where, "time_s[" + std::to_string(i) + "]",
                                                     "times must increase strictly"));
@@ -71,9 +72,10 @@ void SpeedProfile::validate(const std::string& where) const {
   // Documented bound (docs/limits.md): beyond it the step per output sample overflows and the
   // run would take days.
   if (max_rpm() > diag::kMaxSpeedRpm) {
-    throw diag::InputError(diag::format_error(
-        where, "rpm",
-        diag::Fields::fmt(max_rpm()) + " rpm exceeds " + diag::Fields::fmt(diag::kMaxSpeedRpm)));
+    throw diag::InputError(diag::format_error(where, "rpm",
+                                              diag::format_significant(max_rpm(), 6) +
+                                                  " rpm exceeds " +
+                                                  diag::format_significant(diag::kMaxSpeedRpm, 6)));
   }
 }
 

@@ -7,6 +7,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/channels.hpp"
 #include "diag/io/json_fields.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace sim {
 
@@ -19,7 +20,7 @@ void SweepOptions::validate() const {
   }
   if (to_rpm > diag::kMaxSpeedRpm) {
     throw diag::InputError(diag::format_error(
-        where, "to_rpm", "must be <= " + diag::Fields::fmt(diag::kMaxSpeedRpm) + " rpm"));
+        where, "to_rpm", "must be <= " + diag::format_significant(diag::kMaxSpeedRpm, 6) + " rpm"));
   }
   if (steps < 2 || steps > kMaxSweepSteps) {
     throw diag::InputError(diag::format_error(where, "steps",

@@ -18,10 +18,6 @@ using nlohmann::json;
 
 namespace {
 
-void require(bool ok, const std::string& field, const std::string& reason) {
-  if (!ok) throw InputError(diag::format_error("kinematic simulation", field, reason));
-}
-
 // A defect as the simulation needs it: which path mesh, its gap in down-gear angle, and how its
 // own gear's angle follows the input angle.
 struct ActiveDefect {
@@ -81,14 +77,18 @@ double quantise(double angle, std::int64_t counts) {
 }  // namespace
 
 void KinematicOptions::validate() const {
-  require(step_rad > 0 && step_rad <= 0.1, "step_rad", "must be in (0, 0.1] rad");
-  require(revolutions >= 0 && std::isfinite(revolutions), "revolutions", "must be >= 0");
-  require(runout_output_rad >= 0, "runout_output_rad", "must be >= 0");
-  require(mesh_te_output_rad >= 0, "mesh_te_output_rad", "must be >= 0");
-  require(noise_output_rad >= 0, "noise_output_rad", "must be >= 0");
-  require(noise_input_rad >= 0, "noise_input_rad", "must be >= 0");
-  require(encoder_counts_per_rev == 0 || encoder_counts_per_rev >= 16, "encoder_counts_per_rev",
-          "must be 0 (no quantisation) or >= 16");
+  diag::require(step_rad > 0 && step_rad <= 0.1, "kinematic simulation", "step_rad",
+                "must be in (0, 0.1] rad");
+  diag::require(revolutions >= 0 && std::isfinite(revolutions), "kinematic simulation",
+                "revolutions", "must be >= 0");
+  diag::require(runout_output_rad >= 0, "kinematic simulation", "runout_output_rad",
+                "must be >= 0");
+  diag::require(mesh_te_output_rad >= 0, "kinematic simulation", "mesh_te_output_rad",
+                "must be >= 0");
+  diag::require(noise_output_rad >= 0, "kinematic simulation", "noise_output_rad", "must be >= 0");
+  diag::require(noise_input_rad >= 0, "kinematic simulation", "noise_input_rad", "must be >= 0");
+  diag::require(encoder_counts_per_rev == 0 || encoder_counts_per_rev >= 16, "kinematic simulation",
+                "encoder_counts_per_rev", "must be 0 (no quantisation) or >= 16");
 }
 
 KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptions& opt) {
@@ -147,7 +147,7 @@ KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptio
         m << "too coarse for the defect on gear '" << d.gear << "': its pulse spans "
           << pulse_input_rad
           << " rad of input angle; use step_rad <= " << pulse_input_rad / kStepsPerPulse;
-        require(false, "step_rad", m.str());
+        diag::require(false, "kinematic simulation", "step_rad", m.str());
       }
       active.push_back(a);
     }
@@ -163,7 +163,7 @@ KinematicResult simulate_kinematic(const diag::Gearbox& gb, const KinematicOptio
     m << revs << " input revolutions at a step of " << opt.step_rad << " rad need " << n_wanted
       << " samples (" << 24.0 * n_wanted / (1 << 20) << " MiB); at most " << kMaxSamples
       << " are accepted: fewer revolutions or a coarser step";
-    require(false, "revolutions", m.str());
+    diag::require(false, "kinematic simulation", "revolutions", m.str());
   }
   const auto n = static_cast<std::size_t>(n_wanted);
 

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 #include "diag/units.hpp"
 
 namespace sim {
@@ -21,14 +21,6 @@ constexpr double kNewtonsPerPoundForce = 4.4482216152605;
 // Half a nanometre: a pair exactly at the end of contact counts as in contact (as in
 // GearPair::contacts_at).
 constexpr double kEdgeTolM = 5e-10;
-
-void require(bool ok, const std::string& where, const std::string& field, double value,
-             const std::string& range) {
-  if (ok) return;
-  std::ostringstream m;
-  m << value << " is out of range: " << range;
-  throw InputError(diag::format_error(where, field, m.str()));
-}
 
 }  // namespace
 
@@ -61,15 +53,15 @@ const char* to_string(FrictionLaw law) {
 }
 
 void FrictionOptions::validate(const std::string& where) const {
-  require(law == FrictionLaw::kNone || law == FrictionLaw::kConstant ||
-              law == FrictionLaw::kDrozdov || law == FrictionLaw::kBenedictKelley ||
-              law == FrictionLaw::kXuKahraman,
-          where, "law", static_cast<double>(static_cast<int>(law)), "a FrictionLaw value");
-  require(std::isfinite(mu_constant) && mu_constant >= 0.0 && mu_constant <= 1.0, where,
-          "mu_constant", mu_constant, "[0, 1]");
-  require(std::isfinite(mu_cap) && mu_cap > 0.0 && mu_cap <= 1.0, where, "mu_cap", mu_cap,
-          "(0, 1]");
-  require(
+  diag::require_range(
+      law == FrictionLaw::kNone || law == FrictionLaw::kConstant || law == FrictionLaw::kDrozdov ||
+          law == FrictionLaw::kBenedictKelley || law == FrictionLaw::kXuKahraman,
+      where, "law", static_cast<double>(static_cast<int>(law)), "a FrictionLaw value");
+  diag::require_range(std::isfinite(mu_constant) && mu_constant >= 0.0 && mu_constant <= 1.0, where,
+                      "mu_constant", mu_constant, "[0, 1]");
+  diag::require_range(std::isfinite(mu_cap) && mu_cap > 0.0 && mu_cap <= 1.0, where, "mu_cap",
+                      mu_cap, "(0, 1]");
+  diag::require_range(
       std::isfinite(oil_temperature_c) && oil_temperature_c >= -30.0 && oil_temperature_c <= 150.0,
       where, "oil_temperature_c", oil_temperature_c,
       "[-30, 150] degC (range of the ASTM D341 viscosity law)");
@@ -147,8 +139,8 @@ double FrictionModel::xu_kahraman(const diag::ContactKinematics& k, double norma
 }
 
 double FrictionModel::coefficient(const diag::ContactKinematics& k, double normal_load_n) const {
-  require(std::isfinite(normal_load_n) && normal_load_n >= 0.0, "FrictionModel::coefficient",
-          "normal_load_n", normal_load_n, ">= 0 N");
+  diag::require_range(std::isfinite(normal_load_n) && normal_load_n >= 0.0,
+                      "FrictionModel::coefficient", "normal_load_n", normal_load_n, ">= 0 N");
   switch (options_.law) {
     case FrictionLaw::kNone:
       return 0.0;
@@ -177,10 +169,11 @@ int FrictionModel::pairs_in_contact(double s_m) const {
 std::vector<double> FrictionModel::tabulate(double omega1_rad_per_s, double normal_load_n,
                                             int points) const {
   const char* where = "FrictionModel::tabulate";
-  require(points >= 2, where, "points", points, ">= 2");
-  require(std::isfinite(omega1_rad_per_s), where, "omega1_rad_per_s", omega1_rad_per_s, "finite");
-  require(std::isfinite(normal_load_n) && normal_load_n >= 0.0, where, "normal_load_n",
-          normal_load_n, ">= 0 N");
+  diag::require_range(points >= 2, where, "points", points, ">= 2");
+  diag::require_range(std::isfinite(omega1_rad_per_s), where, "omega1_rad_per_s", omega1_rad_per_s,
+                      "finite");
+  diag::require_range(std::isfinite(normal_load_n) && normal_load_n >= 0.0, where, "normal_load_n",
+                      normal_load_n, ">= 0 N");
   std::vector<double> mu(static_cast<std::size_t>(points));
   const double s0 = pair_.s_start_m(), ds = pair_.path_of_contact_m() / (points - 1);
   for (int i = 0; i < points; ++i) {

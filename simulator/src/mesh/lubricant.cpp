@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "diag/error.hpp"
+#include "diag/range_check.hpp"
 
 namespace sim {
 
@@ -20,17 +21,10 @@ constexpr double kMaxTemperatureC = 150.0;
 double walther_y(double nu_cst) { return std::log10(std::log10(nu_cst + kWaltherShift)); }
 double walther_x(double t_c) { return std::log10(t_c + kKelvin); }
 
-void require(bool ok, const std::string& where, const std::string& field, double value,
-             const std::string& range) {
-  if (ok) return;
-  std::ostringstream m;
-  m << value << " is out of range: " << range;
-  throw InputError(diag::format_error(where, field, m.str()));
-}
-
 void check_temperature(double t_c, const char* where) {
-  require(std::isfinite(t_c) && t_c >= kMinTemperatureC && t_c <= kMaxTemperatureC, where,
-          "temperature_c", t_c, "[-30, 150] degC (range of the ASTM D341 viscosity law)");
+  diag::require_range(std::isfinite(t_c) && t_c >= kMinTemperatureC && t_c <= kMaxTemperatureC,
+                      where, "temperature_c", t_c,
+                      "[-30, 150] degC (range of the ASTM D341 viscosity law)");
 }
 
 }  // namespace
@@ -72,9 +66,12 @@ Lubricant Lubricant::from_two_points(double t_a_c, double nu_a_cst, double t_b_c
   const char* where = "Lubricant::from_two_points";
   check_temperature(t_a_c, where);
   check_temperature(t_b_c, where);
-  require(std::abs(t_a_c - t_b_c) >= 1.0, where, "t_b_c", t_b_c, "at least 1 degC away from t_a_c");
-  require(std::isfinite(nu_a_cst) && nu_a_cst >= 2.0, where, "nu_a_cst", nu_a_cst, ">= 2 cSt");
-  require(std::isfinite(nu_b_cst) && nu_b_cst >= 2.0, where, "nu_b_cst", nu_b_cst, ">= 2 cSt");
+  diag::require_range(std::abs(t_a_c - t_b_c) >= 1.0, where, "t_b_c", t_b_c,
+                      "at least 1 degC away from t_a_c");
+  diag::require_range(std::isfinite(nu_a_cst) && nu_a_cst >= 2.0, where, "nu_a_cst", nu_a_cst,
+                      ">= 2 cSt");
+  diag::require_range(std::isfinite(nu_b_cst) && nu_b_cst >= 2.0, where, "nu_b_cst", nu_b_cst,
+                      ">= 2 cSt");
   const double b =
       (walther_y(nu_a_cst) - walther_y(nu_b_cst)) / (walther_x(t_b_c) - walther_x(t_a_c));
   const double a = walther_y(nu_a_cst) + b * walther_x(t_a_c);
@@ -116,13 +113,13 @@ double Lubricant::dynamic_viscosity_pa_s(double temperature_c) const {
 }
 
 void Lubricant::validate(const std::string& where) const {
-  require(std::isfinite(nu100_cst) && nu100_cst >= 2.0, where, "nu100_cst", nu100_cst,
-          ">= 2 cSt (ASTM D341 range)");
-  require(std::isfinite(nu40_cst) && nu40_cst > nu100_cst, where, "nu40_cst", nu40_cst,
-          "> nu100_cst (viscosity falls with temperature)");
-  require(std::isfinite(density15_kg_per_m3) && density15_kg_per_m3 >= 700.0 &&
-              density15_kg_per_m3 <= 1200.0,
-          where, "density15_kg_per_m3", density15_kg_per_m3, "[700, 1200] kg/m^3");
+  diag::require_range(std::isfinite(nu100_cst) && nu100_cst >= 2.0, where, "nu100_cst", nu100_cst,
+                      ">= 2 cSt (ASTM D341 range)");
+  diag::require_range(std::isfinite(nu40_cst) && nu40_cst > nu100_cst, where, "nu40_cst", nu40_cst,
+                      "> nu100_cst (viscosity falls with temperature)");
+  diag::require_range(std::isfinite(density15_kg_per_m3) && density15_kg_per_m3 >= 700.0 &&
+                          density15_kg_per_m3 <= 1200.0,
+                      where, "density15_kg_per_m3", density15_kg_per_m3, "[700, 1200] kg/m^3");
 }
 
 }  // namespace sim

@@ -1,7 +1,8 @@
-// Closed-loop validation of diagnose_bearings (detect/gear/bearing_diagnosis.hpp) on signals from
-// the bearing kinematics (sim/bearing/bearing_signal.hpp): every fault class (outer race, inner
-// race, rolling element, cage, and healthy) at every shaft speed, impact amplitude ("size") and
-// SNR of the grid, several seeds each; the answer is compared with the truth and counted as
+// Closed-loop validation of diagnose_bearings_from_signal (detect/bearing/bearing_diagnosis.hpp) on
+// signals from the bearing kinematics (sim/bearing/bearing_signal.hpp): every fault class (outer
+// race, inner race, rolling element, cage, and healthy) at every shaft speed, impact amplitude
+// ("size") and SNR of the grid, several seeds each; the answer is compared with the truth and
+// counted as
 //   right  - the class named (healthy: nothing named; cage: the cage note, never a finding),
 //   silent - nothing named (for a cage fault, nothing at all),
 //   wrong  - another part named (healthy: any finding).
@@ -23,7 +24,7 @@
 #include <string>
 #include <vector>
 
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 #include "sim/bearing/bearing_signal.hpp"
 
 namespace validate {

@@ -33,8 +33,8 @@
 //  - every bearing of the description, on the sensor channels at that bearing (location ==
 //    bearing name; every sensor channel when none is): fault frequencies, fault bands and band
 //    metrics on the channel's envelope spectrum (bearing_faults.hpp, fault_bands.hpp), and the
-//    decision of diagnose_bearings (bearing_diagnosis.hpp: cepstral prewhitening, a guarded
-//    kurtogram band and the whole band must name the same fault; validated on CWRU);
+//    decision of diagnose_bearings_from_signal (bearing_diagnosis.hpp: cepstral prewhitening, a
+//    guarded kurtogram band and the whole band must name the same fault; validated on CWRU);
 //  - the two-direction comparison (two_direction.hpp): for each location with an along_loa and a
 //    normal_loa channel, the mesh-harmonic energies in both and their normal-to-along ratio [dB];
 //  - which shaft carries a damaged gear (gear_damage.hpp: TSA per shaft, the noise-corrected
@@ -68,9 +68,9 @@
 
 #include "detect/angular/tsa.hpp"
 #include "detect/baseline/baseline.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 #include "detect/finding.hpp"
-#include "detect/gear/bearing_diagnosis.hpp"
-#include "detect/gear/bearing_faults.hpp"
 #include "detect/gear/fault_bands.hpp"
 #include "detect/gear/gear_damage.hpp"
 #include "detect/gear/sidebands.hpp"
@@ -207,9 +207,10 @@ struct BearingAnalysis {
   std::vector<FaultBand> bands;
   FaultBandMetrics metrics;  // on the channel's envelope spectrum (amplitude scale; the plotted
                              // one: kurtogram band of the raw signal)
-  bool diagnosed = false;    // false: diagnose_bearings could not run, the channel's notes say why
-  BearingStatus diagnosis;   // diagnose_bearings on this channel: the combined status and fault,
-                             // the decisions on the band-selected and the whole-band SES
+  bool diagnosed =
+      false;  // false: diagnose_bearings_from_signal could not run, the channel's notes say why
+  BearingStatus diagnosis;  // diagnose_bearings_from_signal on this channel: the combined status
+                            // and fault, the decisions on the band-selected and the whole-band SES
   double band_centre_hz = 0, band_width_hz = 0;  // its demodulation band (prewhitened signal)
   PlotTrace decision_envelope;     // the decision's own spectrum (band view: squared envelope of
                                    // the prewhitened signal in that band), up to 1.1 x the

@@ -2,7 +2,8 @@
 // tacho layer's correction of pulse times, shared by every TSA user (the damaged-shaft locator,
 // analyze's per-shaft TSA).
 //
-// 1. Smoothing (smooth_pulse_times): a 0/1 pulse train's edges are known only to +- half a
+// 1. Smoothing (smooth_pulse_times_polynomial): a 0/1 pulse train's edges are known only to +- half
+// a
 //    sampling period (tacho.hpp), which at the high mesh harmonics (kHz) is a phase jitter of
 //    tens of degrees per revolution; the TSA turns it into spurious impulsive content. The
 //    least-squares polynomial t(k) of the pulse index k (degree 3 by default) replaces the
@@ -57,7 +58,8 @@ namespace detect {
 
 // Step 1. degree in [0, 8] (0 or fewer than degree + 2 pulses: returned as they are). Throws
 // diag::InputError for a degree outside [0, 8].
-std::vector<double> smooth_pulse_times(std::span<const double> pulse_times_s, int degree);
+std::vector<double> smooth_pulse_times_polynomial(std::span<const double> pulse_times_s,
+                                                  int degree);
 
 struct PhaseRefinement {
   std::vector<double> pulses;  // corrected (the input when no stage was kept)

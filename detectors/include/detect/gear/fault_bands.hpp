@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "detect/gear/bearing_faults.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 #include "diag/faults/fault_kind.hpp"
 
 namespace detect {
@@ -247,8 +247,9 @@ struct BearingDecision {
 
 // `envelope` is an amplitude envelope spectrum (the bearing's impacts show at the fault rate and
 // its harmonics). Throws diag::InputError for a malformed spectrum or options.
-BearingDecision diagnose_bearing(const SpectrumView& envelope, const BearingFrequencies& f,
-                                 const BearingDecisionOptions& opt = {});
+BearingDecision diagnose_bearing_from_envelope(const SpectrumView& envelope,
+                                               const BearingFrequencies& f,
+                                               const BearingDecisionOptions& opt = {});
 
 // The fundamental the detected lines of a family point to: sum of found frequencies over sum of
 // harmonic numbers, over the detected lines (f0 nominal when none is detected).

@@ -119,8 +119,8 @@ struct GearDamageOptions {
   int min_revolutions = 8;  // fewer whole revolutions of a shaft than this: the shaft is
                             // skipped (noted), >= 2
   // Degree of the least-squares polynomial fitted to the reference tacho's pulse times, which
-  // replaces them (detect::smooth_pulse_times, pulse_refine.hpp: why and how); 0: the pulse
-  // times as detected (use it when the speed wanders within the record). [0, 8].
+  // replaces them (detect::smooth_pulse_times_polynomial, pulse_refine.hpp: why and how); 0: the
+  // pulse times as detected (use it when the speed wanders within the record). [0, 8].
   int pulse_fit_degree = 3;
   // Pulse correction from the phase of a mesh line of the fastest shaft, once, before any shaft
   // is averaged (detect::refine_pulses, pulse_refine.hpp: why, how, and when a stage is

@@ -37,9 +37,10 @@
 // the dynamic simulator's integration error (the healthy three-shaft box, noise-free, at
 // 1500 rpm: shaft-order lines at -55 dB and below of the strongest mesh harmonic), not a defect's.
 // A chipped tooth gives -40..-12 dB (tests/validation/healthy_noise_free_test.cpp).
-// Threshold rationale as for diagnose_bearing (fault_bands.hpp): a noise bin exceeds 10 dB over
-// the Rayleigh median with probability 1e-3, so a 5-bin window detects noise with ~0.5 %; two such
-// false lines among 2 K H = 18 windows happen with probability ~ C(18,2) 0.005^2 = 0.4 %.
+// Threshold rationale as for diagnose_bearing_from_envelope (fault_bands.hpp): a noise bin exceeds
+// 10 dB over the Rayleigh median with probability 1e-3, so a 5-bin window detects noise with ~0.5
+// %; two such false lines among 2 K H = 18 windows happen with probability ~ C(18,2) 0.005^2 = 0.4
+// %.
 #pragma once
 
 #include <span>

@@ -65,9 +65,9 @@ std::vector<double> band_envelope(std::span<const double> x, const BandOptions& 
 // 11520). Belongs with fft.hpp.
 std::size_t smooth_length_at_least(std::size_t n);
 // The largest 2^a 3^b 5^c 7^d <= n (n >= 1): the record length the analysis stages and
-// diagnose_bearings cut a record to (its middle), so that its whole-record DFTs run at FFTW's full
-// speed: a length with a large prime factor (CWRU's 121265 = 5 x 79 x 307) took 4.4 ms per real DFT
-// against 0.37 ms at 120960 = 2^7 3^3 5 7. At most 1/64 of the samples is dropped for
+// diagnose_bearings_from_signal cut a record to (its middle), so that its whole-record DFTs run at
+// FFTW's full speed: a length with a large prime factor (CWRU's 121265 = 5 x 79 x 307) took 4.4 ms
+// per real DFT against 0.37 ms at 120960 = 2^7 3^3 5 7. At most 1/64 of the samples is dropped for
 // n >= 2^16, 1/50 for n >= 2^14, 1/25 for n >= 2^10 (the largest gap between such numbers,
 // computed up to 2^33). Belongs with fft.hpp.
 std::size_t fast_length_at_most(std::size_t n);

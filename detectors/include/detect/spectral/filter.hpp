@@ -6,7 +6,8 @@
 // the edges ring (Gibbs): taper the record or discard the edges when that matters.
 //
 // design_lowpass_fir: h_j = w_j 2 (fc/fs) sinc(2 (fc/fs) (j - M)), j = 0..2M (an odd number of
-// taps, symmetric window w), normalised to sum h = 1 (unit DC gain). Linear phase, delay M;
+// taps, symmetric window w), normalised to sum h = 1 (unit DC gain): diag::design_lowpass
+// (diag/dsp/fir.hpp) with the window's values. Linear phase, delay M;
 // applied centred (filter_zero_phase, decimate) the delay is removed, i.e. zero phase. The
 // transition band is about enbw-of-the-window * fs / taps wide; with Blackman-Harris the
 // stop band is below about -90 dB (Oppenheim & Schafer, Discrete-Time Signal Processing, 7.5).

@@ -64,10 +64,10 @@ struct KurtogramOptions {
   double taper_fraction = 0.01;  // half-cosine ramp at each end of the record, as a fraction of
                                  // its length, [0, 0.25]: removes the wrap-around jump the DFT
                                  // filter bank would otherwise read as an impulse
-  // The bands a caller can use (diagnose_bearings: wide enough for the fault lines, above them):
-  // a level whose bandwidth is below min_bandwidth_hz is not computed (not in `levels`), and a
-  // band whose low edge i B_l is below min_low_hz is not computed (its kurtosis NaN, never
-  // selected). Every computed band's kurtosis is the same as without them. 0: all.
+  // The bands a caller can use (diagnose_bearings_from_signal: wide enough for the fault lines,
+  // above them): a level whose bandwidth is below min_bandwidth_hz is not computed (not in
+  // `levels`), and a band whose low edge i B_l is below min_low_hz is not computed (its kurtosis
+  // NaN, never selected). Every computed band's kurtosis is the same as without them. 0: all.
   double min_bandwidth_hz = 0;  // [Hz], finite, >= 0
   double min_low_hz = 0;        // [Hz], finite, >= 0
 

@@ -1,10 +1,19 @@
-// Linear-phase FIR low-pass design (windowed sinc) and a streaming decimator. Shared by the
-// simulator (anti-alias filtering of the integrator's output before it is sampled at the user's
-// rate) and the detectors (anti-alias filtering before resampling).
+// Linear-phase FIR low-pass design (windowed sinc) and a streaming decimator. The one low-pass
+// designer of geardiag: the simulator's anti-alias filter before its output is sampled at the
+// user's rate (Decimator, Blackman window), the detectors' filters and decimation
+// (detect/spectral/filter.hpp, a window of detect/spectral/window.hpp) and the half-band stages
+// before angular resampling (detect/angular/resample.hpp, Kaiser window).
 //
-// Design: h[n] = 2 fc sinc(2 fc (n - M)) w[n], n = 0..2M, with a Blackman window w (stopband
-// attenuation about 74 dB, transition width about 5.5 / (2M + 1) of the sampling rate), scaled
-// to unit gain at DC. Group delay: exactly M samples.
+// Design: h[n] = 2 fc sinc(2 fc (n - M)) w[n], n = 0..2M (Oppenheim & Schafer, Discrete-Time
+// Signal Processing, 3rd ed., sec. 7.5), fc the cutoff as a fraction of the sampling rate (the
+// half-amplitude point), w the window, optionally scaled to unit gain at DC. Group delay: exactly
+// M samples. Windows:
+//   Blackman  w[n] = 0.42 - 0.5 cos(2 pi n / 2M) + 0.08 cos(4 pi n / 2M): stopband attenuation
+//             about 74 dB, transition width about 5.5 / (2M + 1) of the sampling rate;
+//   Kaiser    w[n] = I0(beta sqrt(1 - ((n - M) / M)^2)) / I0(beta) (Kaiser 1974: beta =
+//             0.1102 (A - 8.7) for A dB of stopband attenuation, A > 50);
+//   given     the caller's 2M + 1 values (symmetric); w[n] for n <= M is used for both halves,
+//             so the taps are exactly symmetric.
 #pragma once
 
 #include <cstddef>
@@ -13,9 +22,27 @@
 
 namespace diag {
 
-// Taps of a low-pass filter with cutoff fc (half-amplitude point) as a fraction of the sampling
-// rate, 0 < fc < 0.5, and half-length M >= 1 (2M + 1 taps). Throws InputError otherwise.
-std::vector<double> lowpass_taps(double cutoff_fraction, int half_length);
+enum class FirWindow {
+  kBlackman,  // fixed shape, ~74 dB stopband
+  kKaiser,    // LowpassDesign::kaiser_beta sets the stopband
+  kGiven,     // LowpassDesign::window_values
+};
+
+struct LowpassDesign {
+  double cutoff_fraction = 0.25;  // fc / fs, the half-amplitude point; (0, 0.5)
+  int half_length = 16;           // M: 2M + 1 taps, delay M samples; >= 1
+  FirWindow window = FirWindow::kBlackman;
+  double kaiser_beta = 0.0;                // kKaiser only: beta >= 0
+  std::vector<double> window_values = {};  // kGiven only: 2M + 1 finite values
+  // true: the taps scaled to sum 1 (unit DC gain). false: the windowed ideal response as it is,
+  // which keeps a half-band filter's (fc = 1/4) centre tap at exactly 1/2.
+  bool unit_dc_gain = true;
+
+  void validate() const;  // throws InputError "lowpass design: <field>: ..."
+};
+
+// The 2M + 1 taps of the design. Throws InputError for a design outside the ranges above.
+std::vector<double> design_lowpass(const LowpassDesign& design);
 
 // Low-pass filtering and decimation by an integer factor D, one channel, fed in blocks of any
 // size. The taps are designed for a passband up to `passband_fraction` of the output Nyquist

@@ -13,11 +13,11 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <string>
 #include <string_view>
 
 #include "diag/error.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace diag {
 
@@ -114,7 +114,7 @@ class Fields {
   }
   double non_negative(const std::string& key, double dflt) const {
     const double v = num(key, dflt);
-    if (v < 0) fail(key, "must be >= 0 (got " + fmt(v) + ")");
+    if (v < 0) fail(key, "must be >= 0 (got " + diag::format_significant(v, 6) + ")");
     return v;
   }
 
@@ -165,15 +165,9 @@ class Fields {
     return out;
   }
 
-  static std::string fmt(double v) {
-    std::ostringstream o;
-    o << v;
-    return o.str();
-  }
-
  private:
   double check_pos(const std::string& key, double v) const {
-    if (!(v > 0)) fail(key, "must be > 0 (got " + fmt(v) + ")");
+    if (!(v > 0)) fail(key, "must be > 0 (got " + diag::format_significant(v, 6) + ")");
     return v;
   }
   const nlohmann::json& obj_;

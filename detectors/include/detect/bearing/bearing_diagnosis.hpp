@@ -24,7 +24,7 @@
 //     squared envelope puts the fault rate's harmonics above the noise better than |z|), from
 //     the prewhitening's own DFT X / |X| (envelope.hpp squared_envelope_spectrum: exact at fewer
 //     samples, |z|^2 being band-limited).
-//  4. diagnose_bearing (fault_bands.hpp) on the SES, for each bearing.
+//  4. diagnose_bearing_from_envelope (fault_bands.hpp) on the SES, for each bearing.
 //  Steps 3-4 are repeated on the whole band of x_w (Smith & Randall's "CPW + SES" benchmark
 //  method, which needs no band selection). The two decisions are combined conservatively:
 //   - both name the same fault: kFault ("both_views");
@@ -140,9 +140,9 @@ const char* finding_name(BearingFault f);
 // shaft_hz: the inner ring's rotation frequency [Hz], > 0; bearings: at least one, each within
 // BearingSpec's ranges. The allowed bands must not be empty (a too-low sampling rate for the
 // fault frequencies throws diag::InputError saying so).
-BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
-                                   std::span<const diag::BearingSpec> bearings,
-                                   const BearingDiagnosisOptions& options = {});
+BearingDiagnosis diagnose_bearings_from_signal(const diag::Signal& channel, double shaft_hz,
+                                               std::span<const diag::BearingSpec> bearings,
+                                               const BearingDiagnosisOptions& options = {});
 
 // {"channel", "band": {"centre_hz", "bandwidth_hz", "level", "kurtosis"},
 //  "findings": [{"bearing", "fault", "frequency_hz", "channel", "score_db", "evidence": {"family",

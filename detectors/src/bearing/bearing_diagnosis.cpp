@@ -1,4 +1,4 @@
-#include "detect/gear/bearing_diagnosis.hpp"
+#include "detect/bearing/bearing_diagnosis.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -17,11 +17,9 @@ namespace detect {
 
 namespace {
 
+// The prefix of its error messages (they reach the analysis report's channel notes, so it stays
+// the short name).
 constexpr const char* kWhere = "diagnose_bearings";
-
-[[noreturn]] void fail(const std::string& field, const std::string& reason) {
-  throw diag::InputError(diag::format_error(kWhere, field, reason));
-}
 
 // The record to diagnose: x_w = IDFT(X / |X|) with DC removed (prewhiten; bins with |X_k| below
 // 1e-12 max|X|, nothing there to whiten, are set to 0 rather than blown up to unit magnitude), or
@@ -184,13 +182,17 @@ nlohmann::json evidence_json(const BearingEvidence& e) {
 
 void BearingDiagnosisOptions::validate() const {
   if (kurtogram_max_level < 1 || kurtogram_max_level > 20)
-    fail("kurtogram_max_level", std::to_string(kurtogram_max_level) + " is not in [1, 20]");
+    diag::fail(kWhere, "kurtogram_max_level",
+               std::to_string(kurtogram_max_level) + " is not in [1, 20]");
   if (!(min_bandwidth_factor >= 0 && min_bandwidth_factor <= 10))
-    fail("min_bandwidth_factor", std::to_string(min_bandwidth_factor) + " is not in [0, 10]");
+    diag::fail(kWhere, "min_bandwidth_factor",
+               std::to_string(min_bandwidth_factor) + " is not in [0, 10]");
   if (!(min_band_low_factor >= 0 && min_band_low_factor <= 100))
-    fail("min_band_low_factor", std::to_string(min_band_low_factor) + " is not in [0, 100]");
+    diag::fail(kWhere, "min_band_low_factor",
+               std::to_string(min_band_low_factor) + " is not in [0, 100]");
   if (!(single_view_score_db > 0))
-    fail("single_view_score_db", std::to_string(single_view_score_db) + " is not > 0");
+    diag::fail(kWhere, "single_view_score_db",
+               std::to_string(single_view_score_db) + " is not > 0");
   decision.validate();
 }
 
@@ -199,14 +201,14 @@ const char* finding_name(BearingFault f) {
   return f == BearingFault::kNone ? "" : to_string(f);
 }
 
-BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
-                                   std::span<const diag::BearingSpec> bearings,
-                                   const BearingDiagnosisOptions& options) {
+BearingDiagnosis diagnose_bearings_from_signal(const diag::Signal& channel, double shaft_hz,
+                                               std::span<const diag::BearingSpec> bearings,
+                                               const BearingDiagnosisOptions& options) {
   options.validate();
   diag::validate(channel, kWhere);
   if (!(shaft_hz > 0) || !std::isfinite(shaft_hz))
-    fail("shaft_hz", std::to_string(shaft_hz) + " is not finite and > 0");
-  if (bearings.empty()) fail("bearings", "none given");
+    diag::fail(kWhere, "shaft_hz", std::to_string(shaft_hz) + " is not finite and > 0");
+  if (bearings.empty()) diag::fail(kWhere, "bearings", "none given");
   const double fs = channel.fs_hz;
 
   BearingDiagnosis out;
@@ -250,10 +252,10 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
     }
   }
   if (!found)
-    fail("channel " + channel.name,
-         "no kurtogram band is at least " + std::to_string(min_bw) + " Hz wide and above " +
-             std::to_string(min_low) + " Hz at fs = " + std::to_string(fs) +
-             " Hz: the sampling rate is too low for these fault frequencies");
+    diag::fail(kWhere, "channel " + channel.name,
+               "no kurtogram band is at least " + std::to_string(min_bw) + " Hz wide and above " +
+                   std::to_string(min_low) + " Hz at fs = " + std::to_string(fs) +
+                   " Hz: the sampling rate is too low for these fault frequencies");
 
   const double low = out.band_centre_hz - 0.5 * out.band_width_hz;
   const double high = std::min(out.band_centre_hz + 0.5 * out.band_width_hz, 0.5 * fs);
@@ -265,9 +267,10 @@ BearingDiagnosis diagnose_bearings(const diag::Signal& channel, double shaft_hz,
   const SpectrumView band_view{band_ses.frequency_hz, band_ses.amplitude};
   const SpectrumView whole_view{whole_ses.frequency_hz, whole_ses.amplitude};
   for (BearingStatus& s : out.bearings) {
-    s.band_decision = diagnose_bearing(band_view, s.frequencies, options.decision);
+    s.band_decision = diagnose_bearing_from_envelope(band_view, s.frequencies, options.decision);
     if (options.whole_band_check)
-      s.whole_decision = diagnose_bearing(whole_view, s.frequencies, options.decision);
+      s.whole_decision =
+          diagnose_bearing_from_envelope(whole_view, s.frequencies, options.decision);
     combine(s, options.whole_band_check, band_view, whole_view, options);
     if (s.status != BearingDecisionStatus::kFault) continue;
     s.evidence = evidence(s);

@@ -1,4 +1,4 @@
-#include "detect/gear/bearing_faults.hpp"
+#include "detect/bearing/bearing_faults.hpp"
 
 namespace detect {
 
