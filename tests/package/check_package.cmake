@@ -51,6 +51,13 @@ elseif(STEP STREQUAL "find_package")
       -DCMAKE_PREFIX_PATH=${PREFIX})
   run(${CMAKE_COMMAND} --build ${WORK}/consumer)
   check_consumer(${WORK}/consumer/consumer)
+  # detect::analyze_file and report::to_json from the installed package: the report of the
+  # 125 Hz tone has its findings list and a spectral peak at 125 Hz (on a bin: 2048 samples).
+  run(${WORK}/consumer/analyze ${WORK}/data/tone_125hz.h5)
+  if(NOT run_output MATCHES "\"findings\": \\[" OR
+     NOT run_output MATCHES "\"frequency_hz\": 125\\.0")
+    message(FATAL_ERROR "analyze: no findings list or no peak at 125 Hz in:\n${run_output}")
+  endif()
 elseif(STEP STREQUAL "pkg_config")
   set(ENV{PKG_CONFIG_PATH} ${PREFIX}/${LIBDIR}/pkgconfig)
   run(${PKG_CONFIG} --cflags --libs geardiag)
