@@ -4,6 +4,7 @@
 
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "diag/util/number_format.hpp"
 
 namespace po = boost::program_options;
 
