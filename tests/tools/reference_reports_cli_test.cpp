@@ -95,10 +95,8 @@ TEST(ReferenceReports, MeasuredFiles) {
   check("or007", (cwru / "OR007@6_0.mat").string() + " --fs 12000" + gb, false);
   check("normal", (cwru / "normal_0.mat").string() + " --fs 48000", false);
   check("sq_base",
-        (sq / "b30hz40.csv.gz").string() + " --fs 2560 --baseline " +
-            (sq / "h30hz0.csv.gz").string() + " " + (sq / "h30hz20.csv.gz").string() + " " +
-            (sq / "h30hz60.csv.gz").string(),
-        false);
+        "b30hz40.csv.gz --fs 2560 --baseline h30hz0.csv.gz h30hz20.csv.gz h30hz60.csv.gz", false,
+        sq);
 }
 
 }  // namespace
