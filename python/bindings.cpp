@@ -572,7 +572,8 @@ PYBIND11_MODULE(_geardiag, m) {
       [](const py::object& source, const py::object& gearbox, std::optional<double> fs_hz,
          double rpm, const std::string& channel_map, const std::vector<std::string>& tachos,
          const py::list& baseline, const py::object& gear_baseline,
-         std::optional<std::uint64_t> max_samples, bool html, const py::dict& options) {
+         std::optional<std::uint64_t> max_samples, std::optional<double> frame_seconds, bool html,
+         const py::dict& options) {
         // Options first: a misspelt option is refused before a long read.
         detect::AnalyzeRequest request;
         detect::AnalyzeOptions& o = request.options;
@@ -602,6 +603,7 @@ PYBIND11_MODULE(_geardiag, m) {
         }
         if (!gear_baseline.is_none()) request.gear_baseline = recording_input(gear_baseline);
         if (max_samples) request.max_samples = *max_samples;
+        if (frame_seconds) request.frame_s = *frame_seconds;
         detect::FileAnalysis a;
         std::vector<diag::DataGroup> curves;
         std::string page;
@@ -624,7 +626,8 @@ PYBIND11_MODULE(_geardiag, m) {
       py::arg("rpm") = 0.0, py::arg("channel_map") = "",
       py::arg("tachos") = std::vector<std::string>{}, py::arg("baseline") = py::list(),
       py::arg("gear_baseline") = py::none(), py::arg("max_samples") = py::none(),
-      py::arg("html") = false, py::arg("options") = py::dict());
+      py::arg("frame_seconds") = py::none(), py::arg("html") = false,
+      py::arg("options") = py::dict());
 
   // ---- simulation ----
   m.def(

@@ -1,6 +1,8 @@
 // geardiag analyze: offline analysis of a recording into a readable summary, a JSON report and a
 // self-contained HTML report (detect/analysis). Exit 0 on success (findings or not, unless
-// --fail-on), 1 with --fail-on when its condition holds, 2 on bad input.
+// --fail-on), 1 with --fail-on when its condition holds, 4 with --fail-on when it does not but
+// not every sample was examined (--max-samples, frames that could not be analysed), 2 on bad
+// input.
 #include <unistd.h>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -59,7 +61,7 @@ int cmd_analyze(int argc, char** argv) {
   std::vector<std::string> baselines;
   std::string gear_baseline;
   double fs_hz = 0;
-  std::uint64_t max_samples = detect::kDefaultMaxSamples;
+  std::uint64_t max_samples = 0;
   ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
@@ -78,7 +80,11 @@ int cmd_analyze(int argc, char** argv) {
       std::to_string(static_cast<int>(bo.baseline.alarm_threshold)) +
       ".\nOutputs are checked before the analysis starts. '-' writes a report to stdout; the\n"
       "summary then goes to stderr. Exit 1 with --fail-on: alarm = the baseline alarm was raised;\n"
-      "finding = any finding or the baseline alarm.\n"
+      "finding = any finding or the baseline alarm; exit 4 with --fail-on when it does not hold\n"
+      "but not every sample was examined (--max-samples, frames that could not be analysed).\n"
+      "Every sample is examined: a long recording frame by frame (at most " +
+      std::to_string(detect::kDefaultMaxSamples) +
+      " samples per frame),\nits findings placed in time (time_s, segments).\n"
       "--gear-baseline: one healthy recording of the same gears at the same speed and load, with\n"
       "a tacho; the damaged-shaft locator subtracts its revolution averages (NA4-style) and fuses\n"
       "that answer with the recording's own (different shafts: ambiguous, both reported).\n\n"
@@ -96,7 +102,7 @@ int cmd_analyze(int argc, char** argv) {
       "write a self-contained HTML report to this file ('-': stdout)")(
       "fail-on", po::value(&fail_on),
       "exit 1 when: alarm (the baseline alarm; needs --baseline) | finding (any finding or the "
-      "baseline alarm)")(
+      "baseline alarm); else 4 when not every sample was examined")(
       "mesh-harmonics",
       po::value(&opt.sidebands.mesh_harmonics)->default_value(opt.sidebands.mesh_harmonics),
       "mesh harmonics examined for sidebands, 1..20")(
@@ -108,7 +114,7 @@ int cmd_analyze(int argc, char** argv) {
       "fewer whole revolutions skip a shaft's TSA, >= 2")(
       "threads", po::value(&opt.threads)->default_value(opt.threads),
       "channels analysed in parallel, [0, 256]; 0: one per hardware thread (default; 2 for a "
-      "recording longer than --max-samples)")(
+      "recording of several frames)")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
   desc.add_options()("curves", po::value(&curves_out),
@@ -116,15 +122,18 @@ int cmd_analyze(int argc, char** argv) {
                      "fault bands, order spectra, TSA signals, speed) as HDF5 datasets with their "
                      "axes and units (docs/report.md)");
   const std::string max_samples_help =
-      "a longer HDF5 recording is analysed on its first part holding at most this many samples "
-      "in all (or " +
+      "an opt-in limit: analyse only the first part of the recording holding at most this many "
+      "samples in all (or " +
       std::to_string(detect::kKeptChannelSamples) + " per channel, never over " +
       std::to_string(detect::kMaxChannelSamples) +
-      " per channel), read by blocks, and its time indicators, Welch PSD and envelope spectra "
-      "over the whole file, block by block: memory stays bounded whatever the length; 0: the "
-      "whole recording in memory";
+      " per channel); the rest is reported as not examined. 0 (default): every sample";
   desc.add_options()("max-samples", po::value(&max_samples)->default_value(max_samples),
                      max_samples_help.c_str());
+  desc.add_options()(
+      "frame-seconds", po::value(&request.frame_s)->default_value(request.frame_s),
+      "frames of at most this length [s] (a finer timeline: findings are placed to within a "
+      "frame; each frame must hold what its stages need, e.g. the TSA's revolutions); 0: as "
+      "long as memory allows");
   desc.add_options()("timing", po::bool_switch(&opt.timing),
                      "add the time of each stage to the JSON (timing_s: wall time per stage, "
                      "CPU time per channel stage)")(
@@ -166,12 +175,12 @@ int cmd_analyze(int argc, char** argv) {
   const bool terminal = ::isatty(STDERR_FILENO) != 0;
   if (terminal) {
     opt.progress = [&](const std::string& stage) {
-      std::fprintf(stderr, "\ranalyze %s: %-14s", path.filename().string().c_str(), stage.c_str());
+      std::fprintf(stderr, "\ranalyze %s: %-32s", path.filename().string().c_str(), stage.c_str());
       std::fflush(stderr);
     };
   }
   detect::FileAnalysis analysis = detect::analyze_file(request);
-  if (terminal) std::fprintf(stderr, "\r%-60s\r", "");
+  if (terminal) std::fprintf(stderr, "\r%-80s\r", "");
   const detect::AnalysisResult& r = analysis.result;
   // stdout carries nothing but a report sent there, so that it stays valid JSON or HTML.
   (json_stdout || html_stdout || curves_stdout ? std::cerr : std::cout)
@@ -188,9 +197,11 @@ int cmd_analyze(int argc, char** argv) {
                             {{"source", path.filename().string()}}, "--curves");
   }
   const bool alarm = r.baseline && r.baseline->alarm;
-  if (fail_on == "alarm") return alarm ? 1 : 0;
-  if (fail_on == "finding") return alarm || !r.findings.empty() ? 1 : 0;
-  return 0;
+  const bool holds = fail_on == "alarm" ? alarm : alarm || !r.findings.empty();
+  if (fail_on.empty()) return 0;
+  if (holds) return 1;
+  // Silence about what was not examined is not a pass.
+  return r.coverage && !r.coverage->complete() ? kExitNotExamined : 0;
 }
 
 }  // namespace geardiag

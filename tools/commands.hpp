@@ -1,10 +1,13 @@
 // The geardiag subcommands, one file each. Every command receives its own arguments (argv[0] is
 // the subcommand name) and returns the process exit code:
 //   0 ok; 1 the analysis found a problem it could not resolve (see each command);
-//   2 bad usage or bad input (a message names the file, field and reason); 3 internal error.
+//   2 bad usage or bad input (a message names the file, field and reason); 3 internal error;
+//   4 (analyze --fail-on) nothing found, but not every sample of the recording was examined.
 #pragma once
 
 namespace geardiag {
+
+inline constexpr int kExitNotExamined = 4;
 
 int cmd_demo(int argc, char** argv);
 int cmd_import(int argc, char** argv);

@@ -44,7 +44,8 @@ void print_usage(std::ostream& os) {
   for (const auto& c : kCommands) {
     os << "  " << c.name << std::string(12 - std::strlen(c.name), ' ') << c.summary << "\n";
   }
-  os << "\nexit codes: 0 ok, 1 unresolved finding, 2 bad usage or input, 3 internal error\n";
+  os << "\nexit codes: 0 ok, 1 unresolved finding, 2 bad usage or input, 3 internal error,\n"
+        "  4 (analyze --fail-on) nothing found but not every sample examined\n";
 }
 
 }  // namespace

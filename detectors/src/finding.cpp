@@ -53,6 +53,11 @@ nlohmann::json to_json(const Finding& f) {
     if (!j.contains(key)) j[key] = number(value);
   }
   j["evidence"] = std::move(ev);
+  if (std::isfinite(f.first_s) && std::isfinite(f.last_s)) {
+    j["time_s"] = {f.first_s, f.last_s};
+    j["frames_seen"] = f.frames_seen;
+    j["frames_examined"] = f.frames_examined;
+  }
   return j;
 }
 

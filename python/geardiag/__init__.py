@@ -239,15 +239,18 @@ def _nest_curves(flat):
 
 
 def analyze(source, gearbox=None, fs_hz=None, rpm=0.0, channel_map=None, tachos=(),
-            baseline=(), gear_baseline=None, max_samples=None, html=False, **options):
+            baseline=(), gear_baseline=None, max_samples=None, frame_seconds=None, html=False,
+            **options):
     """The analysis of ``geardiag analyze`` (the same library call, the same result): ``source``
     is a path (HDF5 recording, or CSV / WAV / MAT with ``fs_hz``) or a :class:`Recording`;
     ``gearbox`` a :class:`Gearbox`, a JSON path or a dict (default: the recording's own).
     ``rpm``, ``channel_map`` (a file) and ``tachos`` ("CHANNEL=SHAFT[:PPR]") are the CLI's
     --rpm, --channels and --tacho; ``baseline`` (paths or Recordings: healthy recordings of the
-    same machine), ``gear_baseline`` (one healthy recording of the same gears, with a tacho) and
-    ``max_samples`` (the part of a long HDF5 recording held in memory; 0: all of it) its
-    --baseline, --gear-baseline and --max-samples. ``options``: the AnalyzeOptions fields
+    same machine), ``gear_baseline`` (one healthy recording of the same gears, with a tacho),
+    ``max_samples`` (an opt-in limit: only the first part is examined, the rest reported as not
+    examined; default: every sample) and ``frame_seconds`` (the frames of a long recording at
+    most this long; default: as long as memory allows) its --baseline, --gear-baseline,
+    --max-samples and --frame-seconds. ``options``: the AnalyzeOptions fields
     (welch_nperseg, kurtogram_max_level, tsa_min_revolutions, tacho_pulses_per_rev,
     mesh_harmonics, sidebands, peaks_reported, threads, plot_points, envelope_plot_max_hz,
     nominal_time_s, speed_from_vibration, timing).
@@ -268,7 +271,7 @@ def analyze(source, gearbox=None, fs_hz=None, rpm=0.0, channel_map=None, tachos=
                                 _os.fspath(channel_map) if channel_map else "", list(tachos),
                                 [_input(b) for b in baseline],
                                 None if gear_baseline is None else _input(gear_baseline),
-                                max_samples, bool(html), options)
+                                max_samples, frame_seconds, bool(html), options)
     report["curves"] = _nest_curves(curves)
     return report
 

@@ -132,13 +132,22 @@ def test_analyze_has_every_option_of_the_cli(sim_file, sim_recording, tmp_path):
     # A baseline given as a Recording in memory is the same baseline.
     m = geardiag.analyze(sim_file, baseline=[healthy, other_file], threads=1)
     assert m["anomaly_score"] == r["anomaly_score"]
-    # --max-samples: the first half of each channel, said in the notes, as the CLI does.
+    # --max-samples: the first half of each channel, the rest said to be not examined, as the
+    # CLI does.
     subprocess.run([EXE, "analyze", str(sim_file), "--max-samples", "5000", "--json",
                     str(out["json"])], check=True, stdout=subprocess.DEVNULL)
     cut = geardiag.analyze(sim_file, max_samples=5000)
     cut.pop("curves")
     assert cut == json.loads(out["json"].read_text())
-    assert any("first" in n and "s analysed" in n for n in cut["notes"])
+    assert not cut["examined"]["complete"]
+    assert "max_samples" in cut["examined"]["not_examined"][0]
+    # --frame-seconds: the frames of the whole-log analysis.
+    subprocess.run([EXE, "analyze", str(sim_file), "--frame-seconds", "0.25", "--json",
+                    str(out["json"])], check=True, stdout=subprocess.DEVNULL)
+    framed = geardiag.analyze(sim_file, frame_seconds=0.25)
+    framed.pop("curves")
+    assert framed == json.loads(out["json"].read_text())
+    assert framed["examined"]["frames"] > 1 and framed["examined"]["complete"]
 
 
 def test_analyze_psd_curve_against_scipy(sim_recording):

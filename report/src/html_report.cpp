@@ -76,6 +76,7 @@ td.l,th.l{text-align:left}.bad{color:#b00;font-weight:bold}.warn{color:#a60;font
 height:auto}.verdict{padding:.6em 1em;border-left:6px solid #888;background:#f4f4f4;margin:1em 0}
 .verdict.bad{border-color:#b00;background:#fdecea;color:#222;font-weight:normal}
 .verdict.good{border-color:#070;background:#eaf6ea;color:#222}.verdict h2{margin-top:0;border:0}
+.verdict.warn{border-color:#a60;background:#fdf3e1;color:#222;font-weight:normal}
 .verdict li{margin:.3em 0}nav.toc ol{columns:2;font-size:.95em}details{margin:.4em 0}
 details>summary{cursor:pointer;font-weight:bold;padding:.3em 0}details.channel>summary{
 font-size:1.15em;border-bottom:1px solid #ccc}details details{margin-left:1em}
@@ -100,6 +101,27 @@ std::string finding_line(const Finding& f, const std::string& channel) {
   return line;
 }
 
+bool incomplete(const AnalysisResult& r) { return r.coverage && !r.coverage->complete(); }
+
+// What was examined: the recording's length, the frames, what was not examined and why.
+void coverage_lines(const AnalysisResult& r, std::ostringstream& o) {
+  if (!r.coverage) return;
+  const AnalysisCoverage& c = *r.coverage;
+  o << "<p>Examined " << f3(c.analysed_s) << " s of " << f3(c.duration_s) << " s";
+  if (c.frames > 1) {
+    o << " in " << c.frames_examined << " of " << c.frames << " frames of " << f3(c.frame_s)
+      << " s (<a href=\"#timeline\">timeline</a>)";
+  }
+  o << (c.complete() ? ": every sample." : ": <span class=warn>not every sample</span>.")
+    << "</p>\n";
+  if (!c.not_examined.empty()) {
+    o << "<ul>";
+    for (const std::string& n : c.not_examined)
+      o << "<li>not examined: " << html_escape(n) << "</li>";
+    o << "</ul>\n";
+  }
+}
+
 // The document's head and the title line.
 void page_head(const Page& p, std::ostringstream& o) {
   const AnalysisResult& r = p.r;
@@ -122,17 +144,23 @@ void verdict_section(const Page& p, std::ostringstream& o) {
     for (const auto& s : r.gear_damage->shafts) uncertain = uncertain || s.uncertain;
   }
   const std::size_t n_findings = r.findings.size() + (alarm ? 1 : 0);
+  // A recording not fully examined is never "no finding" in green.
+  const bool partial = incomplete(r);
   o << "<section id=summary class=\"verdict "
     << (n_findings > 0 ? "bad"
+        : partial      ? "warn"
         : uncertain    ? ""
                        : "good")
     << "\"><h2>Verdict: "
     << (n_findings > 0 ? std::to_string(n_findings) + (n_findings == 1 ? " finding" : " findings")
+        : partial      ? "not fully examined"
         : uncertain    ? "no finding, one shaft uncertain"
                        : "no finding")
     << "</h2>\n";
+  coverage_lines(r, o);
   if (n_findings == 0) {
     o << "<p>Nothing points at a shaft, gear or bearing"
+      << (partial ? " in the part examined; the rest was not looked at" : "")
       << (r.baseline ? "; the recording is within its baseline" : "") << ".</p>\n";
   } else {
     o << "<ol>";
@@ -163,6 +191,7 @@ void contents_section(const Page& p, std::ostringstream& o) {
   o << "<nav class=toc><h2 id=contents>Contents</h2><ol>"
        "<li><a href=\"#summary\">Verdict</a></li><li><a href=\"#machine\">Machine and speed</a>"
        "</li><li><a href=\"#findings\">Findings</a></li>";
+  if (r.segments.size() > 1) o << "<li><a href=\"#timeline\">Timeline</a></li>";
   if (r.gear_damage) o << "<li><a href=\"#gear-damage\">Damaged-shaft location</a></li>";
   if (!r.two_direction.empty()) o << "<li><a href=\"#two-direction\">Two directions</a></li>";
   o << "<li><a href=\"#indicators\">Indicators</a></li>";
@@ -227,12 +256,16 @@ void findings_section(const Page& p, std::ostringstream& o) {
       << " (<a href=\"#baseline\">baseline</a>).</p>\n";
   }
   if (r.findings.empty()) {
-    if (!alarm) o << "<p class=good>No finding.</p>\n";
+    if (!alarm) {
+      o << (incomplete(r)
+                ? "<p class=warn>No finding in the part examined (not every sample).</p>\n"
+                : "<p class=good>No finding.</p>\n");
+    }
     return;
   }
   o << "<table><tr><th class=l>kind</th><th class=l>shaft / gears</th><th class=l>bearing / "
        "fault</th><th>frequency [Hz]</th><th class=l>channel</th><th>confidence</th>"
-       "<th class=l>note</th></tr>";
+       "<th>seen [s]</th><th class=l>note</th></tr>";
   for (const auto& f : r.findings) {
     std::string gears;
     for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
@@ -240,10 +273,98 @@ void findings_section(const Page& p, std::ostringstream& o) {
       << html_escape(f.shaft) << (gears.empty() ? "" : " (" + html_escape(gears) + ")")
       << "</td><td class=l>" << html_escape(f.bearing) << " " << html_escape(fault_name(f))
       << "</td><td>" << f3(f.frequency_hz) << "</td><td class=l>" << p.channel_link(f.channel)
-      << "</td><td>" << f3(f.confidence) << "</td><td class=l>" << html_escape(f.note)
-      << "</td></tr>";
+      << "</td><td>" << f3(f.confidence) << "</td><td>"
+      << (std::isfinite(f.first_s) ? f3(f.first_s) + "&ndash;" + f3(f.last_s)
+                                   : std::string("&ndash;"))
+      << "</td><td class=l>" << html_escape(f.note) << "</td></tr>";
   }
   o << "</table>\n";
+}
+
+// The frames of a long recording over time: the speed and the main indicators of each frame, the
+// frames with a finding shaded red, those not examined grey; then the table of frames.
+void timeline_section(const Page& p, std::ostringstream& o) {
+  const AnalysisResult& r = p.r;
+  if (r.segments.size() < 2) return;
+  o << "<h2 id=timeline>Timeline</h2>\n";
+  std::vector<double> t, speed;
+  std::vector<PlotBand> bands;
+  for (const AnalysisSegment& s : r.segments) {
+    if (s.verdict == "finding") bands.push_back({s.start_s, s.end_s, "", "#d62728"});
+    if (s.verdict == "not examined") bands.push_back({s.start_s, s.end_s, "", "#888888"});
+    if (std::isfinite(s.speed_rpm)) {
+      t.push_back(0.5 * (s.start_s + s.end_s));
+      speed.push_back(s.speed_rpm);
+    }
+  }
+  PlotOptions po;
+  po.x_label = "time [s]";
+  po.height_px = 200;
+  po.x_min = 0;
+  po.x_max = r.segments.back().end_s;
+  if (t.size() > 1) {
+    po.title = "Speed per frame (red: a finding, grey: not examined)";
+    po.y_label = "speed [rpm]";
+    const PlotSeries series{t, speed, "", "#1f77b4"};
+    o << svg_line_plot(std::span(&series, 1), po, {}, bands);
+  }
+  // The main indicators of the sensor channels (the first six).
+  static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c",
+                                   "#9467bd", "#8c564b", "#17becf"};
+  for (const auto& [title, field] :
+       {std::pair{"RMS", &TimeIndicators::rms}, std::pair{"kurtosis", &TimeIndicators::kurtosis}}) {
+    std::vector<std::string> names;
+    for (const AnalysisSegment& s : r.segments) {
+      for (const std::string& n : s.channels) {
+        if (names.size() < 6 && std::find(names.begin(), names.end(), n) == names.end()) {
+          names.push_back(n);
+        }
+      }
+    }
+    std::vector<std::vector<double>> xs(names.size()), ys(names.size());
+    for (const AnalysisSegment& s : r.segments) {
+      for (std::size_t i = 0; i < s.channels.size(); ++i) {
+        const auto at = std::find(names.begin(), names.end(), s.channels[i]);
+        if (at == names.end()) continue;
+        const auto k = static_cast<std::size_t>(at - names.begin());
+        xs[k].push_back(0.5 * (s.start_s + s.end_s));
+        ys[k].push_back(s.indicators[i].*field);
+      }
+    }
+    std::vector<PlotSeries> series;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      if (xs[k].size() > 1) {
+        series.push_back({xs[k], ys[k], channel_label(r, names[k]), kColours[k % 6]});
+      }
+    }
+    if (series.empty()) continue;
+    po.title = std::string(title) + " per frame";
+    po.y_label = title;
+    o << svg_line_plot(series, po, {}, bands);
+  }
+  o << "<details><summary>Frames (" << r.segments.size()
+    << ")</summary>\n<table><tr><th>from "
+       "[s]</th><th>to [s]</th><th>speed [rpm]</th><th class=l>verdict</th><th class=l>findings"
+       "</th>"
+    << (r.baseline ? "<th>anomaly score</th>" : "") << "</tr>";
+  for (const AnalysisSegment& s : r.segments) {
+    std::string seen;
+    for (std::size_t i : s.findings) {
+      const Finding& f = r.findings[i];
+      seen += (seen.empty() ? "" : "; ") + f.kind + " " + (f.bearing.empty() ? f.shaft : f.bearing);
+    }
+    if (!s.reason.empty()) seen = s.reason;
+    o << "<tr><td>" << f3(s.start_s) << "</td><td>" << f3(s.end_s) << "</td><td>" << f3(s.speed_rpm)
+      << "</td><td class=l><span class="
+      << (s.verdict == "finding"        ? "bad"
+          : s.verdict == "not examined" ? "warn"
+                                        : "good")
+      << ">" << html_escape(s.verdict) << "</span></td><td class=l>" << html_escape(seen)
+      << "</td>";
+    if (r.baseline) o << "<td>" << f3(s.anomaly_score) << "</td>";
+    o << "</tr>";
+  }
+  o << "</table></details>\n";
 }
 
 // The damaged-shaft locator's table.
@@ -397,6 +518,7 @@ std::string render_html_report(const detect::AnalysisResult& r, const HtmlReport
   html::contents_section(page, o);
   html::machine_section(page, o);
   html::findings_section(page, o);
+  html::timeline_section(page, o);
   html::gear_damage_section(page, o);
   html::two_direction_section(page, o);
   html::indicators_section(page, o);

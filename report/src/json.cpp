@@ -303,6 +303,44 @@ void add_baseline(const AnalysisBaseline& b, nlohmann::json& j) {
   j["baseline"]["wear"] = std::move(wear);
 }
 
+// What was examined and the frames of a whole-log analysis (analyze_file).
+void add_coverage(const AnalysisResult& r, nlohmann::json& j) {
+  using nlohmann::json;
+  const AnalysisCoverage& c = *r.coverage;
+  j["analysed_s"] = c.analysed_s;
+  j["examined"] = {{"complete", c.complete()},
+                   {"duration_s", c.duration_s},
+                   {"analysed_s", c.analysed_s},
+                   {"frames", c.frames},
+                   {"frames_examined", c.frames_examined},
+                   {"frame_s", c.frame_s},
+                   {"detail_frame", c.detail_frame},
+                   {"not_examined", c.not_examined}};
+  json segments = json::array();
+  for (const AnalysisSegment& s : r.segments) {
+    json sj{{"start_s", s.start_s}, {"end_s", s.end_s}, {"verdict", s.verdict}};
+    if (!s.reason.empty()) sj["reason"] = s.reason;
+    if (std::isfinite(s.speed_rpm)) {
+      sj["speed_rpm"] = s.speed_rpm;
+      sj["speed_source"] = s.speed_source;
+    }
+    sj["findings"] = s.findings;
+    if (std::isfinite(s.anomaly_score)) sj["anomaly_score"] = s.anomaly_score;
+    json ch = json::object();
+    for (std::size_t i = 0; i < s.channels.size(); ++i) {
+      const TimeIndicators& t = s.indicators[i];
+      ch[s.channels[i]] = {{"rms", t.rms},
+                           {"peak", t.peak},
+                           {"crest_factor", t.crest_factor},
+                           {"kurtosis", t.kurtosis},
+                           {"skewness", t.skewness}};
+    }
+    sj["channels"] = std::move(ch);
+    segments.push_back(std::move(sj));
+  }
+  j["segments"] = std::move(segments);
+}
+
 }  // namespace
 
 nlohmann::json to_json(const AnalysisResult& r) {
@@ -313,6 +351,7 @@ nlohmann::json to_json(const AnalysisResult& r) {
   j["gearbox"] = r.gearbox_name.empty() ? json(nullptr) : json(r.gearbox_name);
   j["input_shaft"] = r.input_shaft.empty() ? json(nullptr) : json(r.input_shaft);
   j["duration_s"] = r.duration_s;
+  if (r.coverage) add_coverage(r, j);
   if (!r.timing_s.empty()) j["timing_s"] = r.timing_s;
   if (!r.speed.source.empty()) j["speed"] = speed_json(r.speed);
   j["shafts"] = json::array();

@@ -1,5 +1,6 @@
 // analyze's text summary writer (format_summary, report.hpp).
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "format.hpp"
@@ -19,6 +20,16 @@ std::string format_summary(const AnalysisResult& r) {
   o << "recording: " << r.channels.size() << " channels, " << fmt(r.duration_s, 6) << " s";
   if (!r.gearbox_name.empty()) o << ", gearbox " << r.gearbox_name;
   o << "\n";
+  if (r.coverage) {
+    const AnalysisCoverage& c = *r.coverage;
+    o << "examined: " << fmt(c.analysed_s, 6) << " s of " << fmt(c.duration_s, 6) << " s";
+    if (c.frames > 1) {
+      o << ", in " << c.frames_examined << " of " << c.frames << " frames of " << fmt(c.frame_s, 4)
+        << " s";
+    }
+    o << (c.complete() ? " (every sample)" : ": NOT EVERY SAMPLE EXAMINED") << "\n";
+    for (const std::string& n : c.not_examined) o << "  not examined: " << n << "\n";
+  }
   if (!r.speed.source.empty()) {
     o << "  speed of " << r.speed.reference_shaft << " from the " << r.speed.source
       << (r.speed.line.empty() ? "" : " (" + r.speed.line + ")") << ": " << fmt(r.speed.mean_rpm, 6)
@@ -70,13 +81,20 @@ std::string format_summary(const AnalysisResult& r) {
     }
   }
   o << "findings:";
-  if (r.findings.empty()) o << " none";
+  if (r.findings.empty()) {
+    o << (r.coverage && !r.coverage->complete() ? " none in the part examined (not every sample)"
+                                                : " none");
+  }
   o << "\n";
+  const bool framed = r.coverage && r.coverage->frames > 1;
   for (const auto& f : r.findings) {
     o << "  [" << fmt(f.confidence, 2) << "] " << f.kind << ": "
       << (f.bearing.empty() ? f.shaft : f.bearing + " " + std::string(diag::to_string(f.fault)))
-      << (f.channel.empty() ? "" : ", best seen on " + channel_label(r, f.channel)) << " - "
-      << f.note << "\n";
+      << (f.channel.empty() ? "" : ", best seen on " + channel_label(r, f.channel));
+    if (framed && std::isfinite(f.first_s)) {
+      o << ", " << fmt(f.first_s, 5) << "-" << fmt(f.last_s, 5) << " s";
+    }
+    o << " - " << f.note << "\n";
   }
   if (r.baseline) {
     o << "anomaly score " << fmt(r.baseline->anomaly_score) << " (threshold "

@@ -113,6 +113,26 @@ TEST_F(AnalyzeFile, GivesWhatItsStepsGiveOneByOne) {
   expected.baseline = detect::score_against_baseline(r, hs, {}, names);
   detect::wear_against_baseline(expected, r, at, hs, o, names);
 
+  // One frame: the whole record, every sample examined, its verdict and score in its segment.
+  ASSERT_EQ(a.result.segments.size(), 1u);
+  const detect::AnalysisSegment& seg = a.result.segments[0];
+  EXPECT_EQ(seg.start_s, 0);
+  EXPECT_EQ(seg.end_s, expected.duration_s);
+  EXPECT_EQ(seg.verdict, expected.findings.empty() ? "no finding" : "finding");
+  EXPECT_EQ(seg.anomaly_score, expected.baseline->anomaly_score);
+  ASSERT_TRUE(a.result.coverage);
+  EXPECT_TRUE(a.result.coverage->complete());
+  EXPECT_EQ(a.result.coverage->analysed_s, expected.duration_s);
+  expected.segments = a.result.segments;
+  expected.coverage = a.result.coverage;
+  ASSERT_EQ(a.result.findings.size(), expected.findings.size());
+  for (std::size_t i = 0; i < expected.findings.size(); ++i) {
+    EXPECT_EQ(a.result.findings[i].first_s, 0);
+    EXPECT_EQ(a.result.findings[i].last_s, expected.duration_s);
+    expected.findings[i].first_s = 0;
+    expected.findings[i].last_s = expected.duration_s;
+    expected.findings[i].frames_seen = expected.findings[i].frames_examined = 1;
+  }
   EXPECT_EQ(report::to_json(a.result).dump(), report::to_json(expected).dump());
   // The speed note and the tacho are in the report: nothing of the setup is dropped.
   ASSERT_FALSE(a.result.notes.empty());
@@ -128,29 +148,43 @@ TEST_F(AnalyzeFile, GivesWhatItsStepsGiveOneByOne) {
   EXPECT_EQ(report::to_json(b.result).dump(), report::to_json(a.result).dump());
 }
 
-TEST_F(AnalyzeFile, ALongRecordingIsReadInPartWithTheMeansOverTheWholeFile) {
+TEST_F(AnalyzeFile, ALongRecordingIsAnalysedFrameByFrameWithTheIndicatorsOverEverySample) {
   const fs::path file = write("long.h5", synthetic(120000, 3));
   detect::AnalyzeRequest q;
   q.recording = file;
-  // No channel over 30 000 samples: each keeps its first 30 000 (3.75 s of 15 s).
-  q.max_samples = 30000;
+  // Frames of at most 30 000 samples per channel (acc and the key: no channel over the frame
+  // limit, ReadLimits), 3.75 s of 15 s: four frames.
+  q.frame_samples = 30000;
   const detect::FileAnalysis a = detect::analyze_file(q);
-  EXPECT_TRUE(a.cut);
-  ASSERT_EQ(a.result.channels.size(), 2u);
-  EXPECT_EQ(a.result.channels[0].samples, 30000u);
-  bool whole = false;
-  for (const std::string& n : a.result.notes) {
-    whole = whole || n.find("whole recording read by blocks (15 s") != std::string::npos;
-  }
-  EXPECT_TRUE(whole) << "the time indicators must cover the whole file";
-  // max_samples 0: all of it in memory.
-  q.max_samples = 0;
+  EXPECT_FALSE(a.cut);
+  ASSERT_TRUE(a.result.coverage);
+  EXPECT_EQ(a.result.coverage->frames, 4u);
+  EXPECT_TRUE(a.result.coverage->complete());
+  EXPECT_EQ(a.result.duration_s, 15.0);
+  ASSERT_EQ(a.result.segments.size(), 4u);
+  EXPECT_EQ(a.result.segments[3].end_s, 15.0);
+  ASSERT_EQ(a.result.channels.size(), 2u);          // acc and the key (no gearbox: a signal)
+  EXPECT_EQ(a.result.channels[0].samples, 30000u);  // the detail frame's
+  // One frame holding everything: the same time indicators (one-pass moments merged over the
+  // frames: round-off only).
+  q.frame_samples = 1u << 20;
   const detect::FileAnalysis w = detect::analyze_file(q);
-  EXPECT_FALSE(w.cut);
+  ASSERT_EQ(w.result.segments.size(), 1u);
   EXPECT_EQ(w.result.channels[0].samples, 120000u);
-  // The whole-file RMS is the in-memory one (running moments: round-off only).
-  EXPECT_NEAR(a.result.channels[0].time.rms, w.result.channels[0].time.rms,
-              1e-12 * w.result.channels[0].time.rms);
+  for (auto field : {&detect::TimeIndicators::rms, &detect::TimeIndicators::kurtosis,
+                     &detect::TimeIndicators::skewness, &detect::TimeIndicators::peak}) {
+    EXPECT_NEAR(a.result.channels[0].time.*field, w.result.channels[0].time.*field,
+                1e-12 * std::abs(w.result.channels[0].time.*field) + 1e-15);
+  }
+  // max_samples: an opt-in limit, the rest not examined.
+  q.frame_samples = 30000;
+  q.max_samples = 30000;
+  const detect::FileAnalysis c = detect::analyze_file(q);
+  EXPECT_TRUE(c.cut);
+  EXPECT_FALSE(c.result.coverage->complete());
+  EXPECT_EQ(c.result.coverage->frames, 1u);
+  // Up to the first sample not examined (within one sample of 3.75 s).
+  EXPECT_NEAR(c.result.coverage->analysed_s, 3.75, 1 / 8000.0);
 }
 
 TEST_F(AnalyzeFile, ErrorsNameTheFileAtFault) {

@@ -238,6 +238,19 @@ TEST(Channels, TachosOfMeasuredFilesAreInferredFromNameAndRate) {
     ASSERT_FALSE(notes.empty());
     EXPECT_NE(notes[0].find("no single shaft"), std::string::npos) << notes[0];
   }
+  // Named like a tacho, at a rate the description's stale speed does not explain (the box at
+  // 30 rpm, the tacho at 2000 rpm): the tacho is the measurement, used with a warning.
+  {
+    const diag::Gearbox stale = three_shaft().with_input_speed_rpm(30);
+    auto rec = measured("tacho", pulses(n, fs, 2000.0 / 60));
+    const auto notes = diag::infer_tachos(rec, &stale);
+    ASSERT_EQ(rec.tachos.size(), 1u);
+    EXPECT_EQ(rec.tachos[0].shaft, "input");
+    EXPECT_EQ(rec.tachos[0].ppr, 1);
+    ASSERT_FALSE(notes.empty());
+    EXPECT_TRUE(notes[0].starts_with("warning: channel 'tacho'")) << notes[0];
+    EXPECT_NE(notes[0].find("30 rpm"), std::string::npos) << notes[0];
+  }
   // Stated roles are left alone; so is a channel the map described.
   {
     auto rec = measured("input", pulses(n, fs, f_in));

@@ -48,37 +48,36 @@ const fs::path& simulated() {
   return h5;
 }
 
-// A long HDF5 recording is analysed on its first part (--max-samples, diag::ReadLimits): with
-// 4000 samples per channel at most, the 0.5 s record at 20 kHz is cut at 0.2 s for every channel,
-// and the notes say so; --max-samples 0 reads it whole.
-TEST(AnalyzeCli, LongRecordingIsAnalysedOnItsFirstPart) {
+// --max-samples is an opt-in limit: with 4000 samples per channel at most, the 0.5 s record at
+// 20 kHz is examined up to 0.2 s for every channel and the rest is said to be not examined;
+// without it every sample is, frame by frame when --frame-seconds asks for short frames.
+TEST(AnalyzeCli, MaxSamplesLimitsWhatIsExaminedAndSaysSo) {
   const fs::path js = scratch("excerpt.json");
   auto a = run("analyze " + simulated().string() + " --max-samples 4000 --json " + js.string());
   ASSERT_EQ(a.code, 0) << a.out;
+  EXPECT_NE(a.out.find("NOT EVERY SAMPLE EXAMINED"), std::string::npos) << a.out;
   auto j = nlohmann::json::parse(std::ifstream(js));
-  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 0.2);
+  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 0.5);  // the recording's
+  // Up to the first sample not examined (within one sample of 0.2 s).
+  EXPECT_NEAR(j["analysed_s"].get<double>(), 0.2, 1 / 20000.0);
   for (const auto& c : j["channels"]) EXPECT_EQ(c["samples"].get<int>(), 4000) << c["name"];
-  auto has_note = [](const nlohmann::json& r) {
-    for (const auto& n : r["notes"]) {
-      if (n.get<std::string>().find("long recording: the first 0.2 s of 0.5 s analysed") !=
-          std::string::npos) {
-        return true;
-      }
-    }
-    return false;
-  };
-  EXPECT_TRUE(has_note(j)) << j["notes"].dump(1);
-  // The indicators, PSD and envelope spectra are accumulated over the whole file, and said so.
-  bool whole = false;
-  for (const auto& n : j["notes"]) {
-    whole |= n.get<std::string>().find("whole recording read by blocks (0.5 s,") == 0;
-  }
-  EXPECT_TRUE(whole) << j["notes"].dump(1);
-  a = run("analyze " + simulated().string() + " --max-samples 0 --json " + js.string());
+  EXPECT_EQ(j["examined"]["complete"], false);
+  ASSERT_EQ(j["examined"]["not_examined"].size(), 1u);
+  EXPECT_NE(j["examined"]["not_examined"][0].get<std::string>().find("max_samples 4000"),
+            std::string::npos);
+  a = run("analyze " + simulated().string() + " --frame-seconds 0.1 --json " + js.string());
   ASSERT_EQ(a.code, 0) << a.out;
   j = nlohmann::json::parse(std::ifstream(js));
-  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 0.5);
-  EXPECT_FALSE(has_note(j));
+  EXPECT_EQ(j["examined"]["complete"], true);
+  EXPECT_EQ(j["examined"]["frames"], 5);
+  ASSERT_EQ(j["segments"].size(), 5u);
+  EXPECT_DOUBLE_EQ(j["segments"][4]["end_s"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(j["analysed_s"].get<double>(), 0.5);
+  bool framed = false;
+  for (const auto& n : j["notes"]) {
+    framed |= n.get<std::string>().starts_with("long recording analysed in 5 frames of 0.1 s");
+  }
+  EXPECT_TRUE(framed) << j["notes"].dump(1);
 }
 
 TEST(AnalyzeCli, SimulatedRecordingGivesJsonAndHtmlReports) {

@@ -67,8 +67,23 @@ TEST(FrontDoor, AnalyzeCliWritesTheLibrarysResultOfACutRecording) {
   EXPECT_TRUE(a.cut);
   EXPECT_EQ(slurp(js), report::to_json(a.result).dump(2) + "\n");
   const auto j = nlohmann::json::parse(slurp(js));
-  EXPECT_TRUE(j.contains("gear_damage"));  // the gear baseline went through the door
-  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 1.0);
+  EXPECT_TRUE(j.contains("gear_damage"));                // the gear baseline went through the door
+  EXPECT_DOUBLE_EQ(j["duration_s"].get<double>(), 2.0);  // the recording's
+  // What was examined: up to the first sample not examined (within one sample of 1 s).
+  EXPECT_NEAR(j["analysed_s"].get<double>(), 1.0, 1 / 8000.0);
+  EXPECT_EQ(j["examined"]["complete"], false);
+}
+
+// Silence about what was not examined is not a pass: --fail-on exits 4 when nothing was found
+// in the part examined, 0 when every sample was examined and nothing found.
+TEST(FrontDoor, FailOnSaysWhenNotEverySampleWasExamined) {
+  const fs::path healthy = simulated("healthy", false, 11);
+  const auto cut = run("analyze " + healthy.string() + " --max-samples 8000 --fail-on finding");
+  EXPECT_EQ(cut.code, 4) << cut.out;
+  EXPECT_NE(cut.out.find("NOT EVERY SAMPLE EXAMINED"), std::string::npos) << cut.out;
+  const auto whole = run("analyze " + healthy.string() + " --fail-on finding");
+  EXPECT_EQ(whole.code, 0) << whole.out;
+  EXPECT_NE(whole.out.find("(every sample)"), std::string::npos) << whole.out;
 }
 
 // Healthy baselines: the anomaly score and the wear per mesh, in analyze and in batch's row.

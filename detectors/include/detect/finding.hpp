@@ -9,7 +9,8 @@
 // module documents its own; detail that is not a number stays in the module's result struct.
 //
 // JSON (to_json): {"kind", "fault", "shaft", "gears", "bearing", "channel", "frequency_hz",
-// "confidence", "size", "size_unit", "note", "evidence": {name: number}}; every evidence entry is
+// "confidence", "size", "size_unit", "note", "evidence": {name: number}, "time_s": [first, last],
+// "frames_seen", "frames_examined"}; every evidence entry is
 // also written at the top level under its own name (the keys `geardiag attribute` and `analyze`
 // wrote before the finding types were one). Fields that do not apply are left out: empty strings
 // and gear lists, NaN frequency and size.
@@ -45,6 +46,12 @@ struct Finding {
   std::string size_unit;                                           // its unit ("rad", "m", ...)
   std::vector<std::pair<std::string, double>> evidence;  // named numbers, in a fixed order
   std::string note;                                      // readable reason, alternatives
+  // Where in a long recording it is seen (detect::analyze_file, which analyses a recording frame
+  // by frame): from the start of the first frame that shows it to the end of the last [s], and
+  // in how many of the frames examined. NaN and 0 when not placed in time.
+  double first_s = std::numeric_limits<double>::quiet_NaN();
+  double last_s = std::numeric_limits<double>::quiet_NaN();
+  int frames_seen = 0, frames_examined = 0;
 
   // The evidence named `name`; NaN when there is none.
   double evidence_value(std::string_view name) const;

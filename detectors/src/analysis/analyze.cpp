@@ -183,8 +183,7 @@ struct RecordWork {
 };
 
 enum RecordNeed : unsigned {
-  kWithGearbox = 1u << 0,         // a gearbox description
-  kWholeRecordingFile = 1u << 1,  // AnalyzeOptions::whole_recording names a file
+  kWithGearbox = 1u << 0,  // a gearbox description
 };
 
 // The shaft speeds and angles, the speed report, the meshes at the measured speed and what the
@@ -282,7 +281,6 @@ constexpr RecordStage kRecordStages[] = {
     {"kinematics", kWithGearbox, kinematics_stage},
     {"angle_plans", 0, [](RecordWork& w) { w.ang = angle_plans_stage(w.ctx); }},
     {"channels", 0, channels_stage},
-    {"whole_record", kWholeRecordingFile, [](RecordWork& w) { whole_record_stage(w.ctx, w.r); }},
     {"two_direction", kWithGearbox,
      [](RecordWork& w) { two_direction_stage(w.ctx, w.spectra, w.r); }},
     {"gear_damage", kWithGearbox, [](RecordWork& w) { gear_damage_stage(w.ctx, w.r); }},
@@ -322,8 +320,7 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
           ctx.located[b] || (ctx.sensor[i] && rec.signals[i].location == gb->bearings()[b].name);
   if (!gb) r.notes.push_back("no gearbox description: unit-free indicators and spectra only");
 
-  const unsigned have =
-      (gb ? kWithGearbox : 0u) | (opt.whole_recording.empty() ? 0u : kWholeRecordingFile);
+  const unsigned have = gb ? kWithGearbox : 0u;
   for (const RecordStage& stage : kRecordStages) {
     if ((stage.needs & have) != stage.needs) continue;
     if (opt.progress) opt.progress(stage.name);

@@ -4,7 +4,6 @@
 //   angle plans (angle_plans.cpp) one angle plan per shaft, every channel resampled through it
 //   channels                      every channel through kChannelStages below, in parallel, each
 //                                 stage filling its part of ChannelAnalysis (channel_*.cpp)
-//   whole record (whole_record.cpp) a cut recording's means over the whole file
 //   two_direction_stage (two_direction_stage.cpp)
 //   gear_damage_stage, fuse_findings (findings.cpp): the locator, the votes, one finding list
 // The baseline comparison (baseline_compare.cpp) and features() (features.cpp) read the result;
@@ -202,9 +201,6 @@ inline constexpr ChannelStage kChannelStages[] = {
 };
 
 // ---- recording-level stages ----
-// A cut recording (AnalyzeOptions::whole_recording): every channel's time indicators, Welch PSD
-// and (at a steady speed) envelope spectrum recomputed over the whole file, block by block.
-void whole_record_stage(const AnalysisContext& ctx, AnalysisResult& r);
 // Along/normal-LOA pairs at one location: mesh-harmonic energies in both directions.
 void two_direction_stage(const AnalysisContext& ctx, const std::vector<Spectrum>& spectra,
                          AnalysisResult& r);

@@ -34,6 +34,11 @@ std::vector<std::string> prepare_channels(Recording& rec, const Gearbox* gb,
   return notes;
 }
 
+namespace {
+// How far a given speed may be from the one recorded with the data before it is a contradiction.
+constexpr double kGivenSpeedTolerance = 0.01;
+}  // namespace
+
 Gearbox gearbox_at_speed(const Gearbox& gb, const Recording& rec, const ChannelSetup& setup,
                          std::vector<std::string>& notes) {
   const double nominal = gb.input().speed_rpm;
@@ -41,6 +46,15 @@ Gearbox gearbox_at_speed(const Gearbox& gb, const Recording& rec, const ChannelS
     if (!(setup.rpm > 0) || !std::isfinite(setup.rpm) || setup.rpm > kMaxSpeedRpm) {
       throw InputError("--rpm: " + fmt(setup.rpm) + " is not a speed in (0, " + fmt(kMaxSpeedRpm) +
                        "] rpm");
+    }
+    // The speed recorded with the data is a measurement: a --rpm that contradicts it (beyond
+    // the 1 % a speed drifts with load) is a warning naming both, and the measurement is used.
+    if (rec.speed_rpm > 0 && std::abs(setup.rpm / rec.speed_rpm - 1) > kGivenSpeedTolerance) {
+      notes.push_back("warning: --rpm " + fmt(setup.rpm) + " contradicts the input speed " +
+                      fmt(rec.speed_rpm) + " rpm recorded with the file (" +
+                      fmt(100 * std::abs(setup.rpm / rec.speed_rpm - 1)) +
+                      " % apart): the recorded speed is used");
+      return gb.with_input_speed_rpm(rec.speed_rpm);
     }
     notes.push_back("input speed " + fmt(setup.rpm) +
                     " rpm from --rpm (description: " + fmt(nominal) + " rpm)");

@@ -490,6 +490,20 @@ std::vector<std::string> infer_tachos(Recording& rec, const Gearbox* gb,
       }
       if (once.size() == 1) shaft = once.front(), ppr = 1;
     }
+    if (shaft < 0 && named) {
+      // Named like a tacho and a pulse train, but at a rate no shaft of the description turns
+      // at: the tacho is the measurement, the description's speed is stale. Taken as the tacho
+      // of the shaft it names (else the input shaft), one pulse per revolution, with a warning.
+      shaft = named_shafts.size() == 1 ? named_shafts.front() : gb->input_shaft();
+      ppr = 1;
+      notes.push_back("warning: channel '" + s.name + "': a tacho at " +
+                      diag::format_significant(*rate * 60, 4) +
+                      " pulses/min contradicts the description's nominal " +
+                      diag::format_significant(gb->shaft_speed_hz(shaft) * 60, 4) +
+                      " rpm of shaft " + gb->shafts()[static_cast<std::size_t>(shaft)].name +
+                      ": the tacho is used (1 pulse per revolution; say --tacho "
+                      "CHANNEL=SHAFT:PPR otherwise) and the description's speed is not");
+    }
     if (shaft < 0) {
       s.role = Role::kOther;
       s.direction = Direction::kUnspecified;

@@ -694,41 +694,23 @@ void RecordingReader::read_samples(const std::string& what, std::uint64_t offset
 
 namespace {
 
-// Samples of channel c within an excerpt of t seconds (all of them when t is infinite).
-std::uint64_t samples_within(const ChannelInfo& c, double t) {
-  if (!std::isfinite(t)) return c.length;
-  const double n = std::floor(t * c.fs_hz);
-  return n >= static_cast<double>(c.length) ? c.length : static_cast<std::uint64_t>(n);
+// Samples of channel c within the first t seconds (all of them when t is infinite).
+std::uint64_t samples_within(std::uint64_t length, double fs_hz, double t) {
+  if (!std::isfinite(t)) return length;
+  const double n = std::floor(t * fs_hz);
+  if (n <= 0) return 0;
+  return n >= static_cast<double>(length) ? length : static_cast<std::uint64_t>(n);
 }
 
-// The longest excerpt duration [s] within the limits (ReadLimits); infinite when the whole
-// record fits.
-double excerpt_seconds(const RecordingReader& reader, const ReadLimits& limits) {
-  auto fits = [&](double t) {
-    std::uint64_t sum = 0, longest = 0;
-    for (const ChannelInfo& c : reader.channels()) {
-      const std::uint64_t n = samples_within(c, t);
-      sum += n;
-      longest = std::max(longest, n);
-    }
-    return longest <= limits.max_channel_samples &&
-           (sum <= limits.max_samples || longest <= limits.kept_channel_samples);
-  };
-  if (fits(std::numeric_limits<double>::infinity())) return std::numeric_limits<double>::infinity();
-  // Bisection on t: every condition of fits() only fails more as t grows.
-  double lo = 0, hi = 0;
-  for (const ChannelInfo& c : reader.channels()) {
-    hi = std::max(hi, static_cast<double>(c.length) / c.fs_hz);
-  }
-  for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (fits(mid) ? lo : hi) = mid;
-  }
-  return lo;
+std::vector<ChannelExtent> extents(const RecordingReader& reader) {
+  std::vector<ChannelExtent> out;
+  for (const ChannelInfo& c : reader.channels()) out.push_back({c.length, c.fs_hz});
+  return out;
 }
 
-Recording read_all(const RecordingReader& reader,
-                   double t = std::numeric_limits<double>::infinity()) {
+// The samples [t0 fs, t1 fs) of every channel of the file, with the file's description.
+Recording read_span(const RecordingReader& reader, double t0,
+                    double t1 = std::numeric_limits<double>::infinity()) {
   Recording rec;
   for (const ChannelInfo& c : reader.channels()) {
     Signal& s = (c.group == "signals" ? rec.signals : rec.tachos).emplace_back();
@@ -737,12 +719,14 @@ Recording read_all(const RecordingReader& reader,
     s.unit = c.unit;
     s.direction = c.direction;
     s.location = c.location;
-    s.samples.resize(static_cast<std::size_t>(samples_within(c, t)));
+    const std::uint64_t first = samples_within(c.length, c.fs_hz, t0);
+    const std::uint64_t end = samples_within(c.length, c.fs_hz, t1);
+    s.samples.resize(static_cast<std::size_t>(end > first ? end - first : 0));
     s.role = c.role;
     s.shaft = c.shaft;
     s.mesh = c.mesh;
     s.ppr = c.ppr;
-    reader.read_block(c.group + "/" + c.name, 0, s.samples);
+    reader.read_block(c.group + "/" + c.name, first, s.samples);
   }
   rec.gearbox_json = reader.gearbox_json();
   rec.truth_json = reader.truth_json();
@@ -758,22 +742,51 @@ Recording read_all(const RecordingReader& reader,
 
 }  // namespace
 
+double seconds_within_limits(std::span<const ChannelExtent> channels, const ReadLimits& limits) {
+  auto fits = [&](double t) {
+    std::uint64_t sum = 0, longest = 0;
+    for (const ChannelExtent& c : channels) {
+      const std::uint64_t n = samples_within(c.length, c.fs_hz, t);
+      sum += n;
+      longest = std::max(longest, n);
+    }
+    return longest <= limits.max_channel_samples &&
+           (sum <= limits.max_samples || longest <= limits.kept_channel_samples);
+  };
+  if (fits(std::numeric_limits<double>::infinity())) return std::numeric_limits<double>::infinity();
+  // Bisection on t: every condition of fits() only fails more as t grows.
+  double lo = 0, hi = 0;
+  for (const ChannelExtent& c : channels) {
+    hi = std::max(hi, static_cast<double>(c.length) / c.fs_hz);
+  }
+  for (int i = 0; i < 200 && hi - lo > 1e-12 * hi; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (fits(mid) ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+Recording read_recording_span(const RecordingReader& reader, double t0_s, double t1_s) {
+  return reading(reader.path().string(), [&] { return read_span(reader, t0_s, t1_s); });
+}
+
 Recording read_recording(const std::filesystem::path& path) {
   RecordingReader reader(path);
-  return reading(path.string(), [&] { return read_all(reader); });
+  return reading(path.string(), [&] { return read_span(reader, 0); });
 }
 
 Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits, bool* cut) {
   RecordingReader reader(path);
   return reading(path.string(), [&] {
-    const double t = excerpt_seconds(reader, limits);
+    const std::vector<ChannelExtent> all = extents(reader);
+    const double t = seconds_within_limits(all, limits);
     if (cut) *cut = std::isfinite(t);
-    Recording rec = read_all(reader, t);
+    Recording rec = read_span(reader, 0, t);
     if (std::isfinite(t)) {
       double whole = 0, kept = 0;
       for (const ChannelInfo& c : reader.channels()) {
         whole = std::max(whole, static_cast<double>(c.length) / c.fs_hz);
-        kept = std::max(kept, static_cast<double>(samples_within(c, t)) / c.fs_hz);
+        kept = std::max(kept, static_cast<double>(samples_within(c.length, c.fs_hz, t)) / c.fs_hz);
       }
       std::ostringstream note;
       note << std::setprecision(4) << "long recording: the first " << kept << " s of " << whole

@@ -5,10 +5,12 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string_view>
 
 #include "diag/error.hpp"
 #include "diag/io/import.hpp"
+#include "diag/io/recording_frames.hpp"
 
 namespace diag {
 
@@ -34,7 +36,22 @@ struct Format {
   const char* name;
   bool (*reads)(const Probe&);
   OpenedRecording (*open)(const std::filesystem::path&, const OpenOptions&);
+  // Frame by frame without reading the whole file (null: the recording read whole, in frames).
+  std::shared_ptr<const RecordingFrames> (*open_frames)(const std::filesystem::path&,
+                                                        const OpenOptions&) = nullptr;
 };
+
+// The file's rate is the measurement's: a --fs that contradicts it is refused (as the import of
+// an HDF5 file does), never silently ignored.
+void check_given_rate(const std::filesystem::path& path, const std::string& channel, double fs_hz,
+                      const OpenOptions& o) {
+  if (o.fs_hz && std::abs(fs_hz - *o.fs_hz) > 1e-3 * fs_hz) {
+    throw InputError(format_error(path.string(), "fs_hz",
+                                  "the given " + number_text(*o.fs_hz) +
+                                      " Hz disagrees with channel " + channel + "'s " +
+                                      number_text(fs_hz) + " Hz by more than 0.1 %"));
+  }
+}
 
 OpenedRecording imported(const std::filesystem::path& path, const OpenOptions& options,
                          const char* format) {
@@ -63,21 +80,15 @@ constexpr std::array<Format, 4> kFormats = {{
        OpenedRecording r;
        r.format = "hdf5";
        r.recording = read_recording(path, o.limits, &r.cut);
-       if (o.fs_hz) {
-         // The file's rate is the measurement's: a --fs that contradicts it is refused (as the
-         // import of an HDF5 file does), never silently ignored.
-         for (const auto* group : {&r.recording.signals, &r.recording.tachos}) {
-           for (const Signal& s : *group) {
-             if (std::abs(s.fs_hz - *o.fs_hz) > 1e-3 * s.fs_hz) {
-               throw InputError(format_error(path.string(), "fs_hz",
-                                             "the given " + number_text(*o.fs_hz) +
-                                                 " Hz disagrees with channel " + s.name + "'s " +
-                                                 number_text(s.fs_hz) + " Hz by more than 0.1 %"));
-             }
-           }
-         }
+       for (const auto* group : {&r.recording.signals, &r.recording.tachos}) {
+         for (const Signal& s : *group) check_given_rate(path, s.name, s.fs_hz, o);
        }
        return r;
+     },
+     [](const std::filesystem::path& path, const OpenOptions& o) {
+       auto reader = std::make_shared<const RecordingReader>(path);
+       for (const ChannelInfo& c : reader->channels()) check_given_rate(path, c.name, c.fs_hz, o);
+       return std::make_shared<const RecordingFrames>(std::move(reader));
      }},
     {"csv", is_table,
      [](const std::filesystem::path& path, const OpenOptions& o) {
@@ -89,9 +100,11 @@ constexpr std::array<Format, 4> kFormats = {{
      }},
 }};
 
-}  // namespace
-
-OpenedRecording open_recording_as(const std::filesystem::path& path, const OpenOptions& options) {
+// The first row of the table that reads `path`, called with `open(row)`; every error names the
+// file as the user gave it.
+template <typename Open>
+auto with_format(const std::filesystem::path& path, const OpenOptions& options, Open&& open)
+    -> decltype(open(kFormats[0])) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(file + ": no such file");
@@ -106,15 +119,30 @@ OpenedRecording open_recording_as(const std::filesystem::path& path, const OpenO
   for (const Format& f : kFormats) {
     if (!f.reads(probe)) continue;
     try {
-      return f.open(path, options);
+      return open(f);
     } catch (const InputError& e) {
-      // Every message names the file as the user gave it.
       const std::string what = e.what();
       if (what.find(file) != std::string::npos) throw;
       throw InputError(file + ": " + what);
     }
   }
   throw InputError(file + ": no reader for this file");  // unreachable: the sound row takes all
+}
+
+}  // namespace
+
+OpenedRecording open_recording_as(const std::filesystem::path& path, const OpenOptions& options) {
+  return with_format(path, options, [&](const Format& f) { return f.open(path, options); });
+}
+
+OpenedFrames open_recording_frames(const std::filesystem::path& path, const OpenOptions& options) {
+  return with_format(path, options, [&](const Format& f) {
+    if (f.open_frames) return OpenedFrames{f.open_frames(path, options), f.name};
+    OpenOptions whole = options;
+    whole.limits = {};
+    auto rec = std::make_shared<const Recording>(f.open(path, whole).recording);
+    return OpenedFrames{std::make_shared<const RecordingFrames>(std::move(rec)), f.name};
+  });
 }
 
 Recording open_recording(const std::filesystem::path& path, const OpenOptions& options) {

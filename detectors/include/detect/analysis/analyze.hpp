@@ -110,7 +110,7 @@ struct AnalyzeOptions {
   GearDamageOptions gear_damage;            // the damaged-shaft locator (reference_shaft is
                                             // not used: the shaft angles are analyze's own)
   // Called with the name of each stage as it starts ("kinematics", "angle_plans", "channels",
-  // "whole_record" when whole_recording is set, "two_direction", "gear_damage", "findings";
+  // "two_direction", "gear_damage", "findings";
   // kinematics, two_direction, gear_damage and findings with a gearbox only); the CLI draws a
   // progress line on a terminal.
   std::function<void(const std::string&)> progress;
@@ -129,12 +129,6 @@ struct AnalyzeOptions {
   double nominal_time_s = -1;        // when the nominal speed holds [s], for the speed from the
                                      // vibration; < 0: a steady record first, else (no steady line:
                                      // a run-up) mid-record
-  // The HDF5 file `rec` is the first part of (diag::ReadLimits), or empty. When given, the
-  // whole-record stage reads every channel of it block by block after the per-channel stages:
-  // time indicators (running moments), Welch PSD and, at a steady speed, the envelope spectrum
-  // (mean over blocks as long as the excerpt, in the band the kurtogram chose on it) then cover
-  // the whole file in memory bounded by the excerpt's length (a note says what covered what).
-  std::filesystem::path whole_recording;
 
   void validate() const;  // throws diag::InputError "analyze: <field>: ..."
 };
@@ -318,6 +312,36 @@ struct AnalysisBaseline {
   std::vector<AnalysisMeshWear> wear;   // per mesh (wear_against_baseline); empty without one
 };
 
+// One frame of a whole-log analysis (analyze_file, which analyses a long recording frame by
+// frame): a stretch [start_s, end_s) of the recording analysed on its own.
+struct AnalysisSegment {
+  double start_s = 0, end_s = 0;
+  std::string verdict;  // "finding", "no finding" or "not examined"
+  std::string reason;   // why not examined (empty otherwise)
+  // The reference shaft's mean speed in the frame and where it came from (AnalysisSpeed); NaN
+  // and empty without a gearbox or when not examined.
+  double speed_rpm = std::numeric_limits<double>::quiet_NaN();
+  std::string speed_source;
+  std::vector<std::size_t> findings;  // indices into AnalysisResult::findings seen in the frame
+  std::vector<std::string> channels;  // the sensor channels, in the order of `indicators`
+  std::vector<TimeIndicators> indicators;
+  // The anomaly score against the baseline recordings (NaN: no baseline).
+  double anomaly_score = std::numeric_limits<double>::quiet_NaN();
+};
+
+// What of a recording was examined (analyze_file).
+struct AnalysisCoverage {
+  double duration_s = 0;  // the recording's (its longest channel)
+  double analysed_s = 0;  // the frames analysed, summed
+  double frame_s = 0;     // the frames' length (the last ones may differ by a sample)
+  std::size_t frames = 0, frames_examined = 0;
+  std::size_t detail_frame = 0;  // the frame whose channels the result details (spectra, TSA)
+  // Why a part was not examined: a limit asked for (--max-samples) or the frames' reasons.
+  std::vector<std::string> not_examined;
+  // Every sample of the recording was analysed.
+  bool complete() const { return not_examined.empty() && frames_examined == frames; }
+};
+
 struct AnalysisResult {
   std::string gearbox_name;  // empty without a gearbox
   std::string input_shaft;   // the gearbox's input shaft (order spectra are in its orders)
@@ -336,6 +360,10 @@ struct AnalysisResult {
   std::map<std::string, double> timing_s;  // wall time per stage [s] (AnalyzeOptions::timing),
                                            // and "channel_cpu.<stage>": the CPU time of each
                                            // per-channel stage summed over the channels
+  // A whole-log analysis (analyze_file): the frames and what was examined; empty and absent when
+  // analyze_recording ran on one record.
+  std::vector<AnalysisSegment> segments;
+  std::optional<AnalysisCoverage> coverage;
 };
 
 // Throws diag::InputError for bad options, a recording without signals, or a signal that fails

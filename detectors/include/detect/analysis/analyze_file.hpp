@@ -35,11 +35,13 @@ struct RecordingInput {
   std::string name() const;
 };
 
-// The part of a long HDF5 recording held in memory by default (diag::ReadLimits): at most 2^20
-// samples in all, or 2^18 per channel when there are many channels, never over 2^19 per channel.
-// analyze peaks at 80-190 bytes per sample held (bench/analyze_memory.sh): a 1 GB, 8-channel
-// recording in < 256 MB. What is a mean over time is then accumulated over the whole file, block
-// by block (AnalyzeOptions::whole_recording).
+// A recording is analysed whole, frame by frame: the frames are the longest stretches of equal
+// length that keep within these limits (diag::ReadLimits: at most 2^20 samples in all, or 2^18
+// per channel when there are many channels, never over 2^19 per channel), each read by blocks
+// (HDF5) or cut from the recording in memory (the other formats), analysed by analyze_recording,
+// and forgotten but for its summary (AnalysisSegment) and its findings. analyze peaks at 80-190
+// bytes per sample of a frame (bench/analyze_memory.sh): memory does not grow with an HDF5
+// recording's length.
 inline constexpr std::uint64_t kDefaultMaxSamples = std::uint64_t{1} << 20;
 inline constexpr std::uint64_t kKeptChannelSamples = std::uint64_t{1} << 18;
 inline constexpr std::uint64_t kMaxChannelSamples = std::uint64_t{1} << 19;
@@ -64,13 +66,18 @@ struct AnalyzeRequest {
   // damaged-shaft locator subtracts its revolution averages (gear_damage_baseline). Ignored when
   // options.gear_damage.baseline is already set (a caller analysing many files against one).
   std::optional<RecordingInput> gear_baseline;
-  // A longer HDF5 recording is analysed on its first part holding at most this many samples in
-  // all (kKeptChannelSamples and kMaxChannelSamples per channel, never more than this), and its
-  // time indicators, Welch PSD and envelope spectra over the whole file, block by block; 0: the
-  // whole recording in memory. Other formats are read whole.
-  std::uint64_t max_samples = kDefaultMaxSamples;
-  // options.threads 0 means one thread per core, except for a recording cut by max_samples: 2, so
-  // that the memory bound holds on any machine (each channel in flight holds its transforms).
+  // The frame limit: at most this many samples in all per frame (kKeptChannelSamples and
+  // kMaxChannelSamples per channel, never more than this); > 0.
+  std::uint64_t frame_samples = kDefaultMaxSamples;
+  // The frames' length [s] when shorter than frame_samples allows (a finer timeline: findings
+  // are placed to within a frame); 0: as long as frame_samples allows. >= 0.
+  double frame_s = 0;
+  // 0 (default): every sample is examined. Else an opt-in limit: only the first part holding at
+  // most this many samples in all (the per-channel rules of frame_samples) is analysed; the rest
+  // is reported as not examined (AnalysisCoverage::not_examined).
+  std::uint64_t max_samples = 0;
+  // options.threads 0 means one thread per core, except for a recording of several frames: 2,
+  // so that the memory bound holds on any machine (each channel in flight holds its transforms).
   AnalyzeOptions options;
 };
 
@@ -78,12 +85,26 @@ struct FileAnalysis {
   AnalysisResult result;  // with the notes of the speed and channel setup first
   std::string source;     // the recording's name (RecordingInput::name)
   std::string format;     // the reader's (diag::recording_formats), "memory" for a recording given
-  bool cut = false;       // only the first part of the recording was held in memory
+  bool cut = false;       // only the first part was examined (AnalyzeRequest::max_samples)
   std::map<std::string, std::string> metadata;  // the recording's (timestamps, source file, ...)
   double read_s = 0;                            // wall time of reading the recording [s]
   std::string baseline_error;  // why the baselines could not score it (baseline_required false)
 };
 
+// A recording longer than one frame is analysed frame by frame (frame_samples): each frame's
+// speed, channel setup and analysis are its own; the result is
+//   - findings: every frame's, one per fault and place (kind, fault, shaft, gears, bearing),
+//     the most confident frame's, with first_s / last_s and frames_seen / frames_examined;
+//   - channels, meshes, TSA, two-direction rows, the locator's result, speed and notes: the
+//     detail frame's (the one whose finding is most confident; the first without a finding),
+//     except the channels' time indicators, which are over every sample examined;
+//   - segments: one per frame; coverage: what was examined;
+//   - baseline: the anomaly score of the frame that scores highest (each frame's in its
+//     segment), the wear indicator of the detail frame.
+// A frame that cannot be analysed (a NaN or infinite sample, a channel too short) is a segment
+// "not examined" with the reason, the others are analysed; when none can be, the first frame's
+// error is thrown. A recording of one frame gives analyze_recording's result with its segment.
+//
 // Throws diag::InputError naming the file at fault: the recording ("<path>: ..."), a baseline
 // ("--baseline <path>: ..."), the gear baseline ("--gear-baseline <path>: ..."), a speed given
 // without a gearbox description, and every error of analyze_recording. Every input is read and

@@ -79,6 +79,16 @@ struct ReadLimits {
 Recording read_recording(const std::filesystem::path& path, const ReadLimits& limits,
                          bool* cut = nullptr);
 
+// A channel's length [samples] and rate [Hz]: what the limits are applied to.
+struct ChannelExtent {
+  std::uint64_t length = 0;
+  double fs_hz = 0;
+};
+
+// The longest duration T [s] whose first floor(T fs) samples of every channel keep within the
+// limits (as read_recording(path, limits) applies them); infinite when every sample does.
+double seconds_within_limits(std::span<const ChannelExtent> channels, const ReadLimits& limits);
+
 struct ChannelInfo {
   std::string name;
   std::string group;  // "signals" or "tacho"
@@ -124,6 +134,7 @@ class RecordingReader {
   // the range is past the end or a sample is NaN/Inf. One call at a time per reader (HDF5 is not
   // thread-safe; the reader keeps the last chunk it decoded for the next block).
   void read_block(const std::string& name, std::uint64_t offset, std::span<double> out) const;
+  const std::filesystem::path& path() const { return path_; }
 
  private:
   void open_file();
@@ -142,6 +153,11 @@ class RecordingReader {
   // The last chunk decoded, for the next block (read_block is not for concurrent use, as HDF5).
   std::shared_ptr<DecodedChunk> decoded_;
 };
+
+// The samples [floor(t0_s fs), floor(t1_s fs)) of every channel of the reader's file (tachos too;
+// a channel shorter than that, what it holds of them), with the file's gearbox, truth, metadata
+// and speed: one frame of a long recording, read by blocks. Throws InputError as read_recording.
+Recording read_recording_span(const RecordingReader& reader, double t0_s, double t1_s);
 
 // True when the file starts with the HDF5 signature.
 bool is_hdf5_file(const std::filesystem::path& path);
