@@ -43,10 +43,15 @@ namespace {
 // freed pages for the next buffer: 65 000 faults (about the first touch of the peak), the same
 // peak RSS (docs/performance.md). A process-wide setting, made by the command only
 // (the library leaves the allocator alone).
+// The frames of a long recording run on several threads, and glibc gives each thread its own
+// arena, where the settings above do not keep freed pages as well: one arena for the command (the
+// buffers are few and large, so the lock is rarely waited on) halves the system time of two
+// threads on the 0.28 GB bench recording and keeps 1.9x from 1 to 2 threads (bench/RESULTS.md).
 void keep_freed_memory() {
 #ifdef __GLIBC__
   mallopt(M_MMAP_THRESHOLD, 64 << 20);
   mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  mallopt(M_ARENA_MAX, 1);
 #endif
 }
 
@@ -113,8 +118,8 @@ int cmd_analyze(int argc, char** argv) {
       "tsa-min-revs", po::value(&opt.tsa_min_revolutions)->default_value(opt.tsa_min_revolutions),
       "fewer whole revolutions skip a shaft's TSA, >= 2")(
       "threads", po::value(&opt.threads)->default_value(opt.threads),
-      "channels analysed in parallel, [0, 256]; 0: one per hardware thread (default; 2 for a "
-      "recording of several frames)")(
+      "frames of a long recording, else channels, analysed in parallel, [0, 256]; 0: one per "
+      "hardware thread (default; 2 for a recording of several frames)")(
       "welch-nperseg", po::value(&opt.welch_nperseg)->default_value(opt.welch_nperseg),
       "Welch segment length [samples], [8, 2^24]");
   desc.add_options()("curves", po::value(&curves_out),

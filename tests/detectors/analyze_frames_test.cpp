@@ -50,7 +50,8 @@ Log joined_log() {
   const diag::Recording faulty = import_mat("IR007_0.mat", 12000.0);
   auto rec = std::make_shared<diag::Recording>();
   Log log;
-  for (const auto& [suffix, location] : {std::pair{"_DE_time", "drive_end"}, {"_FE_time", "fan_end"}}) {
+  for (const auto& [suffix, location] :
+       {std::pair{"_DE_time", "drive_end"}, {"_FE_time", "fan_end"}}) {
     diag::Decimator d(4);
     std::vector<double> h;
     d.push(channel(healthy, suffix), h);
@@ -150,7 +151,8 @@ TEST_F(AnalyzeFrames, AGivenSpeedThatContradictsTheRecordedOneIsAWarningAndNotUs
   const detect::FileAnalysis off = detect::analyze_file(q);
   bool warned = false;
   for (const std::string& n : off.result.notes) {
-    warned = warned || (n.starts_with("warning: --rpm 1707") && n.find("1797") != std::string::npos);
+    warned =
+        warned || (n.starts_with("warning: --rpm 1707") && n.find("1797") != std::string::npos);
   }
   EXPECT_TRUE(warned);
   ASSERT_EQ(off.result.findings.size(), right.result.findings.size());

@@ -4,11 +4,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <utility>
 
 #include "diag/error.hpp"
 #include "diag/io/open_recording.hpp"
 #include "diag/io/recording_frames.hpp"
+#include "diag/util/parallel_for.hpp"
 #include "stages.hpp"
 
 namespace detect {
@@ -157,7 +159,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   out.source = request.recording.name();
   const auto read_start = std::chrono::steady_clock::now();
   const diag::OpenedFrames opened = open_frames(request.recording, request.fs_hz);
-  double read_s =
+  const double open_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - read_start).count();
   const diag::RecordingFrames& frames = *opened.frames;
   out.format = opened.format;
@@ -245,29 +247,71 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     gear_healthy.reset();
   }
 
-  // Frame by frame. The detail frame's recording and result are kept (the most confident
-  // finding's frame; the first frame without one); of the others, their segment and findings.
+  // Frame by frame, the frames on up to opt.threads threads (each frame's channels then one at a
+  // time: the recording-level stages run in parallel too, and at most that many channels are in
+  // flight, as before). Of each frame its segment, findings, moments and score are kept, and
+  // which frame is the detail frame (the most confident finding's; the first frame without one):
+  // it is read and analysed again at the end, so that no frame's recording or result is held
+  // while the others run. Every choice is by frame index: the same bytes at any thread count.
   const bool framed = n_frames > 1;
+  const int frame_threads = framed ? diag::parallel_threads(n_frames, opt.threads) : 1;
   AnalyzeOptions frame_opt = opt;
   if (framed) frame_opt.traces = false;  // the detail frame is analysed again with them
-  std::vector<AnalysisSegment> segments(n_frames);
-  std::vector<std::vector<Finding>> frame_findings(n_frames);
-  std::map<std::string, MomentAccumulator> moments;
-  std::optional<diag::Recording> detail_rec;
-  std::optional<diag::Gearbox> detail_gb;
-  std::vector<std::string> detail_notes;
-  std::optional<AnalysisResult> detail;
-  double detail_confidence = -1;
-  std::optional<AnalysisBaseline> top_baseline;
-  std::string first_error;
-  std::map<std::string, double> timing;
-  for (std::size_t k = 0; k < n_frames; ++k) {
-    AnalysisSegment& seg = segments[k];
-    seg.start_s = static_cast<double>(k) * coverage.frame_s;
-    seg.end_s = k + 1 == n_frames ? examined_until : static_cast<double>(k + 1) * coverage.frame_s;
+  if (frame_threads > 1) frame_opt.threads = 1;
+  struct FrameOutcome {
+    AnalysisSegment seg;
+    std::vector<Finding> findings;
+    std::map<std::string, MomentAccumulator> moments;
+    std::map<std::string, double> timing;
+    std::string baseline_error;
+    double read_s = 0;
+  };
+  std::vector<FrameOutcome> outcome(n_frames);
+  struct Detail {
+    std::size_t frame = 0;
+    double confidence = -1;
+    std::optional<AnalysisResult> result;
+    std::optional<diag::Recording> rec;
+    std::optional<diag::Gearbox> gb;
+    std::vector<std::string> notes;
+  } detail;
+  struct TopScore {
+    std::size_t frame = 0;
+    std::optional<AnalysisBaseline> baseline;
+  } top;
+  std::mutex read_lock, keep_lock, progress_lock;
+  const auto frame_start = [&](std::size_t k) { return static_cast<double>(k) * coverage.frame_s; };
+  const auto frame_end = [&](std::size_t k) {
+    return k + 1 == n_frames ? examined_until : static_cast<double>(k + 1) * coverage.frame_s;
+  };
+  // Frame k as read (one HDF5 read at a time); the last frame of a recording examined whole ends
+  // after its last sample (the duration times the rate may round below the sample count).
+  const auto read_frame = [&](std::size_t k) {
+    const bool to_end = k + 1 == n_frames && examined_until >= duration;
+    const std::lock_guard<std::mutex> lock(read_lock);
+    return frames.frame(frame_start(k),
+                        to_end ? std::numeric_limits<double>::infinity() : frame_end(k));
+  };
+  // What the channels are (channel map, tachos, inference) and the speed the data says, before
+  // any analysis.
+  const auto set_up = [&](diag::Recording& rec, std::vector<std::string>& notes) {
+    std::optional<diag::Gearbox> at;
+    if (gb) at = diag::gearbox_at_speed(*gb, rec, request.channels, notes);
+    for (std::string& n : diag::prepare_channels(rec, at ? &*at : nullptr, request.channels)) {
+      notes.push_back(std::move(n));
+    }
+    return at;
+  };
+  diag::parallel_for(n_frames, frame_threads, [&](std::size_t k) {
+    FrameOutcome& o = outcome[k];
+    AnalysisSegment& seg = o.seg;
+    seg.start_s = frame_start(k);
+    seg.end_s = frame_end(k);
+    AnalyzeOptions this_opt = frame_opt;
     if (framed && opt.progress) {
       const std::string frame = "frame " + std::to_string(k + 1) + "/" + std::to_string(n_frames);
-      frame_opt.progress = [&opt, frame](const std::string& stage) {
+      this_opt.progress = [&opt, &progress_lock, frame](const std::string& stage) {
+        const std::lock_guard<std::mutex> lock(progress_lock);
         opt.progress(frame + " " + stage);
       };
     }
@@ -275,111 +319,135 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     std::optional<diag::Gearbox> frame_gb;
     std::optional<diag::Recording> rec;
     AnalysisResult res;
-    // A frame that cannot be read or analysed (a NaN sample, too short a frame for a stage that
-    // cannot be skipped): the others can. A recording of one frame (or whose every frame fails)
-    // is an error, as its first frame's. The channel setup's errors are the request's: thrown.
+    // A frame that cannot be read or analysed (a NaN sample, a clipped channel, too short a frame
+    // for a stage that cannot be skipped): the others can. A recording of one frame (or whose
+    // every frame fails) is an error, as its first frame's. The channel setup's errors are the
+    // request's: thrown.
     const auto not_examined = [&](const diag::InputError& e) {
       if (!framed) throw naming("", out.source, e);
-      if (first_error.empty()) first_error = e.what();
       seg.verdict = "not examined";
       seg.reason = e.what();
     };
     try {
       const auto t0 = std::chrono::steady_clock::now();
-      // The last frame of a recording examined whole ends after its last sample (the duration
-      // times the rate may round below the sample count).
-      const bool to_end = k + 1 == n_frames && examined_until >= duration;
-      rec = frames.frame(seg.start_s, to_end ? std::numeric_limits<double>::infinity() : seg.end_s);
-      read_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      rec = read_frame(k);
+      o.read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (const std::string defect = non_finite(*rec, seg.start_s); !defect.empty()) {
         throw diag::InputError(defect);
       }
     } catch (const diag::InputError& e) {
       not_examined(e);
-      continue;
+      return;
     }
-    // What the channels are (channel map, tachos, inference) and the speed the data says, before
-    // any analysis.
-    if (gb) frame_gb = diag::gearbox_at_speed(*gb, *rec, request.channels, notes);
-    for (std::string& n :
-         diag::prepare_channels(*rec, frame_gb ? &*frame_gb : nullptr, request.channels)) {
-      notes.push_back(std::move(n));
-    }
+    frame_gb = set_up(*rec, notes);
     try {
       if (const std::string defect = clipped(*rec, seg.start_s); !defect.empty()) {
         throw diag::InputError(defect);
       }
-      res = analyze_recording(*rec, frame_gb ? &*frame_gb : nullptr, frame_opt);
+      res = analyze_recording(*rec, frame_gb ? &*frame_gb : nullptr, this_opt);
     } catch (const diag::InputError& e) {
       not_examined(e);
-      continue;
+      return;
     }
-    ++coverage.frames_examined;
-    coverage.analysed_s += seg.end_s - seg.start_s;
-    for (const auto& [stage, s] : res.timing_s) timing[stage] += s;
+    o.timing = res.timing_s;
     seg.verdict = res.findings.empty() ? "no finding" : "finding";
     if (frame_gb) {
       seg.speed_rpm = res.speed.mean_rpm;
       seg.speed_source = res.speed.source;
     }
-    const std::vector<std::size_t> sensors = sensor_channels(*rec);
-    for (std::size_t i : sensors) {
-      const diag::Signal& s = rec->signals[i];
-      moments[s.name].add(s.samples);
+    for (std::size_t i : sensor_channels(*rec)) {
+      const diag::Signal& sig = rec->signals[i];
+      o.moments[sig.name].add(sig.samples);
     }
     for (const ChannelAnalysis& c : res.channels) {
       if (!c.sensor) continue;
       seg.channels.push_back(c.name);
       seg.indicators.push_back(c.time);
     }
-    if (!healthy.empty() && !out.baseline_error.empty()) {
-      // The baselines could not score an earlier frame: the same reason holds.
-    } else if (!healthy.empty()) {
+    if (!healthy.empty()) {
       try {
         AnalysisBaseline b =
             score_against_baseline(*rec, healthy, request.baseline_options, healthy_names);
         seg.anomaly_score = b.anomaly_score;
-        if (!top_baseline || b.anomaly_score > top_baseline->anomaly_score) {
-          top_baseline = std::move(b);
-          if (framed) {
-            top_baseline->notes.push_back("the frame that scores highest: " + fmt(seg.start_s, 5) +
-                                          "-" + fmt(seg.end_s, 5) + " s (" + std::to_string(k + 1) +
-                                          " of " + std::to_string(n_frames) + ")");
-          }
+        const std::lock_guard<std::mutex> lock(keep_lock);
+        if (!top.baseline || b.anomaly_score > top.baseline->anomaly_score ||
+            (b.anomaly_score == top.baseline->anomaly_score && k < top.frame)) {
+          top.baseline = std::move(b);
+          top.frame = k;
         }
       } catch (const diag::InputError& e) {
         if (request.baseline_required) {
           throw diag::InputError(std::string("--baseline: ") + e.what());
         }
-        out.baseline_error = std::string("baseline: ") + e.what();
+        o.baseline_error = std::string("baseline: ") + e.what();
       }
     }
-    frame_findings[k] = res.findings;
+    o.findings = res.findings;
     const double confidence = top_confidence(res);
-    if (confidence > detail_confidence) {
-      detail_confidence = confidence;
-      coverage.detail_frame = k;
-      detail = std::move(res);
-      detail_rec = std::move(rec);
-      detail_gb = std::move(frame_gb);
-      detail_notes = std::move(notes);
+    const std::lock_guard<std::mutex> lock(keep_lock);
+    if (confidence > detail.confidence || (confidence == detail.confidence && k < detail.frame)) {
+      detail.confidence = confidence;
+      detail.frame = k;
+      if (!framed) {  // one frame: its result is the result
+        detail.result = std::move(res);
+        detail.rec = std::move(rec);
+        detail.gb = std::move(frame_gb);
+        detail.notes = std::move(notes);
+      }
     }
+  });
+
+  // In frame order: what was examined, the moments, the timing, the first error.
+  std::vector<AnalysisSegment> segments;
+  std::vector<std::vector<Finding>> frame_findings;
+  std::map<std::string, MomentAccumulator> moments;
+  std::map<std::string, double> timing;
+  std::string first_error;
+  double read_s = open_s;
+  for (std::size_t k = 0; k < n_frames; ++k) {
+    FrameOutcome& o = outcome[k];
+    read_s += o.read_s;
+    if (o.seg.verdict == "not examined") {
+      if (first_error.empty()) first_error = o.seg.reason;
+    } else {
+      ++coverage.frames_examined;
+      coverage.analysed_s += o.seg.end_s - o.seg.start_s;
+    }
+    for (auto& [name, m] : o.moments) moments[name].merge(m);
+    for (const auto& [stage, t] : o.timing) timing[stage] += t;
+    if (out.baseline_error.empty()) out.baseline_error = o.baseline_error;
+    segments.push_back(std::move(o.seg));
+    frame_findings.push_back(std::move(o.findings));
+  }
+  outcome.clear();
+  coverage.detail_frame = detail.frame;
+  const double detail_confidence = detail.confidence;
+  std::optional<AnalysisBaseline> top_baseline = std::move(top.baseline);
+  if (top_baseline && framed) {
+    top_baseline->notes.push_back(
+        "the frame that scores highest: " + fmt(segments[top.frame].start_s, 5) + "-" +
+        fmt(segments[top.frame].end_s, 5) + " s (" + std::to_string(top.frame + 1) + " of " +
+        std::to_string(n_frames) + ")");
+  }
+  if (coverage.frames_examined == 0) throw diag::InputError(out.source + ": " + first_error);
+
+  // The detail frame read and analysed again, with the curves a plot draws when asked for (the
+  // same findings and notes: AnalyzeOptions::traces changes nothing else).
+  if (framed) {
+    const auto t0 = std::chrono::steady_clock::now();
+    detail.rec = read_frame(detail.frame);
+    read_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    detail.gb = set_up(*detail.rec, detail.notes);
+    detail.result = analyze_recording(*detail.rec, detail.gb ? &*detail.gb : nullptr, opt);
   }
   out.read_s = read_s;
-  if (!detail) throw diag::InputError(out.source + ": " + first_error);
-
-  // The detail frame with the curves a plot draws (the same findings and notes: AnalyzeOptions::
-  // traces changes nothing else).
-  if (framed && opt.traces) {
-    detail = analyze_recording(*detail_rec, detail_gb ? &*detail_gb : nullptr, opt);
-  }
-  out.result = std::move(*detail);
+  out.result = std::move(*detail.result);
   AnalysisResult& r = out.result;
   if (opt.timing) {
     if (framed) r.timing_s = timing;
     r.timing_s["read"] = read_s;  // the recording (HDF5 inflate, CSV parse)
   }
-  r.notes.insert(r.notes.begin(), detail_notes.begin(), detail_notes.end());
+  r.notes.insert(r.notes.begin(), detail.notes.begin(), detail.notes.end());
   r.duration_s = duration;
 
   // One finding per fault and place, the most confident frame's, placed in time.
@@ -432,7 +500,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
         (detail_confidence > 0 ? "where the most confident finding is seen"
                                : "the first examined") +
         ")";
-    r.notes.insert(r.notes.begin() + static_cast<std::ptrdiff_t>(detail_notes.size()), note);
+    r.notes.insert(r.notes.begin() + static_cast<std::ptrdiff_t>(detail.notes.size()), note);
   }
   for (const AnalysisSegment& s : segments) {
     if (s.verdict == "not examined") {
@@ -449,7 +517,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     // recordings, the reason kept beside what did succeed).
     if (gb) {
       try {
-        wear_against_baseline(r, *detail_rec, detail_gb ? *detail_gb : *gb, healthy, opt,
+        wear_against_baseline(r, *detail.rec, detail.gb ? *detail.gb : *gb, healthy, opt,
                               healthy_names);
       } catch (const diag::InputError& e) {
         if (request.baseline_required)
@@ -458,7 +526,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       }
     }
   }
-  out.metadata = std::move(detail_rec->metadata);
+  out.metadata = std::move(detail.rec->metadata);
   return out;
 }
 

@@ -14,7 +14,7 @@ std::size_t sample_at(const Signal& s, double t) {
   const double n = std::floor(t * s.fs_hz);
   if (n <= 0) return 0;
   return n >= static_cast<double>(s.samples.size()) ? s.samples.size()
-                                                     : static_cast<std::size_t>(n);
+                                                    : static_cast<std::size_t>(n);
 }
 
 Signal slice(const Signal& s, double t0, double t1) {

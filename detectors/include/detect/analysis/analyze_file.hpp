@@ -76,8 +76,10 @@ struct AnalyzeRequest {
   // most this many samples in all (the per-channel rules of frame_samples) is analysed; the rest
   // is reported as not examined (AnalysisCoverage::not_examined).
   std::uint64_t max_samples = 0;
-  // options.threads 0 means one thread per core, except for a recording of several frames: 2,
-  // so that the memory bound holds on any machine (each channel in flight holds its transforms).
+  // options.threads: for a recording of several frames, the frames analysed at a time (each
+  // frame's channels then one at a time); 0 is then 2, so that the memory bound holds on any
+  // machine (each frame in flight holds its recording and transforms). For a recording of one
+  // frame, its channels analysed at a time (0: one per core).
   AnalyzeOptions options;
 };
 
