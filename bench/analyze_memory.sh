@@ -4,8 +4,9 @@
 # bench/make_long_recording.py (block by block) into recordings of 0.25 GB and 1 GB of vibration
 # samples, each analysed with /usr/bin/time -v. analyze examines every sample, frame by frame,
 # each frame read by blocks (detect/analysis/analyze_file.hpp): peak RSS must be < 256 MB and the
-# same at both lengths (flat in length). The frames note is printed.
-# Not a CI test: it needs ~1.5 GB of disk and a few minutes. The files are deleted on exit, also
+# same at both lengths (flat in length); then a 1 GB CSV log of the same channels, read row by row
+# (bench/make_long_csv.py). The frames note is printed.
+# Not a CI test: it needs ~2.5 GB of disk and a few minutes. The files are deleted on exit, also
 # on failure or Ctrl-C.
 #
 # Usage: bench/analyze_memory.sh [BUILD_DIR]   (default build)
@@ -44,4 +45,19 @@ for bytes in 2.5e8 1e9; do
   fi
   rm -f "$file"
 done
+# A 1 GB CSV log of the same channels (a time column, 7 significant digits, no tacho): read row
+# by row, frame by frame (diag::open_recording_frames), not whole.
+csv="$tmpdir/long.csv"
+/usr/bin/python3 "$here/make_long_csv.py" "$tmpdir/short.h5" "$csv" 1e9
+/usr/bin/time -v "$exe" analyze "$csv" --gearbox "$here/../testdata/gearbox/two_stage_17_44_21_50.json" \
+  --rpm 1800 --json "$tmpdir/r.json" > /dev/null 2> "$log"
+rss_kb=$(peak "$log")
+echo "analyze (CSV): peak RSS $(( rss_kb / 1024 )) MiB, user $(field "$log" 'User time (seconds)') s," \
+     "sys $(field "$log" 'System time (seconds)') s;" \
+     "$(grep -o 'long recording analysed in [0-9]* frames of [^)]*)' "$tmpdir/r.json")"
+if (( rss_kb * 1024 >= 256000000 )); then
+  echo "analyze_memory: peak RSS $(( rss_kb * 1024 / 1000000 )) MB is over the 256 MB target" >&2
+  status=1
+fi
+rm -f "$csv"
 exit $status

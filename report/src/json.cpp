@@ -51,6 +51,10 @@ nlohmann::json speed_json(const AnalysisSpeed& speed) {
              {"max_rpm", speed.max_rpm},
              {"stationary", speed.stationary},
              {"spectra_domain", speed.spectra_domain}};
+  if (std::isfinite(speed.phase_jitter_deg)) {
+    sp["phase_jitter_deg"] = speed.phase_jitter_deg;
+    sp["angle_uncertainty_deg"] = speed.angle_uncertainty_deg;
+  }
   const std::size_t n = speed.time_s.size();
   if (n > 0) {
     const std::size_t buckets = std::min(n, kSpeedTracePoints);

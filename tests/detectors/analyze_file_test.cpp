@@ -187,6 +187,35 @@ TEST_F(AnalyzeFile, ALongRecordingIsAnalysedFrameByFrameWithTheIndicatorsOverEve
   EXPECT_NEAR(c.result.coverage->analysed_s, 3.75, 1 / 8000.0);
 }
 
+// A tacho that drops out for a second: the frame that holds the silence is not examined (the
+// kinematics would fill it with guessed revolutions), the reason names the tacho and the time; the
+// other frames are analysed from the tacho.
+TEST_F(AnalyzeFile, AFrameWhoseTachoDropsOutIsNotExamined) {
+  diag::Recording rec = synthetic(120000, 5);                                 // 15 s
+  for (std::size_t i = 40000; i < 48000; ++i) rec.signals[1].samples[i] = 0;  // 5-6 s: silent
+  detect::AnalyzeRequest q;
+  q.recording = detect::RecordingInput(std::make_shared<const diag::Recording>(rec), "dropout");
+  q.gearbox = diag::parse_gearbox_text(kGearbox, "gb");
+  q.channels.tachos = {"key=input"};
+  q.frame_samples = 30000;  // four frames of 3.75 s
+  q.options.traces = false;
+  const detect::FileAnalysis a = detect::analyze_file(q);
+  const detect::AnalysisResult& r = a.result;
+  ASSERT_EQ(r.segments.size(), 4u);
+  EXPECT_EQ(r.segments[1].verdict, "not examined");
+  // The last pulse before the silence is at 4.96 s (less half a sample: the ideal edge's
+  // crossing, tacho.hpp), the next at 6.0 s.
+  EXPECT_NE(r.segments[1].reason.find("tacho 'key' drops out for 1.04 s from 4.9599"),
+            std::string::npos)
+      << r.segments[1].reason;
+  for (std::size_t k : {0u, 2u, 3u}) {
+    EXPECT_NE(r.segments[k].verdict, "not examined") << k << ": " << r.segments[k].reason;
+    EXPECT_EQ(r.segments[k].speed_source, "tacho") << k;
+  }
+  EXPECT_FALSE(r.coverage->complete());
+  EXPECT_EQ(r.coverage->frames_examined, 3u);
+}
+
 TEST_F(AnalyzeFile, ErrorsNameTheFileAtFault) {
   const fs::path file = write("run.h5", synthetic(20000, 4));
   const fs::path missing = dir_ / "missing.h5";

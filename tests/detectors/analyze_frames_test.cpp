@@ -4,9 +4,13 @@
 // with diag::Decimator) twice, then its inner-race fault record (12 kHz), joined. Skips when the
 // data is absent.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -197,6 +201,44 @@ TEST_F(AnalyzeFrames, AMaxSamplesLimitLeavesTheRestNotExamined) {
   ASSERT_EQ(a.result.coverage->not_examined.size(), 1u);
   EXPECT_NE(a.result.coverage->not_examined[0].find("max_samples"), std::string::npos);
   EXPECT_NE(report::format_summary(a.result).find("NOT EVERY SAMPLE EXAMINED"), std::string::npos);
+}
+
+// The joined log as a CSV file (time, DE, FE; every value printed to round-trip): read row by row,
+// frame by frame, it gives the analysis of the same file read whole into memory, byte for byte.
+TEST_F(AnalyzeFrames, ACsvLogReadRowByRowGivesTheAnalysisOfTheWholeFile) {
+  const Log log = joined_log();
+  const char* env = std::getenv("GEARDIAG_TMP");
+  const fs::path dir = fs::path(env != nullptr && *env != '\0' ? env : "/tmp") /
+                       ("analyze_frames_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path csv = dir / "joined.csv";
+  {
+    std::ofstream out(csv);
+    out << "time,DE,FE\n";
+    char line[96];
+    const auto& de = log.rec->signals[0].samples;
+    const auto& fe = log.rec->signals[1].samples;
+    for (std::size_t i = 0; i < de.size(); ++i) {
+      std::snprintf(line, sizeof line, "%.17g,%.17g,%.17g\n", static_cast<double>(i) / 12000.0,
+                    de[i], fe[i]);
+      out << line;
+    }
+  }
+  detect::AnalyzeRequest q;
+  q.recording = csv;
+  q.gearbox = cwru_box();
+  q.frame_s = 5;
+  q.options.traces = false;
+  q.options.threads = 2;
+  const detect::FileAnalysis rows = detect::analyze_file(q);
+  EXPECT_EQ(rows.format, "csv");
+  q.recording = detect::RecordingInput(
+      std::make_shared<const diag::Recording>(diag::import_recording(csv)), csv);
+  const detect::FileAnalysis whole = detect::analyze_file(q);
+  EXPECT_EQ(report::to_json(rows.result).dump(), report::to_json(whole.result).dump());
+  ASSERT_EQ(rows.result.findings.size(), 1u);
+  EXPECT_EQ(diag::to_string(rows.result.findings[0].fault), "inner_race");
+  fs::remove_all(dir);
 }
 
 // A recording of one frame: analyze_recording's findings, placed over the whole record.

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <limits>
 #include <mutex>
 #include <utility>
 
+#include "detect/angular/tacho.hpp"
 #include "diag/error.hpp"
+#include "diag/io/channels.hpp"
 #include "diag/io/open_recording.hpp"
 #include "diag/io/recording_frames.hpp"
 #include "diag/util/parallel_for.hpp"
@@ -141,6 +144,48 @@ std::string clipped(const diag::Recording& frame, double t0) {
                fmt(t0 + static_cast<double>(first_run) / s.fs_hz, 6) + " s)";
       }
     }
+  }
+  return {};
+}
+
+// A tacho that drops out in the frame, or empty: a stretch without pulses longer than three
+// times the intervals around it and than one revolution (one or two missed pulses are repaired
+// by the kinematics, a longer silence would be filled with guessed revolutions), inside the frame
+// or at its ends. The intervals are compared with their neighbours' (the median of the four on
+// each side), so that a run-up's lengthening intervals are not a dropout. `ppr`: the pulses per
+// revolution asked for (0: each tacho's own).
+std::string tacho_dropout(const diag::Recording& frame, double t0, int ppr) {
+  constexpr std::size_t kSide = 4;
+  for (const diag::Signal& t : frame.tachos) {
+    TachoOptions o;
+    o.pulses_per_rev = ppr > 0 ? ppr : diag::pulses_per_rev(t);
+    o.repair = false;
+    const std::vector<double> p = tacho_pulses(t.samples, t.fs_hz, o).pulse_times_s;
+    if (p.size() < 4) continue;  // too few to tell a dropout (the kinematics says so)
+    std::vector<double> d(p.size() - 1);
+    for (std::size_t i = 0; i + 1 < p.size(); ++i) d[i] = p[i + 1] - p[i];
+    const double factor = std::max(3.0, static_cast<double>(o.pulses_per_rev));
+    // The median of the intervals around position i (i itself left out).
+    const auto around = [&](std::size_t i) {
+      std::vector<double> w;
+      for (std::size_t j = i > kSide ? i - kSide : 0; j < std::min(d.size(), i + kSide + 1); ++j) {
+        if (j != i) w.push_back(d[j]);
+      }
+      const auto mid = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
+      std::nth_element(w.begin(), mid, w.end());
+      return *mid;
+    };
+    const auto dropout = [&](double gap, double from, double local) {
+      return "tacho '" + t.name + "' drops out for " + fmt(gap, 3) + " s from " +
+             fmt(t0 + from, 6) + " s (" + fmt(gap / local, 3) + " pulse intervals)";
+    };
+    if (p.front() > factor * d.front()) return dropout(p.front(), 0, d.front());
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      const double local = around(i);
+      if (d[i] > factor * local) return dropout(d[i], p[i], local);
+    }
+    const double tail = t.duration_s() - p.back();
+    if (tail > factor * d.back()) return dropout(tail, p.back(), d.back());
   }
   return {};
 }
@@ -284,13 +329,31 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   const auto frame_end = [&](std::size_t k) {
     return k + 1 == n_frames ? examined_until : static_cast<double>(k + 1) * coverage.frame_s;
   };
-  // Frame k as read (one HDF5 read at a time); the last frame of a recording examined whole ends
-  // after its last sample (the duration times the rate may round below the sample count).
+  // Frame k as read; the last frame of a recording examined whole ends after its last sample
+  // (the duration times the rate may round below the sample count).
   const auto read_frame = [&](std::size_t k) {
     const bool to_end = k + 1 == n_frames && examined_until >= duration;
-    const std::lock_guard<std::mutex> lock(read_lock);
     return frames.frame(frame_start(k),
                         to_end ? std::numeric_limits<double>::infinity() : frame_end(k));
+  };
+  // In the loop the frames are read one at a time and in order (a file read row by row goes on
+  // from where it stopped): frame k waits for frame k - 1's read, or for a failure (parallel_for
+  // then skips the frames after it, which would never read).
+  std::condition_variable read_turn;
+  std::size_t next_read = 0;
+  bool stopped = false;
+  const auto read_in_turn = [&](std::size_t k) {
+    std::unique_lock<std::mutex> lock(read_lock);
+    read_turn.wait(lock, [&] { return next_read == k || stopped; });
+    struct Done {  // the next frame's turn, however this read ends
+      std::size_t& next;
+      std::condition_variable& turn;
+      ~Done() {
+        ++next;
+        turn.notify_all();
+      }
+    } done{next_read, read_turn};
+    return read_frame(k);
   };
   // What the channels are (channel map, tachos, inference) and the speed the data says, before
   // any analysis.
@@ -302,7 +365,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     }
     return at;
   };
-  diag::parallel_for(n_frames, frame_threads, [&](std::size_t k) {
+  const auto analyse_frame = [&](std::size_t k) {
     FrameOutcome& o = outcome[k];
     AnalysisSegment& seg = o.seg;
     seg.start_s = frame_start(k);
@@ -330,7 +393,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     };
     try {
       const auto t0 = std::chrono::steady_clock::now();
-      rec = read_frame(k);
+      rec = read_in_turn(k);
       o.read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (const std::string defect = non_finite(*rec, seg.start_s); !defect.empty()) {
         throw diag::InputError(defect);
@@ -341,8 +404,14 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     }
     frame_gb = set_up(*rec, notes);
     try {
-      if (const std::string defect = clipped(*rec, seg.start_s); !defect.empty()) {
-        throw diag::InputError(defect);
+      // A recording of one frame is analysed all the same, with a warning: there is no other
+      // frame to examine instead.
+      for (const std::string& defect :
+           {clipped(*rec, seg.start_s),
+            tacho_dropout(*rec, seg.start_s, request.options.tacho_pulses_per_rev)}) {
+        if (defect.empty()) continue;
+        if (framed) throw diag::InputError(defect);
+        notes.push_back("warning: " + defect + ": analysed all the same (one frame)");
       }
       res = analyze_recording(*rec, frame_gb ? &*frame_gb : nullptr, this_opt);
     } catch (const diag::InputError& e) {
@@ -394,6 +463,18 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
         detail.gb = std::move(frame_gb);
         detail.notes = std::move(notes);
       }
+    }
+  };
+  diag::parallel_for(n_frames, frame_threads, [&](std::size_t k) {
+    try {
+      analyse_frame(k);
+    } catch (...) {
+      {
+        const std::lock_guard<std::mutex> lock(read_lock);
+        stopped = true;
+      }
+      read_turn.notify_all();
+      throw;
     }
   });
 

@@ -77,6 +77,27 @@ std::vector<double> smooth_pulse_times_local_quadratic(const std::vector<double>
   return out;
 }
 
+namespace {
+
+// The given speed (the description's, --rpm's or the file's) is a starting point: a measured
+// mean speed more than 1 % off it (beyond a drift with load) is a warning naming both. The
+// measurement is used.
+void warn_off_nominal(double measured_hz, double nominal_hz, const std::string& from,
+                      std::vector<std::string>& notes) {
+  constexpr double kTolerance = 0.01;
+  const double off = measured_hz / nominal_hz - 1;
+  if (std::abs(off) <= kTolerance) return;
+  const std::string how =
+      std::abs(off) < 1
+          ? fmt(100 * std::abs(off), 2) + " % " + (off > 0 ? "above" : "below") + " the nominal"
+          : fmt(measured_hz / nominal_hz, 3) + " times the nominal";
+  notes.push_back("warning: the speed measured from " + from + ", " + fmt(measured_hz * 60) +
+                  " rpm, is " + how + " " + fmt(nominal_hz * 60) +
+                  " rpm: the measured speed is used");
+}
+
+}  // namespace
+
 ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox& gb,
                                  double duration_s, const AnalyzeOptions& opt,
                                  std::vector<std::string>& notes) {
@@ -133,6 +154,7 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
     summarise(k.speed);
     notes.push_back("shaft speeds from tacho '" + t.name + "': " + fmt(f_meas * 60) +
                     " rpm mean (nominal " + fmt(gb.shaft_speed_rpm(s)) + " rpm)");
+    warn_off_nominal(f_meas, gb.shaft_speed_hz(s), "tacho '" + t.name + "'", notes);
     return k;
   }
 
@@ -185,10 +207,15 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
                          fmt(est.prominence_db, 3) + " dB)";
           k.speed.time_s = est.time_s;
           for (double f : est.speed_hz) k.speed.speed_rpm.push_back(60 * f);
+          k.speed.phase_jitter_deg = est.phase_jitter_deg;
+          k.speed.angle_uncertainty_deg = est.phase_jitter_deg / est.line.order;
           summarise(k.speed);
           notes.push_back("shaft speeds from the vibration (" + k.speed.line +
                           "): " + fmt(est.mean_speed_hz * 60) + " rpm mean (nominal " +
-                          fmt(nominal_hz * 60) + " rpm)");
+                          fmt(nominal_hz * 60) + " rpm); the line's phase jitter " +
+                          fmt(est.phase_jitter_deg, 2) + " deg, the shaft angle's " +
+                          fmt(k.speed.angle_uncertainty_deg, 2) + " deg");
+          warn_off_nominal(est.mean_speed_hz, nominal_hz, "the vibration", notes);
           return k;
         }
       }

@@ -585,6 +585,13 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   std::size_t faded = 0;
   for (double a : amp) faded += a < options.min_line_snr * noise_rms ? 1 : 0;
   est.faded_fraction = static_cast<double>(faded) / static_cast<double>(n);
+  {
+    std::vector<double> sorted = amp;
+    const auto mid = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
+    std::nth_element(sorted.begin(), mid, sorted.end());
+    est.phase_jitter_deg =
+        *mid > 0 ? 180.0 / std::numbers::pi * noise_rms / (std::sqrt(2.0) * *mid) : 180.0;
+  }
   est.status = est.faded_fraction > options.max_fade_fraction ? SpeedStatus::kLowConfidence
                                                               : SpeedStatus::kTracked;
   if (faded > 0) {

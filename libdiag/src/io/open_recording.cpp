@@ -8,6 +8,7 @@
 #include <memory>
 #include <string_view>
 
+#include "csv.hpp"
 #include "diag/error.hpp"
 #include "diag/io/import.hpp"
 #include "diag/io/recording_frames.hpp"
@@ -93,6 +94,11 @@ constexpr std::array<Format, 4> kFormats = {{
     {"csv", is_table,
      [](const std::filesystem::path& path, const OpenOptions& o) {
        return imported(path, o, "csv");
+     },
+     [](const std::filesystem::path& path, const OpenOptions& o) {
+       ImportOptions io;
+       io.fs_hz = o.fs_hz;
+       return std::make_shared<const RecordingFrames>(csv_frames(path, io));
      }},
     {"sound", [](const Probe&) { return true; },
      [](const std::filesystem::path& path, const OpenOptions& o) {

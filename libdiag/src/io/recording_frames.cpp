@@ -35,19 +35,59 @@ Signal slice(const Signal& s, double t0, double t1) {
   return out;
 }
 
+class MemoryFrames : public FrameSource {
+ public:
+  explicit MemoryFrames(std::shared_ptr<const Recording> rec) : rec_(std::move(rec)) {}
+  std::vector<ChannelExtent> extents() const override {
+    std::vector<ChannelExtent> out;
+    for (const auto* group : {&rec_->signals, &rec_->tachos}) {
+      for (const Signal& s : *group) out.push_back({s.samples.size(), s.fs_hz});
+    }
+    return out;
+  }
+  Recording frame(double t0_s, double t1_s) const override {
+    Recording out;
+    out.gearbox_json = rec_->gearbox_json;
+    out.truth_json = rec_->truth_json;
+    out.metadata = rec_->metadata;
+    out.speed_rpm = rec_->speed_rpm;
+    out.roles_stated = rec_->roles_stated;
+    out.notes = rec_->notes;
+    for (const Signal& s : rec_->signals) out.signals.push_back(slice(s, t0_s, t1_s));
+    for (const Signal& s : rec_->tachos) out.tachos.push_back(slice(s, t0_s, t1_s));
+    return out;
+  }
+
+ private:
+  std::shared_ptr<const Recording> rec_;
+};
+
+class Hdf5Frames : public FrameSource {
+ public:
+  explicit Hdf5Frames(std::shared_ptr<const RecordingReader> reader) : reader_(std::move(reader)) {}
+  std::vector<ChannelExtent> extents() const override {
+    std::vector<ChannelExtent> out;
+    for (const ChannelInfo& c : reader_->channels()) out.push_back({c.length, c.fs_hz});
+    return out;
+  }
+  Recording frame(double t0_s, double t1_s) const override {
+    return read_recording_span(*reader_, t0_s, t1_s);
+  }
+
+ private:
+  std::shared_ptr<const RecordingReader> reader_;
+};
+
 }  // namespace
 
+RecordingFrames::RecordingFrames(std::shared_ptr<const FrameSource> source)
+    : source_(std::move(source)), extents_(source_->extents()) {}
+
 RecordingFrames::RecordingFrames(std::shared_ptr<const Recording> recording)
-    : recording_(std::move(recording)) {
-  for (const auto* group : {&recording_->signals, &recording_->tachos}) {
-    for (const Signal& s : *group) extents_.push_back({s.samples.size(), s.fs_hz});
-  }
-}
+    : RecordingFrames(std::make_shared<const MemoryFrames>(std::move(recording))) {}
 
 RecordingFrames::RecordingFrames(std::shared_ptr<const RecordingReader> reader)
-    : reader_(std::move(reader)) {
-  for (const ChannelInfo& c : reader_->channels()) extents_.push_back({c.length, c.fs_hz});
-}
+    : RecordingFrames(std::make_shared<const Hdf5Frames>(std::move(reader))) {}
 
 double RecordingFrames::duration_s() const {
   double d = 0;
@@ -59,20 +99,6 @@ double RecordingFrames::duration_s() const {
 
 double RecordingFrames::frame_seconds(const ReadLimits& limits) const {
   return std::min(duration_s(), seconds_within_limits(extents_, limits));
-}
-
-Recording RecordingFrames::frame(double t0_s, double t1_s) const {
-  if (reader_) return read_recording_span(*reader_, t0_s, t1_s);
-  Recording out;
-  out.gearbox_json = recording_->gearbox_json;
-  out.truth_json = recording_->truth_json;
-  out.metadata = recording_->metadata;
-  out.speed_rpm = recording_->speed_rpm;
-  out.roles_stated = recording_->roles_stated;
-  out.notes = recording_->notes;
-  for (const Signal& s : recording_->signals) out.signals.push_back(slice(s, t0_s, t1_s));
-  for (const Signal& s : recording_->tachos) out.tachos.push_back(slice(s, t0_s, t1_s));
-  return out;
 }
 
 }  // namespace diag

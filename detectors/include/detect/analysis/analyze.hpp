@@ -268,6 +268,10 @@ struct AnalysisSpeed {
   double mean_rpm = 0, min_rpm = 0, max_rpm = 0;
   bool stationary = true;                 // max - min within 1 % of the mean
   std::vector<double> time_s, speed_rpm;  // the speed over time (empty: nominal)
+  // From the vibration: the followed line's phase jitter [deg] and the reference shaft's angle
+  // uncertainty it gives [deg of the shaft] (SpeedEstimate::phase_jitter_deg; NaN otherwise).
+  double phase_jitter_deg = std::numeric_limits<double>::quiet_NaN();
+  double angle_uncertainty_deg = std::numeric_limits<double>::quiet_NaN();
   // "time": spectra of the record as sampled (a steady speed); "order": at varying speed, the
   // spectra, sidebands and envelope spectra are order spectra of the input shaft, their
   // frequencies stated at the mean speed (order x mean speed); empty without a gearbox.

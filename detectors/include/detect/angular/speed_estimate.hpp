@@ -146,6 +146,10 @@ struct SpeedEstimate {
   double max_speed_hz = 0;
   bool stationary = false;    // (max - min) / mean <= stationary_tolerance
   double faded_fraction = 0;  // share of the record where the line was under min_line_snr
+  // The demodulated line's phase jitter [deg]: sigma_psi = n / (sqrt(2) a), the noise n in the
+  // demodulation band against the line's median amplitude a there (one quadrature of the noise
+  // turns the phase); the reference shaft's angle is uncertain by it / order.
+  double phase_jitter_deg = 0;
   // Reference-shaft angle [rev], 0 at the first sample: angle_rev[j] at t = j * angle_step_s.
   double angle_step_s = 0;
   std::vector<double> angle_rev;

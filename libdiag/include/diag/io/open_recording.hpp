@@ -9,7 +9,8 @@
 //   sound        | .wav and whatever libsndfile reads     | import_recording
 //
 // Only an HDF5 recording can be read in part (OpenOptions::limits: its first seconds, read by
-// blocks so that memory stays bounded); the other formats are read whole.
+// blocks so that memory stays bounded); the other formats are read whole. Frame by frame
+// (recording_frames.hpp), HDF5 and CSV files are read a frame at a time.
 #pragma once
 
 #include <filesystem>

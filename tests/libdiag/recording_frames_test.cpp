@@ -1,0 +1,166 @@
+// diag::open_recording_frames: a recording read frame by frame. A CSV file is read row by row
+// (memory: one frame), an HDF5 recording by blocks, any other in memory; the frames hold exactly
+// the samples the whole reader gives, in any order they are asked for.
+#include "diag/io/recording_frames.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "diag/error.hpp"
+#include "diag/io/hdf5.hpp"
+#include "diag/io/import.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class RecordingFrames : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const char* env = std::getenv("GEARDIAG_TMP");
+    const fs::path base =
+        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
+    dir_ = base / ("recording_frames_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // time,a,b at 1 kHz: `rows` rows, the values exact in text (%.17g round-trips).
+  std::string table(std::size_t rows, bool header = true, bool time = true) const {
+    std::string text = header ? (time ? "time,a,b\n" : "a,b\n") : "";
+    char line[128];
+    for (std::size_t i = 0; i < rows; ++i) {
+      const double t = static_cast<double>(i) / 1000;
+      const double a = std::sin(0.01 * static_cast<double>(i)), b = 0.5 * static_cast<double>(i);
+      if (time) {
+        std::snprintf(line, sizeof line, "%.6f,%.17g,%.17g\n", t, a, b);
+      } else {
+        std::snprintf(line, sizeof line, "%.17g,%.17g\n", a, b);
+      }
+      text += line;
+    }
+    return text;
+  }
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path p = dir_ / name;
+    if (name.ends_with(".gz")) {
+      gzFile f = gzopen(p.c_str(), "wb");
+      gzwrite(f, text.data(), static_cast<unsigned>(text.size()));
+      gzclose(f);
+    } else {
+      std::ofstream(p, std::ios::binary) << text;
+    }
+    return p;
+  }
+
+  fs::path dir_;
+};
+
+// Frames [0, 0.7), [0.7, 1.9), [1.9, end) of a CSV, asked for out of order, are the rows the
+// whole import gives, once each.
+void expect_frames_are_the_whole(const fs::path& file, const diag::OpenOptions& o) {
+  diag::ImportOptions io;
+  io.fs_hz = o.fs_hz;
+  const diag::Recording whole = diag::import_recording(file, io);
+  const diag::OpenedFrames opened = diag::open_recording_frames(file, o);
+  EXPECT_EQ(opened.format, "csv");
+  const diag::RecordingFrames& f = *opened.frames;
+  EXPECT_DOUBLE_EQ(f.duration_s(), whole.signals[0].duration_s());
+  const double inf = std::numeric_limits<double>::infinity();
+  const diag::Recording late = f.frame(1.9, inf), early = f.frame(0, 0.7), mid = f.frame(0.7, 1.9);
+  ASSERT_EQ(early.signals.size(), whole.signals.size());
+  for (std::size_t c = 0; c < whole.signals.size(); ++c) {
+    EXPECT_EQ(early.signals[c].name, whole.signals[c].name);
+    EXPECT_EQ(early.signals[c].fs_hz, whole.signals[c].fs_hz);
+    EXPECT_EQ(early.signals[c].samples.size(), 700u);
+    std::vector<double> joined = early.signals[c].samples;
+    joined.insert(joined.end(), mid.signals[c].samples.begin(), mid.signals[c].samples.end());
+    joined.insert(joined.end(), late.signals[c].samples.begin(), late.signals[c].samples.end());
+    EXPECT_EQ(joined, whole.signals[c].samples) << whole.signals[c].name;
+  }
+  EXPECT_EQ(early.metadata, whole.metadata);
+  EXPECT_FALSE(early.roles_stated);
+}
+
+TEST_F(RecordingFrames, ACsvFileIsReadFrameByFrameAsTheWholeImportReadsIt) {
+  expect_frames_are_the_whole(write("log.csv", table(2500)), {});
+  expect_frames_are_the_whole(write("log.csv.gz", table(2500)), {});
+  diag::OpenOptions o;
+  o.fs_hz = 1000;
+  expect_frames_are_the_whole(write("bare.csv", table(2500, false, false)), o);
+  expect_frames_are_the_whole(write("named.csv", table(2500, true, false)), o);
+}
+
+// A NaN the logger wrote is kept in its frame (the caller says the frame was not examined), where
+// the whole import refuses the file; a ragged row is an error of the frame that holds it, naming
+// its line; a time column with a gap is refused when the file is opened, as the import refuses it.
+TEST_F(RecordingFrames, ABadRowIsTheErrorOfItsFrameAndAGapOfTheFile) {
+  std::string text = table(2000);
+  const std::size_t at = text.find("\n1.500000,");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t end = text.find('\n', at + 1);
+  std::string nan_text = text;
+  nan_text.replace(at + 1, end - at - 1, "1.500000,nan,1");
+  const fs::path nan_file = write("nan.csv", nan_text);
+  EXPECT_THROW(diag::import_recording(nan_file), diag::InputError);
+  const auto frames = diag::open_recording_frames(nan_file).frames;
+  const diag::Recording late = frames->frame(1.0, 2.0);
+  EXPECT_TRUE(std::isnan(late.signals[0].samples[500]));
+  EXPECT_TRUE(std::isfinite(frames->frame(0, 1.0).signals[0].samples[999]));
+
+  std::string ragged = text;
+  ragged.replace(at + 1, end - at - 1, "1.500000,1");
+  const auto r = diag::open_recording_frames(write("ragged.csv", ragged)).frames;
+  EXPECT_NO_THROW(r->frame(0, 1.0));
+  try {
+    r->frame(1.0, 2.0);
+    ADD_FAILURE() << "a ragged row read";
+  } catch (const diag::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 1502"), std::string::npos) << e.what();
+  }
+
+  std::string gap = text;
+  gap.replace(at + 1, 8, "1.600000");
+  try {
+    diag::open_recording_frames(write("gap.csv", gap));
+    ADD_FAILURE() << "a gap read";
+  } catch (const diag::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not uniformly spaced"), std::string::npos) << e.what();
+  }
+}
+
+// An HDF5 recording and one in memory give the same frames.
+TEST_F(RecordingFrames, AnHdf5RecordingAndOneInMemoryGiveTheSameFrames) {
+  auto rec = std::make_shared<diag::Recording>(diag::import_recording(write("h.csv", table(3000))));
+  rec->roles_stated = true;
+  const fs::path h5 = dir_ / "h.h5";
+  diag::write_recording(h5, *rec);
+  const auto opened = diag::open_recording_frames(h5);
+  EXPECT_EQ(opened.format, "hdf5");
+  const diag::RecordingFrames memory(std::shared_ptr<const diag::Recording>{rec});
+  for (const auto& [t0, t1] : {std::pair{0.0, 1.25}, {1.25, 2.5}, {2.5, 3.0}}) {
+    const diag::Recording a = opened.frames->frame(t0, t1), b = memory.frame(t0, t1);
+    ASSERT_EQ(a.signals.size(), b.signals.size());
+    for (std::size_t c = 0; c < a.signals.size(); ++c) {
+      EXPECT_EQ(a.signals[c].samples, b.signals[c].samples) << t0;
+    }
+  }
+  diag::ReadLimits l;
+  l.max_samples = 2000;  // 1000 per channel: 1 s
+  l.kept_channel_samples = 0;
+  EXPECT_DOUBLE_EQ(memory.frame_seconds(l), opened.frames->frame_seconds(l));
+  EXPECT_NEAR(memory.frame_seconds(l), 1.0, 1e-3);
+}
+
+}  // namespace
