@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -183,6 +184,23 @@ TEST_F(AnalyzeFrames, AFrameWithNaNSamplesIsNotExaminedAndTheRestIs) {
   ASSERT_EQ(r.coverage->not_examined.size(), 1u);
   ASSERT_EQ(r.findings.size(), 1u);
   EXPECT_EQ(r.findings[0].frames_examined, 4);
+}
+
+// A clipped stretch (the converter saturated at +-0.1 through the second frame, 4.05-8.1 s; the
+// healthy signal's RMS is 0.07): that frame is not examined and said so, the others are.
+TEST_F(AnalyzeFrames, AClippedFrameIsNotExamined) {
+  Log log = joined_log();
+  for (std::size_t i = 48000; i < 98000; ++i) {  // the frame is samples 48647-97293
+    double& x = log.rec->signals[0].samples[i];
+    x = std::clamp(x, -0.1, 0.1);
+  }
+  const detect::FileAnalysis a = detect::analyze_file(framed(log));
+  const detect::AnalysisResult& r = a.result;
+  EXPECT_EQ(r.segments[1].verdict, "not examined");
+  EXPECT_NE(r.segments[1].reason.find("channel 'DE': clipped at"), std::string::npos)
+      << r.segments[1].reason;
+  EXPECT_EQ(r.coverage->frames_examined, 4u);
+  ASSERT_EQ(r.findings.size(), 1u);
 }
 
 // max_samples is an opt-in limit: the part beyond it is not examined, and said so.

@@ -104,8 +104,9 @@ TEST_F(RecordingFrames, ACsvFileIsReadFrameByFrameAsTheWholeImportReadsIt) {
 
 // A NaN the logger wrote is kept in its frame (the caller says the frame was not examined), where
 // the whole import refuses the file; a ragged row is an error of the frame that holds it, naming
-// its line; a time column with a gap is refused when the file is opened, as the import refuses it.
-TEST_F(RecordingFrames, ABadRowIsTheErrorOfItsFrameAndAGapOfTheFile) {
+// its line; a time column whose steps are uneven is refused when the file is opened, as the
+// import refuses it.
+TEST_F(RecordingFrames, ABadRowIsTheErrorOfItsFrameAndAnUnevenClockOfTheFile) {
   std::string text = table(2000);
   const std::size_t at = text.find("\n1.500000,");
   ASSERT_NE(at, std::string::npos);
@@ -130,14 +131,48 @@ TEST_F(RecordingFrames, ABadRowIsTheErrorOfItsFrameAndAGapOfTheFile) {
     EXPECT_NE(std::string(e.what()).find("line 1502"), std::string::npos) << e.what();
   }
 
-  std::string gap = text;
-  gap.replace(at + 1, 8, "1.600000");
-  try {
-    diag::open_recording_frames(write("gap.csv", gap));
-    ADD_FAILURE() << "a gap read";
-  } catch (const diag::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("not uniformly spaced"), std::string::npos) << e.what();
+  // One time stamp off the clock (an uneven step, then back): the file is refused when opened,
+  // as the import refuses it.
+  std::string uneven = text;
+  uneven.replace(at + 1, 8, "1.500300");
+  EXPECT_THROW(diag::open_recording_frames(write("uneven.csv", uneven)), diag::InputError);
+  EXPECT_THROW(diag::import_recording(write("uneven2.csv", uneven)), diag::InputError);
+}
+
+// A logger that paused: the clock jumps by 3 s after row 1500 and runs on. The whole import
+// refuses the file; frame by frame it is read at the rate of its steps, times counted in samples,
+// and only the frame that holds the jump is refused, naming the line and the times.
+TEST_F(RecordingFrames, AClockThatJumpsMakesItsFrameAnErrorAndTheOthersAreRead) {
+  std::string text = "time,a,b\n";
+  char line[96];
+  for (std::size_t i = 0; i < 3000; ++i) {
+    const double t = static_cast<double>(i) / 1000 + (i >= 1500 ? 3.0 : 0.0);
+    std::snprintf(line, sizeof line, "%.6f,%zu,%zu\n", t, i, 2 * i);
+    text += line;
   }
+  const fs::path file = write("paused.csv", text);
+  EXPECT_THROW(diag::import_recording(file), diag::InputError);
+  const auto frames = diag::open_recording_frames(file).frames;
+  // 3000 samples at 1 kHz (the median step's rate, 1e-12 from 1 kHz: printed time stamps); the
+  // frames' edges half a sample off the rows.
+  EXPECT_NEAR(frames->duration_s(), 3.0, 1e-9);
+  const double inf = std::numeric_limits<double>::infinity();
+  const diag::Recording head = frames->frame(0, 1.0005), tail = frames->frame(2.0005, inf);
+  EXPECT_EQ(head.signals[0].samples.back(), 999);
+  EXPECT_EQ(tail.signals[0].samples.front(), 2000);
+  ASSERT_FALSE(head.notes.empty());
+  EXPECT_NE(head.notes[0].find("jumps 1 time"), std::string::npos) << head.notes[0];
+  try {
+    frames->frame(1.0005, 2.0005);
+    ADD_FAILURE() << "the frame holding the jump read";
+  } catch (const diag::InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("line 1502"), std::string::npos) << m;
+    EXPECT_NE(m.find("jumps from 1.499 to 4.5 s"), std::string::npos) << m;
+  }
+  // A frame that ends where the jump is, and one that starts there, hold none.
+  EXPECT_NO_THROW(frames->frame(1.0005, 1.5005));
+  EXPECT_NO_THROW(frames->frame(1.5005, 2.0005));
 }
 
 // An HDF5 recording and one in memory give the same frames.

@@ -119,29 +119,27 @@ std::string non_finite(const diag::Recording& frame, double t0) {
 }
 
 // A sensor channel clipped in the frame (the sensor or the converter saturated, and the impacts a
-// fault makes are cut off), or empty: at least kClipRuns runs of kClipRun or more equal samples
-// at the frame's largest or smallest value, those samples under a tenth of the frame (more: a
-// signal of a few levels, not a clipped vibration). A continuous signal returns to an extreme
-// rarely, and never holds it exactly.
+// fault makes are cut off), or empty: at least kClipSamples samples, and one in 10^4, exactly at
+// the frame's largest or smallest value, yet under a tenth of the frame (more: a signal of a few
+// levels, not a clipped vibration). A continuous signal reaches its extreme once; a quantised one
+// a few times.
 std::string clipped(const diag::Recording& frame, double t0) {
-  constexpr std::size_t kClipRun = 4, kClipRuns = 2;
+  constexpr std::size_t kClipSamples = 16;
   for (std::size_t c : sensor_channels(frame)) {
     const diag::Signal& s = frame.signals[c];
-    if (s.samples.size() < 2) continue;
+    const std::size_t n = s.samples.size();
+    if (n < 2) continue;
     const auto [lo, hi] = std::minmax_element(s.samples.begin(), s.samples.end());
     if (*lo == *hi) continue;  // a constant channel: the analysis says what it can
     for (const double extreme : {*lo, *hi}) {
-      std::size_t runs = 0, run = 0, first_run = 0, held = 0;
-      for (std::size_t i = 0; i < s.samples.size(); ++i) {
-        run = s.samples[i] == extreme ? run + 1 : 0;
-        held += run > 0 ? 1 : 0;
-        if (run == kClipRun && runs++ == 0) first_run = i + 1 - kClipRun;
+      std::size_t held = 0, first = n;
+      for (std::size_t i = 0; i < n; ++i) {
+        if (s.samples[i] == extreme && held++ == 0) first = i;
       }
-      if (runs >= kClipRuns && 10 * held < s.samples.size()) {
+      if (held >= kClipSamples && held * 10000 >= n && 10 * held < n) {
         return "channel '" + s.name + "': clipped at " + fmt(extreme, 6) + " (" +
-               std::to_string(runs) + " runs of " + std::to_string(kClipRun) +
-               " or more samples held there, the first at " +
-               fmt(t0 + static_cast<double>(first_run) / s.fs_hz, 6) + " s)";
+               std::to_string(held) + " samples held there, the first at " +
+               fmt(t0 + static_cast<double>(first) / s.fs_hz, 6) + " s)";
       }
     }
   }
@@ -232,8 +230,9 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
           : 1;
   coverage.frames = n_frames;
   coverage.frame_s = examined_until / static_cast<double>(n_frames);
-  // Each channel in flight holds its transforms (~35 MiB at 2^18 samples): a long recording runs
-  // at most 2 channels at a time unless told otherwise, so that the memory bound holds.
+  // Each frame in flight holds its recording and transforms (~85 MiB at 2^20 samples): a long
+  // recording runs at most 2 frames at a time unless told otherwise, so that the memory bound
+  // holds.
   if (n_frames > 1 && opt.threads == 0) opt.threads = 2;
 
   // Every input is read before anything is analysed: a bad baseline file stops the run with its

@@ -372,9 +372,20 @@ class CsvFrames : public FrameSource {
     std::string line;
     std::vector<std::string_view> fields;
     header_ = read_header(reader, where_, options, line, fields);
-    // The first pass: the rows, and the time column's steps.
+    // The first pass: the rows, and the time column's steps. A log whose clock jumps (a logger
+    // paused and resumed) is read all the same: its rate is the median step's, every step off
+    // it beyond the tolerance is a gap, and the frames that hold a gap are refused (frame()).
     StepRange steps;
     double time_resolution = std::numeric_limits<double>::infinity();
+    std::vector<double> first_steps;  // the first kMedianSteps steps: the rate of a log with gaps
+    struct Candidate {
+      std::size_t row, line;
+      double before, after;
+    };
+    std::vector<Candidate> candidates;  // steps off the first steps' median by over 0.1 %
+    double median_step = 0;
+    double previous_t = 0;
+    bool uneven = false;  // more candidates than kMaxGaps: an uneven clock, not gaps
     const auto count = [&] {
       if (header_.time_column >= 0) {
         const auto c = static_cast<std::size_t>(header_.time_column);
@@ -385,6 +396,24 @@ class CsvFrames : public FrameSource {
           parse_row(fields, header_, reader.line_number(), where_, false, scratch, nullptr);
         }
         time_resolution = std::min(time_resolution, print_resolution(fields[c]));
+        if (rows_ > 0) {
+          const double step = t - previous_t;
+          if (first_steps.size() < kMedianSteps) {
+            first_steps.push_back(step);
+            if (first_steps.size() == kMedianSteps) median_step = median(first_steps);
+          }
+          const double rounding =
+              time_resolution <= 0.1 * median_step ? 1.5 * time_resolution : 0.0;
+          if (median_step > 0 &&
+              std::abs(step - median_step) > kRateRelTol * median_step + rounding) {
+            if (candidates.size() < kMaxGaps) {
+              candidates.push_back({rows_, reader.line_number(), previous_t, t});
+            } else {
+              uneven = true;
+            }
+          }
+        }
+        previous_t = t;
         steps.add(t);
       }
       ++rows_;
@@ -400,9 +429,39 @@ class CsvFrames : public FrameSource {
     if (header_.time_column >= 0) {
       const std::string field =
           "column '" + header_.names[static_cast<std::size_t>(header_.time_column)] + "'";
-      fs_hz_ =
-          rate_from_time(where_, field, rows_, steps.first, steps.last, steps.min_step,
-                         steps.min_row, steps.max_step, steps.max_row, time_resolution, options);
+      try {
+        fs_hz_ =
+            rate_from_time(where_, field, rows_, steps.first, steps.last, steps.min_step,
+                           steps.min_row, steps.max_step, steps.max_row, time_resolution, options);
+      } catch (const InputError&) {
+        // Not uniform as a whole: gaps in a log whose steps are otherwise uniform, or refused as
+        // the import refuses it.
+        if (first_steps.size() < kMedianSteps || uneven) throw;
+        const double dt = median_step;
+        const double rounding = time_resolution <= 0.1 * dt ? 1.5 * time_resolution : 0.0;
+        const double scale = std::max(std::abs(steps.first), std::abs(steps.last));
+        const double tolerance = kRateRelTol * dt + rounding + 8e-16 * scale;
+        for (std::size_t i = 0; i < first_steps.size(); ++i) {
+          if (std::abs(first_steps[i] - dt) > tolerance) throw;  // uneven from the start
+        }
+        for (const Candidate& c : candidates) {
+          const double step = c.after - c.before;
+          if (std::abs(step - dt) <= tolerance) continue;
+          // A pause is a jump forward by more than a step and a half; a shorter or a backward
+          // step is an uneven clock: refused as the import refuses it.
+          if (!(step > 1.5 * dt)) throw;
+          gaps_.push_back({c.row, c.line, c.before, c.after});
+        }
+        if (gaps_.empty() || !(dt > 0)) throw;
+        if (options.fs_hz && !rates_agree(*options.fs_hz, 1 / dt)) throw;
+        fs_hz_ = options.fs_hz.value_or(1 / dt);
+        shape_.notes.push_back(
+            "the time column jumps " + count_text(gaps_.size(), "time") + " (the first from " +
+            format_shortest(gaps_.front().before) + " to " + format_shortest(gaps_.front().after) +
+            " s, line " + std::to_string(gaps_.front().line) +
+            "): times are counted in samples from the first row, and the frames holding a jump "
+            "are not examined");
+      }
     }
     // What every frame is, but its samples: as import_recording gives the file.
     for (std::size_t c = 0; c < header_.names.size(); ++c) {
@@ -431,6 +490,14 @@ class CsvFrames : public FrameSource {
       return n <= 0 ? std::size_t{0} : std::min(rows_, static_cast<std::size_t>(n));
     };
     const std::size_t r0 = row_at(t0_s), r1 = std::max(r0, row_at(t1_s));
+    for (const Gap& g : gaps_) {  // the step into row g.row lies inside the frame
+      if (g.row > r0 && g.row < r1) {
+        throw InputError(format_error(where_, "line " + std::to_string(g.line),
+                                      "the time column jumps from " + format_shortest(g.before) +
+                                          " to " + format_shortest(g.after) +
+                                          " s: a gap in the log"));
+      }
+    }
     if (!reader_ || r0 < next_row_) rewind();
     std::string line;
     std::vector<std::string_view> fields;
@@ -472,10 +539,23 @@ class CsvFrames : public FrameSource {
     next_row_ = 0;
   }
 
+  static constexpr std::size_t kMedianSteps = 1024;  // steps whose median is a gappy log's rate
+  static constexpr std::size_t kMaxGaps = 10000;     // more: an uneven clock, not gaps
+  struct Gap {
+    std::size_t row;   // the row after the jump (0-based)
+    std::size_t line;  // its line in the file
+    double before, after;
+  };
+  static double median(std::vector<double> v) {
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  }
   std::filesystem::path path_;
   std::string where_;
   bool gzip_ = false;
   CsvHeader header_;
+  std::vector<Gap> gaps_;
   std::size_t rows_ = 0;
   double fs_hz_ = 0;
   Recording shape_;
