@@ -85,6 +85,16 @@ table{max-width:100%;overflow-x:auto;display:block}
 
 bool baseline_alarm(const AnalysisResult& r) { return r.baseline && r.baseline->alarm; }
 
+// The alarm listed as a finding (analyze_file makes it one); when it is not (a result put
+// together by hand), the alarm is shown on its own and counted with the findings.
+bool alarm_apart(const AnalysisResult& r) {
+  if (!baseline_alarm(r)) return false;
+  for (const Finding& f : r.findings) {
+    if (f.kind == "baseline") return false;
+  }
+  return true;
+}
+
 // One line of evidence for a finding; `channel` is the link to (or the label of) the channel that
 // shows it best.
 std::string finding_line(const Finding& f, const std::string& channel) {
@@ -92,6 +102,7 @@ std::string finding_line(const Finding& f, const std::string& channel) {
   for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
   std::string what = f.kind == "bearing"       ? "bearing " + f.bearing + ": " + fault_name(f)
                      : f.kind == "gear_damage" ? "damaged gear on shaft " + f.shaft
+                     : f.kind == "baseline"    ? std::string("ALARM against the baseline")
                                                : f.kind + " on shaft " + f.shaft;
   if (!gears.empty() && f.kind != "bearing") what += " (" + gears + ")";
   std::string line = "<b>" + html_escape(what) + "</b>, confidence " + f3(f.confidence);
@@ -138,7 +149,7 @@ void page_head(const Page& p, std::ostringstream& o) {
 // The verdict: every finding with its evidence, the alarm.
 void verdict_section(const Page& p, std::ostringstream& o) {
   const AnalysisResult& r = p.r;
-  const bool alarm = baseline_alarm(r);
+  const bool alarm = alarm_apart(r);
   bool uncertain = false;
   if (r.gear_damage) {
     for (const auto& s : r.gear_damage->shafts) uncertain = uncertain || s.uncertain;
@@ -178,7 +189,7 @@ void verdict_section(const Page& p, std::ostringstream& o) {
     }
     o << "</ol>\n";
   }
-  if (r.baseline && !alarm) {
+  if (r.baseline && !baseline_alarm(r)) {
     o << "<p>Against the baseline: <span class=good>normal</span> (anomaly score "
       << f3(r.baseline->anomaly_score) << ", threshold " << f3(r.baseline->threshold) << ").</p>\n";
   }
@@ -248,7 +259,7 @@ void machine_section(const Page& p, std::ostringstream& o) {
 // The findings table (the baseline ALARM first: it is a finding, counted in the verdict).
 void findings_section(const Page& p, std::ostringstream& o) {
   const AnalysisResult& r = p.r;
-  const bool alarm = baseline_alarm(r);
+  const bool alarm = alarm_apart(r);
   o << "<h2 id=findings>Findings</h2>\n";
   if (alarm) {
     o << "<p><span class=bad>ALARM</span> against the baseline: anomaly score "
@@ -269,7 +280,8 @@ void findings_section(const Page& p, std::ostringstream& o) {
   for (const auto& f : r.findings) {
     std::string gears;
     for (const auto& g : f.gears) gears += (gears.empty() ? "" : ", ") + g;
-    o << "<tr><td class=l><span class=bad>" << html_escape(f.kind) << "</span></td><td class=l>"
+    o << "<tr><td class=l><span class=bad>"
+      << html_escape(f.kind == "baseline" ? "baseline ALARM" : f.kind) << "</span></td><td class=l>"
       << html_escape(f.shaft) << (gears.empty() ? "" : " (" + html_escape(gears) + ")")
       << "</td><td class=l>" << html_escape(f.bearing) << " " << html_escape(fault_name(f))
       << "</td><td>" << f3(f.frequency_hz) << "</td><td class=l>" << p.channel_link(f.channel)

@@ -88,8 +88,12 @@ std::string format_summary(const AnalysisResult& r) {
   o << "\n";
   const bool framed = r.coverage && r.coverage->frames > 1;
   for (const auto& f : r.findings) {
-    o << "  [" << fmt(f.confidence, 2) << "] " << f.kind << ": "
-      << (f.bearing.empty() ? f.shaft : f.bearing + " " + std::string(diag::to_string(f.fault)))
+    const std::string where = !f.bearing.empty()
+                                  ? f.bearing + " " + std::string(diag::to_string(f.fault))
+                              : !f.shaft.empty() ? f.shaft
+                                                 : std::string(diag::to_string(f.fault));
+    o << "  [" << fmt(f.confidence, 2) << "] " << (f.kind == "baseline" ? "baseline ALARM" : f.kind)
+      << ": " << where
       << (f.channel.empty() ? "" : ", best seen on " + channel_label(r, f.channel));
     if (framed && std::isfinite(f.first_s)) {
       o << ", " << fmt(f.first_s, 5) << "-" << fmt(f.last_s, 5) << " s";

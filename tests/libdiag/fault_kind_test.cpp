@@ -18,7 +18,7 @@ TEST(FaultKind, EveryKindHasOneDistinctNameThatParsesBack) {
     ASSERT_TRUE(diag::fault_kind_from_string(name).has_value()) << name;
     EXPECT_EQ(*diag::fault_kind_from_string(name), k) << name;
   }
-  EXPECT_EQ(names.size(), 17u);
+  EXPECT_EQ(names.size(), 18u);
 }
 
 TEST(FaultKind, AliasesMapToTheOneKindAndAreNeverWritten) {

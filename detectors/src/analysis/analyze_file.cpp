@@ -530,7 +530,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   r.notes.insert(r.notes.begin(), detail.notes.begin(), detail.notes.end());
   r.duration_s = duration;
 
-  // One finding per fault and place, the most confident frame's, placed in time.
+  // One finding per fault and place, the most confident frame's.
   std::vector<MergedFinding> merged;
   std::map<std::string, std::size_t> index;
   for (std::size_t k = 0; k < n_frames; ++k) {
@@ -542,6 +542,37 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       if (f.confidence > m.finding.confidence) m.finding = f;
     }
   }
+  if (top_baseline) {
+    r.baseline = std::move(top_baseline);
+    // The wear of each mesh, on the detail frame (a failure is an error, or, for a table of many
+    // recordings, the reason kept beside what did succeed); its findings are that frame's.
+    if (gb) {
+      const std::size_t before = r.findings.size();
+      try {
+        wear_against_baseline(r, *detail.rec, detail.gb ? *detail.gb : *gb, healthy, opt,
+                              healthy_names);
+      } catch (const diag::InputError& e) {
+        if (request.baseline_required)
+          throw diag::InputError(std::string("--baseline: ") + e.what());
+        out.baseline_error = std::string("baseline: ") + e.what();
+      }
+      for (std::size_t i = before; i < r.findings.size(); ++i) {
+        merged.push_back({r.findings[i], {detail.frame}});
+      }
+    }
+    // The alarm is a finding, seen in the frames that score above the threshold.
+    if (r.baseline->alarm) {
+      std::map<std::string, double> fs_hz;
+      for (const ChannelAnalysis& c : r.channels) fs_hz[c.name] = c.fs_hz;
+      MergedFinding m{baseline_alarm_finding(*r.baseline, fs_hz, request.baseline_options), {}};
+      for (std::size_t k = 0; k < n_frames; ++k) {
+        if (segments[k].anomaly_score > r.baseline->threshold) m.frames.push_back(k);
+      }
+      if (m.frames.empty()) m.frames.push_back(top.frame);
+      merged.push_back(std::move(m));
+    }
+  }
+  // Most confident first, placed in time; a frame that shows one is a frame with a finding.
   std::stable_sort(merged.begin(), merged.end(),
                    [](const MergedFinding& a, const MergedFinding& b) {
                      return a.finding.confidence > b.finding.confidence;
@@ -556,7 +587,10 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     if (framed) {
       f.note += (f.note.empty() ? "" : "; ") + placement(m, segments, coverage.frames_examined);
     }
-    for (std::size_t k : m.frames) segments[k].findings.push_back(r.findings.size());
+    for (std::size_t k : m.frames) {
+      segments[k].findings.push_back(r.findings.size());
+      segments[k].verdict = "finding";
+    }
     r.findings.push_back(std::move(f));
   }
 
@@ -591,21 +625,6 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   r.segments = std::move(segments);
   r.coverage = std::move(coverage);
 
-  if (top_baseline) {
-    r.baseline = std::move(top_baseline);
-    // The wear of each mesh, on the detail frame (a failure is an error, or, for a table of many
-    // recordings, the reason kept beside what did succeed).
-    if (gb) {
-      try {
-        wear_against_baseline(r, *detail.rec, detail.gb ? *detail.gb : *gb, healthy, opt,
-                              healthy_names);
-      } catch (const diag::InputError& e) {
-        if (request.baseline_required)
-          throw diag::InputError(std::string("--baseline: ") + e.what());
-        out.baseline_error = std::string("baseline: ") + e.what();
-      }
-    }
-  }
   out.metadata = std::move(detail.rec->metadata);
   return out;
 }

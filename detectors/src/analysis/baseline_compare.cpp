@@ -1,6 +1,7 @@
 // analyze's comparison with healthy baseline recordings (score_against_baseline, analyze.hpp).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "detect/baseline/baseline.hpp"
@@ -242,6 +243,50 @@ void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const 
   }
   std::stable_sort(r.findings.begin(), r.findings.end(),
                    [](const Finding& a, const Finding& b) { return a.confidence > b.confidence; });
+}
+
+Finding baseline_alarm_finding(const AnalysisBaseline& b,
+                               const std::map<std::string, double>& fs_hz,
+                               const BaselineComparisonOptions& opt) {
+  Finding f;
+  f.kind = "baseline";
+  f.fault = diag::FaultKind::kAnomaly;
+  f.confidence = b.threshold > 0 ? std::min(1.0, b.anomaly_score / (2 * b.threshold)) : 1.0;
+  f.evidence = {{"anomaly_score", b.anomaly_score}, {"threshold", b.threshold}};
+  std::string what = "the recording departs from its baseline";
+  if (!b.deviations.empty()) {
+    const AnalysisBaselineDeviation& d = b.deviations.front();  // the largest |z|
+    const std::size_t dot = d.feature.rfind('.');
+    const std::string channel = dot == std::string::npos ? "" : d.feature.substr(0, dot);
+    const std::string feature = d.feature.substr(dot == std::string::npos ? 0 : dot + 1);
+    f.channel = channel;
+    f.set_evidence("z", d.z);
+    const char* moved = d.z > 0 ? " rose" : " fell";
+    std::string physical = feature;
+    if (feature == "kurtosis_log") physical = "the kurtosis";
+    if (feature == "crest_log") physical = "the crest factor";
+    if (feature == "skewness") physical = "the skewness";
+    if (feature == "flatness_log") physical = "the spectral flatness";
+    int band = -1;
+    if (std::sscanf(feature.c_str(), "band%d_log_fraction", &band) == 1 && fs_hz.count(channel)) {
+      // The band's edges (baseline.hpp): f_lo (fs / (2 f_lo))^(i / bands).
+      const double fs = fs_hz.at(channel);
+      const double lo = opt.features.lowest_band_fraction * fs;
+      const double r = std::pow(0.5 * fs / lo, 1.0 / opt.features.bands);
+      const double a = lo * std::pow(r, band), c = lo * std::pow(r, band + 1);
+      f.set_evidence("band_low_hz", a);
+      f.set_evidence("band_high_hz", c);
+      f.frequency_hz = std::sqrt(a * c);
+      physical = "the share of the PSD in " + analysis_stages::fmt(a, 3) + "-" +
+                 analysis_stages::fmt(c, 3) + " Hz";
+    }
+    what = physical + moved + " on " + channel + " (z = " + analysis_stages::fmt(d.z, 3) +
+           " robust sigmas over the baseline)";
+  }
+  f.note = "anomaly score " + analysis_stages::fmt(b.anomaly_score, 3) +
+           " against the baseline, above the threshold " + analysis_stages::fmt(b.threshold, 3) +
+           ": " + what;
+  return f;
 }
 
 }  // namespace detect

@@ -578,7 +578,23 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
     const ShaftDamage& sd = res.shafts[order[k]];
     if (!sd.damaged) continue;
     std::ostringstream why;
-    why << "a tooth of " << sd.gear << " stands out at " << std::lround(sd.angle_deg)
+    // The tooth score is taken per gear of the shaft with that gear's pitch as the window, which
+    // favours the gear with more teeth whichever gear the fault is on (a chip on the 21-tooth z3
+    // scores highest as a tooth of the 44-tooth z2 on the same shaft): the gear is named only
+    // when the shaft carries one.
+    const std::vector<int>& on_shaft = shafts[gb.shaft_index(sd.shaft)].gears;
+    std::string which = sd.gear;
+    if (on_shaft.size() > 1) {
+      which.clear();
+      for (std::size_t g = 0; g < on_shaft.size(); ++g) {
+        which += (g == 0                     ? ""
+                  : g + 1 == on_shaft.size() ? " or "
+                                             : ", ") +
+                 gb.gears()[static_cast<std::size_t>(on_shaft[g])].name;
+      }
+      which += " (the tooth score cannot tell which)";
+    }
+    why << "a tooth of " << which << " stands out at " << std::lround(sd.angle_deg)
         << " deg of the shaft's revolution: its energy in the exclusive difference signal is "
         << sd.score << " x the median of the other teeth' (> " << options.damaged_fm4 << ") on "
         << sd.channel;

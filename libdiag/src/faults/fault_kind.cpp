@@ -16,7 +16,7 @@ struct Entry {
 };
 
 // One row per kind, in the enum's order (to_string indexes it).
-constexpr std::array<Entry, 17> kEntries{{
+constexpr std::array<Entry, 18> kEntries{{
     {FaultKind::kNone, "none", FaultSite::kNone},
     {FaultKind::kCrack, "crack", FaultSite::kGear},
     {FaultKind::kChip, "chip", FaultSite::kGear},
@@ -34,6 +34,7 @@ constexpr std::array<Entry, 17> kEntries{{
     {FaultKind::kInnerRace, "inner_race", FaultSite::kBearing},
     {FaultKind::kRollingElement, "rolling_element", FaultSite::kBearing},
     {FaultKind::kCage, "cage", FaultSite::kBearing},
+    {FaultKind::kAnomaly, "anomaly", FaultSite::kNone},
 }};
 constexpr std::size_t kKinds = kEntries.size();
 

@@ -412,6 +412,17 @@ AnalysisBaseline score_against_baseline(const diag::Recording& rec,
                                         const BaselineComparisonOptions& opt = {},
                                         std::span<const std::string> names = {});
 
+// The baseline alarm as a finding (the one Finding type: an alarm is a finding, counted and
+// listed with the others): kind "baseline", fault kAnomaly, the channel of the largest
+// deviation, confidence min(1, score / (2 threshold)) (0.5 at the threshold), evidence
+// anomaly_score, threshold, z of the largest deviation and, for a band feature, band_low_hz and
+// band_high_hz; the note says in physical terms what moved ("the share of the PSD in 160-320 Hz
+// rose", "the kurtosis rose"). `fs_hz`: the rate of each compared channel (band edges are
+// fractions of it). Requires b.alarm.
+Finding baseline_alarm_finding(const AnalysisBaseline& b,
+                               const std::map<std::string, double>& fs_hz,
+                               const BaselineComparisonOptions& opt = {});
+
 // ---- Wear against the baseline (detect/baseline/mesh_harmonic_growth.hpp) ----
 // Per mesh of gb: the growth of the mesh harmonics against the baseline recordings, the mesh
 // frequency read at the recording's speed (r.meshes: the analysis's kinematics) and at each

@@ -192,7 +192,10 @@ struct ShaftDamage {
   GearIndicators indicators;   // of the TSA and difference signal of `channel`, for the
                                // shaft's first gear as the monitored mesh (reporting only)
   std::string channel;         // the channel that gave the score
-  std::string gear;            // the gear whose tooth stands out ("" when not scored)
+  std::string gear;            // the gear whose pitch window scored highest ("" when not
+                               // scored); on a shaft of several gears not which one is damaged
+                               // (the score favours the gear with more teeth): findings name
+                               // them all
   double angle_deg = 0;        // where that tooth's event is in the shaft's revolution
   double score = 0;            // tooth score (step 5; 1: not scored; NaN: skipped)
   double fm4 = 0;              // FM4 of the exclusive signal as measured (noise included)

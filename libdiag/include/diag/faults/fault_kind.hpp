@@ -56,6 +56,8 @@ enum class FaultKind {
   kInnerRace,
   kRollingElement,
   kCage,
+  // no site: the recording departs from its healthy baseline (the anomaly score's alarm)
+  kAnomaly,
 };
 
 // Where a fault of this kind sits.
