@@ -30,34 +30,33 @@ field() { sed -n "s/^[[:space:]]*$2: //p" "$1"; }
   --fs 20000 --rpm 1800 -o "$tmpdir/short.h5" > /dev/null
 log="$tmpdir/time.log"
 status=0
-for bytes in 2.5e8 1e9; do
-  file="$tmpdir/long.h5"
-  /usr/bin/python3 "$here/make_long_recording.py" "$tmpdir/short.h5" "$file" "$bytes"
-  /usr/bin/time -v "$exe" analyze "$file" --json "$tmpdir/r.json" \
-    > /dev/null 2> "$log"
+# Runs `analyze` with the given arguments under /usr/bin/time -v; prints its peak RSS, CPU and
+# frames (labelled $1) and sets status=1 over the 256 MB target.
+measure() {
+  local label=$1
+  shift
+  /usr/bin/time -v "$exe" analyze "$@" --json "$tmpdir/r.json" > /dev/null 2> "$log"
+  local rss_kb
   rss_kb=$(peak "$log")
-  echo "analyze: peak RSS $(( rss_kb / 1024 )) MiB, user $(field "$log" 'User time (seconds)') s," \
+  echo "$label: peak RSS $(( rss_kb / 1024 )) MiB, user $(field "$log" 'User time (seconds)') s," \
        "sys $(field "$log" 'System time (seconds)') s;" \
        "$(grep -o 'long recording analysed in [0-9]* frames of [^)]*)' "$tmpdir/r.json")"
   if (( rss_kb * 1024 >= 256000000 )); then
     echo "analyze_memory: peak RSS $(( rss_kb * 1024 / 1000000 )) MB is over the 256 MB target" >&2
     status=1
   fi
+}
+for bytes in 2.5e8 1e9; do
+  file="$tmpdir/long.h5"
+  /usr/bin/python3 "$here/make_long_recording.py" "$tmpdir/short.h5" "$file" "$bytes"
+  measure analyze "$file"
   rm -f "$file"
 done
 # A 1 GB CSV log of the same channels (a time column, 7 significant digits, no tacho): read row
 # by row, frame by frame (diag::open_recording_frames), not whole.
 csv="$tmpdir/long.csv"
 /usr/bin/python3 "$here/make_long_csv.py" "$tmpdir/short.h5" "$csv" 1e9
-/usr/bin/time -v "$exe" analyze "$csv" --gearbox "$here/../testdata/gearbox/two_stage_17_44_21_50.json" \
-  --rpm 1800 --json "$tmpdir/r.json" > /dev/null 2> "$log"
-rss_kb=$(peak "$log")
-echo "analyze (CSV): peak RSS $(( rss_kb / 1024 )) MiB, user $(field "$log" 'User time (seconds)') s," \
-     "sys $(field "$log" 'System time (seconds)') s;" \
-     "$(grep -o 'long recording analysed in [0-9]* frames of [^)]*)' "$tmpdir/r.json")"
-if (( rss_kb * 1024 >= 256000000 )); then
-  echo "analyze_memory: peak RSS $(( rss_kb * 1024 / 1000000 )) MB is over the 256 MB target" >&2
-  status=1
-fi
+measure "analyze (CSV)" "$csv" --gearbox "$here/../testdata/gearbox/two_stage_17_44_21_50.json" \
+  --rpm 1800
 rm -f "$csv"
 exit $status
