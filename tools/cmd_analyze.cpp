@@ -4,9 +4,6 @@
 // not every sample was examined (--max-samples, frames that could not be analysed), 2 on bad
 // input.
 #include <unistd.h>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
 
 #include <boost/program_options.hpp>
 #include <cmath>
@@ -16,6 +13,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "allocator.hpp"
 #include "channel_options.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
@@ -33,32 +31,8 @@ namespace po = boost::program_options;
 
 namespace geardiag {
 
-namespace {
-
-// analyze allocates and frees record-length buffers (a few MB each) per channel and per stage.
-// By default glibc serves each from a fresh mmap (above its dynamic threshold) or returns it to
-// the kernel by trimming the heap, and the next buffer faults its pages in again: on the 10 s,
-// 39-channel recording 168 000 page faults, a sixth of the command's CPU (kernel page clearing).
-// Serving buffers up to 64 MiB from the heap and trimming only above 256 MiB of free top keeps
-// freed pages for the next buffer: 65 000 faults (about the first touch of the peak), the same
-// peak RSS (docs/performance.md). A process-wide setting, made by the command only
-// (the library leaves the allocator alone).
-// The frames of a long recording run on several threads, and glibc gives each thread its own
-// arena, where the settings above do not keep freed pages as well: one arena for the command (the
-// buffers are few and large, so the lock is rarely waited on) halves the system time of two
-// threads on the 0.28 GB bench recording and keeps 1.9x from 1 to 2 threads (bench/RESULTS.md).
-void keep_freed_memory() {
-#ifdef __GLIBC__
-  mallopt(M_MMAP_THRESHOLD, 64 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
-  mallopt(M_ARENA_MAX, 1);
-#endif
-}
-
-}  // namespace
-
 int cmd_analyze(int argc, char** argv) {
-  keep_freed_memory();
+  tune_allocator_for_recordings();
   detect::AnalyzeRequest request;
   detect::AnalyzeOptions& opt = request.options;
   const detect::BaselineComparisonOptions& bo = request.baseline_options;

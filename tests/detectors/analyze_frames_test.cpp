@@ -127,7 +127,9 @@ TEST_F(AnalyzeFrames, AFaultFromPartWayIsFoundAndPlacedInTime) {
     if (s.start_s >= log.fault_from_s) {
       EXPECT_EQ(s.verdict, "finding") << s.start_s;
     }
-    EXPECT_EQ(s.speed_rpm, 1797);
+    // The file's 1797 rpm, or the speed measured from the shaft's lines (within 0.2 %: the
+    // motor's speed to a few rpm).
+    EXPECT_NEAR(s.speed_rpm / 1797, 1.0, 2e-3) << s.start_s;
   }
   EXPECT_NE(f.note.find("to the end of the log"), std::string::npos) << f.note;
   // The JSON places it too.

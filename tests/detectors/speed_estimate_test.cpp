@@ -88,6 +88,11 @@ std::vector<double> foreign_line_signal(double speed_hz) {
   return tones_in_noise(speed_hz, {{2.0, 22.0}, {0.5, 46.0}, {0.3, 69.0}}, 1.0, 30000, 13);
 }
 
+// The same foreign line with the mesh's 2nd harmonic only: no two lines agree.
+std::vector<double> lone_foreign_line_signal(double speed_hz) {
+  return tones_in_noise(speed_hz, {{2.0, 22.0}, {0.5, 46.0}}, 1.0, 30000, 13);
+}
+
 class SpeedEstimateSteady : public ::testing::TestWithParam<double> {};
 
 // A steady 1500 rpm machine, 6 s, nominal speed off by the parameter. The mean speed comes from
@@ -185,25 +190,42 @@ TEST(SpeedEstimate, ALineThatFadesGivesLowConfidence) {
   EXPECT_NEAR(e.faded_fraction, 0.5, 0.05);  // the filter's transition smears the step
 }
 
-// Limit: a foreign line (or a sideband) stronger than the candidate in its band is taken for it.
-// The other harmonics then imply another speed, and the result says so.
-TEST(SpeedEstimate, AForeignLineTakenForTheMeshIsContradictedByItsHarmonics) {
+// A foreign line (or a sideband) stronger than the candidate in its band, the mesh's 2nd and 3rd
+// harmonics confirming each other: the most prominent confirmed line is followed, the foreign one
+// counted as a contradiction and named in the notes.
+TEST(SpeedEstimate, AForeignLineIsPassedOverForTheHarmonicsThatConfirmEachOther) {
   constexpr double kSpeedHz = 25.0;
   const std::vector<double> x = foreign_line_signal(kSpeedHz);
   const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
   ASSERT_TRUE(e.has_speed());
+  EXPECT_EQ(e.line.label, "mesh h2");                  // 0.5 over the 3rd harmonic's 0.3
+  EXPECT_NEAR(e.mean_speed_hz / kSpeedHz, 1.0, 1e-5);  // as the steady mesh's (above)
+  EXPECT_EQ(e.confirmations, 1);
+  EXPECT_EQ(e.contradictions, 1);
+  bool named = false;
+  for (const std::string& n : e.notes) named |= n.find("'mesh h1'") != std::string::npos;
+  EXPECT_TRUE(named);
+}
+
+// Limit: with no two lines agreeing, the most prominent (the foreign line) is taken for the
+// candidate. The other harmonic implies another speed, and the result says so.
+TEST(SpeedEstimate, AForeignLineTakenForTheMeshIsContradictedByItsHarmonic) {
+  constexpr double kSpeedHz = 25.0;
+  const std::vector<double> x = lone_foreign_line_signal(kSpeedHz);
+  const auto e = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
+  ASSERT_TRUE(e.has_speed());
   EXPECT_EQ(e.line.label, "mesh h1");
   EXPECT_NEAR(e.mean_speed_hz, kSpeedHz * 22.0 / 23.0, 1e-3);  // the wrong line, followed well
-  EXPECT_EQ(e.contradictions, 2);
+  EXPECT_EQ(e.contradictions, 1);
   EXPECT_EQ(e.confirmations, 0);
 }
 
-// require_confirmation: an unconfirmed line (the foreign line above) ends the estimate after the
-// choice, with the same choice and cross-check and no speed; a confirmed one (the steady mesh)
+// require_confirmation: an unconfirmed line (the lone foreign line above) ends the estimate after
+// the choice, with the same choice and cross-check and no speed; a confirmed one (the steady mesh)
 // is followed exactly as without the option.
 TEST(SpeedEstimate, RequireConfirmationStopsAnUnconfirmedLineOnly) {
   constexpr double kSpeedHz = 25.0;
-  const std::vector<double> x = foreign_line_signal(kSpeedHz);
+  const std::vector<double> x = lone_foreign_line_signal(kSpeedHz);
   detect::SpeedEstimateOptions o;
   o.require_confirmation = true;
   const auto full = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
@@ -215,7 +237,7 @@ TEST(SpeedEstimate, RequireConfirmationStopsAnUnconfirmedLineOnly) {
   EXPECT_EQ(e.line.label, full.line.label);
   EXPECT_EQ(e.line_frequency_hz, full.line_frequency_hz);
   EXPECT_EQ(e.prominence_db, full.prominence_db);
-  EXPECT_EQ(e.contradictions, 2);
+  EXPECT_EQ(e.contradictions, 1);
   EXPECT_EQ(e.confirmations, 0);
 
   const auto y = mesh_signal([](double t) { return kSpeedHz * t + 0.3; }, 3.0, 1.0, 7);

@@ -450,6 +450,41 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
                                         " dB over its band: no speed claimed");
     return est;
   }
+  // The other prominent lines of the same channel should imply the same speed as the line
+  // followed, to a frame bin (the averaged peaks are far better placed; a sideband followed
+  // instead of its carrier is off by a whole shaft order).
+  const auto agree = [&](const Choice& a, const Choice& b) {
+    const double implied = b.frequency_hz / b.cand.line.order * a.cand.line.order;
+    return std::abs(implied - a.frequency_hz) <=
+           frame_bin_hz * a.cand.line.order / b.cand.line.order;
+  };
+  const auto confirmations = [&](const Choice& a) {
+    int n = 0;
+    for (const Choice& o : found) {
+      if (o.channel == a.channel && o.cand.line.order != a.cand.line.order && agree(a, o)) ++n;
+    }
+    return n;
+  };
+  // A foreign line (an electrical or structural line, a fault line) may stand out more than the
+  // shaft's or mesh's own in one band: when the most prominent line is confirmed by no other,
+  // the most prominent line that others confirm is followed instead (the CWRU outer-race record
+  // told 1977 rpm: a line at 107.7 Hz in the third shaft harmonic's band, contradicted by the
+  // first and second at 29.9 and 59.9 Hz, which confirm each other).
+  if (confirmations(best) == 0) {
+    const Choice* confirmed = nullptr;
+    for (const Choice& o : found) {
+      if (confirmations(o) > 0 && (!confirmed || o.prominence_db > confirmed->prominence_db)) {
+        confirmed = &o;
+      }
+    }
+    if (confirmed) {
+      est.notes.push_back("line '" + best.cand.line.label + "' at " +
+                          diag::format_significant(best.frequency_hz, 6) +
+                          " Hz, the most "
+                          "prominent, is confirmed by no other: not followed");
+      best = *confirmed;
+    }
+  }
   est.line = best.cand.line;
   est.line_frequency_hz = best.frequency_hz;
   est.prominence_db = best.prominence_db;
@@ -460,13 +495,10 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
                       diag::format_significant(best.prominence_db, 6) +
                       " dB over its band, channel " + std::to_string(best.channel));
   const double order = est.line.order;
-  // Cross-check: the other prominent lines of the same channel should imply the same speed, to
-  // a frame bin (the averaged peaks are far better placed; a sideband followed instead of its
-  // carrier is off by a whole shaft order).
+  // Cross-check: the other prominent lines of the same channel.
   for (const Choice& o : found) {
     if (o.channel != best.channel || o.cand.line.order == order) continue;
-    const double implied = o.frequency_hz / o.cand.line.order * order;
-    if (std::abs(implied - best.frequency_hz) <= frame_bin_hz * order / o.cand.line.order) {
+    if (agree(best, o)) {
       ++est.confirmations;
     } else {
       ++est.contradictions;

@@ -13,8 +13,11 @@
 //    are joined). Candidates whose bands overlap cannot be told apart by one peak (a peak at F is
 //    o_a at F/o_a or o_b at F/o_b): such a group is resolved only when two of its peaks stand in
 //    the ratio of two of its orders (the stronger peak then names its order), else it is ambiguous
-//    and left out. The most prominent line over every candidate and channel wins; below
-//    min_prominence_db: no line.
+//    and left out. The most prominent line over every candidate and channel wins, unless no
+//    other line of its channel confirms it (implies its speed to a frame bin) while some other
+//    line is confirmed: the most prominent confirmed line then wins (a foreign line, e.g. an
+//    electrical one, outshining a candidate in its band is passed over for the candidates that
+//    agree with each other). Below min_prominence_db: no line.
 // 2. Follow it (the ridge extraction of MATLAB's rpmtrack): from the frame where the
 //    nominal speed holds, frame by frame forward and backward, the peak inside
 //    +- max_step_fraction of the frequency predicted from the two previous frames (a bounded step
