@@ -366,6 +366,7 @@ void timeline_section(const Page& p, std::ostringstream& o) {
       seen += (seen.empty() ? "" : "; ") + f.kind + " " + (f.bearing.empty() ? f.shaft : f.bearing);
     }
     if (!s.reason.empty()) seen = s.reason;
+    if (!s.cut.empty()) seen = "from " + s.cut + (seen.empty() ? "" : ": " + seen);
     o << "<tr><td>" << f3(s.start_s) << "</td><td>" << f3(s.end_s) << "</td><td>" << f3(s.speed_rpm)
       << "</td><td class=l><span class="
       << (s.verdict == "finding"        ? "bad"

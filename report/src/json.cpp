@@ -324,6 +324,7 @@ void add_coverage(const AnalysisResult& r, nlohmann::json& j) {
   for (const AnalysisSegment& s : r.segments) {
     json sj{{"start_s", s.start_s}, {"end_s", s.end_s}, {"verdict", s.verdict}};
     if (!s.reason.empty()) sj["reason"] = s.reason;
+    if (!s.cut.empty()) sj["cut"] = s.cut;
     if (std::isfinite(s.speed_rpm)) {
       sj["speed_rpm"] = s.speed_rpm;
       sj["speed_source"] = s.speed_source;

@@ -188,6 +188,113 @@ std::string tacho_dropout(const diag::Recording& frame, double t0, int ppr) {
   return {};
 }
 
+// Where the operating state changes inside a frame, so that the frame is cut there: a time [s
+// from the frame's start] and what changed. From the first tacho's once-per-revolution pulses:
+// at each revolution interval the speed fitted over the kStateRevs revolutions before it and the
+// kStateRevs after it (straight lines: a run-up's steady ramp is no change) are compared where
+// they meet; more than kStepFraction apart is a speed step (a load or set-point change). The
+// interval itself further than kSpliceFraction from their mean is a splice (two recordings
+// joined, a logger restarted: a partial revolution). A cut is
+// made in the middle of that interval, and leaves at least kMinStateRevs revolutions on each side
+// (a shorter stretch is kept with its neighbour). Without a tacho, or with too few revolutions:
+// no cut.
+struct StateCut {
+  double t_s = 0;
+  std::string what;
+};
+
+std::vector<StateCut> state_cuts(const diag::Recording& frame, double t0, int ppr) {
+  constexpr std::size_t kStateRevs = 8;
+  constexpr std::size_t kMinStateRevs = 16;
+  constexpr double kStepFraction = 0.02;
+  constexpr double kSpliceFraction = 0.1;
+  if (frame.tachos.empty()) return {};
+  const diag::Signal& tacho = frame.tachos.front();
+  TachoOptions o;
+  o.pulses_per_rev = ppr > 0 ? ppr : diag::pulses_per_rev(tacho);
+  o.repair = false;
+  const std::vector<double> p = tacho_pulses(tacho.samples, tacho.fs_hz, o).pulse_times_s;
+  std::vector<double> once;
+  for (std::size_t i = 0; i < p.size(); i += static_cast<std::size_t>(o.pulses_per_rev)) {
+    once.push_back(p[i]);
+  }
+  if (once.size() < 2 * kMinStateRevs + 2) return {};
+  const std::size_t n = once.size() - 1;  // revolution intervals
+  std::vector<double> mid(n), rate(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    mid[i] = 0.5 * (once[i] + once[i + 1]);
+    rate[i] = 1 / (once[i + 1] - once[i]);
+  }
+  // A partial revolution: an interval's rate further than kSpliceFraction from the median of the
+  // kStateRevs intervals on each side (a speed step spreads over several revolutions and moves
+  // that median with it).
+  std::vector<char> partial(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<double> w;
+    for (std::size_t j = i > kStateRevs ? i - kStateRevs : 0; j < std::min(n, i + kStateRevs + 1);
+         ++j) {
+      if (j != i) w.push_back(rate[j]);
+    }
+    const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
+    std::nth_element(w.begin(), m, w.end());
+    partial[i] = std::abs(rate[i] / *m - 1) > kSpliceFraction;
+  }
+  // The least-squares line through the kStateRevs whole intervals next to interval i (before it,
+  // or after it), against mid, at mid[i]; NaN when there are not so many.
+  const auto fitted = [&](std::size_t i, bool before) {
+    double st = 0, sv = 0, stt = 0, stv = 0, m = 0;
+    for (std::size_t step = 1; m < kStateRevs; ++step) {
+      if (before ? step > i : i + step >= n) break;
+      const std::size_t j = before ? i - step : i + step;
+      if (partial[j]) continue;
+      const double t = mid[j] - mid[i];
+      st += t, sv += rate[j], stt += t * t, stv += t * rate[j], m += 1;
+    }
+    if (m < kStateRevs) return std::numeric_limits<double>::quiet_NaN();
+    const double den = m * stt - st * st;
+    return den > 0 ? (sv * stt - st * stv) / den : sv / m;
+  };
+  struct Candidate {
+    double score;
+    std::size_t i;
+    std::string what;
+  };
+  std::vector<Candidate> found;
+  for (std::size_t i = kMinStateRevs; i + kMinStateRevs <= n; ++i) {
+    const double before = fitted(i, true);
+    const double after = fitted(i, false);
+    const double mean = 0.5 * (before + after);
+    if (!(mean > 0)) continue;
+    const double step = std::abs(after - before) / mean;
+    if (step > kStepFraction) {
+      found.push_back({step / kStepFraction, i,
+                       "a speed step, " + fmt(60 * before, 5) + " to " + fmt(60 * after, 5) +
+                           " rpm of tacho '" + tacho.name + "' at " + fmt(t0 + mid[i], 6) + " s"});
+    } else if (partial[i]) {
+      found.push_back({std::abs(rate[i] / mean - 1) / kSpliceFraction, i,
+                       "a splice of tacho '" + tacho.name + "' at " + fmt(t0 + mid[i], 6) +
+                           " s (a revolution of " + fmt(mean / rate[i], 3) +
+                           " times the speed's)"});
+    }
+  }
+  // The strongest first, each kMinStateRevs from those kept (ties: the earlier).
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  std::vector<Candidate> kept;
+  for (Candidate& c : found) {
+    bool apart = true;
+    for (const Candidate& k : kept) {
+      apart = apart && (c.i > k.i ? c.i - k.i : k.i - c.i) >= kMinStateRevs;
+    }
+    if (apart) kept.push_back(std::move(c));
+  }
+  std::sort(kept.begin(), kept.end(),
+            [](const Candidate& a, const Candidate& b) { return a.i < b.i; });
+  std::vector<StateCut> cuts;
+  for (Candidate& c : kept) cuts.push_back({mid[c.i], std::move(c.what)});
+  return cuts;
+}
+
 }  // namespace
 
 FileAnalysis analyze_file(const AnalyzeRequest& request) {
@@ -302,17 +409,21 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   AnalyzeOptions frame_opt = opt;
   if (framed) frame_opt.traces = false;  // the detail frame is analysed again with them
   if (frame_threads > 1) frame_opt.threads = 1;
-  struct FrameOutcome {
+  struct PartOutcome {
     AnalysisSegment seg;
     std::vector<Finding> findings;
+    std::string baseline_error;
+  };
+  struct FrameOutcome {
+    std::vector<PartOutcome> parts;  // the frame, or its parts where the operating state changed
     std::map<std::string, MomentAccumulator> moments;
     std::map<std::string, double> timing;
-    std::string baseline_error;
     double read_s = 0;
   };
   std::vector<FrameOutcome> outcome(n_frames);
+  using PartId = std::pair<std::size_t, std::size_t>;  // (frame, part of it)
   struct Detail {
-    std::size_t frame = 0;
+    PartId at{0, 0};
     double confidence = -1;
     std::optional<AnalysisResult> result;
     std::optional<diag::Recording> rec;
@@ -320,7 +431,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     std::vector<std::string> notes;
   } detail;
   struct TopScore {
-    std::size_t frame = 0;
+    PartId at{0, 0};
     std::optional<AnalysisBaseline> baseline;
   } top;
   std::mutex read_lock, keep_lock, progress_lock;
@@ -364,11 +475,38 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     }
     return at;
   };
+  // A frame of a long log cut where the operating state changes (state_cuts), each part analysed
+  // as a segment of its own; a recording of one frame is analysed whole. The parts' times are
+  // from the frame's start (the last part's end infinite: the frame's end).
+  struct Part {
+    diag::Recording rec;
+    double start_s = 0, end_s = std::numeric_limits<double>::infinity();
+    std::string cut;
+  };
+  const auto cut_frame = [&](diag::Recording rec, double t0) {
+    std::vector<Part> parts;
+    const std::vector<StateCut> cuts =
+        framed ? state_cuts(rec, t0, request.options.tacho_pulses_per_rev)
+               : std::vector<StateCut>{};
+    if (cuts.empty()) {
+      parts.push_back({std::move(rec), 0, std::numeric_limits<double>::infinity(), {}});
+      return parts;
+    }
+    const diag::RecordingFrames whole(std::make_shared<const diag::Recording>(std::move(rec)));
+    double from = 0;
+    std::string why;
+    for (const StateCut& c : cuts) {
+      parts.push_back({whole.frame(from, c.t_s), from, c.t_s, why});
+      from = c.t_s;
+      why = c.what;
+    }
+    parts.push_back({whole.frame(from, std::numeric_limits<double>::infinity()), from,
+                     std::numeric_limits<double>::infinity(), why});
+    return parts;
+  };
   const auto analyse_frame = [&](std::size_t k) {
     FrameOutcome& o = outcome[k];
-    AnalysisSegment& seg = o.seg;
-    seg.start_s = frame_start(k);
-    seg.end_s = frame_end(k);
+    const double t0 = frame_start(k);
     AnalyzeOptions this_opt = frame_opt;
     if (framed && opt.progress) {
       const std::string frame = "frame " + std::to_string(k + 1) + "/" + std::to_string(n_frames);
@@ -380,25 +518,31 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     std::vector<std::string> notes;
     std::optional<diag::Gearbox> frame_gb;
     std::optional<diag::Recording> rec;
-    AnalysisResult res;
-    // A frame that cannot be read or analysed (a NaN sample, a clipped channel, too short a frame
-    // for a stage that cannot be skipped): the others can. A recording of one frame (or whose
-    // every frame fails) is an error, as its first frame's. The channel setup's errors are the
-    // request's: thrown.
-    const auto not_examined = [&](const diag::InputError& e) {
+    // A frame (or part) that cannot be read or analysed (a NaN sample, a clipped channel, too
+    // short a frame for a stage that cannot be skipped): the others can. A recording of one
+    // frame (or whose every frame fails) is an error, as its first frame's. The channel setup's
+    // errors are the request's: thrown.
+    const auto not_examined = [&](AnalysisSegment& seg, const diag::InputError& e) {
       if (!framed) throw naming("", out.source, e);
       seg.verdict = "not examined";
       seg.reason = e.what();
     };
+    const auto frame_not_examined = [&](const diag::InputError& e) {
+      PartOutcome part;
+      part.seg.start_s = t0;
+      part.seg.end_s = frame_end(k);
+      not_examined(part.seg, e);
+      o.parts.push_back(std::move(part));
+    };
     try {
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto r0 = std::chrono::steady_clock::now();
       rec = read_in_turn(k);
-      o.read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (const std::string defect = non_finite(*rec, seg.start_s); !defect.empty()) {
+      o.read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+      if (const std::string defect = non_finite(*rec, t0); !defect.empty()) {
         throw diag::InputError(defect);
       }
     } catch (const diag::InputError& e) {
-      not_examined(e);
+      frame_not_examined(e);
       return;
     }
     frame_gb = set_up(*rec, notes);
@@ -406,62 +550,82 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       // A recording of one frame is analysed all the same, with a warning: there is no other
       // frame to examine instead.
       for (const std::string& defect :
-           {clipped(*rec, seg.start_s),
-            tacho_dropout(*rec, seg.start_s, request.options.tacho_pulses_per_rev)}) {
+           {clipped(*rec, t0), tacho_dropout(*rec, t0, request.options.tacho_pulses_per_rev)}) {
         if (defect.empty()) continue;
         if (framed) throw diag::InputError(defect);
         notes.push_back("warning: " + defect + ": analysed all the same (one frame)");
       }
-      res = analyze_recording(*rec, frame_gb ? &*frame_gb : nullptr, this_opt);
     } catch (const diag::InputError& e) {
-      not_examined(e);
+      frame_not_examined(e);
       return;
     }
-    o.timing = res.timing_s;
-    seg.verdict = res.findings.empty() ? "no finding" : "finding";
-    if (frame_gb) {
-      seg.speed_rpm = res.speed.mean_rpm;
-      seg.speed_source = res.speed.source;
-    }
-    for (std::size_t i : sensor_channels(*rec)) {
-      const diag::Signal& sig = rec->signals[i];
-      o.moments[sig.name].add(sig.samples);
-    }
-    for (const ChannelAnalysis& c : res.channels) {
-      if (!c.sensor) continue;
-      seg.channels.push_back(c.name);
-      seg.indicators.push_back(c.time);
-    }
-    if (!healthy.empty()) {
+    std::vector<Part> parts = cut_frame(std::move(*rec), t0);
+    rec.reset();
+    for (std::size_t j = 0; j < parts.size(); ++j) {
+      Part& part = parts[j];
+      PartOutcome po;
+      AnalysisSegment& seg = po.seg;
+      seg.start_s = t0 + part.start_s;
+      seg.end_s = std::isinf(part.end_s) ? frame_end(k) : t0 + part.end_s;
+      seg.cut = part.cut;
+      AnalysisResult res;
       try {
-        AnalysisBaseline b =
-            score_against_baseline(*rec, healthy, request.baseline_options, healthy_names);
-        seg.anomaly_score = b.anomaly_score;
-        const std::lock_guard<std::mutex> lock(keep_lock);
-        if (!top.baseline || b.anomaly_score > top.baseline->anomaly_score ||
-            (b.anomaly_score == top.baseline->anomaly_score && k < top.frame)) {
-          top.baseline = std::move(b);
-          top.frame = k;
-        }
+        res = analyze_recording(part.rec, frame_gb ? &*frame_gb : nullptr, this_opt);
       } catch (const diag::InputError& e) {
-        if (request.baseline_required) {
-          throw diag::InputError(std::string("--baseline: ") + e.what());
+        not_examined(seg, e);
+        o.parts.push_back(std::move(po));
+        continue;
+      }
+      for (const auto& [stage, t] : res.timing_s) o.timing[stage] += t;
+      seg.verdict = res.findings.empty() ? "no finding" : "finding";
+      if (frame_gb) {
+        seg.speed_rpm = res.speed.mean_rpm;
+        seg.speed_source = res.speed.source;
+      }
+      for (std::size_t i : sensor_channels(part.rec)) {
+        const diag::Signal& sig = part.rec.signals[i];
+        o.moments[sig.name].add(sig.samples);
+      }
+      for (const ChannelAnalysis& c : res.channels) {
+        if (!c.sensor) continue;
+        seg.channels.push_back(c.name);
+        seg.indicators.push_back(c.time);
+      }
+      const PartId id{k, j};
+      if (!healthy.empty()) {
+        try {
+          AnalysisBaseline b =
+              score_against_baseline(part.rec, healthy, request.baseline_options, healthy_names);
+          seg.anomaly_score = b.anomaly_score;
+          const std::lock_guard<std::mutex> lock(keep_lock);
+          if (!top.baseline || b.anomaly_score > top.baseline->anomaly_score ||
+              (b.anomaly_score == top.baseline->anomaly_score && id < top.at)) {
+            top.baseline = std::move(b);
+            top.at = id;
+          }
+        } catch (const diag::InputError& e) {
+          if (request.baseline_required) {
+            throw diag::InputError(std::string("--baseline: ") + e.what());
+          }
+          po.baseline_error = std::string("baseline: ") + e.what();
         }
-        o.baseline_error = std::string("baseline: ") + e.what();
       }
-    }
-    o.findings = res.findings;
-    const double confidence = top_confidence(res);
-    const std::lock_guard<std::mutex> lock(keep_lock);
-    if (confidence > detail.confidence || (confidence == detail.confidence && k < detail.frame)) {
-      detail.confidence = confidence;
-      detail.frame = k;
-      if (!framed) {  // one frame: its result is the result
-        detail.result = std::move(res);
-        detail.rec = std::move(rec);
-        detail.gb = std::move(frame_gb);
-        detail.notes = std::move(notes);
+      po.findings = res.findings;
+      const double confidence = top_confidence(res);
+      {
+        const std::lock_guard<std::mutex> lock(keep_lock);
+        if (confidence > detail.confidence || (confidence == detail.confidence && id < detail.at)) {
+          detail.confidence = confidence;
+          detail.at = id;
+          if (!framed) {  // one frame: its result is the result
+            detail.result = std::move(res);
+            detail.rec = std::move(part.rec);
+            detail.gb = frame_gb;
+            detail.notes = notes;
+          }
+        }
       }
+      o.parts.push_back(std::move(po));
     }
   };
   diag::parallel_for(n_frames, frame_threads, [&](std::size_t k) {
@@ -477,9 +641,11 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     }
   });
 
-  // In frame order: what was examined, the moments, the timing, the first error.
+  // In order: what was examined, the moments, the timing, the first error; the frames' parts
+  // are the segments.
   std::vector<AnalysisSegment> segments;
-  std::vector<std::vector<Finding>> frame_findings;
+  std::vector<std::vector<Finding>> segment_findings;
+  std::map<PartId, std::size_t> segment_of;
   std::map<std::string, MomentAccumulator> moments;
   std::map<std::string, double> timing;
   std::string first_error;
@@ -487,37 +653,46 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   for (std::size_t k = 0; k < n_frames; ++k) {
     FrameOutcome& o = outcome[k];
     read_s += o.read_s;
-    if (o.seg.verdict == "not examined") {
-      if (first_error.empty()) first_error = o.seg.reason;
-    } else {
-      ++coverage.frames_examined;
-      coverage.analysed_s += o.seg.end_s - o.seg.start_s;
+    for (std::size_t j = 0; j < o.parts.size(); ++j) {
+      PartOutcome& po = o.parts[j];
+      if (po.seg.verdict == "not examined") {
+        if (first_error.empty()) first_error = po.seg.reason;
+      } else {
+        ++coverage.frames_examined;
+        coverage.analysed_s += po.seg.end_s - po.seg.start_s;
+      }
+      if (out.baseline_error.empty()) out.baseline_error = po.baseline_error;
+      segment_of[{k, j}] = segments.size();
+      segments.push_back(std::move(po.seg));
+      segment_findings.push_back(std::move(po.findings));
     }
     for (auto& [name, m] : o.moments) moments[name].merge(m);
     for (const auto& [stage, t] : o.timing) timing[stage] += t;
-    if (out.baseline_error.empty()) out.baseline_error = o.baseline_error;
-    segments.push_back(std::move(o.seg));
-    frame_findings.push_back(std::move(o.findings));
   }
   outcome.clear();
-  coverage.detail_frame = detail.frame;
+  const std::size_t n_segments = segments.size();
+  coverage.frames = n_segments;
+  coverage.detail_frame = segment_of.at(detail.at);
+  const std::size_t top_segment = top.baseline ? segment_of.at(top.at) : 0;
   const double detail_confidence = detail.confidence;
   std::optional<AnalysisBaseline> top_baseline = std::move(top.baseline);
   if (top_baseline && framed) {
     top_baseline->notes.push_back(
-        "the frame that scores highest: " + fmt(segments[top.frame].start_s, 5) + "-" +
-        fmt(segments[top.frame].end_s, 5) + " s (" + std::to_string(top.frame + 1) + " of " +
-        std::to_string(n_frames) + ")");
+        "the frame that scores highest: " + fmt(segments[top_segment].start_s, 5) + "-" +
+        fmt(segments[top_segment].end_s, 5) + " s (" + std::to_string(top_segment + 1) + " of " +
+        std::to_string(n_segments) + ")");
   }
   if (coverage.frames_examined == 0) throw diag::InputError(out.source + ": " + first_error);
 
-  // The detail frame read and analysed again, with the curves a plot draws when asked for (the
+  // The detail segment read and analysed again, with the curves a plot draws when asked for (the
   // same findings and notes: AnalyzeOptions::traces changes nothing else).
   if (framed) {
     const auto t0 = std::chrono::steady_clock::now();
-    detail.rec = read_frame(detail.frame);
+    diag::Recording rec = read_frame(detail.at.first);
     read_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    detail.gb = set_up(*detail.rec, detail.notes);
+    detail.gb = set_up(rec, detail.notes);
+    std::vector<Part> parts = cut_frame(std::move(rec), frame_start(detail.at.first));
+    detail.rec = std::move(parts.at(detail.at.second).rec);
     detail.result = analyze_recording(*detail.rec, detail.gb ? &*detail.gb : nullptr, opt);
   }
   out.read_s = read_s;
@@ -533,8 +708,8 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   // One finding per fault and place, the most confident frame's.
   std::vector<MergedFinding> merged;
   std::map<std::string, std::size_t> index;
-  for (std::size_t k = 0; k < n_frames; ++k) {
-    for (const Finding& f : frame_findings[k]) {
+  for (std::size_t k = 0; k < n_segments; ++k) {
+    for (const Finding& f : segment_findings[k]) {
       const auto [it, fresh] = index.emplace(finding_key(f), merged.size());
       if (fresh) merged.push_back({f, {}});
       MergedFinding& m = merged[it->second];
@@ -557,7 +732,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
         out.baseline_error = std::string("baseline: ") + e.what();
       }
       for (std::size_t i = before; i < r.findings.size(); ++i) {
-        merged.push_back({r.findings[i], {detail.frame}});
+        merged.push_back({r.findings[i], {coverage.detail_frame}});
       }
     }
     // The alarm is a finding, seen in the frames that score above the threshold.
@@ -565,10 +740,10 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       std::map<std::string, double> fs_hz;
       for (const ChannelAnalysis& c : r.channels) fs_hz[c.name] = c.fs_hz;
       MergedFinding m{baseline_alarm_finding(*r.baseline, fs_hz, request.baseline_options), {}};
-      for (std::size_t k = 0; k < n_frames; ++k) {
+      for (std::size_t k = 0; k < n_segments; ++k) {
         if (segments[k].anomaly_score > r.baseline->threshold) m.frames.push_back(k);
       }
-      if (m.frames.empty()) m.frames.push_back(top.frame);
+      if (m.frames.empty()) m.frames.push_back(top_segment);
       merged.push_back(std::move(m));
     }
   }
@@ -606,8 +781,12 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     const AnalysisSegment& d = segments[coverage.detail_frame];
     std::string note =
         "long recording analysed in " + std::to_string(n_frames) + " frames of " +
-        fmt(coverage.frame_s, 4) + " s (" + std::to_string(coverage.frames_examined) +
-        " examined, " + fmt(coverage.analysed_s, 5) + " of " + fmt(duration, 5) +
+        fmt(coverage.frame_s, 4) + " s" +
+        (n_segments > n_frames
+             ? ", cut into " + std::to_string(n_segments) + " where the operating state changed"
+             : "") +
+        " (" + std::to_string(coverage.frames_examined) + " examined, " +
+        fmt(coverage.analysed_s, 5) + " of " + fmt(duration, 5) +
         " s): findings are every frame's, the channels' time indicators over " +
         "every sample examined, the spectra, TSA and locator those of " + fmt(d.start_s, 5) + "-" +
         fmt(d.end_s, 5) + " s (frame " + std::to_string(coverage.detail_frame + 1) + ", " +

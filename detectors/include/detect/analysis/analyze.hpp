@@ -322,6 +322,9 @@ struct AnalysisSegment {
   double start_s = 0, end_s = 0;
   std::string verdict;  // "finding", "no finding" or "not examined"
   std::string reason;   // why not examined (empty otherwise)
+  // Why the segment starts inside a frame: the operating state changed there (a speed step, a
+  // tacho splice); empty where it starts at a frame's start.
+  std::string cut;
   // The reference shaft's mean speed in the frame and where it came from (AnalysisSpeed); NaN
   // and empty without a gearbox or when not examined.
   double speed_rpm = std::numeric_limits<double>::quiet_NaN();

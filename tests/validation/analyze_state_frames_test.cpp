@@ -1,0 +1,127 @@
+// Frames that follow the operating state: a long log's frame is cut where the tacho shows a
+// splice (two recordings joined) or a speed step, and each part analysed as a segment of its own.
+// The two-stage box (two_stage_case.hpp), a tacho on the input shaft:
+//  - a healthy recording and a recording of the same gears with a chip on the counter shaft's z3,
+//    joined: the join falls inside a frame, which is cut there; the chip is found from the join
+//    on and not before, at the nominal speed and with the nominal speed 5 % off; without the
+//    tacho the frames stay whole (no splice is seen) and the chip is found after the join;
+//  - a speed step (1500 -> 1800 rpm in 0.2 s) inside a frame: cut at the step, each side at its
+//    own speed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "detect/analysis/analyze_file.hpp"
+#include "report/report.hpp"
+#include "two_stage_case.hpp"
+
+namespace {
+
+constexpr double kRpm = 1750.0;
+constexpr double kPartS = 4.5;  // each recording of the joined log
+
+// Each channel of `b` after the same channel of `a`.
+std::shared_ptr<const diag::Recording> joined(diag::Recording a, const diag::Recording& b) {
+  for (auto [to, from] : {std::pair{&a.signals, &b.signals}, std::pair{&a.tachos, &b.tachos}}) {
+    EXPECT_EQ(to->size(), from->size());
+    for (std::size_t i = 0; i < to->size(); ++i) {
+      auto& s = (*to)[i].samples;
+      s.insert(s.end(), (*from)[i].samples.begin(), (*from)[i].samples.end());
+    }
+  }
+  return std::make_shared<const diag::Recording>(std::move(a));
+}
+
+detect::AnalysisResult analysed(const std::shared_ptr<const diag::Recording>& rec, double rpm,
+                                double frame_s) {
+  detect::AnalyzeRequest q;
+  q.recording = detect::RecordingInput(rec, "joined");
+  q.gearbox = two_stage_case::gearbox(rpm);
+  q.frame_s = frame_s;
+  q.options.traces = false;
+  return detect::analyze_file(q).result;
+}
+
+// The healthy gears, then the same gears (the same manufacturing seed, another noise seed) with
+// the chip: 9 s in frames of 3 s, the join at 4.5 s in the middle of the second frame.
+TEST(AnalyzeStateFrames, AChipFromAJoinIsFoundFromTheJoinOn) {
+  const diag::Gearbox gb = two_stage_case::gearbox(kRpm);
+  const auto speed = sim::SpeedProfile::constant(kRpm);
+  const auto rec =
+      joined(two_stage_case::simulate(gb, speed, kPartS, std::nullopt),
+             two_stage_case::simulate(gb, speed, kPartS, two_stage_case::chip("z3"), {}, 3, 4));
+  for (const double off : {1.0, 1.05}) {
+    const detect::AnalysisResult r = analysed(rec, off * kRpm, 3.0);
+    ASSERT_TRUE(r.coverage);
+    EXPECT_TRUE(r.coverage->complete()) << off;
+    // 3 frames, the second cut at the join: 4 segments, the third starting there (to within a
+    // revolution, 34 ms).
+    ASSERT_EQ(r.segments.size(), 4u) << off << ": " << report::to_json(r)["segments"].dump(1);
+    const detect::AnalysisSegment& from_join = r.segments[2];
+    EXPECT_NEAR(from_join.start_s, kPartS, 60 / kRpm) << off;
+    EXPECT_NE(from_join.cut.find("splice"), std::string::npos) << from_join.cut;
+    EXPECT_TRUE(r.segments[1].cut.empty());
+    const auto found = two_stage_case::of_kind(r, "gear_damage");
+    ASSERT_EQ(found.size(), 1u) << off << ": " << report::to_json(r)["findings"].dump(1);
+    EXPECT_EQ(found[0].shaft, "counter") << off;
+    // Placed from the join (or the next frame) to the end; nothing before the join.
+    EXPECT_GE(found[0].first_s, from_join.start_s) << off;
+    EXPECT_LE(found[0].first_s, 2 * 3.0) << off;
+    EXPECT_DOUBLE_EQ(found[0].last_s, r.segments.back().end_s) << off;
+    for (std::size_t k = 0; k < 2; ++k) {
+      EXPECT_EQ(r.segments[k].verdict, "no finding") << off << " segment " << k;
+    }
+  }
+}
+
+// The same log without its tacho: no splice is seen (the frames stay as they are), the speed and
+// angles come from the vibration; the chip is found in the frames after the join's, and not in
+// the first (healthy) frame.
+TEST(AnalyzeStateFrames, WithoutTachoAChipFromAJoinIsFoundAfterIt) {
+  const diag::Gearbox gb = two_stage_case::gearbox(kRpm);
+  const auto speed = sim::SpeedProfile::constant(kRpm);
+  diag::Recording healthy = two_stage_case::simulate(gb, speed, kPartS, std::nullopt);
+  diag::Recording chipped =
+      two_stage_case::simulate(gb, speed, kPartS, two_stage_case::chip("z3"), {}, 3, 4);
+  healthy.tachos.clear();
+  chipped.tachos.clear();
+  const auto rec = joined(std::move(healthy), chipped);
+  for (const double off : {1.0, 1.05}) {
+    const detect::AnalysisResult r = analysed(rec, off * kRpm, 3.0);
+    ASSERT_EQ(r.segments.size(), 3u) << off;
+    EXPECT_EQ(r.segments[2].speed_source, "vibration") << off;
+    const auto found = two_stage_case::of_kind(r, "gear_damage");
+    ASSERT_EQ(found.size(), 1u) << off << ": " << report::to_json(r)["findings"].dump(1);
+    EXPECT_EQ(found[0].shaft, "counter") << off;
+    EXPECT_GE(found[0].first_s, 3.0) << off;
+    EXPECT_EQ(r.segments[0].verdict, "no finding") << off;
+    EXPECT_EQ(r.segments[2].verdict, "finding") << off;
+  }
+}
+
+// A speed step inside the first of two frames: cut at the step, each segment's speed its own.
+TEST(AnalyzeStateFrames, ASpeedStepInsideAFrameCutsItThere) {
+  const diag::Gearbox gb = two_stage_case::gearbox(1500);
+  const auto rec = std::make_shared<const diag::Recording>(two_stage_case::simulate(
+      gb, sim::SpeedProfile::ramp(1500, 1800, 1.5, 0.2), 6.0, std::nullopt));
+  const detect::AnalysisResult r = analysed(rec, 1500, 3.0);
+  ASSERT_EQ(r.segments.size(), 3u) << report::to_json(r)["segments"].dump(1);
+  const detect::AnalysisSegment& after = r.segments[1];
+  // At the ramp (1.5-1.7 s), to within 3 revolutions (0.12 s at 1500 rpm): the lines fitted over
+  // 8 revolutions on each side part most a little before or after it.
+  EXPECT_GE(after.start_s, 1.5 - 0.12);
+  EXPECT_LE(after.start_s, 1.7 + 0.12);
+  EXPECT_NE(after.cut.find("speed step"), std::string::npos) << after.cut;
+  EXPECT_EQ(r.segments[0].speed_source, "tacho");
+  // Each side steady but for the ramp's end it may hold (1 %: the steadiness rule).
+  EXPECT_NEAR(r.segments[0].speed_rpm / 1500, 1.0, 1e-2);
+  EXPECT_NEAR(r.segments[1].speed_rpm / 1800, 1.0, 1e-2);
+  EXPECT_NEAR(r.segments[2].speed_rpm / 1800, 1.0, 1e-3);
+  EXPECT_TRUE(two_stage_case::of_kind(r, "gear_damage").empty())
+      << report::to_json(r)["findings"].dump(1);
+}
+
+}  // namespace
