@@ -267,8 +267,18 @@ std::vector<StateCut> state_cuts(const diag::Recording& frame, double t0, int pp
     if (!(mean > 0)) continue;
     const double step = std::abs(after - before) / mean;
     if (step > kStepFraction) {
+      // Said as the median speeds of the kMinStateRevs revolutions on each side (the fitted lines
+      // meet inside the change).
+      const auto median_rpm = [&](std::size_t a, std::size_t b) {
+        std::vector<double> w(rate.begin() + static_cast<std::ptrdiff_t>(a),
+                              rate.begin() + static_cast<std::ptrdiff_t>(b));
+        const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
+        std::nth_element(w.begin(), m, w.end());
+        return 60 * *m;
+      };
       found.push_back({step / kStepFraction, i,
-                       "a speed step, " + fmt(60 * before, 5) + " to " + fmt(60 * after, 5) +
+                       "a speed step, " + fmt(median_rpm(i - kMinStateRevs, i), 5) + " to " +
+                           fmt(median_rpm(i + 1, std::min(n, i + 1 + kMinStateRevs)), 5) +
                            " rpm of tacho '" + tacho.name + "' at " + fmt(t0 + mid[i], 6) + " s"});
     } else if (partial[i]) {
       found.push_back({std::abs(rate[i] / mean - 1) / kSpliceFraction, i,
