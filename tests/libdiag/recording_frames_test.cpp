@@ -1,9 +1,11 @@
 // diag::open_recording_frames: a recording read frame by frame. A CSV file is read row by row
-// (memory: one frame), an HDF5 recording by blocks, any other in memory; the frames hold exactly
+// (memory: one frame), an HDF5 recording by blocks, a sound file after a seek, any other in
+// memory; the frames hold exactly
 // the samples the whole reader gives, in any order they are asked for.
 #include "diag/io/recording_frames.hpp"
 
 #include <gtest/gtest.h>
+#include <sndfile.h>
 #include <unistd.h>
 #include <zlib.h>
 
@@ -69,12 +71,13 @@ class RecordingFrames : public ::testing::Test {
 
 // Frames [0, 0.7), [0.7, 1.9), [1.9, end) of a CSV, asked for out of order, are the rows the
 // whole import gives, once each.
-void expect_frames_are_the_whole(const fs::path& file, const diag::OpenOptions& o) {
+void expect_frames_are_the_whole(const fs::path& file, const diag::OpenOptions& o,
+                                 const std::string& format = "csv") {
   diag::ImportOptions io;
   io.fs_hz = o.fs_hz;
   const diag::Recording whole = diag::import_recording(file, io);
   const diag::OpenedFrames opened = diag::open_recording_frames(file, o);
-  EXPECT_EQ(opened.format, "csv");
+  EXPECT_EQ(opened.format, format);
   const diag::RecordingFrames& f = *opened.frames;
   EXPECT_DOUBLE_EQ(f.duration_s(), whole.signals[0].duration_s());
   const double inf = std::numeric_limits<double>::infinity();
@@ -100,6 +103,38 @@ TEST_F(RecordingFrames, ACsvFileIsReadFrameByFrameAsTheWholeImportReadsIt) {
   o.fs_hz = 1000;
   expect_frames_are_the_whole(write("bare.csv", table(2500, false, false)), o);
   expect_frames_are_the_whole(write("named.csv", table(2500, true, false)), o);
+}
+
+// A sound file (WAV, FLAC), 2 channels at 1 kHz, 2500 frames written by libsndfile: kept open
+// and read after a seek per frame, the same samples as the whole import; a NaN of a float WAV is
+// kept in its frame, where the import refuses the file.
+TEST_F(RecordingFrames, ASoundFileIsReadFrameByFrameAsTheWholeImportReadsIt) {
+  const auto sound = [&](const std::string& name, int format, double nan_at = -1) {
+    const fs::path path = dir_ / name;
+    SF_INFO info{};
+    info.samplerate = 1000;
+    info.channels = 2;
+    info.format = format;
+    SNDFILE* file = sf_open(path.c_str(), SFM_WRITE, &info);
+    EXPECT_NE(file, nullptr) << sf_strerror(nullptr);
+    std::vector<double> frames;
+    for (int i = 0; i < 2500; ++i) {
+      frames.push_back(std::sin(0.01 * i) * 0.5);
+      frames.push_back(i == nan_at ? std::numeric_limits<double>::quiet_NaN() : (i % 100) / 128.0);
+    }
+    EXPECT_EQ(sf_writef_double(file, frames.data(), 2500), 2500);
+    sf_close(file);
+    return path;
+  };
+  expect_frames_are_the_whole(sound("pcm.wav", SF_FORMAT_WAV | SF_FORMAT_PCM_16), {}, "sound");
+  expect_frames_are_the_whole(sound("float.wav", SF_FORMAT_WAV | SF_FORMAT_FLOAT), {}, "sound");
+  expect_frames_are_the_whole(sound("log.flac", SF_FORMAT_FLAC | SF_FORMAT_PCM_16), {}, "sound");
+
+  const fs::path gap = sound("gap.wav", SF_FORMAT_WAV | SF_FORMAT_FLOAT, 1200);
+  EXPECT_THROW(diag::import_recording(gap), diag::InputError);
+  const diag::OpenedFrames opened = diag::open_recording_frames(gap);
+  EXPECT_TRUE(std::isnan(opened.frames->frame(1.0, 2.0).signals[1].samples[200]));
+  EXPECT_TRUE(std::isfinite(opened.frames->frame(0, 1.0).signals[1].samples[999]));
 }
 
 // A NaN the logger wrote is kept in its frame (the caller says the frame was not examined), where

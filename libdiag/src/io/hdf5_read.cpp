@@ -692,15 +692,14 @@ void RecordingReader::read_samples(const std::string& what, std::uint64_t offset
   }
 }
 
-namespace {
-
-// Samples of channel c within the first t seconds (all of them when t is infinite).
 std::uint64_t samples_within(std::uint64_t length, double fs_hz, double t) {
   if (!std::isfinite(t)) return length;
   const double n = std::floor(t * fs_hz);
   if (n <= 0) return 0;
   return n >= static_cast<double>(length) ? length : static_cast<std::uint64_t>(n);
 }
+
+namespace {
 
 std::vector<ChannelExtent> extents(const RecordingReader& reader) {
   std::vector<ChannelExtent> out;

@@ -1,7 +1,5 @@
 #include "diag/io/import.hpp"
 
-#include <sndfile.h>
-
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
@@ -25,104 +23,13 @@
 #include "diag/util/number_format.hpp"
 #include "import_common.hpp"
 #include "mat_file.hpp"
+#include "sound.hpp"
 
 namespace diag {
 
 namespace {
 
 using namespace import_detail;
-
-// ---- libsndfile ----------------------------------------------------------------------------
-
-std::uint32_t little_u32(const unsigned char* p) {
-  return std::uint32_t{p[0]} | std::uint32_t{p[1]} << 8 | std::uint32_t{p[2]} << 16 |
-         std::uint32_t{p[3]} << 24;
-}
-
-// A RIFF/WAVE file whose "data" chunk declares more bytes than the file holds is refused:
-// libsndfile would read the samples present and report that many frames, taking a cut file for
-// a short recording. The sizes 0 and 0xFFFFFFFF mean "unknown length" (written while streaming)
-// and are left to libsndfile. Other formats are not inspected.
-void check_wav_chunks(const std::filesystem::path& path, const std::string& where,
-                      std::uint64_t file_size) {
-  std::ifstream in(path, std::ios::binary);
-  unsigned char head[12] = {};
-  if (!in.read(reinterpret_cast<char*>(head), sizeof head)) return;
-  if (std::memcmp(head, "RIFF", 4) != 0 || std::memcmp(head + 8, "WAVE", 4) != 0) return;
-  std::uint64_t offset = 12;
-  // Each chunk advances by at least 8 bytes: at most file_size / 8 iterations.
-  while (offset + 8 <= file_size) {
-    unsigned char chunk[8];
-    in.seekg(static_cast<std::streamoff>(offset));
-    if (!in.read(reinterpret_cast<char*>(chunk), sizeof chunk)) return;
-    const std::uint64_t size = little_u32(chunk + 4);
-    const std::uint64_t body = offset + 8;
-    if (std::memcmp(chunk, "data", 4) == 0) {
-      if (size != 0 && size != 0xFFFFFFFFu && body + size > file_size) {
-        throw InputError(format_error(where, "data chunk",
-                                      "truncated: the header declares " + std::to_string(size) +
-                                          " bytes of samples, the file holds " +
-                                          std::to_string(file_size - body)));
-      }
-      return;
-    }
-    offset = body + size + (size & 1);  // chunks are padded to an even length
-  }
-}
-
-Recording import_sound(const std::filesystem::path& path, const std::string& where,
-                       const ImportOptions& options, std::uint64_t file_size) {
-  check_wav_chunks(path, where, file_size);
-  SF_INFO info{};
-  SNDFILE* file = sf_open(path.string().c_str(), SFM_READ, &info);
-  if (file == nullptr) {
-    throw InputError(format_error(where, "",
-                                  std::string("unrecognised format (expected .csv, .csv.gz, .mat, "
-                                              ".h5 or a sound file libsndfile reads): ") +
-                                      sf_strerror(nullptr)));
-  }
-  const auto frames = static_cast<std::size_t>(std::max<sf_count_t>(info.frames, 0));
-  const auto channels = static_cast<std::size_t>(std::max(info.channels, 0));
-  // A header's frame count is believed only as far as the file could hold it: 1024 samples per
-  // byte bounds even a lossless coder on silence (FLAC's constant subframes), so a corrupted
-  // count cannot make this allocate without limit.
-  if (channels == 0 || frames > file_size * 1024 / channels) {
-    sf_close(file);
-    throw InputError(format_error(where, "",
-                                  "the header declares " + std::to_string(frames) + " frames of " +
-                                      std::to_string(channels) + " channels, more than the " +
-                                      std::to_string(file_size) + "-byte file can hold"));
-  }
-  std::vector<double> interleaved(frames * channels);
-  const sf_count_t read = sf_readf_double(file, interleaved.data(), info.frames);
-  sf_close(file);
-  if (read != info.frames) {
-    throw InputError(format_error(where, "",
-                                  "truncated: read " + std::to_string(read) + " of " +
-                                      std::to_string(info.frames) + " frames"));
-  }
-  if (frames == 0) throw InputError(format_error(where, "", "empty file (no samples)"));
-  check_option_fs(where, options);
-
-  Recording rec;
-  for (std::size_t c = 0; c < channels; ++c) {
-    Signal s;
-    s.name = "ch" + std::to_string(c);
-    s.fs_hz = options.fs_hz.value_or(static_cast<double>(info.samplerate));
-    s.samples.resize(frames);
-    for (std::size_t i = 0; i < frames; ++i) {
-      const double value = interleaved[i * channels + c];
-      if (!std::isfinite(value)) {
-        throw InputError(format_error(where, "channel " + s.name + ", sample " + std::to_string(i),
-                                      finite_error(value)));
-      }
-      s.samples[i] = value;
-    }
-    rec.signals.push_back(std::move(s));
-  }
-  rec.metadata["source_fs_hz"] = std::to_string(info.samplerate);
-  return rec;
-}
 
 // ---- MATLAB .mat ---------------------------------------------------------------------------
 

@@ -12,6 +12,7 @@
 #include "diag/error.hpp"
 #include "diag/io/import.hpp"
 #include "diag/io/recording_frames.hpp"
+#include "sound.hpp"
 
 namespace diag {
 
@@ -103,6 +104,11 @@ constexpr std::array<Format, 4> kFormats = {{
     {"sound", [](const Probe&) { return true; },
      [](const std::filesystem::path& path, const OpenOptions& o) {
        return imported(path, o, "sound");
+     },
+     [](const std::filesystem::path& path, const OpenOptions& o) {
+       ImportOptions io;
+       io.fs_hz = o.fs_hz;
+       return std::make_shared<const RecordingFrames>(sound_frames(path, io));
      }},
 }};
 

@@ -8,15 +8,6 @@ namespace diag {
 
 namespace {
 
-// The index of the first sample at or after t [s] (floor(t fs), within [0, length]).
-std::size_t sample_at(const Signal& s, double t) {
-  if (!std::isfinite(t)) return s.samples.size();
-  const double n = std::floor(t * s.fs_hz);
-  if (n <= 0) return 0;
-  return n >= static_cast<double>(s.samples.size()) ? s.samples.size()
-                                                    : static_cast<std::size_t>(n);
-}
-
 Signal slice(const Signal& s, double t0, double t1) {
   Signal out;
   out.name = s.name;
@@ -28,8 +19,8 @@ Signal slice(const Signal& s, double t0, double t1) {
   out.shaft = s.shaft;
   out.mesh = s.mesh;
   out.ppr = s.ppr;
-  const std::size_t first = sample_at(s, t0);
-  const std::size_t end = std::max(first, sample_at(s, t1));
+  const std::size_t first = samples_within(s.samples.size(), s.fs_hz, t0);
+  const std::size_t end = std::max(first, samples_within(s.samples.size(), s.fs_hz, t1));
   out.samples.assign(s.samples.begin() + static_cast<std::ptrdiff_t>(first),
                      s.samples.begin() + static_cast<std::ptrdiff_t>(end));
   return out;

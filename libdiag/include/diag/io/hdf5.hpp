@@ -85,6 +85,11 @@ struct ChannelExtent {
   double fs_hz = 0;
 };
 
+// The samples of a channel of `length` samples at fs_hz within its first t seconds: floor(t fs)
+// within [0, length], all of them when t is infinite. Sample n is at n / fs_hz, so the samples of
+// [t0, t1) are [samples_within(t0), samples_within(t1)): consecutive spans hold each sample once.
+std::uint64_t samples_within(std::uint64_t length, double fs_hz, double t);
+
 // The longest duration T [s] whose first floor(T fs) samples of every channel keep within the
 // limits (as read_recording(path, limits) applies them); infinite when every sample does.
 double seconds_within_limits(std::span<const ChannelExtent> channels, const ReadLimits& limits);
