@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "detect/angular/tacho.hpp"
+#include "detect/spectral/welch.hpp"
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
 #include "diag/io/open_recording.hpp"
@@ -424,9 +425,18 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     std::vector<Finding> findings;
     std::string baseline_error;
   };
+  // A channel's Welch PSD summed over segments (value x segments), for the whole log's.
+  struct PsdSum {
+    std::size_t nperseg = 0;
+    double resolution_hz = 0;
+    std::vector<double> frequency_hz, weighted;
+    std::size_t segments = 0;
+  };
   struct FrameOutcome {
     std::vector<PartOutcome> parts;  // the frame, or its parts where the operating state changed
     std::map<std::string, MomentAccumulator> moments;
+    std::map<std::string, PsdSum> psd;  // its time-domain parts' (merged in frame order)
+    bool merged = false;
     std::map<std::string, double> timing;
     double read_s = 0;
   };
@@ -595,6 +605,28 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       for (std::size_t i : sensor_channels(part.rec)) {
         const diag::Signal& sig = part.rec.signals[i];
         o.moments[sig.name].add(sig.samples);
+        // The Welch PSD of a framed log is every steady part's (the channel stage's layout); the
+        // values only where a plot draws them, the segment count always.
+        if (!framed || res.speed.spectra_domain == "order" || sig.samples.size() < 64) continue;
+        WelchOptions wo;
+        wo.fs_hz = sig.fs_hz;
+        wo.nperseg = analysis_stages::welch_segment(opt, sig.samples.size());
+        PsdSum& sum = o.psd[sig.name];
+        if (sum.segments > 0 && sum.nperseg != wo.nperseg) continue;  // a short part: left out
+        sum.nperseg = wo.nperseg;
+        sum.resolution_hz = sig.fs_hz / static_cast<double>(wo.fft_length());
+        if (!opt.traces) {
+          sum.segments += wo.segments(sig.samples.size());
+          continue;
+        }
+        const Psd psd = welch(sig.samples, wo);
+        if (sum.weighted.empty()) {
+          sum.frequency_hz = psd.frequency_hz;
+          sum.weighted.assign(psd.value.size(), 0.0);
+        }
+        const double k = static_cast<double>(psd.segments);
+        for (std::size_t b = 0; b < psd.value.size(); ++b) sum.weighted[b] += k * psd.value[b];
+        sum.segments += psd.segments;
       }
       for (const ChannelAnalysis& c : res.channels) {
         if (!c.sensor) continue;
@@ -638,9 +670,33 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       o.parts.push_back(std::move(po));
     }
   };
+  // The frames' PSD sums merged in frame order as they complete (the same sums at any thread
+  // count; only the frames in flight hold theirs).
+  std::map<std::string, PsdSum> psd_total;
+  std::size_t next_merge = 0;
+  const auto merge_psd = [&](std::size_t k) {
+    const std::lock_guard<std::mutex> lock(keep_lock);
+    outcome[k].merged = true;
+    for (; next_merge < n_frames && outcome[next_merge].merged; ++next_merge) {
+      for (auto& [name, part] : outcome[next_merge].psd) {
+        PsdSum& total = psd_total[name];
+        if (total.segments > 0 && total.nperseg != part.nperseg) continue;
+        if (total.segments == 0) {
+          total = std::move(part);
+          continue;
+        }
+        for (std::size_t b = 0; b < total.weighted.size() && b < part.weighted.size(); ++b) {
+          total.weighted[b] += part.weighted[b];
+        }
+        total.segments += part.segments;
+      }
+      outcome[next_merge].psd.clear();
+    }
+  };
   diag::parallel_for(n_frames, frame_threads, [&](std::size_t k) {
     try {
       analyse_frame(k);
+      merge_psd(k);
     } catch (...) {
       {
         const std::lock_guard<std::mutex> lock(read_lock);
@@ -787,6 +843,22 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       if (c.sensor && it != moments.end() && it->second.count() > 0) {
         c.time = analysis_stages::time_indicators(it->second.result());
       }
+      // The Welch PSD over every steady part, where the detail's own is of the time domain and
+      // of the same layout.
+      const auto p = psd_total.find(c.name);
+      if (!c.sensor || p == psd_total.end() || p->second.segments == 0 ||
+          r.speed.spectra_domain == "order" || p->second.resolution_hz != c.psd_resolution_hz) {
+        continue;
+      }
+      const PsdSum& sum = p->second;
+      c.psd_segments = sum.segments;
+      if (!opt.traces || sum.weighted.empty()) continue;
+      std::vector<double> mean(sum.weighted.size());
+      for (std::size_t b = 0; b < mean.size(); ++b) {
+        mean[b] = sum.weighted[b] / static_cast<double>(sum.segments);
+      }
+      c.psd = decimate_for_plot(sum.frequency_hz, mean, static_cast<std::size_t>(opt.plot_points),
+                                Decimation::kMax);
     }
     const AnalysisSegment& d = segments[coverage.detail_frame];
     std::string note =
@@ -797,9 +869,10 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
              : "") +
         " (" + std::to_string(coverage.frames_examined) + " examined, " +
         fmt(coverage.analysed_s, 5) + " of " + fmt(duration, 5) +
-        " s): findings are every frame's, the channels' time indicators over " +
-        "every sample examined, the spectra, TSA and locator those of " + fmt(d.start_s, 5) + "-" +
-        fmt(d.end_s, 5) + " s (frame " + std::to_string(coverage.detail_frame + 1) + ", " +
+        " s): findings are every frame's, the channels' time indicators and Welch PSD over " +
+        "every sample examined (the PSD over the steady ones), the other spectra, TSA and " +
+        "locator those of " + fmt(d.start_s, 5) + "-" + fmt(d.end_s, 5) + " s (frame " +
+        std::to_string(coverage.detail_frame + 1) + ", " +
         (detail_confidence > 0 ? "where the most confident finding is seen"
                                : "the first examined") +
         ")";
