@@ -4,6 +4,7 @@
 // analysis single-threaded) and, under mpirun, split across the ranks (tools/parallel.hpp); rank
 // 0 gathers the rows and writes the table in the order the files were given. A file that cannot
 // be read or analysed is a row with its error, never the end of the batch.
+#include <algorithm>
 #include <boost/program_options.hpp>
 #include <cctype>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -26,9 +28,12 @@
 #include "detect/analysis/analyze_file.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
+#include "diag/io/hdf5.hpp"
 #include "diag/io/open_recording.hpp"
+#include "diag/util/number_format.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
+#include "report/report.hpp"
 #include "report/svg_plot.hpp"
 
 namespace po = boost::program_options;
@@ -94,16 +99,19 @@ std::string time_stamp(const std::map<std::string, std::string>& metadata,
   return m[0] + "-" + m[1] + "-" + m[2] + "T" + m[3] + ":" + m[4] + ":" + m[5];
 }
 
-std::string short_findings(const detect::AnalysisResult& r) {
+// The findings in short form, from their JSON (report::to_json's): "gear_damage counter z2 z3
+// (100 %); ...".
+std::string short_findings(const json& findings) {
   std::string out;
-  for (const detect::Finding& f : r.findings) {
+  for (const json& f : findings) {
     std::ostringstream s;
-    s << f.kind;
-    if (!f.shaft.empty()) s << " " << f.shaft;
-    for (const std::string& g : f.gears) s << " " << g;
-    if (!f.bearing.empty()) s << " " << f.bearing;
-    if (!f.bearing.empty()) s << " " << diag::to_string(f.fault);
-    s << " (" << std::lround(100 * f.confidence) << " %)";
+    s << f.value("kind", "");
+    if (!f.value("shaft", "").empty()) s << " " << f["shaft"].get<std::string>();
+    for (const json& g : f.value("gears", json::array())) s << " " << g.get<std::string>();
+    if (!f.value("bearing", "").empty()) {
+      s << " " << f["bearing"].get<std::string>() << " " << f.value("fault", "");
+    }
+    s << " (" << std::lround(100 * f.value("confidence", 0.0)) << " %)";
     out += (out.empty() ? "" : "; ") + s.str();
   }
   return out;
@@ -151,7 +159,14 @@ json analyse(const std::string& file, Read read, const Inputs& in) {
     const detect::AnalysisResult& r = a.result;
     row["time"] = time_stamp(a.metadata, file);
     if (r.speed.mean_rpm > 0) row["speed_rpm"] = r.speed.mean_rpm;
-    row["findings"] = short_findings(r);
+    const json findings = report::to_json(r)["findings"];
+    row["findings"] = short_findings(findings);
+    row["finding_list"] = findings;
+    for (const detect::ChannelAnalysis& c : r.channels) {
+      if (!c.sensor) continue;
+      row["first_channel"] = c.name;
+      break;
+    }
     if (r.baseline) {
       row["anomaly_score"] = r.baseline->anomaly_score;
       row["alarm"] = r.baseline->alarm ? 1 : 0;
@@ -200,13 +215,16 @@ std::string table_csv(const std::vector<json>& rows, const std::set<std::string>
 
 // The trend page: one plot per chosen indicator and one of the anomaly score with the alarm
 // threshold, against the recording's position in the table (the files' order).
-std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen) {
+std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
+                       const std::string& order, const json& events) {
   std::ostringstream html;
   html << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>geardiag batch trend"
-          "</title><style>body{font-family:sans-serif;margin:2em}</style></head><body>"
+          "</title><style>body{font-family:sans-serif;margin:2em}td,th{padding:2px 8px;"
+          "text-align:left}.bad{color:#d62728}.ref{color:#555}</style></head><body>"
           "<h1>geardiag batch: trend over "
        << rows.size() << " recordings</h1><p>x: the recording's position in the table";
-  html << " (files in the order given; failed files leave a gap).</p>";
+  html << (order == "time" ? " (in time order" : " (files in the order given")
+       << "; failed files leave a gap).</p>";
   auto plot = [&](const std::string& title,
                   const std::function<std::optional<double>(const json&)>& value,
                   double threshold) {
@@ -253,8 +271,148 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
         },
         threshold);
   }
+  // The history: its events, then every recording with its verdict.
+  if (!events.empty()) {
+    html << "<h2>Events</h2><ul>";
+    for (const json& e : events) {
+      html << "<li class=bad>"
+           << report::html_escape(e["kind"].get<std::string>() + " " +
+                                  e["fault"].get<std::string>());
+      for (const char* k : {"shaft", "bearing"}) {
+        if (e.contains(k)) html << " " << report::html_escape(e[k].get<std::string>());
+      }
+      html << ": from recording " << e["first_recording"].get<std::size_t>() << " ("
+           << report::html_escape(e["first_time"].get<std::string>()) << "), seen in "
+           << e["recordings"].size() << "</li>";
+    }
+    html << "</ul>";
+  }
+  if (rows.front().contains("index")) {
+    html << "<h2>Recordings</h2><table><tr><th>#</th><th>file</th><th>time</th><th>status</th>"
+            "<th>anomaly score</th><th>findings</th></tr>";
+    for (const json& r : rows) {
+      const std::string status = r.value("status", "");
+      const bool alarm = r.value("alarm", 0) != 0;
+      html << "<tr class="
+           << (status == "reference" ? "ref"
+               : alarm               ? "bad"
+                                     : "ok")
+           << "><td>" << r["index"].get<std::size_t>() << "</td><td>"
+           << report::html_escape(r.value("file", "")) << "</td><td>"
+           << report::html_escape(r.value("time", "")) << "</td><td>" << report::html_escape(status)
+           << "</td><td>"
+           << (r.contains("anomaly_score")
+                   ? diag::format_significant(r["anomaly_score"].get<double>(), 4)
+                   : std::string())
+           << "</td><td>" << report::html_escape(r.value("error", r.value("findings", "")))
+           << "</td></tr>";
+    }
+    html << "</table>";
+  }
   html << "</body></html>\n";
   return html.str();
+}
+
+// The time a file says it was recorded, before it is analysed: an HDF5 recording's metadata
+// (its header only), else a date-time in its name; empty when neither says (or the file cannot
+// be opened: its row then says why).
+std::string file_time(const std::string& file) {
+  std::map<std::string, std::string> metadata;
+  try {
+    if (diag::is_hdf5_file(file)) metadata = diag::RecordingReader(file).metadata();
+  } catch (const std::exception&) {
+    metadata.clear();
+  }
+  return time_stamp(metadata, file);
+}
+
+// What makes two recordings' findings one fault in one place (an event of the history).
+std::string event_key(const json& f) {
+  std::string key = f.value("kind", "") + "|" + f.value("fault", "") + "|" + f.value("shaft", "") +
+                    "|" + f.value("bearing", "") + "|";
+  for (const json& g : f.value("gears", json::array())) key += g.get<std::string>() + ",";
+  return key;
+}
+
+// The history's verdicts on the rows (in time order; `reference`: the healthy reference's rows):
+// a later recording whose speed lies outside the reference's (its range widened by
+// kComparableSpeed) is "not comparable": what compares it with the reference (the anomaly
+// score, its alarm and the wear of each mesh) is taken out of its row, never read against the
+// wrong state. Then the events: each distinct finding of the later comparable recordings, with
+// the recordings that show it. Returns the notes.
+constexpr double kComparableSpeed = 0.05;
+
+std::vector<std::string> judge_history(std::vector<json>& rows, const std::vector<bool>& reference,
+                                       json& events) {
+  std::vector<std::string> notes;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    rows[i]["index"] = i;
+    if (!reference[i]) continue;
+    rows[i]["reference"] = true;
+    if (rows[i]["status"] == "ok") rows[i]["status"] = "reference";
+    if (rows[i].contains("speed_rpm")) {
+      lo = std::min(lo, rows[i]["speed_rpm"].get<double>());
+      hi = std::max(hi, rows[i]["speed_rpm"].get<double>());
+    }
+  }
+  const bool band = lo <= hi;
+  if (band) {
+    notes.push_back("the reference runs at " + diag::format_significant(lo, 5) + "-" +
+                    diag::format_significant(hi, 5) + " rpm: a recording outside " +
+                    diag::format_significant(lo * (1 - kComparableSpeed), 5) + "-" +
+                    diag::format_significant(hi * (1 + kComparableSpeed), 5) +
+                    " rpm is not comparable");
+  } else {
+    notes.push_back(
+        "no speed known for the reference (no description): every recording is "
+        "compared with it");
+  }
+  std::map<std::string, std::size_t> index;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    json& row = rows[i];
+    if (reference[i] || row["status"] != "ok") continue;
+    if (band && row.contains("speed_rpm")) {
+      const double v = row["speed_rpm"].get<double>();
+      if (v < lo * (1 - kComparableSpeed) || v > hi * (1 + kComparableSpeed)) {
+        row["status"] = "not comparable";
+        row["error"] = "its speed, " + diag::format_significant(v, 5) +
+                       " rpm, is outside the reference's: not compared with it";
+        for (const char* k : {"anomaly_score", "alarm", "alarm_threshold"}) row.erase(k);
+        json kept = json::array();
+        for (const json& f : row["finding_list"]) {
+          if (f.value("kind", "") != "baseline" && f.value("kind", "") != "wear") kept.push_back(f);
+        }
+        row["finding_list"] = kept;
+        row["findings"] = short_findings(kept);
+      }
+    }
+    for (const json& f : row.value("finding_list", json::array())) {
+      const auto [it, fresh] = index.emplace(event_key(f), events.size());
+      if (fresh) {
+        json e = {{"kind", f.value("kind", "")}, {"fault", f.value("fault", "")}};
+        for (const char* k : {"shaft", "bearing", "gears"}) {
+          if (f.contains(k)) e[k] = f[k];
+        }
+        e["first_recording"] = i;
+        e["first_time"] = row.value("time", "");
+        e["recordings"] = json::array();
+        e["trend"] = json::array();
+        events.push_back(e);
+      }
+      json& e = events[it->second];
+      if (e["recordings"].empty() || e["recordings"].back() != i) {
+        e["recordings"].push_back(i);
+        json point = {{"recording", i}, {"confidence", f.value("confidence", 0.0)}};
+        if (row.contains("anomaly_score") && f.value("kind", "") == "baseline") {
+          point["anomaly_score"] = row["anomaly_score"];
+        }
+        e["trend"].push_back(point);
+      }
+      e["last_recording"] = i;
+    }
+  }
+  return notes;
 }
 
 std::vector<std::string> read_list(const std::string& list) {
@@ -275,14 +433,16 @@ std::vector<std::string> read_list(const std::string& list) {
 }  // namespace
 
 int cmd_batch(int argc, char** argv) {
-  std::vector<std::string> files, baselines, trend;
-  std::string list, gearbox, table, html;
+  std::vector<std::string> files, baselines, trend, healthy;
+  std::string list, gearbox, table, html, json_out;
   double fs_hz = 0;
   int jobs = 0;
+  int healthy_first = 0;
   Inputs in;
   po::options_description desc(
       "geardiag batch FILE... | --list LIST.txt [--gearbox GB.json] [--baseline FILE...] "
-      "-o TABLE.csv [--html OUT.html] [--trend FEATURE...] [--jobs N]\n"
+      "-o TABLE.csv [--html OUT.html] [--json OUT.json] [--trend FEATURE...] [--jobs N]\n"
+      "geardiag batch FILE... --healthy-first K | --healthy FILE... [...]: a machine's history\n"
       "mpirun -np N geardiag batch ...\n\n"
       "Analyses every recording as `geardiag analyze` does and writes one row per recording:\n"
       "file, time stamp (the file's metadata, else its name), speed, status and error, the\n"
@@ -290,13 +450,23 @@ int cmd_batch(int argc, char** argv) {
       "the findings in short form and every condition indicator per channel\n"
       "(\"<channel>/<indicator>\"). A file that fails is a row with its error. --html: the\n"
       "trend of the --trend indicators and of the anomaly score with its alarm threshold.\n"
-      "--list: one file per line (relative to the list's folder; '#' comments).\n\noptions");
+      "--list: one file per line (relative to the list's folder; '#' comments).\n"
+      "A history (--healthy-first K or --healthy): the recordings in time order (the file's\n"
+      "time, else a date in its name, else the order given), the first K (or the --healthy\n"
+      "files) the machine's healthy reference; every later recording compared with it (not\n"
+      "comparable outside the reference's speeds); --json: the recordings and the events (each\n"
+      "distinct finding with the recordings that show it).\n\noptions");
   desc.add_options()("help,h", "this help")("files", po::value(&files)->multitoken(), "recordings")(
       "list", po::value(&list), "a file listing the recordings, one per line")(
       "gearbox", po::value(&gearbox), "gearbox description (default: each file's /gearbox)")(
       "baseline", po::value(&baselines)->multitoken(), "healthy recordings to compare with")(
       "output,o", po::value(&table)->required(), "the table (CSV; '-': stdout)")(
       "html", po::value(&html), "trend page (HTML)")(
+      "json", po::value(&json_out), "the recordings and the history's events (JSON)")(
+      "healthy-first", po::value(&healthy_first)->default_value(0),
+      "a history: the first K recordings in time order are the healthy reference")(
+      "healthy", po::value(&healthy)->multitoken(),
+      "a history: these recordings are the healthy reference")(
       "trend", po::value(&trend)->multitoken(),
       "indicators to trend (default: rms and kurtosis of the first sensor channel)")(
       "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT")(
@@ -312,13 +482,58 @@ int cmd_batch(int argc, char** argv) {
     for (std::string& f : read_list(list)) files.push_back(std::move(f));
   }
   if (files.empty()) throw diag::InputError("no recordings: give FILE... or --list LIST.txt");
+  // A history: the recordings in time order, the reference first.
+  const bool history = healthy_first != 0 || !healthy.empty();
+  std::vector<std::string> history_notes;
+  std::vector<bool> reference;
+  std::string order = "given";
+  if (history) {
+    if (!baselines.empty()) {
+      throw diag::InputError(
+          "--baseline: a history's baseline is its reference "
+          "(--healthy-first or --healthy), not given apart");
+    }
+    if (healthy_first != 0 && !healthy.empty()) {
+      throw diag::InputError("--healthy-first and --healthy: give one reference, not both");
+    }
+    if (healthy_first < 0 || static_cast<std::size_t>(healthy_first) >= files.size()) {
+      throw diag::InputError("--healthy-first: " + std::to_string(healthy_first) +
+                             " is not in [1, " + std::to_string(files.size() - 1) +
+                             "] (the reference, and at least one recording after it)");
+    }
+    std::vector<std::pair<std::string, std::string>> timed;  // (time, file)
+    bool every_time = true;
+    for (const std::string& f : files) {
+      timed.emplace_back(file_time(f), f);
+      every_time = every_time && !timed.back().first.empty();
+    }
+    if (every_time) {
+      std::stable_sort(timed.begin(), timed.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      order = "time";
+      for (std::size_t i = 0; i < files.size(); ++i) files[i] = timed[i].second;
+    } else {
+      history_notes.push_back("not every recording says when it was made: the order given");
+    }
+    if (!healthy.empty()) {
+      files.insert(files.begin(), healthy.begin(), healthy.end());
+      baselines = healthy;
+    } else {
+      baselines.assign(files.begin(), files.begin() + healthy_first);
+    }
+    reference.assign(files.size(), false);
+    std::fill(reference.begin(), reference.begin() + static_cast<std::ptrdiff_t>(baselines.size()),
+              true);
+  }
   if (vm.count("fs")) {
     if (!(fs_hz > 0 && std::isfinite(fs_hz))) throw diag::InputError("--fs: must be > 0");
     in.fs = fs_hz;
   }
   const bool table_stdout = check_output(table, "--output");
-  if (!html.empty() && check_output(html, "--html") && table_stdout) {
-    throw diag::InputError("-o - and --html -: only one output can go to stdout");
+  const bool html_stdout = !html.empty() && check_output(html, "--html");
+  const bool json_stdout = !json_out.empty() && check_output(json_out, "--json");
+  if (table_stdout + html_stdout + json_stdout > 1) {
+    throw diag::InputError("-o, --html and --json: only one output can go to stdout");
   }
   if (!gearbox.empty()) in.gearbox = diag::load_gearbox(gearbox);
   // The baseline is read before any analysis: a bad baseline file stops the batch with its name.
@@ -356,6 +571,12 @@ int cmd_batch(int argc, char** argv) {
   for (const std::string& p : parts) {
     for (const json& item : json::parse(p)) all[item[0].get<std::size_t>()] = item[1];
   }
+  json events = json::array();
+  if (history) {
+    for (std::string& n : judge_history(all, reference, events)) {
+      history_notes.push_back(std::move(n));
+    }
+  }
   std::set<std::string> features;
   std::size_t failed = 0, alarms = 0;
   for (const json& r : all) {
@@ -366,21 +587,55 @@ int cmd_batch(int argc, char** argv) {
     }
   }
   write_output(table, table_csv(all, features), "--output");
+  if (!json_out.empty()) {
+    json recordings = json::array();
+    for (const json& r : all) {
+      json out = r;
+      out.erase("finding_list");
+      out.erase("features");
+      out.erase("first_channel");
+      out["findings"] = r.value("finding_list", json::array());
+      out["indicators"] = r.value("features", json::object());
+      recordings.push_back(std::move(out));
+    }
+    json doc = {
+        {"order", order}, {"notes", history_notes}, {"recordings", recordings}, {"events", events}};
+    if (history) {
+      doc["reference"] = json::array();
+      for (std::size_t i = 0; i < files.size(); ++i) {
+        if (reference[i]) doc["reference"].push_back(files[i]);
+      }
+    }
+    write_output(json_out, doc.dump(1) + "\n", "--json");
+  }
   if (!html.empty()) {
-    if (trend.empty()) {
+    if (trend.empty()) {  // the first sensor channel's, as the analysis lists them
       for (const json& r : all) {
-        if (!r.contains("features") || r["features"].empty()) continue;
-        const std::string first = r["features"].begin().key();
-        const std::string channel = first.substr(0, first.find('/'));
+        if (r.value("first_channel", "").empty()) continue;
+        const std::string channel = r["first_channel"].get<std::string>();
         trend = {channel + "/rms", channel + "/kurtosis"};
         break;
       }
     }
-    write_output(html, trend_html(all, trend), "--html");
+    write_output(html, trend_html(all, trend, order, events), "--html");
   }
-  (table_stdout ? std::cerr : std::cout)
-      << files.size() << " recordings, " << failed << " failed, " << alarms << " alarm(s) -> "
-      << table << (html.empty() ? "" : " and " + html) << "\n";
+  std::ostream& say = table_stdout || html_stdout || json_stdout ? std::cerr : std::cout;
+  say << files.size() << " recordings, " << failed << " failed, " << alarms << " alarm(s) -> "
+      << table << (html.empty() ? "" : " and " + html)
+      << (json_out.empty() ? "" : " and " + json_out) << "\n";
+  for (const std::string& n : history_notes) say << "note: " << n << "\n";
+  for (const json& e : events) {
+    const std::size_t first = e["first_recording"].get<std::size_t>();
+    say << "event: " << e["kind"].get<std::string>() << " " << e["fault"].get<std::string>();
+    for (const char* k : {"shaft", "bearing"}) {
+      if (e.contains(k)) say << " " << e[k].get<std::string>();
+    }
+    say << ": from recording " << first << " (" << fs::path(files[first]).filename().string()
+        << (e["first_time"].get<std::string>().empty() ? ""
+                                                       : ", " + e["first_time"].get<std::string>())
+        << "), in " << e["recordings"].size() << " of the " << files.size() - first
+        << " recordings from there\n";
+  }
   return 0;
 }
 
