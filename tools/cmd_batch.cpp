@@ -120,6 +120,8 @@ std::string short_findings(const json& findings) {
 struct Inputs {
   std::optional<diag::Gearbox> gearbox;          // --gearbox
   std::vector<detect::RecordingInput> baseline;  // read once, prepared for each file's gearbox
+  // A history's first reference recording: the damaged-shaft locator's revolution averages.
+  std::optional<detect::RecordingInput> gear_baseline;
   ChannelOptions channels;
   std::optional<double> fs;
 };
@@ -155,7 +157,22 @@ json analyse(const std::string& file, Read read, const Inputs& in) {
     request.baseline = in.baseline;
     request.baseline_required = false;  // the row keeps its analysis; the error column says why
     request.options.threads = 1;        // the files are the parallel work
-    const detect::FileAnalysis a = detect::analyze_file(request);
+    request.gear_baseline = in.gear_baseline;
+    std::string gear_baseline_error;
+    const detect::FileAnalysis a = [&] {
+      if (!request.gear_baseline) return detect::analyze_file(request);
+      // A history's gear baseline where the recordings allow one (a description, revolutions
+      // to average); else the analysis without it, the reason kept.
+      try {
+        return detect::analyze_file(request);
+      } catch (const diag::InputError& e) {
+        const std::string what = e.what();
+        if (!what.starts_with("--gear-baseline")) throw;
+        gear_baseline_error = "gear baseline not used: " + what;
+        request.gear_baseline.reset();
+        return detect::analyze_file(request);
+      }
+    }();
     const detect::AnalysisResult& r = a.result;
     row["time"] = time_stamp(a.metadata, file);
     if (r.speed.mean_rpm > 0) row["speed_rpm"] = r.speed.mean_rpm;
@@ -173,6 +190,10 @@ json analyse(const std::string& file, Read read, const Inputs& in) {
       row["alarm_threshold"] = r.baseline->threshold;
     }
     if (!a.baseline_error.empty()) row["error"] = a.baseline_error;
+    if (!gear_baseline_error.empty()) {
+      row["error"] =
+          row.value("error", "") + (row.contains("error") ? "; " : "") + gear_baseline_error;
+    }
     json features = json::object();
     for (const auto& [name, value] : detect::features(r)) features[name] = value;
     row["features"] = features;
@@ -547,6 +568,8 @@ int cmd_batch(int argc, char** argv) {
       throw diag::InputError(std::string("--baseline ") + e.what());
     }
   }
+  // A history compares each recording's revolution averages with the reference's first.
+  if (history) in.gear_baseline = in.baseline.front();
   std::vector<std::size_t> mine;
   for (std::size_t i = static_cast<std::size_t>(world.rank()); i < files.size();
        i += static_cast<std::size_t>(world.size())) {

@@ -1,7 +1,8 @@
 // `geardiag batch` as a machine's history (--healthy-first K, --healthy): the recordings put in
-// time order, the first K the healthy reference, every later one compared with it; a recording
-// at a speed the reference never ran at is "not comparable"; the JSON's events name each
-// distinct finding with the recordings that show it.
+// time order, the first K the healthy reference, every later one compared with it (its anomaly
+// score, and the damaged-shaft locator against the reference's revolution averages); a
+// recording at a speed the reference never ran at is "not comparable"; the JSON's events name
+// each distinct finding with the recordings that show it.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -119,6 +120,53 @@ TEST(BatchHistory, ARecordingAtAnotherSpeedIsNotComparable) {
   EXPECT_NE(all_reference.out.find("--healthy-first"), std::string::npos) << all_reference.out;
   const auto both = run("batch " + files[2] + " --healthy-first 1 --baseline " + files[0] + table);
   EXPECT_EQ(both.code, 2) << both.out;
+}
+
+// A chip that appears and grows on the counter shaft's z3, on grade-6 gears (ISO 1328 pitch
+// errors) with 0.5 m/s^2 of sensor noise: alone, each recording's locator sees nothing under the
+// gears' own pitch errors; the history compares every recording's revolution averages with the
+// reference's first (the gear baseline), and the chip is an event from its first recording, on
+// the counter shaft; the healthy recording after the reference stays clean.
+TEST(BatchHistory, AChipOnAGradeSixGearIsAnEventFromItsFirstRecording) {
+  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json";
+  std::vector<std::string> files;
+  const std::string healthy =
+      R"("accuracy_grade": 6, "seed": 5, "sensors": {"noise_m_per_s2": 0.5,)";
+  const std::vector<std::string> scenarios = {
+      "{" + healthy + R"( "noise_seed": 11}})", "{" + healthy + R"( "noise_seed": 12}})",
+      "{" + healthy + R"( "noise_seed": 13}})",
+      "{" + healthy + R"( "noise_seed": 14}, "faults": [{"gear": "z3", "tooth": 5, "type": "chip",
+          "size_mm": 1.0}]})",
+      "{" + healthy + R"( "noise_seed": 15}, "faults": [{"gear": "z3", "tooth": 5, "type": "chip",
+          "size_mm": 1.5}]})"};
+  for (std::size_t i = 0; i < scenarios.size(); ++i) {
+    const fs::path sc = scratch("batch_history", "chip" + std::to_string(i) + ".json");
+    std::ofstream(sc) << scenarios[i];
+    const fs::path f = scratch("batch_history", "chip" + std::to_string(i) + ".h5");
+    const auto s = run("simulate --gearbox " + gb + " --scenario " + sc.string() +
+                       " --rpm 2000 --duration 1.5 --fs 10000 -o " + f.string());
+    ASSERT_EQ(s.code, 0) << s.out;
+    files.push_back(f.string());
+  }
+  // Alone, the first chipped recording shows nothing.
+  const fs::path alone = scratch("batch_history", "alone.json");
+  ASSERT_EQ(run("analyze " + files[3] + " --json " + alone.string()).code, 0);
+  EXPECT_TRUE(read_json(alone)["findings"].empty()) << read_json(alone)["findings"].dump(1);
+
+  const fs::path js = scratch("batch_history", "chip.json");
+  std::string given;
+  for (const std::string& f : files) given += " " + f;
+  const auto r = run("batch" + given + " --healthy-first 2 -o " +
+                     scratch("batch_history", "chip.csv").string() + " --json " + js.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const json h = read_json(js);
+  EXPECT_TRUE(h["recordings"][2]["findings"].empty()) << h["recordings"][2].dump(1);
+  ASSERT_EQ(h["events"].size(), 1u) << h["events"].dump(1);
+  const json& e = h["events"][0];
+  EXPECT_EQ(e["kind"], "gear_damage");
+  EXPECT_EQ(e["shaft"], "counter");
+  EXPECT_EQ(e["first_recording"], 3);
+  EXPECT_EQ(e["recordings"], json({3, 4}));
 }
 
 }  // namespace
