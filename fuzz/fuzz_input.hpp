@@ -13,9 +13,11 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "diag/error.hpp"
+#include "diag/io/recording_frames.hpp"
 
 namespace fuzz {
 
@@ -29,6 +31,19 @@ inline std::filesystem::path input_file(const char* extension, const std::uint8_
   std::ofstream(path, std::ios::binary | std::ios::trunc)
       .write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return path;
+}
+
+// Opens `path` frame by frame (fs_hz > 0: the rate given) and reads its frames out of order:
+// the second half, the first half, the whole.
+inline void read_in_frames(const std::filesystem::path& path, double fs_hz) {
+  diag::OpenOptions o;
+  if (fs_hz > 0) o.fs_hz = fs_hz;
+  const diag::OpenedFrames opened = diag::open_recording_frames(path, o);
+  const double d = opened.frames->duration_s();
+  const double end = std::numeric_limits<double>::infinity();
+  opened.frames->frame(0.5 * d, end);
+  opened.frames->frame(0, 0.5 * d);
+  opened.frames->frame(0, end);
 }
 
 template <typename F>
