@@ -15,6 +15,7 @@
 #include "diag/io/open_recording.hpp"
 #include "diag/io/recording_frames.hpp"
 #include "diag/util/parallel_for.hpp"
+#include "kinematics.hpp"
 #include "stages.hpp"
 
 namespace detect {
@@ -190,25 +191,105 @@ std::string tacho_dropout(const diag::Recording& frame, double t0, int ppr) {
 }
 
 // Where the operating state changes inside a frame, so that the frame is cut there: a time [s
-// from the frame's start] and what changed. From the first tacho's once-per-revolution pulses:
-// at each revolution interval the speed fitted over the kStateRevs revolutions before it and the
-// kStateRevs after it (straight lines: a run-up's steady ramp is no change) are compared where
-// they meet; more than kStepFraction apart is a speed step (a load or set-point change). The
-// interval itself further than kSpliceFraction from their mean is a splice (two recordings
-// joined, a logger restarted: a partial revolution). A cut is
-// made in the middle of that interval, and leaves at least kMinStateRevs revolutions on each side
-// (a shorter stretch is kept with its neighbour). Without a tacho, or with too few revolutions:
-// no cut.
+// from the frame's start] and what changed.
 struct StateCut {
   double t_s = 0;
   std::string what;
+  // A step's median speeds [rpm] of the profile's shaft before and after it (0 for a splice).
+  double before_rpm = 0, after_rpm = 0;
 };
 
-std::vector<StateCut> state_cuts(const diag::Recording& frame, double t0, int ppr) {
-  constexpr std::size_t kStateRevs = 8;
-  constexpr std::size_t kMinStateRevs = 16;
-  constexpr double kStepFraction = 0.02;
-  constexpr double kSpliceFraction = 0.1;
+constexpr std::size_t kStatePoints = 8;      // speed points fitted on each side
+constexpr std::size_t kMinStatePoints = 16;  // speed points kept on each side of a cut
+constexpr double kStepFraction = 0.02;
+constexpr double kSpliceFraction = 0.1;
+
+// The cuts of a speed profile: `rate` [rev/s] at times `t` (increasing), `partial` marking the
+// points that are no speed of the shaft (a tacho's partial revolution). At each point the speed
+// fitted over the kStatePoints whole points before it and the kStatePoints after it (straight
+// lines: a run-up's steady ramp is no change) are compared where they meet; more than
+// kStepFraction apart is a speed step (a load or set-point change). A partial point where they
+// agree is a splice. A cut leaves at least kMinStatePoints points on each side; the strongest
+// cuts are kept first. `name` says whose speed it is in the reasons.
+std::vector<StateCut> profile_cuts(const std::vector<double>& t, const std::vector<double>& rate,
+                                   const std::vector<char>& partial, double t0,
+                                   const std::string& name) {
+  const std::size_t n = t.size();
+  if (n < 2 * kMinStatePoints + 1) return {};
+  // The least-squares line through the kStatePoints whole points next to point i (before it, or
+  // after it), at t[i]; NaN when there are not so many.
+  const auto fitted = [&](std::size_t i, bool before) {
+    double st = 0, sv = 0, stt = 0, stv = 0, m = 0;
+    for (std::size_t step = 1; m < kStatePoints; ++step) {
+      if (before ? step > i : i + step >= n) break;
+      const std::size_t j = before ? i - step : i + step;
+      if (partial[j]) continue;
+      const double x = t[j] - t[i];
+      st += x, sv += rate[j], stt += x * x, stv += x * rate[j], m += 1;
+    }
+    if (m < kStatePoints) return std::numeric_limits<double>::quiet_NaN();
+    const double den = m * stt - st * st;
+    return den > 0 ? (sv * stt - st * stv) / den : sv / m;
+  };
+  // The median speed of points [a, b) [rpm].
+  const auto median_rpm = [&](std::size_t a, std::size_t b) {
+    std::vector<double> w(rate.begin() + static_cast<std::ptrdiff_t>(a),
+                          rate.begin() + static_cast<std::ptrdiff_t>(b));
+    const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
+    std::nth_element(w.begin(), m, w.end());
+    return 60 * *m;
+  };
+  struct Candidate {
+    double score;
+    std::size_t i;
+    std::string what;
+    double before_rpm = 0, after_rpm = 0;
+  };
+  std::vector<Candidate> found;
+  for (std::size_t i = kMinStatePoints; i + kMinStatePoints <= n; ++i) {
+    const double before = fitted(i, true);
+    const double after = fitted(i, false);
+    const double mean = 0.5 * (before + after);
+    if (!(mean > 0)) continue;
+    const double step = std::abs(after - before) / mean;
+    if (step > kStepFraction) {
+      // Said as the median speeds of the kMinStatePoints points on each side (the fitted lines
+      // meet inside the change).
+      const double from_rpm = median_rpm(i - kMinStatePoints, i);
+      const double to_rpm = median_rpm(i + 1, std::min(n, i + 1 + kMinStatePoints));
+      found.push_back({step / kStepFraction, i,
+                       "a speed step, " + fmt(from_rpm, 5) + " to " + fmt(to_rpm, 5) + " rpm of " +
+                           name + " at " + fmt(t0 + t[i], 6) + " s",
+                       from_rpm, to_rpm});
+    } else if (partial[i]) {
+      found.push_back({std::abs(rate[i] / mean - 1) / kSpliceFraction, i,
+                       "a splice of " + name + " at " + fmt(t0 + t[i], 6) + " s (a revolution of " +
+                           fmt(mean / rate[i], 3) + " times the speed's)"});
+    }
+  }
+  // The strongest first, each kMinStatePoints from those kept (ties: the earlier).
+  std::stable_sort(found.begin(), found.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  std::vector<Candidate> kept;
+  for (Candidate& c : found) {
+    bool apart = true;
+    for (const Candidate& k : kept) {
+      apart = apart && (c.i > k.i ? c.i - k.i : k.i - c.i) >= kMinStatePoints;
+    }
+    if (apart) kept.push_back(std::move(c));
+  }
+  std::sort(kept.begin(), kept.end(),
+            [](const Candidate& a, const Candidate& b) { return a.i < b.i; });
+  std::vector<StateCut> cuts;
+  for (Candidate& c : kept) cuts.push_back({t[c.i], std::move(c.what), c.before_rpm, c.after_rpm});
+  return cuts;
+}
+
+// The cuts a frame's first tacho shows: its once-per-revolution pulses, each revolution's speed
+// at the middle of its interval; an interval further than kSpliceFraction from the median of the
+// kStatePoints on each side is a partial revolution (a speed step spreads over several
+// revolutions and moves that median with it). Without a tacho, or with too few revolutions: none.
+std::vector<StateCut> tacho_cuts(const diag::Recording& frame, double t0, int ppr) {
   if (frame.tachos.empty()) return {};
   const diag::Signal& tacho = frame.tachos.front();
   TachoOptions o;
@@ -219,90 +300,60 @@ std::vector<StateCut> state_cuts(const diag::Recording& frame, double t0, int pp
   for (std::size_t i = 0; i < p.size(); i += static_cast<std::size_t>(o.pulses_per_rev)) {
     once.push_back(p[i]);
   }
-  if (once.size() < 2 * kMinStateRevs + 2) return {};
+  if (once.size() < 2) return {};
   const std::size_t n = once.size() - 1;  // revolution intervals
   std::vector<double> mid(n), rate(n);
   for (std::size_t i = 0; i < n; ++i) {
     mid[i] = 0.5 * (once[i] + once[i + 1]);
     rate[i] = 1 / (once[i + 1] - once[i]);
   }
-  // A partial revolution: an interval's rate further than kSpliceFraction from the median of the
-  // kStateRevs intervals on each side (a speed step spreads over several revolutions and moves
-  // that median with it).
   std::vector<char> partial(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
     std::vector<double> w;
-    for (std::size_t j = i > kStateRevs ? i - kStateRevs : 0; j < std::min(n, i + kStateRevs + 1);
-         ++j) {
+    for (std::size_t j = i > kStatePoints ? i - kStatePoints : 0;
+         j < std::min(n, i + kStatePoints + 1); ++j) {
       if (j != i) w.push_back(rate[j]);
     }
+    if (w.empty()) continue;
     const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
     std::nth_element(w.begin(), m, w.end());
     partial[i] = std::abs(rate[i] / *m - 1) > kSpliceFraction;
   }
-  // The least-squares line through the kStateRevs whole intervals next to interval i (before it,
-  // or after it), against mid, at mid[i]; NaN when there are not so many.
-  const auto fitted = [&](std::size_t i, bool before) {
-    double st = 0, sv = 0, stt = 0, stv = 0, m = 0;
-    for (std::size_t step = 1; m < kStateRevs; ++step) {
-      if (before ? step > i : i + step >= n) break;
-      const std::size_t j = before ? i - step : i + step;
-      if (partial[j]) continue;
-      const double t = mid[j] - mid[i];
-      st += t, sv += rate[j], stt += t * t, stv += t * rate[j], m += 1;
-    }
-    if (m < kStateRevs) return std::numeric_limits<double>::quiet_NaN();
-    const double den = m * stt - st * st;
-    return den > 0 ? (sv * stt - st * stv) / den : sv / m;
-  };
-  struct Candidate {
-    double score;
-    std::size_t i;
-    std::string what;
-  };
-  std::vector<Candidate> found;
-  for (std::size_t i = kMinStateRevs; i + kMinStateRevs <= n; ++i) {
-    const double before = fitted(i, true);
-    const double after = fitted(i, false);
-    const double mean = 0.5 * (before + after);
-    if (!(mean > 0)) continue;
-    const double step = std::abs(after - before) / mean;
-    if (step > kStepFraction) {
-      // Said as the median speeds of the kMinStateRevs revolutions on each side (the fitted lines
-      // meet inside the change).
-      const auto median_rpm = [&](std::size_t a, std::size_t b) {
-        std::vector<double> w(rate.begin() + static_cast<std::ptrdiff_t>(a),
-                              rate.begin() + static_cast<std::ptrdiff_t>(b));
-        const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
-        std::nth_element(w.begin(), m, w.end());
-        return 60 * *m;
-      };
-      found.push_back({step / kStepFraction, i,
-                       "a speed step, " + fmt(median_rpm(i - kMinStateRevs, i), 5) + " to " +
-                           fmt(median_rpm(i + 1, std::min(n, i + 1 + kMinStateRevs)), 5) +
-                           " rpm of tacho '" + tacho.name + "' at " + fmt(t0 + mid[i], 6) + " s"});
-    } else if (partial[i]) {
-      found.push_back({std::abs(rate[i] / mean - 1) / kSpliceFraction, i,
-                       "a splice of tacho '" + tacho.name + "' at " + fmt(t0 + mid[i], 6) +
-                           " s (a revolution of " + fmt(mean / rate[i], 3) +
-                           " times the speed's)"});
-    }
+  std::vector<StateCut> cuts = profile_cuts(mid, rate, partial, t0, "tacho '" + tacho.name + "'");
+  // The parts take their speed from the tacho: the frame's nominal speed serves them all.
+  for (StateCut& c : cuts) c.before_rpm = c.after_rpm = 0;
+  return cuts;
+}
+
+// The cuts the vibration shows in a frame without a tacho: the reference shaft's speed measured
+// from a mesh (or shaft) line over the frame (kinematics.hpp, as the analysis measures it), its
+// steps as a tacho's. Only a speed the vibration measured and found unsteady is looked at.
+std::vector<StateCut> vibration_cuts(const diag::Recording& frame, const diag::Gearbox& gb,
+                                     double t0, const AnalyzeOptions& opt) {
+  double duration = 0;
+  for (const diag::Signal& s : frame.signals) duration = std::max(duration, s.duration_s());
+  std::vector<std::string> notes;
+  ShaftKinematics k;
+  try {
+    k = shaft_kinematics(frame, gb, duration, opt, notes);
+  } catch (const diag::InputError&) {
+    return {};  // the analysis says why
   }
-  // The strongest first, each kMinStateRevs from those kept (ties: the earlier).
-  std::stable_sort(found.begin(), found.end(),
-                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
-  std::vector<Candidate> kept;
-  for (Candidate& c : found) {
-    bool apart = true;
-    for (const Candidate& k : kept) {
-      apart = apart && (c.i > k.i ? c.i - k.i : k.i - c.i) >= kMinStateRevs;
-    }
-    if (apart) kept.push_back(std::move(c));
+  if (k.speed.source != "vibration" || k.speed.stationary) return {};
+  std::vector<double> rate;
+  for (double rpm : k.speed.speed_rpm) rate.push_back(rpm / 60);
+  std::vector<StateCut> cuts =
+      profile_cuts(k.speed.time_s, rate, std::vector<char>(rate.size(), 0), t0,
+                   "the " + k.speed.reference_shaft + " shaft (from the vibration)");
+  // The speeds as the input shaft's: each part is analysed at its own (the nominal speed of the
+  // frame may be far from a part's after a step).
+  const int ref = gb.shaft_index(k.speed.reference_shaft);
+  const double ratio =
+      ref >= 0 ? std::abs(gb.shafts()[static_cast<std::size_t>(ref)].speed_ratio) : 0.0;
+  for (StateCut& c : cuts) {
+    c.before_rpm = ratio > 0 ? c.before_rpm / ratio : 0;
+    c.after_rpm = ratio > 0 ? c.after_rpm / ratio : 0;
   }
-  std::sort(kept.begin(), kept.end(),
-            [](const Candidate& a, const Candidate& b) { return a.i < b.i; });
-  std::vector<StateCut> cuts;
-  for (Candidate& c : kept) cuts.push_back({mid[c.i], std::move(c.what)});
   return cuts;
 }
 
@@ -495,33 +546,44 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     }
     return at;
   };
-  // A frame of a long log cut where the operating state changes (state_cuts), each part analysed
+  // A frame of a long log cut where the operating state changes (its tacho's cuts, else the
+  // vibration's when the speed is measured from it), each part analysed
   // as a segment of its own; a recording of one frame is analysed whole. The parts' times are
   // from the frame's start (the last part's end infinite: the frame's end).
   struct Part {
     diag::Recording rec;
     double start_s = 0, end_s = std::numeric_limits<double>::infinity();
     std::string cut;
+    double input_rpm = 0;  // the input speed measured in it (a vibration cut's), 0: the frame's
   };
-  const auto cut_frame = [&](diag::Recording rec, double t0) {
+  // The description a part is analysed with: the frame's, at the part's own speed when measured.
+  const auto part_gearbox = [](const std::optional<diag::Gearbox>& at, const Part& part) {
+    return at && part.input_rpm > 0 ? std::optional(at->with_input_speed_rpm(part.input_rpm)) : at;
+  };
+  const auto cut_frame = [&](diag::Recording rec, double t0, const diag::Gearbox* at,
+                             const AnalyzeOptions& o) {
     std::vector<Part> parts;
-    const std::vector<StateCut> cuts =
-        framed ? state_cuts(rec, t0, request.options.tacho_pulses_per_rev)
-               : std::vector<StateCut>{};
+    std::vector<StateCut> cuts;
+    if (framed && !rec.tachos.empty()) {
+      cuts = tacho_cuts(rec, t0, request.options.tacho_pulses_per_rev);
+    } else if (framed && at != nullptr) {
+      cuts = vibration_cuts(rec, *at, t0, o);
+    }
     if (cuts.empty()) {
-      parts.push_back({std::move(rec), 0, std::numeric_limits<double>::infinity(), {}});
+      parts.push_back({std::move(rec), 0, std::numeric_limits<double>::infinity(), {}, 0});
       return parts;
     }
     const diag::RecordingFrames whole(std::make_shared<const diag::Recording>(std::move(rec)));
-    double from = 0;
+    double from = 0, rpm = cuts.front().before_rpm;
     std::string why;
     for (const StateCut& c : cuts) {
-      parts.push_back({whole.frame(from, c.t_s), from, c.t_s, why});
+      parts.push_back({whole.frame(from, c.t_s), from, c.t_s, why, rpm});
       from = c.t_s;
       why = c.what;
+      rpm = c.after_rpm;
     }
     parts.push_back({whole.frame(from, std::numeric_limits<double>::infinity()), from,
-                     std::numeric_limits<double>::infinity(), why});
+                     std::numeric_limits<double>::infinity(), why, rpm});
     return parts;
   };
   const auto analyse_frame = [&](std::size_t k) {
@@ -579,7 +641,8 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       frame_not_examined(e);
       return;
     }
-    std::vector<Part> parts = cut_frame(std::move(*rec), t0);
+    std::vector<Part> parts =
+        cut_frame(std::move(*rec), t0, frame_gb ? &*frame_gb : nullptr, this_opt);
     rec.reset();
     for (std::size_t j = 0; j < parts.size(); ++j) {
       Part& part = parts[j];
@@ -590,7 +653,8 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       seg.cut = part.cut;
       AnalysisResult res;
       try {
-        res = analyze_recording(part.rec, frame_gb ? &*frame_gb : nullptr, this_opt);
+        const std::optional<diag::Gearbox> part_gb = part_gearbox(frame_gb, part);
+        res = analyze_recording(part.rec, part_gb ? &*part_gb : nullptr, this_opt);
       } catch (const diag::InputError& e) {
         not_examined(seg, e);
         o.parts.push_back(std::move(po));
@@ -662,7 +726,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
           if (!framed) {  // one frame: its result is the result
             detail.result = std::move(res);
             detail.rec = std::move(part.rec);
-            detail.gb = frame_gb;
+            detail.gb = part_gearbox(frame_gb, part);
             detail.notes = notes;
           }
         }
@@ -757,7 +821,9 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     diag::Recording rec = read_frame(detail.at.first);
     read_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     detail.gb = set_up(rec, detail.notes);
-    std::vector<Part> parts = cut_frame(std::move(rec), frame_start(detail.at.first));
+    std::vector<Part> parts = cut_frame(std::move(rec), frame_start(detail.at.first),
+                                        detail.gb ? &*detail.gb : nullptr, frame_opt);
+    detail.gb = part_gearbox(detail.gb, parts.at(detail.at.second));
     detail.rec = std::move(parts.at(detail.at.second).rec);
     detail.result = analyze_recording(*detail.rec, detail.gb ? &*detail.gb : nullptr, opt);
   }

@@ -3,8 +3,9 @@
 //
 // Sources, in order: the first tacho of a shaft of the description (diag::shaft_tacho, its own
 // pulses per revolution); else the vibration (speed_estimate.hpp: the ridge of the strongest mesh
-// harmonic within +-10 % of the nominal speed, refined by the line's phase), so that a nominal
-// speed a few percent off gives the same averages as the right one; else the nominal input speed,
+// harmonic, or shaft harmonic on a description without gears, within +-12.5 % of the nominal
+// speed, refined by the line's phase), so that a nominal speed up to 10 % off gives the same
+// averages as the right one; else the nominal input speed,
 // assumed constant. The speed over time is reported (min/mean/max, stationary or not).
 #pragma once
 

@@ -193,6 +193,13 @@ Recording import_sound(const std::filesystem::path& path, const std::string& whe
 
 std::shared_ptr<const FrameSource> sound_frames(const std::filesystem::path& path,
                                                 const ImportOptions& options) {
+  // What import_recording says of a file named as HDF5 that is not (the sound reader is the
+  // last resort of the format table).
+  const std::string name = lower(path.filename().string());
+  if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) {
+    check_input_file(path);
+    throw InputError(format_error(path.string(), "", "not an HDF5 file (or truncated)"));
+  }
   return std::make_shared<const SoundFrames>(path, options);
 }
 
