@@ -565,7 +565,7 @@ int cmd_batch(int argc, char** argv) {
       in.baseline.emplace_back(std::make_shared<const diag::Recording>(diag::open_recording(b, o)),
                                b);
     } catch (const diag::InputError& e) {
-      throw diag::InputError(std::string("--baseline ") + e.what());
+      throw diag::InputError(std::string(history ? "the reference " : "--baseline ") + e.what());
     }
   }
   // A history compares each recording's revolution averages with the reference's first.

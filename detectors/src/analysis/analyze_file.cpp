@@ -675,8 +675,8 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
         WelchOptions wo;
         wo.fs_hz = sig.fs_hz;
         wo.nperseg = analysis_stages::welch_segment(opt, sig.samples.size());
+        if (wo.nperseg != opt.welch_nperseg) continue;  // a part too short for the layout
         PsdSum& sum = o.psd[sig.name];
-        if (sum.segments > 0 && sum.nperseg != wo.nperseg) continue;  // a short part: left out
         sum.nperseg = wo.nperseg;
         sum.resolution_hz = sig.fs_hz / static_cast<double>(wo.fft_length());
         if (!opt.traces) {
@@ -688,8 +688,10 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
           sum.frequency_hz = psd.frequency_hz;
           sum.weighted.assign(psd.value.size(), 0.0);
         }
-        const double k = static_cast<double>(psd.segments);
-        for (std::size_t b = 0; b < psd.value.size(); ++b) sum.weighted[b] += k * psd.value[b];
+        const double weight = static_cast<double>(psd.segments);
+        for (std::size_t b = 0; b < psd.value.size(); ++b) {
+          sum.weighted[b] += weight * psd.value[b];
+        }
         sum.segments += psd.segments;
       }
       for (const ChannelAnalysis& c : res.channels) {
