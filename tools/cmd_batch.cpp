@@ -8,6 +8,7 @@
 #include <boost/program_options.hpp>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -236,23 +237,58 @@ std::string table_csv(const std::vector<json>& rows, const std::set<std::string>
 
 // The trend page: one plot per chosen indicator and one of the anomaly score with the alarm
 // threshold, against the recording's position in the table (the files' order).
+// Seconds since 1970 of "YYYY-MM-DDTHH:MM:SS" (UTC, as the times are compared), or NaN.
+double epoch_s(const std::string& time) {
+  int y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0;
+  if (std::sscanf(time.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d", &y, &mo, &d, &h, &mi, &sec) != 6) {
+    return std::nan("");
+  }
+  // Days from the civil date (Howard Hinnant's days_from_civil).
+  y -= mo <= 2;
+  const int era = (y >= 0 ? y : y - 399) / 400;
+  const int yoe = y - era * 400;
+  const int doy = (153 * (mo + (mo > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+  const int doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+  const double days = static_cast<double>(era) * 146097 + doe - 719468;
+  return days * 86400 + h * 3600 + mi * 60 + sec;
+}
+
 std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
                        const std::string& order, const json& events) {
+  // A history in time order whose every recording has a time is drawn against it (days since the
+  // first); otherwise against the position in the table.
+  std::vector<double> at(rows.size());
+  bool dated = order == "time";
+  for (std::size_t i = 0; i < rows.size() && dated; ++i) {
+    at[i] = epoch_s(rows[i].value("time", ""));
+    dated = std::isfinite(at[i]);
+  }
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    at[i] = dated ? (at[i] - epoch_s(rows.front()["time"].get<std::string>())) / 86400
+                  : static_cast<double>(i);
+  }
   std::ostringstream html;
   html << "<!DOCTYPE html><html><head><meta charset=\"utf-8\"><title>geardiag batch trend"
           "</title><style>body{font-family:sans-serif;margin:2em}td,th{padding:2px 8px;"
           "text-align:left}.bad{color:#d62728}.ref{color:#555}</style></head><body>"
           "<h1>geardiag batch: trend over "
-       << rows.size() << " recordings</h1><p>x: the recording's position in the table";
-  html << (order == "time" ? " (in time order" : " (files in the order given")
-       << "; failed files leave a gap).</p>";
+       << rows.size() << " recordings</h1><p>x: ";
+  if (dated) {
+    html << "days since the first recording ("
+         << report::html_escape(rows.front()["time"].get<std::string>())
+         << "); failed files leave a gap.</p>";
+  } else {
+    html << "the recording's position in the table"
+         << (order == "time" ? " (in time order" : " (files in the order given")
+         << "; failed files leave a gap).</p>";
+  }
   auto plot = [&](const std::string& title,
                   const std::function<std::optional<double>(const json&)>& value,
                   double threshold) {
     std::vector<double> x, y;
     for (std::size_t i = 0; i < rows.size(); ++i) {
       if (const auto v = value(rows[i])) {
-        x.push_back(static_cast<double>(i));
+        x.push_back(at[i]);
         y.push_back(*v);
       }
     }
@@ -266,7 +302,7 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
     if (std::isfinite(threshold)) series.push_back({tx, ty, "alarm threshold", "#d62728"});
     report::PlotOptions po;
     po.title = title;
-    po.x_label = "recording";
+    po.x_label = dated ? "days" : "recording";
     po.y_label = title;
     html << "<h2>" << report::html_escape(title) << "</h2>" << report::svg_line_plot(series, po);
   };

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -47,9 +48,17 @@ TEST(BatchHistory, TheAlarmComesOnTheFirstBrokenRecordingAndNotBefore) {
   std::string given;  // out of time order
   for (std::size_t i : {7, 2, 9, 0, 5, 3, 8, 1, 6, 4}) given += " " + dated[i].string();
   const fs::path js = scratch("batch_history", "history.json");
+  const fs::path page = scratch("batch_history", "history.html");
   const auto r = run("batch" + given + " --fs 2560 --healthy-first 3 -o " +
-                     scratch("batch_history", "table.csv").string() + " --json " + js.string());
+                     scratch("batch_history", "table.csv").string() + " --json " + js.string() +
+                     " --html " + page.string());
   ASSERT_EQ(r.code, 0) << r.out;
+  // The HTML: against the dates, the event and every recording listed.
+  std::ifstream in(page);
+  const std::string html((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("days since the first recording (2024-03-01T08:00:00)"), std::string::npos);
+  EXPECT_NE(html.find("<h2>Events</h2>"), std::string::npos);
+  EXPECT_NE(html.find("b30hz80"), std::string::npos);
   EXPECT_NE(r.out.find("event: baseline anomaly: from recording 5"), std::string::npos) << r.out;
   const json h = read_json(js);
   EXPECT_EQ(h["order"], "time");
