@@ -605,7 +605,10 @@ int cmd_batch(int argc, char** argv) {
     }
   }
   // A history compares each recording's revolution averages with the reference's first.
-  if (history) in.gear_baseline = in.baseline.front();
+  // (Only with a description: without one there is no shaft to average over.)
+  if (history && (in.gearbox || !in.baseline.front().recording->gearbox_json.empty())) {
+    in.gear_baseline = in.baseline.front();
+  }
   std::vector<std::size_t> mine;
   for (std::size_t i = static_cast<std::size_t>(world.rank()); i < files.size();
        i += static_cast<std::size_t>(world.size())) {
