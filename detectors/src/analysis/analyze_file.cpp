@@ -148,6 +148,24 @@ std::string clipped(const diag::Recording& frame, double t0) {
   return {};
 }
 
+// The (upper) median of v[a, b) (a < b).
+double median_of(const std::vector<double>& v, std::size_t a, std::size_t b) {
+  std::vector<double> w(v.begin() + static_cast<std::ptrdiff_t>(a),
+                        v.begin() + static_cast<std::ptrdiff_t>(b));
+  const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
+  std::nth_element(w.begin(), m, w.end());
+  return *m;
+}
+
+// The median of the `side` values on each side of v[i], v[i] itself left out (fewer at the ends).
+double median_around(const std::vector<double>& v, std::size_t i, std::size_t side) {
+  std::vector<double> w;
+  for (std::size_t j = i > side ? i - side : 0; j < std::min(v.size(), i + side + 1); ++j) {
+    if (j != i) w.push_back(v[j]);
+  }
+  return median_of(w, 0, w.size());
+}
+
 // A tacho that drops out in the frame, or empty: a stretch without pulses longer than three
 // times the intervals around it and than one revolution (one or two missed pulses are repaired
 // by the kinematics, a longer silence would be filled with guessed revolutions), inside the frame
@@ -165,23 +183,13 @@ std::string tacho_dropout(const diag::Recording& frame, double t0, int ppr) {
     std::vector<double> d(p.size() - 1);
     for (std::size_t i = 0; i + 1 < p.size(); ++i) d[i] = p[i + 1] - p[i];
     const double factor = std::max(3.0, static_cast<double>(o.pulses_per_rev));
-    // The median of the intervals around position i (i itself left out).
-    const auto around = [&](std::size_t i) {
-      std::vector<double> w;
-      for (std::size_t j = i > kSide ? i - kSide : 0; j < std::min(d.size(), i + kSide + 1); ++j) {
-        if (j != i) w.push_back(d[j]);
-      }
-      const auto mid = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
-      std::nth_element(w.begin(), mid, w.end());
-      return *mid;
-    };
     const auto dropout = [&](double gap, double from, double local) {
       return "tacho '" + t.name + "' drops out for " + fmt(gap, 3) + " s from " +
              fmt(t0 + from, 6) + " s (" + fmt(gap / local, 3) + " pulse intervals)";
     };
     if (p.front() > factor * d.front()) return dropout(p.front(), 0, d.front());
     for (std::size_t i = 0; i < d.size(); ++i) {
-      const double local = around(i);
+      const double local = median_around(d, i, kSide);
       if (d[i] > factor * local) return dropout(d[i], p[i], local);
     }
     const double tail = t.duration_s() - p.back();
@@ -232,13 +240,7 @@ std::vector<StateCut> profile_cuts(const std::vector<double>& t, const std::vect
     return den > 0 ? (sv * stt - st * stv) / den : sv / m;
   };
   // The median speed of points [a, b) [rpm].
-  const auto median_rpm = [&](std::size_t a, std::size_t b) {
-    std::vector<double> w(rate.begin() + static_cast<std::ptrdiff_t>(a),
-                          rate.begin() + static_cast<std::ptrdiff_t>(b));
-    const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
-    std::nth_element(w.begin(), m, w.end());
-    return 60 * *m;
-  };
+  const auto median_rpm = [&](std::size_t a, std::size_t b) { return 60 * median_of(rate, a, b); };
   struct Candidate {
     double score;
     std::size_t i;
@@ -308,16 +310,8 @@ std::vector<StateCut> tacho_cuts(const diag::Recording& frame, double t0, int pp
     rate[i] = 1 / (once[i + 1] - once[i]);
   }
   std::vector<char> partial(n, 0);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::vector<double> w;
-    for (std::size_t j = i > kStatePoints ? i - kStatePoints : 0;
-         j < std::min(n, i + kStatePoints + 1); ++j) {
-      if (j != i) w.push_back(rate[j]);
-    }
-    if (w.empty()) continue;
-    const auto m = w.begin() + static_cast<std::ptrdiff_t>(w.size() / 2);
-    std::nth_element(w.begin(), m, w.end());
-    partial[i] = std::abs(rate[i] / *m - 1) > kSpliceFraction;
+  for (std::size_t i = 0; n > 1 && i < n; ++i) {
+    partial[i] = std::abs(rate[i] / median_around(rate, i, kStatePoints) - 1) > kSpliceFraction;
   }
   std::vector<StateCut> cuts = profile_cuts(mid, rate, partial, t0, "tacho '" + tacho.name + "'");
   // The parts take their speed from the tacho: the frame's nominal speed serves them all.
@@ -478,7 +472,6 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   };
   // A channel's Welch PSD summed over segments (value x segments), for the whole log's.
   struct PsdSum {
-    std::size_t nperseg = 0;
     double resolution_hz = 0;
     std::vector<double> frequency_hz, weighted;
     std::size_t segments = 0;
@@ -677,7 +670,6 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
         wo.nperseg = analysis_stages::welch_segment(opt, sig.samples.size());
         if (wo.nperseg != opt.welch_nperseg) continue;  // a part too short for the layout
         PsdSum& sum = o.psd[sig.name];
-        sum.nperseg = wo.nperseg;
         sum.resolution_hz = sig.fs_hz / static_cast<double>(wo.fft_length());
         if (!opt.traces) {
           sum.segments += wo.segments(sig.samples.size());
@@ -746,7 +738,6 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     for (; next_merge < n_frames && outcome[next_merge].merged; ++next_merge) {
       for (auto& [name, part] : outcome[next_merge].psd) {
         PsdSum& total = psd_total[name];
-        if (total.segments > 0 && total.nperseg != part.nperseg) continue;
         if (total.segments == 0) {
           total = std::move(part);
           continue;
