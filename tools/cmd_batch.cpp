@@ -34,6 +34,7 @@
 #include "diag/util/number_format.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
+#include "report/html_report.hpp"
 #include "report/report.hpp"
 #include "report/svg_plot.hpp"
 
@@ -125,6 +126,7 @@ struct Inputs {
   std::optional<detect::RecordingInput> gear_baseline;
   ChannelOptions channels;
   std::optional<double> fs;
+  std::string reports;  // --reports: the folder of every recording's own HTML report
 };
 
 // One recording's row: file, time, speed, findings, baseline score, and every feature.
@@ -146,7 +148,15 @@ Read read_file(const std::string& file, const Inputs& in) {
   return r;
 }
 
-json analyse(const std::string& file, Read read, const Inputs& in) {
+// The name of recording `index`'s report in --reports: its position (so that two files of one
+// name stay apart) and its name.
+std::string report_name(std::size_t index, const std::string& file) {
+  char number[24];
+  std::snprintf(number, sizeof number, "%04zu", index);
+  return std::string(number) + "_" + fs::path(file).filename().string() + ".html";
+}
+
+json analyse(std::size_t index, const std::string& file, Read read, const Inputs& in) {
   json row = {{"file", file}, {"status", "ok"}};
   try {
     if (!read.recording) throw diag::InputError(read.error);
@@ -158,6 +168,7 @@ json analyse(const std::string& file, Read read, const Inputs& in) {
     request.baseline = in.baseline;
     request.baseline_required = false;  // the row keeps its analysis; the error column says why
     request.options.threads = 1;        // the files are the parallel work
+    request.options.traces = !in.reports.empty();  // the report's plots
     request.gear_baseline = in.gear_baseline;
     std::string gear_baseline_error;
     const detect::FileAnalysis a = [&] {
@@ -198,6 +209,14 @@ json analyse(const std::string& file, Read read, const Inputs& in) {
     json features = json::object();
     for (const auto& [name, value] : detect::features(r)) features[name] = value;
     row["features"] = features;
+    if (!in.reports.empty()) {  // the page `geardiag analyze --html` writes, at once (memory flat)
+      report::HtmlReportOptions ho;
+      ho.source = fs::path(file).filename().string();
+      ho.title = "geardiag analysis: " + ho.source;
+      const std::string page = (fs::path(in.reports) / report_name(index, file)).string();
+      write_output(page, report::render_html_report(r, ho), "--reports");
+      row["report"] = page;
+    }
   } catch (const std::exception& e) {
     const std::string what = e.what();
     row["status"] = "error";
@@ -253,8 +272,9 @@ double epoch_s(const std::string& time) {
   return days * 86400 + h * 3600 + mi * 60 + sec;
 }
 
+// `page_dir`: the page's folder, from which the links to the recordings' reports are made.
 std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
-                       const std::string& order, const json& events) {
+                       const std::string& order, const json& events, const fs::path& page_dir) {
   // A history in time order whose every recording has a time is drawn against it (days since the
   // first); otherwise against the position in the table.
   std::vector<double> at(rows.size());
@@ -344,18 +364,24 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
     }
     html << "</ul>";
   }
-  if (rows.front().contains("index")) {
+  if (rows.front().contains("index") || rows.front().contains("report")) {
     html << "<h2>Recordings</h2><table><tr><th>#</th><th>file</th><th>time</th><th>status</th>"
             "<th>anomaly score</th><th>findings</th></tr>";
-    for (const json& r : rows) {
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+      const json& r = rows[i];
+      // The file, linked to its own report (--reports) relative to this page.
+      std::string file = report::html_escape(r.value("file", ""));
+      if (r.contains("report")) {
+        const fs::path to = fs::proximate(r["report"].get<std::string>(), page_dir);
+        file = "<a href=\"" + report::html_escape(to.generic_string()) + "\">" + file + "</a>";
+      }
       const std::string status = r.value("status", "");
       const bool alarm = r.value("alarm", 0) != 0;
       html << "<tr class="
            << (status == "reference" ? "ref"
                : alarm               ? "bad"
                                      : "ok")
-           << "><td>" << r["index"].get<std::size_t>() << "</td><td>"
-           << report::html_escape(r.value("file", "")) << "</td><td>"
+           << "><td>" << r.value("index", i) << "</td><td>" << file << "</td><td>"
            << report::html_escape(r.value("time", "")) << "</td><td>" << report::html_escape(status)
            << "</td><td>"
            << (r.contains("anomaly_score")
@@ -526,6 +552,8 @@ int cmd_batch(int argc, char** argv) {
       "a history: these recordings are the healthy reference")(
       "trend", po::value(&trend)->multitoken(),
       "indicators to trend (default: rms and kurtosis of the first sensor channel)")(
+      "reports", po::value(&in.reports),
+      "a folder for each recording's own HTML report (as analyze --html), linked from --html")(
       "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT")(
       "jobs,j", po::value(&jobs)->default_value(0), "worker threads per process; 0 = every core");
   in.channels.add_to(desc, true);
@@ -593,6 +621,14 @@ int cmd_batch(int argc, char** argv) {
     throw diag::InputError("-o, --html and --json: only one output can go to stdout");
   }
   if (!gearbox.empty()) in.gearbox = diag::load_gearbox(gearbox);
+  if (!in.reports.empty()) {
+    std::error_code ec;
+    fs::create_directories(in.reports, ec);
+    if (ec || !fs::is_directory(in.reports)) {
+      throw diag::InputError("--reports " + in.reports + ": not a folder that can be made (" +
+                             (ec ? ec.message() : std::string("a file of that name exists")) + ")");
+    }
+  }
   // The baseline is read before any analysis: a bad baseline file stops the batch with its name.
   for (const std::string& b : baselines) {
     try {
@@ -620,7 +656,7 @@ int cmd_batch(int argc, char** argv) {
   run_in_rounds(
       mine.size(), jobs, [&](std::size_t i) { read[i] = read_file(files[mine[i]], in); },
       [&](std::size_t i) {
-        rows[i] = analyse(files[mine[i]], std::move(read[i]), in);
+        rows[i] = analyse(mine[i], files[mine[i]], std::move(read[i]), in);
         read[i] = {};
         progress.tick();
       });
@@ -679,7 +715,8 @@ int cmd_batch(int argc, char** argv) {
         break;
       }
     }
-    write_output(html, trend_html(all, trend, order, events), "--html");
+    const fs::path page_dir = html_stdout ? fs::current_path() : fs::absolute(html).parent_path();
+    write_output(html, trend_html(all, trend, order, events, page_dir), "--html");
   }
   std::ostream& say = table_stdout || html_stdout || json_stdout ? std::cerr : std::cout;
   say << files.size() << " recordings, " << failed << " failed, " << alarms << " alarm(s) -> "

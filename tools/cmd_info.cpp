@@ -55,17 +55,9 @@ Description describe(const std::string& file, const diag::ImportOptions& options
   for (const auto* group : {&rec.signals, &rec.tachos}) {
     for (const diag::Signal& s : *group) {
       diag::ChannelInfo c;
-      c.name = s.name;
+      c.identity() = s.identity();
       c.group = group == &rec.signals ? "signals" : "tacho";
-      c.fs_hz = s.fs_hz;
-      c.unit = s.unit;
-      c.direction = s.direction;
-      c.location = s.location;
       c.length = s.samples.size();
-      c.role = s.role;
-      c.shaft = s.shaft;
-      c.mesh = s.mesh;
-      c.ppr = s.ppr;
       d.channels.push_back(std::move(c));
     }
   }

@@ -85,16 +85,6 @@ table{max-width:100%;overflow-x:auto;display:block}
 
 bool baseline_alarm(const AnalysisResult& r) { return r.baseline && r.baseline->alarm; }
 
-// The alarm listed as a finding (analyze_file makes it one); when it is not (a result put
-// together by hand), the alarm is shown on its own and counted with the findings.
-bool alarm_apart(const AnalysisResult& r) {
-  if (!baseline_alarm(r)) return false;
-  for (const Finding& f : r.findings) {
-    if (f.kind == "baseline") return false;
-  }
-  return true;
-}
-
 // One line of evidence for a finding; `channel` is the link to (or the label of) the channel that
 // shows it best.
 std::string finding_line(const Finding& f, const std::string& channel) {
@@ -146,15 +136,14 @@ void page_head(const Page& p, std::ostringstream& o) {
   o << ".</p>\n";
 }
 
-// The verdict: every finding with its evidence, the alarm.
+// The verdict: every finding with its evidence (a baseline alarm is one: set_baseline).
 void verdict_section(const Page& p, std::ostringstream& o) {
   const AnalysisResult& r = p.r;
-  const bool alarm = alarm_apart(r);
   bool uncertain = false;
   if (r.gear_damage) {
     for (const auto& s : r.gear_damage->shafts) uncertain = uncertain || s.uncertain;
   }
-  const std::size_t n_findings = r.findings.size() + (alarm ? 1 : 0);
+  const std::size_t n_findings = r.findings.size();
   // A recording not fully examined is never "no finding" in green.
   const bool partial = incomplete(r);
   o << "<section id=summary class=\"verdict "
@@ -175,15 +164,6 @@ void verdict_section(const Page& p, std::ostringstream& o) {
       << (r.baseline ? "; the recording is within its baseline" : "") << ".</p>\n";
   } else {
     o << "<ol>";
-    if (alarm) {
-      o << "<li><span class=bad>ALARM</span>: anomaly score " << f3(r.baseline->anomaly_score)
-        << " against the baseline, above the threshold " << f3(r.baseline->threshold);
-      if (!r.baseline->deviations.empty()) {
-        const auto& d = r.baseline->deviations.front();
-        o << "; largest deviation " << html_escape(d.feature) << " (z = " << f3(d.z) << ")";
-      }
-      o << " (<a href=\"#baseline\">baseline</a>)</li>";
-    }
     for (const auto& f : r.findings) {
       o << "<li>" << finding_line(f, p.channel_link(f.channel)) << "</li>";
     }
@@ -259,19 +239,10 @@ void machine_section(const Page& p, std::ostringstream& o) {
 // The findings table (the baseline ALARM first: it is a finding, counted in the verdict).
 void findings_section(const Page& p, std::ostringstream& o) {
   const AnalysisResult& r = p.r;
-  const bool alarm = alarm_apart(r);
   o << "<h2 id=findings>Findings</h2>\n";
-  if (alarm) {
-    o << "<p><span class=bad>ALARM</span> against the baseline: anomaly score "
-      << f3(r.baseline->anomaly_score) << " above " << f3(r.baseline->threshold)
-      << " (<a href=\"#baseline\">baseline</a>).</p>\n";
-  }
   if (r.findings.empty()) {
-    if (!alarm) {
-      o << (incomplete(r)
-                ? "<p class=warn>No finding in the part examined (not every sample).</p>\n"
-                : "<p class=good>No finding.</p>\n");
-    }
+    o << (incomplete(r) ? "<p class=warn>No finding in the part examined (not every sample).</p>\n"
+                        : "<p class=good>No finding.</p>\n");
     return;
   }
   o << "<table><tr><th class=l>kind</th><th class=l>shaft / gears</th><th class=l>bearing / "

@@ -5,6 +5,7 @@
 // notes or errors when they do not match. No data needed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -281,7 +282,7 @@ TEST(BaselineComparison, AnalysisJsonHasAnomalyScoreAndAlarmAtTopLevelAndHtmlThe
   const auto rec = gearbox_recording({10.5, 1.1}, 54, kToothImpact);
   auto r = detect::analyze_recording(rec, nullptr);
   EXPECT_FALSE(report::to_json(r).contains("anomaly_score"));
-  r.baseline = detect::score_against_baseline(rec, baseline());
+  detect::set_baseline(r, detect::score_against_baseline(rec, baseline()));
   const auto j = report::to_json(r);
   ASSERT_TRUE(j.contains("anomaly_score"));
   EXPECT_EQ(j["anomaly_score"].get<double>(), r.baseline->anomaly_score);
@@ -298,10 +299,13 @@ TEST(BaselineComparison, AnalysisJsonHasAnomalyScoreAndAlarmAtTopLevelAndHtmlThe
   EXPECT_NE(h.find(r.baseline->deviations.front().feature), std::string::npos);
   EXPECT_NE(h.find("ALARM"), std::string::npos);
   // An ALARM is a finding: counted in the verdict, listed under Findings, never "No finding".
-  if (r.findings.empty()) {
-    EXPECT_NE(h.find("Verdict: 1 finding"), std::string::npos);
-    EXPECT_EQ(h.find("No finding"), std::string::npos);
-  }
+  ASSERT_FALSE(r.findings.empty());
+  EXPECT_TRUE(std::any_of(r.findings.begin(), r.findings.end(),
+                          [](const detect::Finding& f) { return f.kind == "baseline"; }));
+  EXPECT_NE(h.find("Verdict: " + std::to_string(r.findings.size()) +
+                   (r.findings.size() == 1 ? " finding" : " findings")),
+            std::string::npos);
+  EXPECT_EQ(h.find("No finding"), std::string::npos);
   const std::size_t fs = h.find("id=findings");
   ASSERT_NE(fs, std::string::npos);
   EXPECT_LT(h.find("ALARM", fs), h.find("id=indicators"));

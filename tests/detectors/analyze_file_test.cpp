@@ -60,13 +60,7 @@ const char* kGearbox = R"({"name": "one", "shafts": [{"name": "input"}],
 
 class AnalyzeFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    dir_ = base / ("analyze_file_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("analyze_file"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   fs::path write(const std::string& name, const diag::Recording& rec) const {

@@ -227,10 +227,7 @@ TEST_F(AnalyzeFrames, AMaxSamplesLimitLeavesTheRestNotExamined) {
 // frame by frame, it gives the analysis of the same file read whole into memory, byte for byte.
 TEST_F(AnalyzeFrames, ACsvLogReadRowByRowGivesTheAnalysisOfTheWholeFile) {
   const Log log = joined_log();
-  const char* env = std::getenv("GEARDIAG_TMP");
-  const fs::path dir = fs::path(env != nullptr && *env != '\0' ? env : "/tmp") /
-                       ("analyze_frames_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = geardiag_test::scratch_dir("analyze_frames");
   const fs::path csv = dir / "joined.csv";
   {
     std::ofstream out(csv);

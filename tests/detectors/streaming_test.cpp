@@ -26,14 +26,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 class Streaming : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    dir_ = base / ("streaming_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("streaming"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   // Two channels: a decoy first, then "accel": a 1234.5 Hz tone of amplitude 2 on an offset of

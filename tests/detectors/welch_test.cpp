@@ -40,11 +40,6 @@ std::vector<double> test_record(std::size_t n, double fs_hz, double sigma, unsig
   return x;
 }
 
-std::filesystem::path temp_dir() {
-  const char* env = std::getenv("GEARDIAG_TMP");
-  return env ? std::filesystem::path(env) : std::filesystem::path(testing::TempDir());
-}
-
 bool scipy_available() {
   const std::string cmd =
       std::string(GEARDIAG_PYTHON) + " -c \"import scipy.signal\" >/dev/null 2>&1";
@@ -72,7 +67,7 @@ std::string scipy_window(WindowType w) {
 // The same record through scipy.signal.welch for every option set; one Python start.
 std::vector<std::vector<double>> scipy_welch(const std::vector<double>& x,
                                              const std::vector<WelchOptions>& cases) {
-  const auto dir = temp_dir();
+  const auto dir = geardiag_test::scratch_dir("welch");
   const auto xin = dir / "welch_x.f64", cin = dir / "welch_cases.txt",
              out = dir / "welch_scipy.f64", script = dir / "welch_scipy.py";
   std::ofstream(xin, std::ios::binary)

@@ -16,13 +16,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratch(const std::string& name) {
-  return fs::temp_directory_path() / ("data_groups_" + std::to_string(::getpid()) + "_" + name);
-}
-
 TEST(DataGroups, WritesAFileAndLeavesNoTemporary) {
-  const fs::path dir = scratch("ok");
-  fs::create_directories(dir);
+  const fs::path dir = geardiag_test::scratch_dir("data_groups");
   std::vector<diag::DataGroup> g(2);
   g[0].path = "channels/a1/psd";
   g[0].columns = {{"frequency_hz", "Hz", {0, 1, 2}}, {"psd", "(m/s^2)^2/Hz", {1, 2, 3}}};
@@ -36,8 +31,7 @@ TEST(DataGroups, WritesAFileAndLeavesNoTemporary) {
 }
 
 TEST(DataGroups, RefusesBadNamesAndUnwritableTargets) {
-  const fs::path dir = scratch("bad");
-  fs::create_directories(dir);
+  const fs::path dir = geardiag_test::scratch_dir("data_groups");
   std::vector<diag::DataGroup> g(1);
   for (const std::string bad : {"", "/abs", "a//b", "a/"}) {
     g[0].path = bad;
@@ -66,8 +60,7 @@ TEST(DataGroups, RefusesBadNamesAndUnwritableTargets) {
 // python/tests/test_recording_analysis.py); a shape that does not hold the values is refused
 // before any file is made.
 TEST(DataGroups, TwoDimensionalColumnsKeepTheirShape) {
-  const fs::path dir = scratch("2d");
-  fs::create_directories(dir);
+  const fs::path dir = geardiag_test::scratch_dir("data_groups");
   std::vector<diag::DataGroup> g(1);
   g[0].path = "channels/a1/spectrogram";
   g[0].columns = {{"time_s", "s", {0, 1, 2}},

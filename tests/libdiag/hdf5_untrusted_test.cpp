@@ -31,14 +31,7 @@ namespace {
 class Hdf5Untrusted : public ::testing::Test {
  protected:
   void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ =
-        base / ("hdf5_untrusted_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = geardiag_test::scratch_dir("hdf5_untrusted");
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   }
   void TearDown() override {

@@ -26,13 +26,7 @@ namespace {
 class ImportMatLimits : public ::testing::Test {
  protected:
   void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = base / ("import_mat_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = geardiag_test::scratch_dir("import_mat");
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
   }
   void TearDown() override { fs::remove_all(dir_); }

@@ -27,11 +27,7 @@ TEST(ImportPrintable, ControlCharactersAreEscaped) {
 }
 
 TEST(ImportPrintable, CsvNamesAndSourceReachNoTerminalRaw) {
-  const char* env = std::getenv("GEARDIAG_TMP");
-  const fs::path dir =
-      (env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path()) /
-      ("import_printable_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = geardiag_test::scratch_dir("import_printable");
   const fs::path path = dir / "name\x1b]0;title\x07.csv";
   {
     std::ofstream out(path);

@@ -38,15 +38,7 @@ constexpr rlim_t kLimitBytes = 64 * 1024;  // the "disk": far below every output
 
 class IoDiskFull : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = base / ("io_disk_full_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("io_disk_full"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   // Runs `write` in a child whose files may not grow past kLimitBytes. Returns the child's exit

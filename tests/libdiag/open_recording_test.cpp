@@ -24,13 +24,7 @@ namespace fs = std::filesystem;
 
 class OpenRecording : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    dir_ = base / ("open_recording_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("open_recording"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   fs::path write_text(const std::string& name, const std::string& text) const {

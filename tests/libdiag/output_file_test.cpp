@@ -24,14 +24,7 @@ namespace fs = std::filesystem;
 // A fresh folder per test, removed afterwards.
 class OutputFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const char* base = std::getenv("GEARDIAG_TMP");
-    dir_ = fs::path(base ? base : fs::temp_directory_path().string()) /
-           ("output_file_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("output_file"); }
   void TearDown() override {
     std::error_code ec;
     fs::remove_all(dir_, ec);

@@ -29,13 +29,7 @@ namespace fs = std::filesystem;
 
 class RecordingFrames : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    dir_ = base / ("recording_frames_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("recording_frames"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   // time,a,b at 1 kHz: `rows` rows, the values exact in text (%.17g round-trips).

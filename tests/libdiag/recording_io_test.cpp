@@ -27,15 +27,7 @@ namespace {
 // A fresh directory per test (tests run in parallel under ctest -j).
 class RecordingIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = base / ("recording_io_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("recording_io"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   fs::path dir_;

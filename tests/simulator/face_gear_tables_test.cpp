@@ -81,10 +81,7 @@ std::vector<diag::Hdf5Array> hdf5_layout(const FileTable& drive, const FileTable
 
 class FaceGearTables : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("fg_tables_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("fg_tables"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   fg::Description describe(const std::string& table) const {

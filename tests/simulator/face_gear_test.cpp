@@ -537,9 +537,7 @@ std::string error_of(const std::function<void()>& f) {
 }  // namespace
 
 TEST(FaceGear, BadInputNamesTheField) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("fg_bad_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
+  const std::filesystem::path dir = geardiag_test::scratch_dir("fg_bad");
   auto pair_with = [](const char* key, nlohmann::json v) {
     nlohmann::json j = {{"face_gear_pair", {{"pinion_teeth", 15}, {"gear_teeth", 121}}}};
     j["face_gear_pair"][key] = v;

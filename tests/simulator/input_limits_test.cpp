@@ -23,10 +23,7 @@ namespace {
 
 class FaceGearCsvTable : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("fg_csv_input_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("fg_csv_input"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   std::string error_of(const std::string& table) const {

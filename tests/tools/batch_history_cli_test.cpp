@@ -49,9 +49,11 @@ TEST(BatchHistory, TheAlarmComesOnTheFirstBrokenRecordingAndNotBefore) {
   for (std::size_t i : {7, 2, 9, 0, 5, 3, 8, 1, 6, 4}) given += " " + dated[i].string();
   const fs::path js = scratch("batch_history", "history.json");
   const fs::path page = scratch("batch_history", "history.html");
+  const fs::path reports = scratch("batch_history", "reports");
+  fs::remove_all(reports);
   const auto r = run("batch" + given + " --fs 2560 --healthy-first 3 -o " +
                      scratch("batch_history", "table.csv").string() + " --json " + js.string() +
-                     " --html " + page.string());
+                     " --html " + page.string() + " --reports " + reports.string());
   ASSERT_EQ(r.code, 0) << r.out;
   // The HTML: against the dates, the event and every recording listed.
   std::ifstream in(page);
@@ -68,6 +70,25 @@ TEST(BatchHistory, TheAlarmComesOnTheFirstBrokenRecordingAndNotBefore) {
     EXPECT_EQ(rec["index"], i);
     EXPECT_NE(rec["file"].get<std::string>().find(in_time[i]), std::string::npos) << i;
     EXPECT_EQ(rec["status"], i < 3 ? "reference" : "ok") << i;
+    // Its own report, linked from the history's page, says what the row says: the alarm is a
+    // finding there too (from the first broken recording on), and a quiet recording has none.
+    const fs::path own = rec["report"].get<std::string>();
+    EXPECT_EQ(own.parent_path(), reports);
+    EXPECT_NE(html.find("<a href=\"reports/" + own.filename().string() + "\">"), std::string::npos)
+        << own;
+    std::ifstream report_in(own);
+    const std::string report((std::istreambuf_iterator<char>(report_in)),
+                             std::istreambuf_iterator<char>());
+    EXPECT_NE(report.find(in_time[i]), std::string::npos) << own;
+    const std::size_t n_findings = rec["findings"].size();
+    EXPECT_NE(report.find(n_findings == 0 ? std::string("Verdict: no finding")
+                                          : "Verdict: " + std::to_string(n_findings) +
+                                                (n_findings == 1 ? " finding" : " findings")),
+              std::string::npos)
+        << own;
+    if (i >= 5) {
+      EXPECT_NE(report.find("baseline ALARM"), std::string::npos) << own;
+    }
     // No description, so no gear baseline is tried (and no error said of it).
     EXPECT_FALSE(rec.contains("error")) << rec["error"];
     if (i < 3) continue;

@@ -42,16 +42,7 @@ std::string q(const fs::path& p) { return "'" + p.string() + "'"; }
 
 class ImportInfoCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const char* env = std::getenv("GEARDIAG_TMP");
-    const fs::path base =
-        env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path();
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ =
-        base / ("import_info_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = geardiag_test::scratch_dir("import_info_cli"); }
   void TearDown() override { fs::remove_all(dir_); }
 
   fs::path write_text(const std::string& name, const std::string& text) const {
@@ -204,10 +195,8 @@ TEST_F(ImportInfoCli, InfoPrintsTheGearboxSummaryAndTheTruth) {
 TEST(ImportInfoCliRealData, CwruMatImportsAt48kHz) {
   const fs::path mat = fs::path(GEARDIAG_SHARED_DATA_DIR) / "cwru-bearing" / "normal_0.mat";
   if (!fs::exists(mat)) GTEST_SKIP() << "real data not present: " << mat;
-  const char* env = std::getenv("GEARDIAG_TMP");
-  const fs::path out =
-      (env != nullptr && *env != '\0' ? fs::path(env) : fs::temp_directory_path()) /
-      ("cwru_normal_0_" + std::to_string(::getpid()) + ".h5");
+  const fs::path dir = geardiag_test::scratch_dir("import_info_cli");
+  const fs::path out = dir / "cwru_normal_0.h5";
   const Result r = geardiag("import " + q(mat) + " --fs 48000 -o " + q(out));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_CONTAINS(r.output, "X097_DE_time");
@@ -215,5 +204,5 @@ TEST(ImportInfoCliRealData, CwruMatImportsAt48kHz) {
   const Result info = geardiag("info " + q(out));
   EXPECT_EQ(info.exit_code, 0) << info.output;
   EXPECT_CONTAINS(info.output, "X097RPM: 1796");
-  fs::remove(out);
+  fs::remove_all(dir);
 }

@@ -13,7 +13,6 @@
 namespace detect {
 
 using analysis_stages::fmt;
-using analysis_stages::joined;
 
 void BaselineComparisonOptions::validate() const {
   features.validate();
@@ -68,7 +67,8 @@ AnalysisBaseline score_against_baseline(const diag::Recording& rec,
       throw diag::InputError(out.recordings[i] +
                              ": no channel in common with the recording "
                              "(baseline channels: " +
-                             joined(theirs) + "; the recording's: " + joined(sensor_names) + ")");
+                             diag::format_list(theirs) +
+                             "; the recording's: " + diag::format_list(sensor_names) + ")");
     }
   }
   for (std::size_t idx : sensor_channels(rec)) {
@@ -141,7 +141,7 @@ AnalysisBaseline score_against_baseline(const diag::Recording& rec,
   }
   if (out.channels.empty())
     throw diag::InputError(w + ": no channel left to compare with the baseline (" +
-                           joined(out.notes) + ")");
+                           diag::format_list(out.notes) + ")");
   if (healthy.size() < opt.baseline.min_samples)
     throw diag::InputError(
         w + ": baseline: " + std::to_string(baseline.size()) + " recordings give " +
@@ -243,6 +243,16 @@ void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const 
   }
   std::stable_sort(r.findings.begin(), r.findings.end(),
                    [](const Finding& a, const Finding& b) { return a.confidence > b.confidence; });
+}
+
+void set_baseline(AnalysisResult& r, AnalysisBaseline b, const BaselineComparisonOptions& opt) {
+  r.baseline = std::move(b);
+  if (!r.baseline->alarm) return;
+  std::map<std::string, double> fs_hz;
+  for (const ChannelAnalysis& c : r.channels) fs_hz[c.name] = c.fs_hz;
+  r.findings.push_back(baseline_alarm_finding(*r.baseline, fs_hz, opt));
+  std::stable_sort(r.findings.begin(), r.findings.end(),
+                   [](const Finding& x, const Finding& y) { return x.confidence > y.confidence; });
 }
 
 Finding baseline_alarm_finding(const AnalysisBaseline& b,

@@ -52,15 +52,8 @@ PlotTrace slice_for_plot(const std::vector<double>& x, const std::vector<double>
 void time_stage(ChannelWork& w) {
   const diag::Signal& sig = w.signal;
   ChannelAnalysis& c = w.out;
-  c.name = sig.name;
-  c.unit = sig.unit;
-  c.location = sig.location;
-  c.direction = sig.direction;
-  c.fs_hz = sig.fs_hz;
+  c.identity() = sig.identity();
   c.samples = sig.samples.size();
-  c.role = sig.role;
-  c.shaft = sig.shaft;
-  c.mesh = sig.mesh;
   // Spectra for what vibrates (sensors, and the simulator's mesh force and deflection); the
   // time indicators only for angles, speeds and other quantities.
   c.vibration = sig.role == diag::Role::kVibration || sig.role == diag::Role::kForce ||
@@ -112,13 +105,7 @@ void spectral_record_stage(ChannelWork& w) {
   }
   if (!ctx.order_domain || !out.angular) return;
   diag::Signal& a = out.angle_signal;
-  a.name = sig.name;
-  a.unit = sig.unit;
-  a.direction = sig.direction;
-  a.location = sig.location;
-  a.role = sig.role;
-  a.shaft = sig.shaft;
-  a.mesh = sig.mesh;
+  a.identity() = sig.identity();
   a.fs_hz = out.angular->samples_per_rev * ctx.input_hz;
   a.samples = out.angular->samples;
 }

@@ -39,12 +39,6 @@ inline constexpr int kMaxSamplesPerRev = 1 << 14;
 
 inline std::string fmt(double v, int prec = 3) { return diag::format_significant(v, prec); }
 
-inline std::string joined(const std::vector<std::string>& v) {
-  std::string s;
-  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
-  return s.empty() ? "none" : s;
-}
-
 inline std::size_t pow2_at_least(double v) {
   std::size_t p = 1;
   while (static_cast<double>(p) < v) p <<= 1;

@@ -172,66 +172,26 @@ void AttributionOptions::validate() const {
   diag::require(min_recurrences >= 2, "attribution", "min_recurrences", "must be >= 2");
 }
 
-AttributionResult attribute_defects(std::span<const double> in, std::span<const double> out,
-                                    const diag::Gearbox& gb, const AttributionOptions& opt) {
-  opt.validate();
-  diag::require(in.size() == out.size(), "attribution", "output_angle_rad",
-                "has " + std::to_string(out.size()) + " samples but input_angle_rad has " +
-                    std::to_string(in.size()));
-  diag::require(in.size() >= 16, "attribution", "input_angle_rad", "needs at least 16 samples");
-  for (std::size_t i = 0; i < in.size(); ++i) {
-    if (!std::isfinite(in[i]) || !std::isfinite(out[i])) {
-      diag::require(false, "attribution",
-                    std::isfinite(in[i]) ? "output_angle_rad" : "input_angle_rad",
-                    "sample " + std::to_string(i) + " is NaN or Inf");
-    }
-    if (i > 0 && in[i] < in[i - 1]) {
-      diag::require(false, "attribution", "input_angle_rad",
-                    "angles not increasing: sample " + std::to_string(i) + " (" +
-                        std::to_string(in[i]) + ") is below sample " + std::to_string(i - 1) +
-                        " (" + std::to_string(in[i - 1]) + ")");
-    }
-  }
+// The output's lag behind its theoretical angle (x: the input angle from its first sample) with
+// the path shafts' smooth periodic part (their low orders and mesh harmonics, backfitted) removed,
+// fitted twice: the second time with the events found in the first residual masked out. sigma is
+// the residual's robust noise, thr the event threshold.
+struct LagResidual {
+  std::vector<double> x, e;
+  double sigma = 0, thr = 0;
+};
+
+LagResidual lag_residual(std::span<const double> in, std::span<const double> out,
+                         const diag::Gearbox& gb, const std::vector<diag::PathStep>& path,
+                         const std::vector<int>& path_shafts, const AttributionOptions& opt) {
   const std::size_t n = in.size();
-  const double span_in = in[n - 1] - in[0];
-  const double span_out = out[n - 1] - out[0];
-  diag::require(span_in > 0, "attribution", "input_angle_rad", "the input shaft does not turn");
   const double u = gb.total_ratio();
-  const double seen_ratio = span_in / std::abs(span_out);
-  diag::require(std::abs(span_out) > 0 && std::abs(seen_ratio / u - 1.0) < 0.02, "attribution",
-                "output_angle_rad",
-                "the recording turns the output " + std::to_string(seen_ratio) +
-                    " times slower than the input, but the gearbox's overall ratio is " +
-                    std::to_string(u) + ": wrong gearbox description or channels");
-
-  // Path shafts and their periods in input angle.
-  const auto& path = gb.power_path();
-  std::vector<int> path_shafts{gb.input_shaft()};
-  for (const auto& st : path) path_shafts.push_back(gb.shaft_of_gear(st.down_gear));
-  double longest_rev = 0;
-  int longest_shaft = gb.input_shaft();
-  for (int s : path_shafts) {
-    if (gb.shaft_period_input_rev(s) > longest_rev) {
-      longest_rev = gb.shaft_period_input_rev(s);
-      longest_shaft = s;
-    }
-  }
-  const double record_rev = span_in / kTwoPi;
-  if (record_rev < opt.min_recurrences * longest_rev) {
-    std::ostringstream m;
-    m << "too short: the record covers " << record_rev << " input revolutions; at least "
-      << opt.min_recurrences * longest_rev << " are needed (" << opt.min_recurrences
-      << " recurrences of the longest period, " << longest_rev << " input revolutions of shaft '"
-      << gb.shafts()[longest_shaft].name << "')";
-    diag::require(false, "attribution", "input_angle_rad", m.str());
-  }
-
+  const double span_out = out[n - 1] - out[0];
   // 1. The lag of the output behind its theoretical angle.
   const double sign = span_out < 0 ? -1.0 : 1.0;
   std::vector<double> x(n), e(n);
   for (std::size_t i = 0; i < n; ++i) x[i] = in[i] - in[0];
   auto lag = [&](std::size_t i) { return x[i] / u - sign * (out[i] - out[0]); };
-  const double step = span_in / static_cast<double>(n - 1);
 
   // 2. Smooth periodic part, by backfitting over the path shafts.
   std::vector<ShaftComponent> comps;
@@ -302,6 +262,79 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
   full_residual();
   sigma = robust_sigma(e);
   thr = std::max(opt.threshold_sigma * sigma, opt.min_event_rad);
+
+  return {std::move(x), std::move(e), sigma, thr};
+}
+
+// The angle records: the same length, at least 16 finite samples, the input angle increasing and
+// turning, the output turning at the description's overall ratio (within 2 %).
+void check_angles(std::span<const double> in, std::span<const double> out,
+                  const diag::Gearbox& gb) {
+  diag::require(in.size() == out.size(), "attribution", "output_angle_rad",
+                "has " + std::to_string(out.size()) + " samples but input_angle_rad has " +
+                    std::to_string(in.size()));
+  diag::require(in.size() >= 16, "attribution", "input_angle_rad", "needs at least 16 samples");
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    if (!std::isfinite(in[i]) || !std::isfinite(out[i])) {
+      diag::require(false, "attribution",
+                    std::isfinite(in[i]) ? "output_angle_rad" : "input_angle_rad",
+                    "sample " + std::to_string(i) + " is NaN or Inf");
+    }
+    if (i > 0 && in[i] < in[i - 1]) {
+      diag::require(false, "attribution", "input_angle_rad",
+                    "angles not increasing: sample " + std::to_string(i) + " (" +
+                        std::to_string(in[i]) + ") is below sample " + std::to_string(i - 1) +
+                        " (" + std::to_string(in[i - 1]) + ")");
+    }
+  }
+  const std::size_t n = in.size();
+  const double span_in = in[n - 1] - in[0];
+  const double span_out = out[n - 1] - out[0];
+  diag::require(span_in > 0, "attribution", "input_angle_rad", "the input shaft does not turn");
+  const double u = gb.total_ratio();
+  const double seen_ratio = span_in / std::abs(span_out);
+  diag::require(std::abs(span_out) > 0 && std::abs(seen_ratio / u - 1.0) < 0.02, "attribution",
+                "output_angle_rad",
+                "the recording turns the output " + std::to_string(seen_ratio) +
+                    " times slower than the input, but the gearbox's overall ratio is " +
+                    std::to_string(u) + ": wrong gearbox description or channels");
+}
+
+AttributionResult attribute_defects(std::span<const double> in, std::span<const double> out,
+                                    const diag::Gearbox& gb, const AttributionOptions& opt) {
+  opt.validate();
+  check_angles(in, out, gb);
+  const std::size_t n = in.size();
+  const double span_in = in[n - 1] - in[0];
+
+  // Path shafts and their periods in input angle.
+  const auto& path = gb.power_path();
+  std::vector<int> path_shafts{gb.input_shaft()};
+  for (const auto& st : path) path_shafts.push_back(gb.shaft_of_gear(st.down_gear));
+  double longest_rev = 0;
+  int longest_shaft = gb.input_shaft();
+  for (int s : path_shafts) {
+    if (gb.shaft_period_input_rev(s) > longest_rev) {
+      longest_rev = gb.shaft_period_input_rev(s);
+      longest_shaft = s;
+    }
+  }
+  const double record_rev = span_in / kTwoPi;
+  if (record_rev < opt.min_recurrences * longest_rev) {
+    std::ostringstream m;
+    m << "too short: the record covers " << record_rev << " input revolutions; at least "
+      << opt.min_recurrences * longest_rev << " are needed (" << opt.min_recurrences
+      << " recurrences of the longest period, " << longest_rev << " input revolutions of shaft '"
+      << gb.shafts()[longest_shaft].name << "')";
+    diag::require(false, "attribution", "input_angle_rad", m.str());
+  }
+
+  // 1-2. The lag of the output behind its theoretical angle, less the smooth periodic part.
+  const double step = span_in / static_cast<double>(n - 1);
+  const LagResidual lr = lag_residual(in, out, gb, path, path_shafts, opt);
+  const std::vector<double>& x = lr.x;
+  const std::vector<double>& e = lr.e;
+  const double sigma = lr.sigma, thr = lr.thr;
 
   // 3. Events.
   std::vector<Event> events = find_events(x, e, thr, nullptr);

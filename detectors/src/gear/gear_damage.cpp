@@ -219,14 +219,11 @@ void GearDamageOptions::validate() const {
 
 namespace {
 
-GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb,
-                             const std::string& reference_shaft,
-                             std::span<const double> pulse_times_s,
-                             const GearDamageOptions& options, GearDamageBaseline* capture) {
-  options.validate();
-  const std::string where = "locate_gear_damage";
-  const auto& shafts = gb.shafts();
-  const std::string& ref = reference_shaft;
+// The locator's inputs: a known reference shaft, at least 3 finite, strictly increasing pulse
+// times, and channel lists naming known shafts and channels of `rec`.
+void check_locate_inputs(const diag::Recording& rec, const diag::Gearbox& gb,
+                         const std::string& ref, std::span<const double> pulse_times_s,
+                         const GearDamageOptions& options, const std::string& where) {
   if (gb.shaft_index(ref) < 0) {
     throw diag::InputError(
         diag::format_error(where, "reference_shaft", "unknown shaft '" + ref + "'"));
@@ -250,288 +247,103 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
     }
     for (const auto& n : names) rec.require(n, where);
   }
-  GearDamageResult res;
-  res.reference_shaft = ref;
-  std::ostringstream note;
-  const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
-  const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
-  const std::vector<double> ref_pulses =
-      smooth_pulse_times_polynomial(pulse_times_s, options.pulse_fit_degree);
+}
 
-  ResampleOptions ro;
-  ro.pulses_per_rev = 1;
-  // Varying speed: the reference's revolution periods (fitted) spread by more than
-  // kVaryingSpeedSpread of their mean.
-  bool varying_speed = false;
-  if (ref_pulses.size() >= 3) {
-    double lo = kInf, hi = 0.0;
-    for (std::size_t i = 1; i < ref_pulses.size(); ++i) {
-      lo = std::min(lo, ref_pulses[i] - ref_pulses[i - 1]);
-      hi = std::max(hi, ref_pulses[i] - ref_pulses[i - 1]);
-    }
-    const double mean = (ref_pulses.back() - ref_pulses.front()) / (ref_pulses.size() - 1);
-    varying_speed = hi - lo > kVaryingSpeedSpread * mean;
+// Varying speed: the reference's revolution periods (fitted) spread by more than
+// kVaryingSpeedSpread of their mean.
+bool speed_varies(const std::vector<double>& ref_pulses) {
+  if (ref_pulses.size() < 3) return false;
+  double lo = kInf, hi = 0.0;
+  for (std::size_t i = 1; i < ref_pulses.size(); ++i) {
+    lo = std::min(lo, ref_pulses[i] - ref_pulses[i - 1]);
+    hi = std::max(hi, ref_pulses[i] - ref_pulses[i - 1]);
   }
+  const double mean = (ref_pulses.back() - ref_pulses.front()) / (ref_pulses.size() - 1);
+  return hi - lo > kVaryingSpeedSpread * mean;
+}
 
-  auto channels_of = [&](const diag::Shaft& sh) {
-    std::vector<const diag::Signal*> chans;
-    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
-      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
-    } else {
-      chans = shaft_vibration_channels(rec, gb, sh.name);
-    }
-    return chans;
-  };
-
-  // ---- pulse correction (pulse_refine.hpp): smoothed, then corrected from a mesh line's phase
-  // on the fastest shaft; every shaft's revolutions are scaled from the result ----
-  const RefinedPulses refined =
-      refine_pulses(rec, gb, ref, pulse_times_s, pulse_refine_options(options));
-  note << refined.note;
-  const std::vector<double>& base = refined.pulses;  // once per revolution of a shaft turning at
-  const double base_ratio =                          // |speed_ratio| = base_ratio
-      std::abs(shafts[static_cast<std::size_t>(gb.shaft_index(refined.shaft))].speed_ratio);
-
-  bool used_baseline = false;
-  auto baseline_of = [&](const std::string& shaft, const std::string& channel) {
-    const BaselineTsa* b = nullptr;
-    if (!options.baseline) return b;
-    if (auto it = options.baseline->tsa.find(shaft); it != options.baseline->tsa.end()) {
-      if (auto jt = it->second.find(channel); jt != it->second.end()) b = &jt->second;
-    }
-    return b;
-  };
-  for (std::size_t si = 0; si < shafts.size(); ++si) {
-    const diag::Shaft& sh = shafts[si];
-    if (sh.gears.empty()) continue;
-    ShaftDamage sd;
-    sd.shaft = sh.name;
-    sd.score = sd.fm4 = sd.snr = kNaN;
-    const double rel = std::abs(sh.speed_ratio) / ref_ratio;  // f_s / f_ref
-    sd.frequency_hz = ref_hz * rel;
-
-    const std::vector<const diag::Signal*> chans = channels_of(sh);
-    if (chans.empty()) {
-      note << "shaft '" << sh.name << "': no channel. ";
-      res.shafts.push_back(sd);
-      continue;
-    }
-    // Highest order analysed and the TSA resolution (options).
-    const TsaResolution reso = tsa_resolution(chans.front()->fs_hz, sd.frequency_hz,
-                                              options.band_fraction, options.samples_per_rev);
-    const int spr = reso.samples_per_rev;
-    const int half = spr / 2;
-    const std::size_t top = reso.top;
-    sd.samples_per_rev = spr;
-    ro.samples_per_rev = spr;
-    const std::vector<int> mesh_orders = synchronous_mesh_orders(gb, sh, half);
-    std::vector<int> own_orders;
-    for (int g : sh.gears) own_orders.push_back(gb.gears()[g].spec.teeth);
-    // Orders shared with faster shafts.
-    std::vector<int> shared_steps;
-    for (const diag::Shaft& other : shafts) {
-      if (other.gears.empty() || &other == &sh) continue;
-      const double r = std::abs(other.speed_ratio) / std::abs(sh.speed_ratio);
-      if (r <= 1.0 + kRatioTol) continue;
-      const int p = shared_order_step(r);
-      if (p > 0 && p <= half) shared_steps.push_back(p);
-    }
-    const std::vector<bool> keep =
-        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, shared_steps, own_orders,
-                         options.extra_sideband_orders, top);
-
-    // The same band without the removal of the shared orders (the exclusive share's reference).
-    const std::vector<bool> in_band =
-        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, {}, own_orders,
-                         options.extra_sideband_orders, top);
-    const std::vector<bool> regular =
-        tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
-    const std::vector<double> pulses = scale_pulses(base, std::abs(sh.speed_ratio) / base_ratio);
-    RealFft fft(static_cast<std::size_t>(spr));
-    std::vector<std::complex<double>> mean_spec(fft.bins()), rev_spec(fft.bins());
-    std::vector<double> var(fft.bins());
-    std::vector<std::vector<std::complex<double>>> rev_specs;
-    // The leading channels of the first one's rate and length through one plan (its taps
-    // computed once for all: resample.hpp; the same bytes as one call per channel); the others,
-    // or all when the plan cannot be built, one by one below, where a failure is reported.
-    std::vector<AngleResampled> shared;
-    try {
-      const diag::Signal& first = *chans.front();
-      std::vector<std::span<const double>> same;
-      for (const diag::Signal* ch : chans) {
-        if (ch->fs_hz != first.fs_hz || ch->samples.size() != first.samples.size() ||
-            !std::all_of(ch->samples.begin(), ch->samples.end(),
-                         [](double v) { return std::isfinite(v); })) {
-          break;
-        }
-        same.emplace_back(ch->samples);
-      }
-      if (!same.empty()) {
-        shared =
-            resample_by_angle(same, make_angle_plan(pulses, first.fs_hz, first.samples.size(), ro));
-      }
-    } catch (const diag::InputError&) {
-      shared.clear();
-    }
-    for (std::size_t ci = 0; ci < chans.size(); ++ci) {
-      const diag::Signal* ch = chans[ci];
-      AngleResampled ar;
-      Tsa t;
-      try {
-        ar = ci < shared.size() ? std::move(shared[ci])
-                                : resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
-        t = tsa(ar, options.min_revolutions);
-      } catch (const diag::InputError& e) {
-        note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
-        break;
-      }
-      // Spectrum of the TSA and the revolution-to-revolution variance of every order. When the
-      // speed varies (a run-up), the average is weighted: revolution r by 1 / n_r, n_r its
-      // energy in the exclusive orders (noise and non-synchronous content: the fault's share of
-      // one revolution is small) averaged over +-kWeightHalfWindow revolutions; the variance is
-      // then that of the weighted mean. Why: the non-synchronous content changes strongly with
-      // speed (in the two-stage box run up 500 -> 3000 rpm the last fifth of the revolutions held
-      // 6-12x the exclusive-order energy of each earlier fifth), so the plain average is as
-      // noisy as its loudest revolutions; the inverse-variance weighting is the least-variance
-      // unbiased mean of revolutions with the same synchronous part. (Dividing each revolution
-      // by its mesh lines' RMS instead, as for a synchronous part that scales with speed, made
-      // it worse: it amplifies the quiet slow revolutions' sensor noise.)
-      std::fill(var.begin(), var.end(), 0.0);
-      if (varying_speed) {
-        rev_specs.assign(static_cast<std::size_t>(ar.revolutions), {});
-        std::vector<double> w(rev_specs.size());
-        for (std::size_t r = 0; r < rev_specs.size(); ++r) {
-          rev_specs[r].resize(fft.bins());
-          fft.forward(std::span<const double>(ar.samples).subspan(r * spr, spr), rev_specs[r]);
-          double e = 0.0;
-          for (std::size_t k = 0; k < keep.size(); ++k) {
-            if (keep[k]) e += std::norm(rev_specs[r][k]);
-          }
-          w[r] = e;
-        }
-        // Smoothed: a weight that follows the speed, not each revolution's own noise.
-        {
-          const std::vector<double> e = w;
-          const auto nr = static_cast<std::ptrdiff_t>(e.size());
-          for (std::ptrdiff_t r = 0; r < nr; ++r) {
-            const std::ptrdiff_t lo = std::max<std::ptrdiff_t>(0, r - kWeightHalfWindow);
-            const std::ptrdiff_t hi = std::min<std::ptrdiff_t>(nr - 1, r + kWeightHalfWindow);
-            const double m = std::accumulate(e.begin() + lo, e.begin() + hi + 1, 0.0) /
-                             static_cast<double>(hi - lo + 1);
-            w[static_cast<std::size_t>(r)] = m > 0.0 ? 1.0 / m : 0.0;
-          }
-        }
-        const double sum_w = std::accumulate(w.begin(), w.end(), 0.0);
-        double sum_w2 = 0.0;
-        for (double x : w) sum_w2 += x * x;
-        std::fill(mean_spec.begin(), mean_spec.end(), 0.0);
-        for (std::size_t r = 0; r < rev_specs.size(); ++r) {
-          for (std::size_t k = 0; k < mean_spec.size(); ++k)
-            mean_spec[k] += w[r] / sum_w * rev_specs[r][k];
-        }
-        for (std::size_t r = 0; r < rev_specs.size(); ++r) {
-          for (std::size_t k = 0; k < var.size(); ++k)
-            var[k] += w[r] * w[r] * std::norm(rev_specs[r][k] - mean_spec[k]);
-        }
-        // So that var / (N (N - 1)) below estimates Var(M) = sum w_r^2 s_r^2 / W^2 (W = sum w) by
-        // sum w_r^2 |X_r - M|^2 / (W^2 - sum w^2): the unweighted N (N - 1) for equal weights,
-        // nearly unbiased when no weight dominates.
-        const double n = ar.revolutions;
-        for (double& v : var) v *= n * (n - 1) / (sum_w * sum_w - sum_w2);
-      } else {
-        fft.forward(t.samples, mean_spec);
-        for (int r = 0; r < ar.revolutions; ++r) {
-          fft.forward(
-              std::span<const double>(ar.samples)
-                  .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
-              rev_spec);
-          for (std::size_t k = 0; k < var.size(); ++k)
-            var[k] += std::norm(rev_spec[k] - mean_spec[k]);
-        }
-      }
-      // The noise of each order in the average: var_k / (N (N - 1)).
-      for (double& v : var) v /= static_cast<double>(ar.revolutions) * (ar.revolutions - 1);
-      if (capture) {
-        capture->tsa[sh.name][ch->name] = {mean_spec, var};
-        continue;
-      }
-      double regular_energy = 0.0;
-      for (std::size_t k = 1; k < keep.size() && k <= top; ++k) {
-        if (regular[k]) regular_energy += std::norm(mean_spec[k]);
-      }
-      bool compared = false;
-      if (const BaselineTsa* b = baseline_of(sh.name, ch->name);
-          b && b->spectrum.size() == mean_spec.size()) {
-        // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
-        // into this record's angle and subtracted in the analysed band; its noise adds.
-        std::vector<bool> band_mask(keep.size());
-        for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
-        const double phi = baseline_rotation(mean_spec, b->spectrum, band_mask, fft);
-        for (std::size_t k = 0; k < keep.size(); ++k) {
-          if (!band_mask[k]) continue;
-          mean_spec[k] -= b->spectrum[k] *
-                          std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
-          var[k] += b->noise[k];
-        }
-        used_baseline = true;
-        compared = true;
-      }
-      double energy = 0.0, noise = 0.0, band = 0.0;
+// The spectrum of a shaft's revolution average (mean_spec) and the noise of each order in it
+// (var), from the revolutions of `ar` (t: their plain average; keep: the exclusive orders).
+void revolution_spectrum(const AngleResampled& ar, const Tsa& t, bool varying,
+                         const std::vector<bool>& keep, RealFft& fft,
+                         std::vector<std::complex<double>>& mean_spec, std::vector<double>& var) {
+  const int spr = ar.samples_per_rev;
+  std::vector<std::complex<double>> rev_spec(fft.bins());
+  // Spectrum of the TSA and the revolution-to-revolution variance of every order. When the
+  // speed varies (a run-up), the average is weighted: revolution r by 1 / n_r, n_r its
+  // energy in the exclusive orders (noise and non-synchronous content: the fault's share of
+  // one revolution is small) averaged over +-kWeightHalfWindow revolutions; the variance is
+  // then that of the weighted mean. Why: the non-synchronous content changes strongly with
+  // speed (in the two-stage box run up 500 -> 3000 rpm the last fifth of the revolutions held
+  // 6-12x the exclusive-order energy of each earlier fifth), so the plain average is as
+  // noisy as its loudest revolutions; the inverse-variance weighting is the least-variance
+  // unbiased mean of revolutions with the same synchronous part. (Dividing each revolution
+  // by its mesh lines' RMS instead, as for a synchronous part that scales with speed, made
+  // it worse: it amplifies the quiet slow revolutions' sensor noise.)
+  std::fill(var.begin(), var.end(), 0.0);
+  if (varying) {
+    std::vector<std::vector<std::complex<double>>> rev_specs(
+        static_cast<std::size_t>(ar.revolutions));
+    std::vector<double> w(rev_specs.size());
+    for (std::size_t r = 0; r < rev_specs.size(); ++r) {
+      rev_specs[r].resize(fft.bins());
+      fft.forward(std::span<const double>(ar.samples).subspan(r * spr, spr), rev_specs[r]);
+      double e = 0.0;
       for (std::size_t k = 0; k < keep.size(); ++k) {
-        if (in_band[k]) band += std::norm(mean_spec[k]);
-        if (keep[k]) {
-          energy += std::norm(mean_spec[k]);
-          noise += var[k];
-        } else {
-          mean_spec[k] = 0.0;
-        }
+        if (keep[k]) e += std::norm(rev_specs[r][k]);
       }
-      std::vector<double> excl(static_cast<std::size_t>(spr));
-      fft.inverse(mean_spec, excl);
-      const double raw = energy > 0.0 ? fm4(excl) : kNaN;
-      const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
-      // The tooth that stands out, per gear of the shaft (its own high-passed copy of e_s).
-      double score = 1.0;
-      ToothOutlier best_tooth;
-      std::string best_gear;
-      if ((compared || snr >= options.min_snr) && energy > 0.0) {
-        for (int g : sh.gears) {
-          const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
-          if (z < kMinTeethForOutlier) continue;
-          std::vector<std::complex<double>> hp = mean_spec;
-          const auto cut = static_cast<std::size_t>(z / 2);
-          for (std::size_t k = 0; k < cut && k < hp.size(); ++k) hp[k] = 0.0;
-          std::vector<double> x(static_cast<std::size_t>(spr));
-          fft.inverse(hp, x);
-          const ToothOutlier to = tooth_outlier(x, z);
-          if (to.ratio > score) score = to.ratio, best_tooth = to, best_gear = gb.gears()[g].name;
-        }
-      }
-      if (std::isnan(sd.score) || score > sd.score || (score == sd.score && snr > sd.snr)) {
-        sd.score = score;
-        sd.gear = best_gear;
-        sd.angle_deg = best_tooth.angle_deg;
-        sd.fm4 = raw;
-        sd.snr = snr;
-        sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
-        const double synchronous = compared ? energy : std::max(0.0, energy - noise);
-        sd.level = regular_energy > 0.0 ? std::sqrt(synchronous / regular_energy) : kInf;
-        sd.compared = compared;
-        sd.channel = ch->name;
-        sd.revolutions = t.revolutions;
-        const std::vector<double> diff = tsa_difference(t, mesh_orders);
-        sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
+      w[r] = e;
+    }
+    // Smoothed: a weight that follows the speed, not each revolution's own noise.
+    {
+      const std::vector<double> e = w;
+      const auto nr = static_cast<std::ptrdiff_t>(e.size());
+      for (std::ptrdiff_t r = 0; r < nr; ++r) {
+        const std::ptrdiff_t lo = std::max<std::ptrdiff_t>(0, r - kWeightHalfWindow);
+        const std::ptrdiff_t hi = std::min<std::ptrdiff_t>(nr - 1, r + kWeightHalfWindow);
+        const double m = std::accumulate(e.begin() + lo, e.begin() + hi + 1, 0.0) /
+                         static_cast<double>(hi - lo + 1);
+        w[static_cast<std::size_t>(r)] = m > 0.0 ? 1.0 / m : 0.0;
       }
     }
-    const bool significant =
-        (sd.compared || sd.snr >= options.min_snr) && !(sd.level < options.min_level) &&
-        !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
-    sd.significant = significant;
-    sd.damaged = significant && sd.score > options.damaged_fm4;
-    sd.uncertain = significant && !sd.damaged && sd.score > options.healthy_fm4;
-    res.shafts.push_back(sd);
+    const double sum_w = std::accumulate(w.begin(), w.end(), 0.0);
+    double sum_w2 = 0.0;
+    for (double x : w) sum_w2 += x * x;
+    std::fill(mean_spec.begin(), mean_spec.end(), 0.0);
+    for (std::size_t r = 0; r < rev_specs.size(); ++r) {
+      for (std::size_t k = 0; k < mean_spec.size(); ++k)
+        mean_spec[k] += w[r] / sum_w * rev_specs[r][k];
+    }
+    for (std::size_t r = 0; r < rev_specs.size(); ++r) {
+      for (std::size_t k = 0; k < var.size(); ++k)
+        var[k] += w[r] * w[r] * std::norm(rev_specs[r][k] - mean_spec[k]);
+    }
+    // So that var / (N (N - 1)) below estimates Var(M) = sum w_r^2 s_r^2 / W^2 (W = sum w) by
+    // sum w_r^2 |X_r - M|^2 / (W^2 - sum w^2): the unweighted N (N - 1) for equal weights,
+    // nearly unbiased when no weight dominates.
+    const double n = ar.revolutions;
+    for (double& v : var) v *= n * (n - 1) / (sum_w * sum_w - sum_w2);
+  } else {
+    fft.forward(t.samples, mean_spec);
+    for (int r = 0; r < ar.revolutions; ++r) {
+      fft.forward(std::span<const double>(ar.samples)
+                      .subspan(static_cast<std::size_t>(r) * spr, static_cast<std::size_t>(spr)),
+                  rev_spec);
+      for (std::size_t k = 0; k < var.size(); ++k) var[k] += std::norm(rev_spec[k] - mean_spec[k]);
+    }
   }
+  // The noise of each order in the average: var_k / (N (N - 1)).
+  for (double& v : var) v /= static_cast<double>(ar.revolutions) * (ar.revolutions - 1);
+}
 
+// The decision over the shafts' scores: the slowest damaged shaft is the finding (a faster one
+// whose period divides its own is where the fault folds in, said so); a slower shaft in the
+// uncertain band makes the result ambiguous (both listed, at half confidence). `note` gets the
+// shafts whose periods are whole multiples of one another and whether the baseline was used.
+void decide_damaged_shafts(GearDamageResult& res, const diag::Gearbox& gb,
+                           const GearDamageOptions& options, bool used_baseline,
+                           std::ostringstream& note) {
+  const auto& shafts = gb.shafts();
   auto speed_of = [&](const ShaftDamage& d) {
     return std::abs(shafts[static_cast<std::size_t>(gb.shaft_index(d.shaft))].speed_ratio);
   };
@@ -624,6 +436,223 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
     }
     break;
   }
+}
+
+GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb,
+                             const std::string& reference_shaft,
+                             std::span<const double> pulse_times_s,
+                             const GearDamageOptions& options, GearDamageBaseline* capture) {
+  options.validate();
+  const std::string where = "locate_gear_damage";
+  const auto& shafts = gb.shafts();
+  const std::string& ref = reference_shaft;
+  check_locate_inputs(rec, gb, ref, pulse_times_s, options, where);
+  GearDamageResult res;
+  res.reference_shaft = ref;
+  std::ostringstream note;
+  const double ref_ratio = std::abs(shafts[gb.shaft_index(ref)].speed_ratio);
+  const double ref_hz = (pulse_times_s.size() - 1) / (pulse_times_s.back() - pulse_times_s.front());
+  const std::vector<double> ref_pulses =
+      smooth_pulse_times_polynomial(pulse_times_s, options.pulse_fit_degree);
+
+  ResampleOptions ro;
+  ro.pulses_per_rev = 1;
+  const bool varying_speed = speed_varies(ref_pulses);
+
+  auto channels_of = [&](const diag::Shaft& sh) {
+    std::vector<const diag::Signal*> chans;
+    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
+      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
+    } else {
+      chans = shaft_vibration_channels(rec, gb, sh.name);
+    }
+    return chans;
+  };
+
+  // ---- pulse correction (pulse_refine.hpp): smoothed, then corrected from a mesh line's phase
+  // on the fastest shaft; every shaft's revolutions are scaled from the result ----
+  const RefinedPulses refined =
+      refine_pulses(rec, gb, ref, pulse_times_s, pulse_refine_options(options));
+  note << refined.note;
+  const std::vector<double>& base = refined.pulses;  // once per revolution of a shaft turning at
+  const double base_ratio =                          // |speed_ratio| = base_ratio
+      std::abs(shafts[static_cast<std::size_t>(gb.shaft_index(refined.shaft))].speed_ratio);
+
+  bool used_baseline = false;
+  auto baseline_of = [&](const std::string& shaft, const std::string& channel) {
+    const BaselineTsa* b = nullptr;
+    if (!options.baseline) return b;
+    if (auto it = options.baseline->tsa.find(shaft); it != options.baseline->tsa.end()) {
+      if (auto jt = it->second.find(channel); jt != it->second.end()) b = &jt->second;
+    }
+    return b;
+  };
+  for (std::size_t si = 0; si < shafts.size(); ++si) {
+    const diag::Shaft& sh = shafts[si];
+    if (sh.gears.empty()) continue;
+    ShaftDamage sd;
+    sd.shaft = sh.name;
+    sd.score = sd.fm4 = sd.snr = kNaN;
+    const double rel = std::abs(sh.speed_ratio) / ref_ratio;  // f_s / f_ref
+    sd.frequency_hz = ref_hz * rel;
+
+    const std::vector<const diag::Signal*> chans = channels_of(sh);
+    if (chans.empty()) {
+      note << "shaft '" << sh.name << "': no channel. ";
+      res.shafts.push_back(sd);
+      continue;
+    }
+    // Highest order analysed and the TSA resolution (options).
+    const TsaResolution reso = tsa_resolution(chans.front()->fs_hz, sd.frequency_hz,
+                                              options.band_fraction, options.samples_per_rev);
+    const int spr = reso.samples_per_rev;
+    const int half = spr / 2;
+    const std::size_t top = reso.top;
+    sd.samples_per_rev = spr;
+    ro.samples_per_rev = spr;
+    const std::vector<int> mesh_orders = synchronous_mesh_orders(gb, sh, half);
+    std::vector<int> own_orders;
+    for (int g : sh.gears) own_orders.push_back(gb.gears()[g].spec.teeth);
+    // Orders shared with faster shafts.
+    std::vector<int> shared_steps;
+    for (const diag::Shaft& other : shafts) {
+      if (other.gears.empty() || &other == &sh) continue;
+      const double r = std::abs(other.speed_ratio) / std::abs(sh.speed_ratio);
+      if (r <= 1.0 + kRatioTol) continue;
+      const int p = shared_order_step(r);
+      if (p > 0 && p <= half) shared_steps.push_back(p);
+    }
+    const std::vector<bool> keep =
+        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, shared_steps, own_orders,
+                         options.extra_sideband_orders, top);
+
+    // The same band without the removal of the shared orders (the exclusive share's reference).
+    const std::vector<bool> in_band =
+        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, {}, own_orders,
+                         options.extra_sideband_orders, top);
+    const std::vector<bool> regular =
+        tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
+    const std::vector<double> pulses = scale_pulses(base, std::abs(sh.speed_ratio) / base_ratio);
+    RealFft fft(static_cast<std::size_t>(spr));
+    std::vector<std::complex<double>> mean_spec(fft.bins());
+    std::vector<double> var(fft.bins());
+    // The leading channels of the first one's rate and length through one plan (its taps
+    // computed once for all: resample.hpp; the same bytes as one call per channel); the others,
+    // or all when the plan cannot be built, one by one below, where a failure is reported.
+    std::vector<AngleResampled> shared;
+    try {
+      const diag::Signal& first = *chans.front();
+      std::vector<std::span<const double>> same;
+      for (const diag::Signal* ch : chans) {
+        if (ch->fs_hz != first.fs_hz || ch->samples.size() != first.samples.size() ||
+            !std::all_of(ch->samples.begin(), ch->samples.end(),
+                         [](double v) { return std::isfinite(v); })) {
+          break;
+        }
+        same.emplace_back(ch->samples);
+      }
+      if (!same.empty()) {
+        shared =
+            resample_by_angle(same, make_angle_plan(pulses, first.fs_hz, first.samples.size(), ro));
+      }
+    } catch (const diag::InputError&) {
+      shared.clear();
+    }
+    for (std::size_t ci = 0; ci < chans.size(); ++ci) {
+      const diag::Signal* ch = chans[ci];
+      AngleResampled ar;
+      Tsa t;
+      try {
+        ar = ci < shared.size() ? std::move(shared[ci])
+                                : resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
+        t = tsa(ar, options.min_revolutions);
+      } catch (const diag::InputError& e) {
+        note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
+        break;
+      }
+      revolution_spectrum(ar, t, varying_speed, keep, fft, mean_spec, var);
+      if (capture) {
+        capture->tsa[sh.name][ch->name] = {mean_spec, var};
+        continue;
+      }
+      double regular_energy = 0.0;
+      for (std::size_t k = 1; k < keep.size() && k <= top; ++k) {
+        if (regular[k]) regular_energy += std::norm(mean_spec[k]);
+      }
+      bool compared = false;
+      if (const BaselineTsa* b = baseline_of(sh.name, ch->name);
+          b && b->spectrum.size() == mean_spec.size()) {
+        // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
+        // into this record's angle and subtracted in the analysed band; its noise adds.
+        std::vector<bool> band_mask(keep.size());
+        for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
+        const double phi = baseline_rotation(mean_spec, b->spectrum, band_mask, fft);
+        for (std::size_t k = 0; k < keep.size(); ++k) {
+          if (!band_mask[k]) continue;
+          mean_spec[k] -= b->spectrum[k] *
+                          std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
+          var[k] += b->noise[k];
+        }
+        used_baseline = true;
+        compared = true;
+      }
+      double energy = 0.0, noise = 0.0, band = 0.0;
+      for (std::size_t k = 0; k < keep.size(); ++k) {
+        if (in_band[k]) band += std::norm(mean_spec[k]);
+        if (keep[k]) {
+          energy += std::norm(mean_spec[k]);
+          noise += var[k];
+        } else {
+          mean_spec[k] = 0.0;
+        }
+      }
+      std::vector<double> excl(static_cast<std::size_t>(spr));
+      fft.inverse(mean_spec, excl);
+      const double raw = energy > 0.0 ? fm4(excl) : kNaN;
+      const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
+      // The tooth that stands out, per gear of the shaft (its own high-passed copy of e_s).
+      double score = 1.0;
+      ToothOutlier best_tooth;
+      std::string best_gear;
+      if ((compared || snr >= options.min_snr) && energy > 0.0) {
+        for (int g : sh.gears) {
+          const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
+          if (z < kMinTeethForOutlier) continue;
+          std::vector<std::complex<double>> hp = mean_spec;
+          const auto cut = static_cast<std::size_t>(z / 2);
+          for (std::size_t k = 0; k < cut && k < hp.size(); ++k) hp[k] = 0.0;
+          std::vector<double> x(static_cast<std::size_t>(spr));
+          fft.inverse(hp, x);
+          const ToothOutlier to = tooth_outlier(x, z);
+          if (to.ratio > score) score = to.ratio, best_tooth = to, best_gear = gb.gears()[g].name;
+        }
+      }
+      if (std::isnan(sd.score) || score > sd.score || (score == sd.score && snr > sd.snr)) {
+        sd.score = score;
+        sd.gear = best_gear;
+        sd.angle_deg = best_tooth.angle_deg;
+        sd.fm4 = raw;
+        sd.snr = snr;
+        sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
+        const double synchronous = compared ? energy : std::max(0.0, energy - noise);
+        sd.level = regular_energy > 0.0 ? std::sqrt(synchronous / regular_energy) : kInf;
+        sd.compared = compared;
+        sd.channel = ch->name;
+        sd.revolutions = t.revolutions;
+        const std::vector<double> diff = tsa_difference(t, mesh_orders);
+        sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
+      }
+    }
+    const bool significant =
+        (sd.compared || sd.snr >= options.min_snr) && !(sd.level < options.min_level) &&
+        !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
+    sd.significant = significant;
+    sd.damaged = significant && sd.score > options.damaged_fm4;
+    sd.uncertain = significant && !sd.damaged && sd.score > options.healthy_fm4;
+    res.shafts.push_back(sd);
+  }
+
+  decide_damaged_shafts(res, gb, options, used_baseline, note);
   res.note = note.str();
   return res;
 }

@@ -713,18 +713,10 @@ Recording read_span(const RecordingReader& reader, double t0,
   Recording rec;
   for (const ChannelInfo& c : reader.channels()) {
     Signal& s = (c.group == "signals" ? rec.signals : rec.tachos).emplace_back();
-    s.name = c.name;
-    s.fs_hz = c.fs_hz;
-    s.unit = c.unit;
-    s.direction = c.direction;
-    s.location = c.location;
+    s.identity() = c.identity();
     const std::uint64_t first = samples_within(c.length, c.fs_hz, t0);
     const std::uint64_t end = samples_within(c.length, c.fs_hz, t1);
     s.samples.resize(static_cast<std::size_t>(end > first ? end - first : 0));
-    s.role = c.role;
-    s.shaft = c.shaft;
-    s.mesh = c.mesh;
-    s.ppr = c.ppr;
     reader.read_block(c.group + "/" + c.name, first, s.samples);
   }
   rec.gearbox_json = reader.gearbox_json();

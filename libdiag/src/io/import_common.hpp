@@ -1,4 +1,5 @@
-// What the importers (import.cpp, csv.cpp) share: the rate tolerance and small text helpers.
+// What the format readers (open_recording.cpp, mat.cpp, csv.cpp, sound.cpp) share: the rate
+// tolerance and small text helpers.
 #pragma once
 
 #include <cctype>

@@ -10,15 +10,7 @@ namespace {
 
 Signal slice(const Signal& s, double t0, double t1) {
   Signal out;
-  out.name = s.name;
-  out.fs_hz = s.fs_hz;
-  out.unit = s.unit;
-  out.direction = s.direction;
-  out.location = s.location;
-  out.role = s.role;
-  out.shaft = s.shaft;
-  out.mesh = s.mesh;
-  out.ppr = s.ppr;
+  out.identity() = s.identity();
   const std::size_t first = samples_within(s.samples.size(), s.fs_hz, t0);
   const std::size_t end = std::max(first, samples_within(s.samples.size(), s.fs_hz, t1));
   out.samples.assign(s.samples.begin() + static_cast<std::ptrdiff_t>(first),

@@ -71,74 +71,23 @@ struct ChannelPlan {
 
 using diag::mesh_name;
 
-}  // namespace
+// The integration grid: the step, the steps per output sample and the output window. Refuses
+// (InputError) a grid beyond the supported steps per sample or run steps.
+struct StepPlan {
+  std::vector<double> nat;        // the model's natural frequencies [Hz], ascending
+  double w_in_max = 0;            // the highest input speed [rad/s]
+  double h = 0;                   // integration step [s]
+  int D = 1;                      // steps per output sample
+  int delay_out = 0;              // the decimation filter's delay [output samples]
+  long long settle_out = 0;       // output samples before the recording starts
+  long long n_out = 0;            // output samples recorded
+  long long first_push_step = 0;  // the first step whose value enters the decimators
+  long long total_steps = 0;
+};
 
-void RunOptions::validate() const {
-  const std::string where = "run";
-  auto positive = [&](double v, const char* field) {
-    if (!(v > 0.0) || !std::isfinite(v)) {
-      throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not > 0"));
-    }
-  };
-  positive(duration_s, "duration_s");
-  positive(fs_hz, "fs_hz");
-  auto at_most = [&](double v, double limit, const char* field, const char* unit) {
-    if (v > limit) {
-      throw diag::InputError(diag::format_error(where, field,
-                                                diag::format_significant(v, 6) + unit +
-                                                    " exceeds the limit " +
-                                                    diag::format_significant(limit, 6) + unit));
-    }
-  };
-  at_most(duration_s, kMaxDurationS, "duration_s", " s");
-  at_most(fs_hz, kMaxFsHz, "fs_hz", " Hz");
-  at_most(settle_s, kMaxSettleS, "settle_s", " s");
-  at_most(steps_per_period, kMaxStepsPerPeriod, "steps_per_period", "");
-  at_most(steps_per_mesh, kMaxStepsPerPeriod, "steps_per_mesh", "");
-  at_most(contact_substeps, kMaxContactSubsteps, "contact_substeps", "");
-  if (!(step_s >= 0.0)) throw diag::InputError(diag::format_error(where, "step_s", "must be >= 0"));
-  if (steps_per_period < 8)
-    throw diag::InputError(diag::format_error(where, "steps_per_period", "must be >= 8"));
-  if (steps_per_mesh < 8)
-    throw diag::InputError(diag::format_error(where, "steps_per_mesh", "must be >= 8"));
-  if (contact_substeps < 1) {
-    throw diag::InputError(diag::format_error(where, "contact_substeps", "must be >= 1"));
-  }
-  positive(gsl_rel_tol, "gsl_rel_tol");
-  positive(gsl_abs_tol, "gsl_abs_tol");
-  if (!(accel_noise_m_per_s2 >= 0.0)) {
-    throw diag::InputError(diag::format_error(where, "accel_noise_m_per_s2", "must be >= 0"));
-  }
-  if (!(casing_frequency_hz >= 0.0)) {
-    throw diag::InputError(diag::format_error(where, "casing_frequency_hz", "must be >= 0"));
-  }
-  if (casing_frequency_hz > 0.0 && casing_frequency_hz >= 0.45 * fs_hz) {
-    throw diag::InputError(
-        diag::format_error(where, "casing_frequency_hz",
-                           std::to_string(casing_frequency_hz) +
-                               " Hz is not below 0.45 fs = " + std::to_string(0.45 * fs_hz)));
-  }
-  if (!(casing_damping_ratio > 0.0 && casing_damping_ratio < 1.0)) {
-    throw diag::InputError(diag::format_error(where, "casing_damping_ratio", "must be in (0, 1)"));
-  }
-}
-
-const Channel* DynamicResult::find(const std::string& name) const {
-  for (const Channel& c : channels) {
-    if (c.name == name) return &c;
-  }
-  return nullptr;
-}
-
-DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
-                               const RunOptions& run) {
-  run.validate();
-  GearboxModel model(gb, dynamics);
+StepPlan plan_steps(const diag::Gearbox& gb, const GearboxModel& model, const RunOptions& run,
+                    std::vector<std::string>& warnings) {
   const DynamicsOptions& opt = model.options();
-  DynamicResult result;
-  result.fs_hz = run.fs_hz;
-
-  // ---- step and decimation ----
   const std::vector<double> nat = model.natural_frequencies_hz();
   const double f_max = nat.back();
   double f_low = 0.0;
@@ -175,7 +124,7 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
       w << "step " << run.step_s << " s is beyond the RK4 stability bound for the highest natural "
         << "frequency " << f_max << " Hz (h w_max = " << stability << " > 2); using "
         << 1.0 / (run.fs_hz * D) << " s";
-      result.warnings.push_back(w.str());
+      warnings.push_back(w.str());
     } else {
       const double d_wanted = std::round(1.0 / (run.fs_hz * run.step_s));
       if (!(d_wanted <= kMaxStepsPerSample)) {
@@ -190,13 +139,11 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
         std::ostringstream w;
         w << "step " << run.step_s << " s rounded to " << 1.0 / (run.fs_hz * D)
           << " s (a whole number of steps per output sample)";
-        result.warnings.push_back(w.str());
+        warnings.push_back(w.str());
       }
     }
   }
   const double h = 1.0 / (run.fs_hz * D);
-  result.step_s = h;
-  result.decimation = D;
   double settle = run.settle_s;
   if (settle < 0.0) settle = std::max(0.05, 20.0 / std::max(f_low, 1e-3));
   const diag::Decimator probe(D);
@@ -223,7 +170,14 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     throw diag::InputError(diag::format_error("simulate", "duration_s", m.str()));
   }
 
-  // ---- channels ----
+  return {nat, w_in_max, h, D, delay_out, settle_out, n_out, first_push_step, total_steps};
+}
+
+// The recorded channels and where each value comes from: bearing accelerations (along and
+// normal to each mesh's line of action, horizontal, vertical), the transmission error and the
+// input and output angles, and each mesh's force, friction, deflection and contact.
+std::vector<ChannelPlan> plan_channels(const diag::Gearbox& gb, const GearboxModel& model,
+                                       const RunOptions& run) {
   std::vector<ChannelPlan> plans;
   if (run.bearing_channels) {
     for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
@@ -321,53 +275,58 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
       plans.push_back(p);
     }
   }
-  std::vector<diag::Decimator> decimators;
-  std::vector<Resonator> casings;
-  for (const ChannelPlan& p : plans) {
-    decimators.emplace_back(p.filtered ? D : 1);
-    casings.emplace_back(run.casing_frequency_hz > 0 ? run.casing_frequency_hz : 1.0,
-                         run.casing_damping_ratio, run.fs_hz * D);
-  }
-  // Memory: every channel is held at the output rate twice (raw and filtered) before it is
-  // written. Refused beyond the documented limit or half of this machine's memory.
-  {
-    const double channels = static_cast<double>(plans.size() + gb.shafts().size());
-    const double bytes = 2.0 * 8.0 * channels * static_cast<double>(n_out + 2 * delay_out + 2);
-    const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-    const double machine = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 1e300;
-    const double limit = std::min(kMaxOutputBytes, machine);
-    if (bytes > limit) {
-      std::ostringstream m;
-      m << "the recording would need " << bytes / (1 << 20) << " MiB (" << n_out << " samples x "
-        << channels << " channels x 8 bytes, twice); at most " << limit / (1 << 20)
-        << " MiB are accepted: shorten duration_s or lower fs_hz";
-      throw diag::InputError(diag::format_error("simulate", "duration_s", m.str()));
-    }
-  }
-  std::vector<std::vector<double>> raw(plans.size());
-  for (auto& r : raw) r.reserve(static_cast<std::size_t>(n_out + 2 * delay_out + 2));
+  return plans;
+}
 
-  // Tachometers: one per shaft with gears, from the first gear's total angle.
-  std::vector<int> tacho_gear;
-  std::vector<double> tacho_duty;
+// Every channel is held at the output rate twice (raw and filtered) before it is written:
+// refused beyond the documented limit or half of this machine's memory.
+void check_output_memory(std::size_t n_channels, long long n_out, int delay_out) {
+  const double channels = static_cast<double>(n_channels);
+  const double bytes = 2.0 * 8.0 * channels * static_cast<double>(n_out + 2 * delay_out + 2);
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  const double machine = pages > 0 && page > 0 ? 0.5 * double(pages) * double(page) : 1e300;
+  const double limit = std::min(kMaxOutputBytes, machine);
+  if (bytes > limit) {
+    std::ostringstream m;
+    m << "the recording would need " << bytes / (1 << 20) << " MiB (" << n_out << " samples x "
+      << channels << " channels x 8 bytes, twice); at most " << limit / (1 << 20)
+      << " MiB are accepted: shorten duration_s or lower fs_hz";
+    throw diag::InputError(diag::format_error("simulate", "duration_s", m.str()));
+  }
+}
+
+// Tachometers: one per shaft with gears, from the first gear's total angle; `tachos` gets their
+// (empty) channels, the plan each one's gear and pulse duty (a share of the revolution).
+struct TachoPlan {
+  std::vector<int> gear;
+  std::vector<double> duty;
+};
+
+TachoPlan plan_tachos(const diag::Gearbox& gb, const GearboxModel& model, const RunOptions& run,
+                      double w_in_max, long long n_out, std::vector<Channel>& tachos) {
+  TachoPlan plan;
   for (std::size_t s = 0; s < gb.shafts().size(); ++s) {
     if (gb.shafts()[s].gears.empty()) continue;
     const int g = gb.shafts()[s].gears.front();
-    tacho_gear.push_back(g);
+    plan.gear.push_back(g);
     const double f_shaft = model.gear_speed_ratio(g) * w_in_max / (2 * kPi);
-    tacho_duty.push_back(std::clamp(3.0 * f_shaft / run.fs_hz, 0.02, 0.25));
+    plan.duty.push_back(std::clamp(3.0 * f_shaft / run.fs_hz, 0.02, 0.25));
     Channel c;
     c.name = gb.shafts()[s].name;
-    c.unit = "";
+    c.fs_hz = run.fs_hz;
     c.direction = diag::Direction::kTacho;
     c.location = gb.shafts()[s].name;
     c.role = diag::Role::kTacho;
     c.shaft = gb.shafts()[s].name;
+    c.ppr = 1;
     c.samples.reserve(static_cast<std::size_t>(n_out));
-    result.tachos.push_back(c);
+    tachos.push_back(c);
   }
+  return plan;
+}
 
-  // Static deflections for the divergence check.
+// Each mesh's static deflection under the input torque: the scale of the divergence check.
+std::vector<double> static_deflections(const diag::Gearbox& gb, const GearboxModel& model) {
   std::vector<double> static_delta(gb.meshes().size());
   for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
     const diag::Mesh& m = gb.meshes()[j];
@@ -375,171 +334,78 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     const double f = torque_driver / diag::Gear(gb.gears()[m.driver].spec).base_radius_m();
     static_delta[j] = std::max(f / model.mean_mesh_stiffness_n_per_m(static_cast<int>(j)), 1e-9);
   }
+  return static_delta;
+}
 
-  // ---- integration ----
-  std::vector<double> y = model.equilibrium_state();
+// A channel's value at step time t. `obs` is the observation at t; `y` the state at t + h (RK4,
+// advanced in place) or at t (GSL), `before` the state at t and `prev` at t - h (RK4).
+double sample_value(const ChannelPlan& p, const GearboxModel& model, const Observation& obs,
+                    const std::vector<double>& y, const std::vector<double>& before,
+                    const std::vector<double>& prev, double h, double t, bool gsl, bool first_step,
+                    Resonator& casing) {
   const int n = model.dofs();
-  Observation obs;
-  obs.meshes.resize(gb.meshes().size());
-  obs.acceleration.resize(n);
-  Rk4 rk4(2 * n);
-
-  struct GslParams {
-    const GearboxModel* model;
-  } params{&model};
-  gsl_odeiv2_system sys{[](double t, const double* yy, double* dy, void* p) -> int {
-                          static_cast<GslParams*>(p)->model->derivatives(t, yy, dy);
-                          return GSL_SUCCESS;
-                        },
-                        nullptr, static_cast<std::size_t>(2 * n), &params};
-  gsl_odeiv2_driver* driver = nullptr;
-  if (run.method == RunOptions::Method::kGslRk8pd) {
-    driver = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, h, run.gsl_abs_tol,
-                                           run.gsl_rel_tol);
+  double value = 0.0;
+  switch (p.source) {
+    case Source::kAccel:
+      if (!gsl && !first_step) {
+        // Mean acceleration over [t - h, t + h] with triangular weight: the central
+        // difference of the velocity. Why not the point value: the bearing force jumps
+        // when a tooth pair enters or leaves a mesh, and a point-sampled step is placed
+        // at the nearest fine-grid sample; that timing error (up to h / 2) cycles with
+        // the beat between step and mesh period and survives the decimation filter as
+        // spurious periodic lines (3.6 % of the vibration RMS in the two-stage box at
+        // 2000 rpm with a 5 us step). The difference integrates the jump exactly; its
+        // own response, sinc^2(f h), is 0.999 at 0.4 fs for D >= 4 steps per sample.
+        const double ax = (y[n + p.index] - prev[n + p.index]) / (2.0 * h);
+        const double ay = (y[n + p.index + 1] - prev[n + p.index + 1]) / (2.0 * h);
+        value = p.cx * ax + p.cy * ay;
+      } else {
+        value = p.cx * obs.acceleration[p.index] + p.cy * obs.acceleration[p.index + 1];
+      }
+      if (p.casing) value = casing(value);
+      break;
+    case Source::kTransmissionError:
+    case Source::kAngle:
+      value = 0.0;  // filled below from the state at t
+      break;
+    case Source::kMeshForce:
+      value = obs.meshes[p.index].force_n;
+      break;
+    case Source::kMeshFriction:
+      value = obs.meshes[p.index].friction_n;
+      break;
+    case Source::kMeshDte:
+      value = obs.meshes[p.index].delta_m;
+      break;
+    case Source::kMeshContact:
+      value = obs.meshes[p.index].contact;
+      break;
   }
-  struct DriverGuard {
-    gsl_odeiv2_driver* d;
-    ~DriverGuard() {
-      if (d) gsl_odeiv2_driver_free(d);
-    }
-  } guard{driver};
-
-  // The state at the start of the current step (RK4 advances y in place; the angle channels and
-  // tachometers need the state at t, like the observation).
-  std::vector<double> scratch = y;
-  std::vector<double> prev = y;  // the state at t - h (RK4 only)
-  std::vector<double> dydt(2 * n);
-  std::vector<double> one(1);
-  const bool speed_varies = opt.speed.kind != SpeedProfile::Kind::kConstant;
-  long long out_index = -1;  // output samples emitted after the first push (incl. dropped ones)
-  double t = 0.0;
-  for (long long k = 0; k < total_steps; ++k) {
-    t = k * h;
-    if (speed_varies) model.update_speed(t);
-    const bool record = k >= first_push_step;
-    if (driver) {
-      if (record) model.derivatives(t, y.data(), dydt.data(), &obs);
+  if (p.source == Source::kTransmissionError || p.source == Source::kAngle) {
+    // State at t: for RK4 y is already at t + h; the pre-step copy is `before`.
+    const double* ys = gsl ? y.data() : before.data();
+    if (p.source == Source::kAngle) {
+      value = model.gear_angle_rad(p.index, t, ys);
     } else {
-      const std::uint64_t before = model.contact_signature(t, y.data());
-      rk4.step(model, t, h, y.data(), record ? &obs : nullptr);
-      // (the observation is at t, the state is now at t + h)
-      if (run.contact_substeps > 1 && model.contact_signature(t + h, y.data()) != before) {
-        // A pair entered or left a mesh within the step: redo it in sub-steps (RunOptions).
-        y.assign(scratch.begin(), scratch.end());
-        const double hs = h / run.contact_substeps;
-        for (int j = 0; j < run.contact_substeps; ++j) {
-          rk4.step(model, t + j * hs, hs, y.data(), (j == 0 && record) ? &obs : nullptr);
-        }
-      }
-    }
-    if (record) {
-      const long long rel = k - first_push_step;
-      const bool at_output = rel % D == 0;
-      for (std::size_t c = 0; c < plans.size(); ++c) {
-        const ChannelPlan& p = plans[c];
-        double value = 0.0;
-        switch (p.source) {
-          case Source::kAccel:
-            if (!driver && k > 0) {
-              // Mean acceleration over [t - h, t + h] with triangular weight: the central
-              // difference of the velocity. Why not the point value: the bearing force jumps
-              // when a tooth pair enters or leaves a mesh, and a point-sampled step is placed
-              // at the nearest fine-grid sample; that timing error (up to h / 2) cycles with
-              // the beat between step and mesh period and survives the decimation filter as
-              // spurious periodic lines (3.6 % of the vibration RMS in the two-stage box at
-              // 2000 rpm with a 5 us step). The difference integrates the jump exactly; its
-              // own response, sinc^2(f h), is 0.999 at 0.4 fs for D >= 4 steps per sample.
-              const double ax = (y[n + p.index] - prev[n + p.index]) / (2.0 * h);
-              const double ay = (y[n + p.index + 1] - prev[n + p.index + 1]) / (2.0 * h);
-              value = p.cx * ax + p.cy * ay;
-            } else {
-              value = p.cx * obs.acceleration[p.index] + p.cy * obs.acceleration[p.index + 1];
-            }
-            if (p.casing) value = casings[c](value);
-            break;
-          case Source::kTransmissionError:
-          case Source::kAngle:
-            value = 0.0;  // filled below from the state at t
-            break;
-          case Source::kMeshForce:
-            value = obs.meshes[p.index].force_n;
-            break;
-          case Source::kMeshFriction:
-            value = obs.meshes[p.index].friction_n;
-            break;
-          case Source::kMeshDte:
-            value = obs.meshes[p.index].delta_m;
-            break;
-          case Source::kMeshContact:
-            value = obs.meshes[p.index].contact;
-            break;
-        }
-        if (p.source == Source::kTransmissionError || p.source == Source::kAngle) {
-          // State at t: for RK4 y is already at t + h; keep the pre-step copy in scratch.
-          const double* ys = driver ? y.data() : scratch.data();
-          if (p.source == Source::kAngle) {
-            value = model.gear_angle_rad(p.index, t, ys);
-          } else {
-            value = ys[model.input_gear()] * model.gear_speed_ratio(model.output_gear()) /
-                        model.gear_speed_ratio(model.input_gear()) -
-                    ys[model.output_gear()];
-          }
-        }
-        if (!p.filtered) {
-          if (at_output) raw[c].push_back(value);
-        } else {
-          one[0] = value;
-          decimators[c].push(one, raw[c]);
-        }
-      }
-      if (at_output) {
-        ++out_index;
-        if (out_index >= delay_out && out_index < delay_out + n_out) {
-          const double* ys = driver ? y.data() : scratch.data();
-          for (std::size_t i = 0; i < tacho_gear.size(); ++i) {
-            const double a = model.gear_angle_rad(tacho_gear[i], t, ys);
-            const double frac = a / (2 * kPi) - std::floor(a / (2 * kPi));
-            result.tachos[i].samples.push_back(frac < tacho_duty[i] ? 1.0 : 0.0);
-          }
-        }
-      }
-      for (std::size_t j = 0; j < obs.meshes.size(); ++j) {
-        if (!std::isfinite(obs.meshes[j].force_n) ||
-            std::abs(obs.meshes[j].delta_m) > kDivergenceFactor * static_delta[j]) {
-          std::ostringstream msg;
-          msg << "simulation diverged at t = " << t << " s: mesh "
-              << mesh_name(gb, static_cast<int>(j)) << " deflection " << obs.meshes[j].delta_m
-              << " m exceeds " << kDivergenceFactor
-              << " static deflections; the scenario is not physical (check stiffness, damping, "
-              << "speed) or the step " << h << " s is too large";
-          throw diag::InputError(msg.str());
-        }
-      }
-    }
-    if (driver) {
-      double tt = t;
-      const int status = gsl_odeiv2_driver_apply(driver, &tt, t + h, y.data());
-      if (status != GSL_SUCCESS) {
-        throw diag::InputError("simulation: GSL odeiv2 failed at t = " + std::to_string(t) +
-                               " s: " + gsl_strerror(status));
-      }
-    }
-    prev.swap(scratch);  // the state at t (the next step's t - h)
-    scratch.assign(y.begin(), y.end());
-    for (double v : y) {
-      if (!std::isfinite(v)) {
-        throw diag::InputError(
-            "simulation diverged at t = " + std::to_string(t) +
-            " s: the state is not finite; reduce the step or check the scenario");
-      }
+      value = ys[model.input_gear()] * model.gear_speed_ratio(model.output_gear()) /
+                  model.gear_speed_ratio(model.input_gear()) -
+              ys[model.output_gear()];
     }
   }
+  return value;
+}
 
-  // ---- assemble channels ----
+// The recorded window of every channel (the decimation filter's delay dropped), with the
+// accelerometers' noise (RunOptions::accel_noise_m_per_s2, seeded by RunOptions::seed).
+std::vector<Channel> assemble_channels(const std::vector<ChannelPlan>& plans,
+                                       const std::vector<std::vector<double>>& raw, int delay_out,
+                                       long long n_out, const RunOptions& run) {
+  std::vector<Channel> channels;
   std::mt19937_64 rng(run.seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   for (std::size_t c = 0; c < plans.size(); ++c) {
     Channel ch = plans[c].channel;
+    ch.fs_hz = run.fs_hz;
     const auto& r = raw[c];
     const std::size_t first = static_cast<std::size_t>(delay_out);
     if (r.size() < first + static_cast<std::size_t>(n_out)) {
@@ -549,11 +415,20 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
     if (plans[c].source == Source::kAccel && run.accel_noise_m_per_s2 > 0) {
       for (double& v : ch.samples) v += run.accel_noise_m_per_s2 * gauss(rng);
     }
-    result.channels.push_back(std::move(ch));
+    channels.push_back(std::move(ch));
   }
-  for (Channel& tc : result.tachos) tc.samples.resize(static_cast<std::size_t>(n_out), 0.0);
 
-  // ---- truth (diag/io/truth.hpp) ----
+  return channels;
+}
+
+// The ground truth of a run (diag/io/truth.hpp): speeds, torques, defects, the model and its
+// integration, and the seeds that reproduce it.
+nlohmann::json dynamic_truth(const diag::Gearbox& gb, const GearboxModel& model,
+                             const RunOptions& run, const StepPlan& steps,
+                             const std::vector<std::string>& warnings) {
+  const DynamicsOptions& opt = model.options();
+  const auto& [nat, w_in_max, h, D, delay_out, settle_out, n_out, first_push_step, total_steps] =
+      steps;
   diag::SimulationTruth st;
   st.kind = "dynamic";
   st.input_speed_rpm_max = opt.speed.max_rpm();
@@ -626,42 +501,224 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
                          {"step_s", h},
                          {"decimation", D},
                          {"settle_s", static_cast<double>(settle_out) / run.fs_hz}};
-  truth["warnings"] = result.warnings;
+  truth["warnings"] = warnings;
   // Provenance: the seeds that drew the pitch errors and runout phases (dynamics) and the sensor
   // noise (run), so that the recording can be reproduced.
   truth["seed"] = run.seed;
   truth["dynamics_seed"] = opt.seed;
-  result.truth = st.to_json();
+  return st.to_json();
+}
+
+}  // namespace
+
+void RunOptions::validate() const {
+  const std::string where = "run";
+  auto positive = [&](double v, const char* field) {
+    if (!(v > 0.0) || !std::isfinite(v)) {
+      throw diag::InputError(diag::format_error(where, field, std::to_string(v) + " is not > 0"));
+    }
+  };
+  positive(duration_s, "duration_s");
+  positive(fs_hz, "fs_hz");
+  auto at_most = [&](double v, double limit, const char* field, const char* unit) {
+    if (v > limit) {
+      throw diag::InputError(diag::format_error(where, field,
+                                                diag::format_significant(v, 6) + unit +
+                                                    " exceeds the limit " +
+                                                    diag::format_significant(limit, 6) + unit));
+    }
+  };
+  at_most(duration_s, kMaxDurationS, "duration_s", " s");
+  at_most(fs_hz, kMaxFsHz, "fs_hz", " Hz");
+  at_most(settle_s, kMaxSettleS, "settle_s", " s");
+  at_most(steps_per_period, kMaxStepsPerPeriod, "steps_per_period", "");
+  at_most(steps_per_mesh, kMaxStepsPerPeriod, "steps_per_mesh", "");
+  at_most(contact_substeps, kMaxContactSubsteps, "contact_substeps", "");
+  if (!(step_s >= 0.0)) throw diag::InputError(diag::format_error(where, "step_s", "must be >= 0"));
+  if (steps_per_period < 8)
+    throw diag::InputError(diag::format_error(where, "steps_per_period", "must be >= 8"));
+  if (steps_per_mesh < 8)
+    throw diag::InputError(diag::format_error(where, "steps_per_mesh", "must be >= 8"));
+  if (contact_substeps < 1) {
+    throw diag::InputError(diag::format_error(where, "contact_substeps", "must be >= 1"));
+  }
+  positive(gsl_rel_tol, "gsl_rel_tol");
+  positive(gsl_abs_tol, "gsl_abs_tol");
+  if (!(accel_noise_m_per_s2 >= 0.0)) {
+    throw diag::InputError(diag::format_error(where, "accel_noise_m_per_s2", "must be >= 0"));
+  }
+  if (!(casing_frequency_hz >= 0.0)) {
+    throw diag::InputError(diag::format_error(where, "casing_frequency_hz", "must be >= 0"));
+  }
+  if (casing_frequency_hz > 0.0 && casing_frequency_hz >= 0.45 * fs_hz) {
+    throw diag::InputError(
+        diag::format_error(where, "casing_frequency_hz",
+                           std::to_string(casing_frequency_hz) +
+                               " Hz is not below 0.45 fs = " + std::to_string(0.45 * fs_hz)));
+  }
+  if (!(casing_damping_ratio > 0.0 && casing_damping_ratio < 1.0)) {
+    throw diag::InputError(diag::format_error(where, "casing_damping_ratio", "must be in (0, 1)"));
+  }
+}
+
+const Channel* DynamicResult::find(const std::string& name) const {
+  for (const Channel& c : channels) {
+    if (c.name == name) return &c;
+  }
+  return nullptr;
+}
+
+DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
+                               const RunOptions& run) {
+  run.validate();
+  GearboxModel model(gb, dynamics);
+  const DynamicsOptions& opt = model.options();
+  DynamicResult result;
+  result.fs_hz = run.fs_hz;
+  const StepPlan steps = plan_steps(gb, model, run, result.warnings);
+  const auto& [nat, w_in_max, h, D, delay_out, settle_out, n_out, first_push_step, total_steps] =
+      steps;
+  result.step_s = h;
+  result.decimation = D;
+
+  const std::vector<ChannelPlan> plans = plan_channels(gb, model, run);
+  std::vector<diag::Decimator> decimators;
+  std::vector<Resonator> casings;
+  for (const ChannelPlan& p : plans) {
+    decimators.emplace_back(p.filtered ? D : 1);
+    casings.emplace_back(run.casing_frequency_hz > 0 ? run.casing_frequency_hz : 1.0,
+                         run.casing_damping_ratio, run.fs_hz * D);
+  }
+  check_output_memory(plans.size() + gb.shafts().size(), n_out, delay_out);
+  std::vector<std::vector<double>> raw(plans.size());
+  for (auto& r : raw) r.reserve(static_cast<std::size_t>(n_out + 2 * delay_out + 2));
+
+  const auto [tacho_gear, tacho_duty] = plan_tachos(gb, model, run, w_in_max, n_out, result.tachos);
+  const std::vector<double> static_delta = static_deflections(gb, model);
+
+  // ---- integration ----
+  std::vector<double> y = model.equilibrium_state();
+  const int n = model.dofs();
+  Observation obs;
+  obs.meshes.resize(gb.meshes().size());
+  obs.acceleration.resize(n);
+  Rk4 rk4(2 * n);
+
+  struct GslParams {
+    const GearboxModel* model;
+  } params{&model};
+  gsl_odeiv2_system sys{[](double t, const double* yy, double* dy, void* p) -> int {
+                          static_cast<GslParams*>(p)->model->derivatives(t, yy, dy);
+                          return GSL_SUCCESS;
+                        },
+                        nullptr, static_cast<std::size_t>(2 * n), &params};
+  gsl_odeiv2_driver* driver = nullptr;
+  if (run.method == RunOptions::Method::kGslRk8pd) {
+    driver = gsl_odeiv2_driver_alloc_y_new(&sys, gsl_odeiv2_step_rk8pd, h, run.gsl_abs_tol,
+                                           run.gsl_rel_tol);
+  }
+  struct DriverGuard {
+    gsl_odeiv2_driver* d;
+    ~DriverGuard() {
+      if (d) gsl_odeiv2_driver_free(d);
+    }
+  } guard{driver};
+
+  // The state at the start of the current step (RK4 advances y in place; the angle channels and
+  // tachometers need the state at t, like the observation).
+  std::vector<double> scratch = y;
+  std::vector<double> prev = y;  // the state at t - h (RK4 only)
+  std::vector<double> dydt(2 * n);
+  std::vector<double> one(1);
+  const bool speed_varies = opt.speed.kind != SpeedProfile::Kind::kConstant;
+  long long out_index = -1;  // output samples emitted after the first push (incl. dropped ones)
+  double t = 0.0;
+  for (long long k = 0; k < total_steps; ++k) {
+    t = k * h;
+    if (speed_varies) model.update_speed(t);
+    const bool record = k >= first_push_step;
+    if (driver) {
+      if (record) model.derivatives(t, y.data(), dydt.data(), &obs);
+    } else {
+      const std::uint64_t before = model.contact_signature(t, y.data());
+      rk4.step(model, t, h, y.data(), record ? &obs : nullptr);
+      // (the observation is at t, the state is now at t + h)
+      if (run.contact_substeps > 1 && model.contact_signature(t + h, y.data()) != before) {
+        // A pair entered or left a mesh within the step: redo it in sub-steps (RunOptions).
+        y.assign(scratch.begin(), scratch.end());
+        const double hs = h / run.contact_substeps;
+        for (int j = 0; j < run.contact_substeps; ++j) {
+          rk4.step(model, t + j * hs, hs, y.data(), (j == 0 && record) ? &obs : nullptr);
+        }
+      }
+    }
+    if (record) {
+      const long long rel = k - first_push_step;
+      const bool at_output = rel % D == 0;
+      for (std::size_t c = 0; c < plans.size(); ++c) {
+        const ChannelPlan& p = plans[c];
+        const double value = sample_value(p, model, obs, y, scratch, prev, h, t, driver != nullptr,
+                                          k == 0, casings[c]);
+        if (!p.filtered) {
+          if (at_output) raw[c].push_back(value);
+        } else {
+          one[0] = value;
+          decimators[c].push(one, raw[c]);
+        }
+      }
+      if (at_output) {
+        ++out_index;
+        if (out_index >= delay_out && out_index < delay_out + n_out) {
+          const double* ys = driver ? y.data() : scratch.data();
+          for (std::size_t i = 0; i < tacho_gear.size(); ++i) {
+            const double a = model.gear_angle_rad(tacho_gear[i], t, ys);
+            const double frac = a / (2 * kPi) - std::floor(a / (2 * kPi));
+            result.tachos[i].samples.push_back(frac < tacho_duty[i] ? 1.0 : 0.0);
+          }
+        }
+      }
+      for (std::size_t j = 0; j < obs.meshes.size(); ++j) {
+        if (!std::isfinite(obs.meshes[j].force_n) ||
+            std::abs(obs.meshes[j].delta_m) > kDivergenceFactor * static_delta[j]) {
+          std::ostringstream msg;
+          msg << "simulation diverged at t = " << t << " s: mesh "
+              << mesh_name(gb, static_cast<int>(j)) << " deflection " << obs.meshes[j].delta_m
+              << " m exceeds " << kDivergenceFactor
+              << " static deflections; the scenario is not physical (check stiffness, damping, "
+              << "speed) or the step " << h << " s is too large";
+          throw diag::InputError(msg.str());
+        }
+      }
+    }
+    if (driver) {
+      double tt = t;
+      const int status = gsl_odeiv2_driver_apply(driver, &tt, t + h, y.data());
+      if (status != GSL_SUCCESS) {
+        throw diag::InputError("simulation: GSL odeiv2 failed at t = " + std::to_string(t) +
+                               " s: " + gsl_strerror(status));
+      }
+    }
+    prev.swap(scratch);  // the state at t (the next step's t - h)
+    scratch.assign(y.begin(), y.end());
+    for (double v : y) {
+      if (!std::isfinite(v)) {
+        throw diag::InputError(
+            "simulation diverged at t = " + std::to_string(t) +
+            " s: the state is not finite; reduce the step or check the scenario");
+      }
+    }
+  }
+
+  result.channels = assemble_channels(plans, raw, delay_out, n_out, run);
+  for (Channel& tc : result.tachos) tc.samples.resize(static_cast<std::size_t>(n_out), 0.0);
+  result.truth = dynamic_truth(gb, model, run, steps, result.warnings);
   return result;
 }
 
 diag::Recording to_recording(const diag::Gearbox& gb, const DynamicResult& r) {
   diag::Recording rec;
-  for (const Channel& c : r.channels) {
-    diag::Signal s;
-    s.name = c.name;
-    s.fs_hz = r.fs_hz;
-    s.unit = c.unit;
-    s.direction = c.direction;
-    s.location = c.location;
-    s.samples = c.samples;
-    s.role = c.role;
-    s.shaft = c.shaft;
-    s.mesh = c.mesh;
-    rec.signals.push_back(std::move(s));
-  }
-  for (const Channel& c : r.tachos) {
-    diag::Signal s;
-    s.name = c.name;
-    s.fs_hz = r.fs_hz;
-    s.direction = diag::Direction::kTacho;
-    s.location = c.location;
-    s.samples = c.samples;
-    s.role = diag::Role::kTacho;
-    s.shaft = c.shaft;
-    s.ppr = 1;
-    rec.tachos.push_back(std::move(s));
-  }
+  rec.signals = r.channels;
+  rec.tachos = r.tachos;
   rec.gearbox_json = gb.description_json();
   rec.truth_json = r.truth.dump();
   rec.metadata["simulator"] = "dynamic";

@@ -7,9 +7,9 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <thread>
 
 #include "diag/error.hpp"
+#include "diag/util/parallel_for.hpp"
 
 namespace sim::facegear {
 
@@ -37,58 +37,38 @@ Bifurcation bifurcation(const FaceGearPair& pair, const Operating& op,
   for (int i = 0; i < opt.steps; ++i) {
     out.speeds[i].rpm = opt.from_rpm + (opt.to_rpm - opt.from_rpm) * i / (opt.steps - 1);
   }
-  std::atomic<int> next{0}, done{0};
+  std::atomic<int> done{0};
   std::mutex progress_mutex;
-  auto worker = [&] {
-    for (int i = next++; i < opt.steps; i = next++) {
-      BifurcationPoint& p = out.speeds[i];
-      Operating o = op;
-      o.speed_rpm = p.rpm;
-      const Model model(pair, o);
-      RunOptions ro;
-      ro.integrator = opt.integrator;
-      // The adaptive integrator chooses its own steps; the grid only samples the Poincare points,
-      // the DTE range and the GMF / 2 and GMF sums (32 points per period).
-      ro.steps_per_period =
-          opt.integrator == Integrator::kAdaptive ? 32 : rk4_steps_per_period(model);
-      ro.transient_periods = opt.transient_periods;
-      ro.record_periods = opt.record_periods;
-      ro.keep_trace = false;
-      const Trace tr = run(model, ro);
-      p.points = tr.poincare;
-      p.period_class = classify_period(tr);
-      p.impact = classify_impacts(tr.contact_steps);
-      p.dlf = tr.max_abs_mesh_torque / model.static_torque();
-      p.mean_mesh_torque = tr.mean_mesh_torque;
-      const long total = tr.contact_steps[0] + tr.contact_steps[1] + tr.contact_steps[2];
-      p.free_share = static_cast<double>(tr.contact_steps[1]) / static_cast<double>(total);
-      p.half_gmf_ratio = tr.half_gmf_ratio;
-      const int d = ++done;
-      if (progress) {
-        const std::lock_guard<std::mutex> lock(progress_mutex);
-        progress(d, opt.steps);
-      }
+  out.threads = diag::parallel_threads(out.speeds.size(), opt.threads);
+  diag::parallel_for(out.speeds.size(), opt.threads, [&](std::size_t i) {
+    BifurcationPoint& p = out.speeds[i];
+    Operating o = op;
+    o.speed_rpm = p.rpm;
+    const Model model(pair, o);
+    RunOptions ro;
+    ro.integrator = opt.integrator;
+    // The adaptive integrator chooses its own steps; the grid only samples the Poincare points,
+    // the DTE range and the GMF / 2 and GMF sums (32 points per period).
+    ro.steps_per_period =
+        opt.integrator == Integrator::kAdaptive ? 32 : rk4_steps_per_period(model);
+    ro.transient_periods = opt.transient_periods;
+    ro.record_periods = opt.record_periods;
+    ro.keep_trace = false;
+    const Trace tr = run(model, ro);
+    p.points = tr.poincare;
+    p.period_class = classify_period(tr);
+    p.impact = classify_impacts(tr.contact_steps);
+    p.dlf = tr.max_abs_mesh_torque / model.static_torque();
+    p.mean_mesh_torque = tr.mean_mesh_torque;
+    const long total = tr.contact_steps[0] + tr.contact_steps[1] + tr.contact_steps[2];
+    p.free_share = static_cast<double>(tr.contact_steps[1]) / static_cast<double>(total);
+    p.half_gmf_ratio = tr.half_gmf_ratio;
+    const int d = ++done;
+    if (progress) {
+      const std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(d, opt.steps);
     }
-  };
-  int n = opt.threads > 0 ? opt.threads : static_cast<int>(std::thread::hardware_concurrency());
-  n = std::clamp(n, 1, opt.steps);
-  out.threads = n;
-  std::vector<std::thread> pool;
-  std::exception_ptr error;
-  std::mutex error_mutex;
-  for (int t = 0; t < n; ++t) {
-    pool.emplace_back([&] {
-      try {
-        worker();
-      } catch (...) {
-        const std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = opt.steps;  // stop the others
-      }
-    });
-  }
-  for (auto& t : pool) t.join();
-  if (error) std::rethrow_exception(error);
+  });
   return out;
 }
 

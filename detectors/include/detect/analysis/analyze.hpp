@@ -212,12 +212,9 @@ struct BearingAnalysis {
   std::vector<BearingLine> lines;  // every harmonic the band view scored (diagnosed only)
 };
 
-struct ChannelAnalysis {
-  std::string name, unit, location;
-  diag::Direction direction = diag::Direction::kUnspecified;
-  diag::Role role = diag::Role::kVibration;
-  std::string shaft, mesh;  // the channel contract's (empty: unknown)
-  double fs_hz = 0;
+// One channel's analysis, under the channel's identity (name, rate, unit, direction, location,
+// role, shaft, mesh: the signal's own).
+struct ChannelAnalysis : diag::ChannelIdentity {
   std::size_t samples = 0;
   bool vibration = true;  // spectra computed: vibration, force and displacement roles; false
                           // for angles, speeds and other quantities (only `time` is filled)
@@ -425,6 +422,13 @@ AnalysisBaseline score_against_baseline(const diag::Recording& rec,
 Finding baseline_alarm_finding(const AnalysisBaseline& b,
                                const std::map<std::string, double>& fs_hz,
                                const BaselineComparisonOptions& opt = {});
+
+// Puts a comparison with the baseline into an analysis: r.baseline = b and, when b alarms, the
+// alarm as a finding (baseline_alarm_finding, band edges from r.channels' rates) among
+// r.findings, most confident first. analyze_file does this itself (and places the alarm in the
+// frames that score above the threshold); a result assembled from analyze_recording and
+// score_against_baseline gets it here, so that every report shows an alarm as a finding.
+void set_baseline(AnalysisResult& r, AnalysisBaseline b, const BaselineComparisonOptions& opt = {});
 
 // ---- Wear against the baseline (detect/baseline/mesh_harmonic_growth.hpp) ----
 // Per mesh of gb: the growth of the mesh harmonics against the baseline recordings, the mesh

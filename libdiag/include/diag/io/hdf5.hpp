@@ -94,17 +94,10 @@ std::uint64_t samples_within(std::uint64_t length, double fs_hz, double t);
 // limits (as read_recording(path, limits) applies them); infinite when every sample does.
 double seconds_within_limits(std::span<const ChannelExtent> channels, const ReadLimits& limits);
 
-struct ChannelInfo {
-  std::string name;
-  std::string group;  // "signals" or "tacho"
-  double fs_hz = 0.0;
-  std::string unit;
-  Direction direction = Direction::kUnspecified;
-  std::string location;
-  std::uint64_t length = 0;      // samples
-  Role role = Role::kVibration;  // format 1: inferred (infer_format1_roles)
-  std::string shaft, mesh;
-  int ppr = 0;
+// A channel of a file: what it is (format 1: role inferred, infer_format1_roles), where, how long.
+struct ChannelInfo : ChannelIdentity {
+  std::string group;         // "signals" or "tacho"
+  std::uint64_t length = 0;  // samples
 };
 
 struct SurveyedSamples;

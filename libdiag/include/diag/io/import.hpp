@@ -31,9 +31,10 @@ struct ImportOptions {
   std::optional<double> fs_hz;  // sampling rate [Hz], > 0; required when the file has none
 };
 
-// Dispatches on the content (HDF5 signature) and the file name ending. Throws InputError naming
-// the file and the reason: empty file, ragged CSV rows, non-numeric fields, NaN/Inf samples,
-// missing or non-positive sampling rate, unreadable format, and the damage above.
+// open_recording(path, {options.fs_hz}) (open_recording.hpp): the format table chooses the reader
+// from the content (HDF5 signature) and the file name ending. Throws InputError naming the file
+// and the reason: empty file, ragged CSV rows, non-numeric fields, NaN/Inf samples, missing or
+// non-positive sampling rate, unreadable format, and the damage above.
 Recording import_recording(const std::filesystem::path& path, const ImportOptions& options = {});
 
 }  // namespace diag

@@ -2,11 +2,15 @@
 // one row each) chooses the reader from the file's content (the HDF5 signature) and its name's
 // ending, and every reader gives the same diag::Recording.
 //
-//   format       | file                                   | reader
+//   format       | file                                   | reader (libdiag/src/io/)
+//   MAT          | .mat (levels 4, 5 and 7.3)             | mat.cpp (mat_file.cpp, mat73.cpp)
 //   HDF5         | a geardiag recording (the signature)   | read_recording (hdf5.hpp), by blocks
-//   MAT          | .mat (levels 4, 5 and 7.3)             | import_recording (import.hpp)
-//   CSV          | .csv .tsv .txt, each also .gz          | import_recording
-//   sound        | .wav and whatever libsndfile reads     | import_recording
+//   CSV          | .csv .tsv .txt, each also .gz          | csv.cpp
+//   sound        | .wav and whatever libsndfile reads     | sound.cpp
+//
+// Every row's recording ends the same way: the file named in the metadata as `source`, names
+// made printable; a measured format's channels have no stated role (Recording::roles_stated).
+// What each format reads and refuses: import.hpp.
 //
 // Only an HDF5 recording can be read in part (OpenOptions::limits: its first seconds, read by
 // blocks so that memory stays bounded); the other formats are read whole. Frame by frame

@@ -1,6 +1,6 @@
 // A recording: what a rig (or the simulator) recorded, in memory. Signals are uniformly sampled
 // channels; tachometers are pulse channels per shaft. The on-disk form is HDF5 (io/hdf5.hpp).
-// Every channel says what it is (Signal::role and the fields after it): the channel contract.
+// Every channel says what it is (ChannelIdentity: role, shaft, mesh, ppr): the channel contract.
 // Which channels are a shaft's sensors or tacho is answered in one place, io/channels.hpp; no
 // detector parses a channel name.
 #pragma once
@@ -40,20 +40,27 @@ std::string_view to_string(Role r);
 // Throws InputError for an unknown name.
 Role role_from_string(std::string_view name);
 
-struct Signal {
+// What a channel is: everything about it but its samples. A signal in memory (Signal), a channel
+// of a file (ChannelInfo) and a channel's analysis carry it whole, so that it is copied in one
+// assignment and a new field reaches every one of them.
+struct ChannelIdentity {
   std::string name;    // channel name, unique in a recording; no '/'
   double fs_hz = 0.0;  // sampling rate [Hz], > 0
   std::string unit;    // unit symbol ("m/s^2", "rad", "g", ...); empty when unknown
   Direction direction = Direction::kUnspecified;
   std::string location;  // bearing or shaft the sensor sits on; empty when unknown
-  std::vector<double> samples;
-  // What the channel is (kept after `samples` so that brace initialisation of the fields above
-  // stays as it was).
   Role role = Role::kVibration;
   std::string shaft;  // the shaft a sensor sits on or a tacho or angle belongs to; empty: unknown
   std::string mesh;   // the mesh (mesh_name(), "<driver>_<driven>") whose line of action an
                       // along/normal-LOA sensor follows, or a mesh quantity's mesh; empty: none
   int ppr = 0;        // tachos: pulses per shaft revolution, >= 1; 0 for every other role
+
+  const ChannelIdentity& identity() const { return *this; }
+  ChannelIdentity& identity() { return *this; }
+};
+
+struct Signal : ChannelIdentity {
+  std::vector<double> samples;
 
   double duration_s() const { return fs_hz > 0 ? samples.size() / fs_hz : 0.0; }
 };

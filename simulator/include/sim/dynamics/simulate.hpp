@@ -63,16 +63,8 @@ struct RunOptions {
   void validate() const;               // throws diag::InputError naming the field
 };
 
-// A channel at the output rate.
-struct Channel {
-  std::string name;
-  std::string unit;
-  diag::Direction direction = diag::Direction::kUnspecified;
-  std::string location;
-  std::vector<double> samples;
-  diag::Role role = diag::Role::kVibration;  // the channel contract (diag/io/channels.hpp)
-  std::string shaft, mesh;
-};
+// A channel at the output rate (fs_hz = DynamicResult::fs_hz), as a recording holds it.
+using Channel = diag::Signal;
 
 struct DynamicResult {
   double fs_hz = 0.0;

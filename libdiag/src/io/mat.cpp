@@ -1,37 +1,23 @@
-#include "diag/io/import.hpp"
+// The MAT row of the format table (open_recording.cpp): a .mat file's numeric vectors as channels.
+#include "mat.hpp"
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
-#include <charconv>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
-#include <fstream>
-#include <limits>
-#include <set>
 #include <string>
-#include <string_view>
-#include <system_error>
+#include <utility>
 #include <vector>
 
-#include "csv.hpp"
 #include "diag/error.hpp"
-#include "diag/io/hdf5.hpp"
-#include "diag/io/input_file.hpp"
-#include "diag/io/printable.hpp"
 #include "diag/util/number_format.hpp"
 #include "import_common.hpp"
 #include "mat_file.hpp"
-#include "sound.hpp"
 
 namespace diag {
 
 namespace {
 
 using namespace import_detail;
-
-// ---- MATLAB .mat ---------------------------------------------------------------------------
 
 // Integer classes print exactly; floating ones with the shortest round-trip text.
 std::string scalar_text(const mat::Variable& v) {
@@ -66,8 +52,11 @@ void cwru_locations(Recording& rec) {
   }
 }
 
+}  // namespace
+
 Recording import_mat(const std::filesystem::path& path, const std::string& where,
                      const ImportOptions& options, std::uint64_t file_size) {
+  using namespace import_detail;
   // Level 7.3 is HDF5: read through the project's one HDF5 open and the crash guard (mat73.cpp).
   std::vector<std::string> notes;
   std::vector<mat::Variable> vars =
@@ -123,70 +112,6 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
       rec.notes.push_back("speed variables " + lo->first + " and " + hi->first +
                           " disagree: no recorded speed");
     }
-  }
-  return rec;
-}
-
-// ---- geardiag HDF5 -------------------------------------------------------------------------
-
-Recording import_hdf5(const std::filesystem::path& path, const std::string& where,
-                      const ImportOptions& options) {
-  Recording rec = read_recording(path);
-  check_option_fs(where, options);
-  if (options.fs_hz) {
-    for (const auto* group : {&rec.signals, &rec.tachos}) {
-      for (const Signal& s : *group) {
-        if (!rates_agree(*options.fs_hz, s.fs_hz)) {
-          throw InputError(format_error(where, "fs_hz",
-                                        "the given " + format_shortest(*options.fs_hz) +
-                                            " Hz disagrees with channel " + s.name + "'s " +
-                                            format_shortest(s.fs_hz) + " Hz by more than 0.1 %"));
-        }
-      }
-    }
-  }
-  return rec;
-}
-
-}  // namespace
-
-Recording import_recording(const std::filesystem::path& path, const ImportOptions& options) {
-  const std::string where = path.string();
-  // A FIFO, a device (/dev/zero, also through a link), a directory: refused before any reader
-  // opens them, so that none can wait or read without end.
-  const std::uint64_t file_size = check_input_file(path);
-  const std::string name = lower(path.filename().string());
-
-  Recording rec;
-  try {
-    if (ends_with(name, ".mat")) {
-      rec = import_mat(path, where, options, file_size);
-    } else if (is_hdf5_file(path)) {
-      rec = import_hdf5(path, where, options);
-    } else if (ends_with(name, ".csv") || ends_with(name, ".csv.gz") || ends_with(name, ".tsv") ||
-               ends_with(name, ".tsv.gz") || ends_with(name, ".txt") ||
-               ends_with(name, ".txt.gz")) {
-      rec = import_csv(path, where, options);
-    } else if (ends_with(name, ".h5") || ends_with(name, ".hdf5")) {
-      throw InputError(format_error(where, "", "not an HDF5 file (or truncated)"));
-    } else {
-      rec = import_sound(path, where, options, file_size);
-    }
-  } catch (const std::bad_alloc&) {
-    // What a file declares was checked against its bytes; a file that is all data can still be
-    // larger than this machine's memory.
-    throw InputError(format_error(where, "",
-                                  std::to_string(file_size) +
-                                      " bytes whose samples do not fit in memory; cut the file "
-                                      "or use a machine with more memory"));
-  }
-  rec.metadata.try_emplace("source", path.filename().string());
-  // Names, units and sources come from the file: no escape sequence reaches a terminal.
-  make_printable(rec);
-  if (!is_hdf5_file(path)) {
-    // Measured files say nothing of what their columns are: vibration until a channel map,
-    // --tacho or tacho inference (channels.hpp) says otherwise.
-    rec.roles_stated = false;
   }
   return rec;
 }
