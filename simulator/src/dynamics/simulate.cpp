@@ -344,9 +344,9 @@ double sample_value(const ChannelPlan& p, const GearboxModel& model, const Obser
                     const std::vector<double>& prev, double h, double t, bool gsl, bool first_step,
                     Resonator& casing) {
   const int n = model.dofs();
-  double value = 0.0;
   switch (p.source) {
-    case Source::kAccel:
+    case Source::kAccel: {
+      double value = 0.0;
       if (!gsl && !first_step) {
         // Mean acceleration over [t - h, t + h] with triangular weight: the central
         // difference of the velocity. Why not the point value: the bearing force jumps
@@ -362,37 +362,27 @@ double sample_value(const ChannelPlan& p, const GearboxModel& model, const Obser
       } else {
         value = p.cx * obs.acceleration[p.index] + p.cy * obs.acceleration[p.index + 1];
       }
-      if (p.casing) value = casing(value);
-      break;
-    case Source::kTransmissionError:
-    case Source::kAngle:
-      value = 0.0;  // filled below from the state at t
-      break;
-    case Source::kMeshForce:
-      value = obs.meshes[p.index].force_n;
-      break;
-    case Source::kMeshFriction:
-      value = obs.meshes[p.index].friction_n;
-      break;
-    case Source::kMeshDte:
-      value = obs.meshes[p.index].delta_m;
-      break;
-    case Source::kMeshContact:
-      value = obs.meshes[p.index].contact;
-      break;
-  }
-  if (p.source == Source::kTransmissionError || p.source == Source::kAngle) {
-    // State at t: for RK4 y is already at t + h; the pre-step copy is `before`.
-    const double* ys = gsl ? y.data() : before.data();
-    if (p.source == Source::kAngle) {
-      value = model.gear_angle_rad(p.index, t, ys);
-    } else {
-      value = ys[model.input_gear()] * model.gear_speed_ratio(model.output_gear()) /
-                  model.gear_speed_ratio(model.input_gear()) -
-              ys[model.output_gear()];
+      return p.casing ? casing(value) : value;
     }
+    case Source::kTransmissionError:
+    case Source::kAngle: {
+      // State at t: for RK4 y is already at t + h; the pre-step copy is `before`.
+      const double* ys = gsl ? y.data() : before.data();
+      if (p.source == Source::kAngle) return model.gear_angle_rad(p.index, t, ys);
+      return ys[model.input_gear()] * model.gear_speed_ratio(model.output_gear()) /
+                 model.gear_speed_ratio(model.input_gear()) -
+             ys[model.output_gear()];
+    }
+    case Source::kMeshForce:
+      return obs.meshes[p.index].force_n;
+    case Source::kMeshFriction:
+      return obs.meshes[p.index].friction_n;
+    case Source::kMeshDte:
+      return obs.meshes[p.index].delta_m;
+    case Source::kMeshContact:
+      return obs.meshes[p.index].contact;
   }
-  return value;
+  return 0.0;  // every Source is a case above
 }
 
 // The recorded window of every channel (the decimation filter's delay dropped), with the
