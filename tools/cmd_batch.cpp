@@ -31,6 +31,7 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
 #include "diag/io/open_recording.hpp"
+#include "diag/io/recording_frames.hpp"
 #include "diag/util/number_format.hpp"
 #include "output.hpp"
 #include "parallel.hpp"
@@ -129,25 +130,6 @@ struct Inputs {
   std::string reports;  // --reports: the folder of every recording's own HTML report
 };
 
-// One recording's row: file, time, speed, findings, baseline score, and every feature.
-// One file as read (ahead, on the main thread: run_in_rounds): its recording, or why not.
-struct Read {
-  std::optional<diag::Recording> recording;
-  std::string error;
-};
-
-Read read_file(const std::string& file, const Inputs& in) {
-  Read r;
-  try {
-    diag::OpenOptions o;
-    o.fs_hz = in.fs;
-    r.recording = diag::open_recording(file, o);
-  } catch (const std::exception& e) {
-    r.error = e.what();
-  }
-  return r;
-}
-
 // The name of recording `index`'s report in --reports: its position (so that two files of one
 // name stay apart) and its name.
 std::string report_name(std::size_t index, const std::string& file) {
@@ -156,13 +138,34 @@ std::string report_name(std::size_t index, const std::string& file) {
   return std::string(number) + "_" + fs::path(file).filename().string() + ".html";
 }
 
-json analyse(std::size_t index, const std::string& file, Read read, const Inputs& in) {
+// One file as opened (ahead, on the main thread: run_in_rounds, since opening an HDF5 file forks
+// its crash guard's child), frame by frame: its frames, or why not.
+struct Opened {
+  diag::OpenedFrames frames;
+  std::string error;
+};
+
+Opened open_file(const std::string& file, const Inputs& in) {
+  Opened r;
+  try {
+    diag::OpenOptions o;
+    o.fs_hz = in.fs;
+    r.frames = diag::open_recording_frames(file, o);
+  } catch (const std::exception& e) {
+    r.error = e.what();
+  }
+  return r;
+}
+
+// One recording's row: file, time, speed, findings, baseline score, and every feature. The file
+// is read by its worker, frame by frame (analyze_file): memory holds a frame per worker, whatever
+// the files' lengths.
+json analyse(std::size_t index, const std::string& file, Opened opened, const Inputs& in) {
   json row = {{"file", file}, {"status", "ok"}};
   try {
-    if (!read.recording) throw diag::InputError(read.error);
+    if (!opened.frames.frames) throw diag::InputError(opened.error);
     detect::AnalyzeRequest request;
-    request.recording = detect::RecordingInput(
-        std::make_shared<const diag::Recording>(std::move(*read.recording)), file);
+    request.recording = detect::RecordingInput(std::move(opened.frames), file);
     request.gearbox = in.gearbox;
     request.channels = in.channels;
     request.baseline = in.baseline;
@@ -652,12 +655,12 @@ int cmd_batch(int argc, char** argv) {
   }
   std::vector<json> rows(mine.size());
   Progress progress("batch", mine.size(), world.root());
-  std::vector<Read> read(mine.size());
+  std::vector<Opened> opened(mine.size());
   run_in_rounds(
-      mine.size(), jobs, [&](std::size_t i) { read[i] = read_file(files[mine[i]], in); },
+      mine.size(), jobs, [&](std::size_t i) { opened[i] = open_file(files[mine[i]], in); },
       [&](std::size_t i) {
-        rows[i] = analyse(mine[i], files[mine[i]], std::move(read[i]), in);
-        read[i] = {};
+        rows[i] = analyse(mine[i], files[mine[i]], std::move(opened[i]), in);
+        opened[i] = {};
         progress.tick();
       });
   progress.finish();

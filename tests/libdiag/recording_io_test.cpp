@@ -12,12 +12,14 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "diag/error.hpp"
 #include "diag/io/hdf5.hpp"
+#include "diag/io/hdf5_inflate.hpp"
 #include "diag/io/recording.hpp"
 
 namespace fs = std::filesystem;
@@ -272,6 +274,59 @@ TEST_F(RecordingIo, ChunkedReadBlockEqualsTheSlice) {
   const std::string message = input_error_of([&] { reader.read_block("accel_x", 1000, too_long); });
   EXPECT_NE(message.find("past the end"), std::string::npos) << message;
   EXPECT_THROW(reader.channel("nope"), diag::InputError);
+}
+
+// Several recordings read and written at once on several threads (as `geardiag batch`'s workers
+// do): each reader forks its crash guard's child while the other threads are reading or writing,
+// and every block read must be the file's own, every file written byte-identical to the one
+// written alone. Blocks are read by HDF5's own pipeline, never from the guard child's copy, so
+// that the library is entered from every thread the whole time.
+TEST_F(RecordingIo, ManyFilesReadAndWrittenAtOnceOnThreadsKeepTheirSamples) {
+  diag::Hdf5ReadPath read_path;
+  read_path.direct = false;
+  read_path.reuse_survey = false;
+  diag::hdf5_set_read_path(read_path);
+  constexpr int kFiles = 4;
+  std::vector<diag::Recording> recordings;
+  std::vector<std::string> written_alone;
+  diag::Hdf5WriteOptions options;
+  options.chunk_samples = 64;
+  for (int k = 0; k < kFiles; ++k) {
+    diag::Recording rec = example_recording();
+    for (double& x : rec.signals[0].samples) x += k;  // each file its own samples
+    const fs::path path = dir_ / ("r" + std::to_string(k) + ".h5");
+    diag::write_recording(path, rec, options);
+    written_alone.push_back(read_bytes(path));
+    recordings.push_back(std::move(rec));
+  }
+  std::vector<std::string> errors(kFiles);
+  std::vector<std::thread> threads;
+  for (int k = 0; k < kFiles; ++k) {
+    threads.emplace_back([&, k] {
+      try {
+        const std::vector<double>& all = recordings[k].signals[0].samples;
+        for (int round = 0; round < 3; ++round) {
+          const diag::RecordingReader reader(dir_ / ("r" + std::to_string(k) + ".h5"));
+          std::vector<double> block(37);
+          for (std::uint64_t at = 0; at + block.size() <= all.size(); at += block.size()) {
+            reader.read_block("accel_x", at, block);
+            for (std::size_t i = 0; i < block.size(); ++i) {
+              if (block[i] != all[at + i]) throw std::runtime_error("a sample of another file");
+            }
+          }
+          const fs::path copy =
+              dir_ / ("w" + std::to_string(k) + "_" + std::to_string(round) + ".h5");
+          diag::write_recording(copy, recordings[k], options);
+          if (read_bytes(copy) != written_alone[k]) throw std::runtime_error("other bytes");
+        }
+      } catch (const std::exception& e) {
+        errors[k] = e.what();
+      }
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  diag::hdf5_set_read_path({});
+  for (int k = 0; k < kFiles; ++k) EXPECT_EQ(errors[k], "") << "file " << k;
 }
 
 TEST_F(RecordingIo, NonHdf5FileIsRefusedNamingTheFile) {

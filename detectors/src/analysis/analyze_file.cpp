@@ -39,6 +39,13 @@ diag::ReadLimits limits_of(std::uint64_t samples) {
 diag::OpenedRecording read_input(const RecordingInput& in, const std::optional<double>& fs_hz,
                                  const diag::ReadLimits& limits) {
   if (in.recording) return {*in.recording, "memory", false};
+  if (in.opened.frames) {  // the first part within the limits, as open_recording_as reads
+    const diag::RecordingFrames& frames = *in.opened.frames;
+    const double duration = frames.duration_s();
+    const double within = std::min(duration, frames.frame_seconds(limits));
+    return {frames.frame(0, within < duration ? within : HUGE_VAL), in.opened.format,
+            within < duration};
+  }
   diag::OpenOptions o;
   o.fs_hz = fs_hz;
   o.limits = limits;
@@ -47,6 +54,7 @@ diag::OpenedRecording read_input(const RecordingInput& in, const std::optional<d
 
 diag::OpenedFrames open_frames(const RecordingInput& in, const std::optional<double>& fs_hz) {
   if (in.recording) return {std::make_shared<const diag::RecordingFrames>(in.recording), "memory"};
+  if (in.opened.frames) return in.opened;
   diag::OpenOptions o;
   o.fs_hz = fs_hz;
   return diag::open_recording_frames(in.path, o);

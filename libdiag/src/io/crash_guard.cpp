@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "diag/error.hpp"
+#include "hdf5_handle.hpp"
 
 namespace diag::hdf5_detail {
 
@@ -35,8 +36,15 @@ void set_guard_test_hooks(int (*fork_call)(), std::function<void()> before_fork)
 bool run_guarded(const std::string& where, const std::function<void()>& body) {
   if (in_child) return false;
   if (test_before_fork()) test_before_fork()();
+  // Made with the library held: no other thread is inside it, so the child finds it in order.
+  auto library = hold_hdf5();
   std::fflush(nullptr);
   const pid_t pid = test_fork != nullptr ? test_fork() : ::fork();
+  if (pid == 0) {
+    (void)library.release();  // the child's copy names the parent's thread: never unlocked
+  } else {
+    library = {};
+  }
   if (pid < 0) {
     const int err = errno;
     throw InputError(format_error(

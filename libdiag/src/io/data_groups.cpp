@@ -153,6 +153,7 @@ void write_data_groups(const std::filesystem::path& path, std::span<const DataGr
   check_names(groups, where);
   (void)check_output_path(path, what);  // before the file is built
   std::string bytes;
+  const auto library = hdf5_detail::hold_hdf5();
   try {
     // No timestamps on the root group either (the file creation properties are its own).
     const Hid fcpl = owned(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file properties");

@@ -32,7 +32,7 @@ void string_attribute(hid_t obj, const std::string& name, const std::string& val
 
 void write_hdf5_arrays(const std::filesystem::path& path, const std::vector<Hdf5Array>& arrays,
                        const std::map<std::string, std::string>& root_attributes) {
-  hdf5_detail::silence_hdf5();
+  const auto library = hdf5_detail::hold_hdf5();
   const std::string where = path.string();
   for (const Hdf5Array& a : arrays) {
     std::size_t n = 1;

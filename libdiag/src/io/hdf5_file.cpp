@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "crash_guard.hpp"
 #include "diag/error.hpp"
 #include "diag/io/input_file.hpp"
 
@@ -22,6 +23,19 @@ namespace diag::hdf5_detail {
 // ---- errors ----------------------------------------------------------------------------------
 
 void silence_hdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+std::unique_lock<std::recursive_mutex> hold_hdf5() {
+  static std::recursive_mutex mutex;
+  // The child has one thread, and the lock it inherited names the parent's thread as holder.
+  if (in_guard_child()) return {};
+  std::unique_lock<std::recursive_mutex> lock(mutex);
+  thread_local bool silenced = false;
+  if (!silenced) {
+    silence_hdf5();
+    silenced = true;
+  }
+  return lock;
+}
 
 std::string hdf5_error_detail() {
   std::string detail;
@@ -210,12 +224,10 @@ H5FD_class_t make_driver_class() {
 }
 
 // The driver's identifier, registered once per library session (again should the library have
-// been closed and reopened).
+// been closed and reopened). Called with the library held (hold_hdf5).
 hid_t driver_id() {
-  static std::mutex mutex;
   static const H5FD_class_t cls = make_driver_class();
   static hid_t id = -1;
-  const std::lock_guard<std::mutex> lock(mutex);
   if (id < 0 || H5Iis_valid(id) <= 0) id = H5FDregister(&cls);
   return id;
 }
@@ -357,7 +369,6 @@ void check_structure(hid_t file, const std::string& where, std::uint64_t file_si
 
 Hdf5Source::Hdf5Source(const std::filesystem::path& path, bool signature_at_start)
     : where_(path.string()) {
-  silence_hdf5();
   check_input_file(path);  // a FIFO, a device, a directory: refused before anything opens it
   // O_NONBLOCK: should the path have become a FIFO since the check, open returns at once.
   fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
@@ -386,7 +397,7 @@ Hdf5Source::~Hdf5Source() {
 }
 
 Hid Hdf5Source::open() const {
-  silence_hdf5();
+  const auto lock = hold_hdf5();
   Hid fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   DriverInfo info;
   info.fd = fd_;
@@ -405,7 +416,7 @@ Hid Hdf5Source::open() const {
 
 std::string hdf5_file_bytes(const std::string& where, hid_t fcpl, hid_t fapl,
                             const std::function<void(hid_t file)>& fill) {
-  silence_hdf5();
+  const auto lock = hold_hdf5();
   std::string bytes;
   Hid access(fapl == H5P_DEFAULT ? H5Pcreate(H5P_FILE_ACCESS) : H5Pcopy(fapl), H5Pclose);
   DriverInfo info;

@@ -4,10 +4,20 @@
 
 #include <hdf5.h>
 
+#include <mutex>
 #include <string>
 #include <utility>
 
 namespace diag::hdf5_detail {
+
+// The HDF5 library is entered by one thread at a time, process-wide: every reader and writer holds
+// this lock while it calls the library (a recursive lock, so nested calls are free). It keeps
+// many files read at once on several threads (`geardiag batch`'s workers) apart, whether or not
+// the installed library was built thread-safe, and it is held when the crash guard forks
+// (crash_guard.hpp), so that no other thread is inside the library when the child is made. It
+// also silences the library's own error printing on each thread that takes it (the printing is
+// per thread in a thread-safe build). In a guard's child (one thread) it is not taken.
+[[nodiscard]] std::unique_lock<std::recursive_mutex> hold_hdf5();
 
 // Owns an HDF5 identifier and closes it with the matching H5?close (H5Fclose, H5Dclose, ...).
 class Hid {
@@ -34,7 +44,10 @@ class Hid {
   // Returns the result of the close call (negative on failure; 0 when nothing to close).
   herr_t close() {
     herr_t result = 0;
-    if (id_ >= 0) result = closer_(id_);
+    if (id_ >= 0) {
+      const auto lock = hold_hdf5();
+      result = closer_(id_);
+    }
     id_ = -1;
     return result;
   }

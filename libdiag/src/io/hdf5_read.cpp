@@ -326,6 +326,7 @@ void survey_recording(const RecordingReader& reader, double* shared) {
 // to the file, exit 2, never as an internal error.
 template <typename F>
 auto reading(const std::string& where, F&& f) -> decltype(f()) {
+  const auto library = hdf5_detail::hold_hdf5();
   try {
     return f();
   } catch (const InputError&) {
@@ -411,6 +412,7 @@ RecordingReader::RecordingReader(const std::filesystem::path& path)
 
 void RecordingReader::open_file() {
   const std::string where = path_.string();
+  const auto library = hdf5_detail::hold_hdf5();
   Hid file = reading(where, [&] { return source_->open(); });
   file_ = file.release();
   try {
@@ -555,7 +557,9 @@ void RecordingReader::open_channels() {
 }
 
 RecordingReader::~RecordingReader() {
-  if (file_ >= 0) H5Fclose(file_);
+  if (file_ < 0) return;
+  const auto library = hdf5_detail::hold_hdf5();
+  H5Fclose(file_);
 }
 
 const ChannelInfo& RecordingReader::channel(const std::string& name) const {

@@ -222,6 +222,7 @@ void write_recording(const std::filesystem::path& path, const Recording& rec,
                      const Hdf5WriteOptions& options) {
   const std::string where = path.string();
   validate_for_write(where, rec, options);
+  const auto library = hdf5_detail::hold_hdf5();
   // Checked before the file is built.
   (void)check_output_path(path);
   const Writer writer{where, options};

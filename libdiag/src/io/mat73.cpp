@@ -160,6 +160,7 @@ std::vector<Variable> read_variables(const Hdf5Source& source, std::vector<std::
 
 // Any error but InputError (an HDF5 call failing, memory) is damage to the file: exit 2.
 std::vector<Variable> reading(const Hdf5Source& source, std::vector<std::string>* notes) {
+  const auto library = hdf5_detail::hold_hdf5();
   try {
     return read_variables(source, notes);
   } catch (const InputError&) {

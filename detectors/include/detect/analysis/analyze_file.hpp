@@ -18,19 +18,25 @@
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/channel_setup.hpp"
 #include "diag/io/recording.hpp"
+#include "diag/io/recording_frames.hpp"
 
 namespace detect {
 
-// A recording to analyse or to compare with: a file read with diag::open_recording, or a
-// recording already in memory (then `path`, when given, only names it in messages and reports).
+// A recording to analyse or to compare with: a file read with diag::open_recording, a file
+// already opened frame by frame (diag::open_recording_frames: opened on one thread, analysed on
+// another), or a recording already in memory. With either of the last two, `path`, when given,
+// only names it in messages and reports.
 struct RecordingInput {
   std::filesystem::path path;
-  std::shared_ptr<const diag::Recording> recording;  // null: read `path`
+  std::shared_ptr<const diag::Recording> recording;  // null: read `opened`, else `path`
+  diag::OpenedFrames opened;                          // frames null: read `path`
 
   RecordingInput() = default;
   RecordingInput(std::filesystem::path p) : path(std::move(p)) {}  // NOLINT: a path is an input
   RecordingInput(std::shared_ptr<const diag::Recording> r, std::filesystem::path name = {})
       : path(std::move(name)), recording(std::move(r)) {}
+  RecordingInput(diag::OpenedFrames o, std::filesystem::path name)
+      : path(std::move(name)), opened(std::move(o)) {}
   // "recording" when neither a path nor a name was given.
   std::string name() const;
 };
