@@ -4,7 +4,8 @@
 # bench/make_long_recording.py (block by block) into recordings of 0.25 GB and 1 GB of vibration
 # samples, each analysed with /usr/bin/time -v. analyze examines every sample, frame by frame,
 # each frame read by blocks (detect/analysis/analyze_file.hpp): peak RSS must be < 256 MB and the
-# same at both lengths (flat in length); then a 1 GB CSV log of the same channels, read row by row
+# same at both lengths (flat in length), and `batch` of the 1 GB recording twice on two workers under
+# the same bound; then a 1 GB CSV log of the same channels, read row by row
 # (bench/make_long_csv.py). The frames note is printed.
 # Not a CI test: it needs ~2.5 GB of disk and a few minutes. The files are deleted on exit, also
 # on failure or Ctrl-C.
@@ -50,6 +51,17 @@ for bytes in 2.5e8 1e9; do
   file="$tmpdir/long.h5"
   /usr/bin/python3 "$here/make_long_recording.py" "$tmpdir/short.h5" "$file" "$bytes"
   measure analyze "$file"
+  if [[ $bytes == 1e9 ]]; then
+    # `batch` of the 1 GB recording given twice, two workers: each reads its file frame by frame.
+    /usr/bin/time -v "$exe" batch "$file" "$file" --jobs 2 -o "$tmpdir/table.csv" 2> "$log"
+    rss_kb=$(peak "$log")
+    echo "batch (2 x 1 GB, 2 workers): peak RSS $(( rss_kb / 1024 )) MiB," \
+         "user $(field "$log" 'User time (seconds)') s, sys $(field "$log" 'System time (seconds)') s"
+    if (( rss_kb * 1024 >= 256000000 )); then
+      echo "analyze_memory: batch peak RSS $(( rss_kb * 1024 / 1000000 )) MB is over 256 MB" >&2
+      status=1
+    fi
+  fi
   rm -f "$file"
 done
 # A 1 GB CSV log of the same channels (a time column, 7 significant digits, no tacho): read row

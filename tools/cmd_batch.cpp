@@ -22,6 +22,7 @@
 #include <set>
 #include <sstream>
 
+#include "allocator.hpp"
 #include "channel_options.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
@@ -519,6 +520,7 @@ std::vector<std::string> read_list(const std::string& list) {
 }  // namespace
 
 int cmd_batch(int argc, char** argv) {
+  tune_allocator_for_recordings();
   std::vector<std::string> files, baselines, trend, healthy;
   std::string list, gearbox, table, html, json_out;
   double fs_hz = 0;

@@ -300,6 +300,336 @@ void check_angles(std::span<const double> in, std::span<const double> out,
                     std::to_string(u) + ": wrong gearbox description or channels");
 }
 
+namespace {
+
+// A train accepted: the defect it stands for, on these shafts (several: equal periods).
+struct Accepted {
+  Train train;
+  std::vector<int> shafts;
+  double pulse_width = 0;  // median width of its events [rad of input]
+};
+
+// Step 4 of the matching: the events grouped into trains of the path shafts' periods, and the
+// overlaps of two trains explained (4b). Holds the events and the trains accepted so far.
+class TrainMatcher {
+ public:
+  TrainMatcher(const std::vector<Event>& events, double tau, double x_end)
+      : events_(events),
+        onsets_(events.size()),
+        assigned_(events.size(), 0),
+        tau_(tau),
+        x_end_(x_end) {
+    for (std::size_t k = 0; k < events.size(); ++k) onsets_[k] = events[k].onset;
+  }
+
+  // 4. For each candidate period, shortest first, the unassigned events clustered by phase; each
+  // cluster whose train recurs often enough at the period is accepted (split_alternating first).
+  void match(const std::map<double, std::vector<int>>& period_shafts, const diag::Gearbox& gb,
+             double sigma, const AttributionOptions& opt);
+  // 4b. Coincidences. Where another train passes during an event, the event is the overlap of
+  // two defects (the output stays stopped while either gap is taken up, and the hold of one
+  // delays the other's onset): its height and onset belong to neither defect alone. Such hits
+  // are left out of a train's size and period fit when it has at least two others, and an event
+  // no train claimed but during which a train passes is explained by the trains passing there
+  // (a pulse split by the overlap) instead of being called unexplained.
+  void resolve_coincidences();
+
+  const std::vector<Accepted>& accepted() const { return accepted_; }
+  bool assigned(std::size_t event) const { return assigned_[event] != 0; }
+
+ private:
+  static constexpr std::size_t kNoTrain = static_cast<std::size_t>(-1);
+
+  // The event whose onset is nearest `pos` within the position tolerance; -1 when none.
+  int nearest_event(double pos) const;
+  void accept(const Train& t, const std::vector<int>& shafts);
+  // The accepted trains other than `self` that pass during [lo, hi] of input angle: an expected
+  // onset q whose pulse [q, q + width] meets it, within the position tolerance.
+  std::vector<std::size_t> trains_passing(std::size_t self, double lo, double hi) const;
+  // The train of period p anchored at phase phi: every recurrence within the record. A
+  // recurrence without an event where an accepted train passes is not expected to show: the
+  // other defect's pulse hides it (the output stays stopped while either gap is taken up).
+  Train build_train(double p, double phi) const;
+  // The least-squares period of the train's hits, and its first onset.
+  void fit_period(Train& t) const;
+  // Alternating heights: some recurrences of `t` carry a second defect on a slower shaft whose
+  // period is a whole multiple m of this one, passing at the same time (seed 003, Fig. 9).
+  // Explained as `t` (sized from its lower recurrences) plus a train of period m p for each
+  // higher group, accepted here. Two defects on the slower shaft exactly p apart would give the
+  // same events; that reading is named in the note and both confidences are halved.
+  void split_alternating(Train& t, std::map<double, std::vector<int>>::const_iterator it,
+                         const std::map<double, std::vector<int>>& period_shafts,
+                         const diag::Gearbox& gb, double sigma);
+
+  const std::vector<Event>& events_;
+  std::vector<double> onsets_;
+  std::vector<char> assigned_;
+  std::vector<Accepted> accepted_;
+  double tau_, x_end_;
+};
+
+int TrainMatcher::nearest_event(double pos) const {
+  auto it = std::lower_bound(onsets_.begin(), onsets_.end(), pos - tau_);
+  int best = -1;
+  double best_d = tau_;
+  for (; it != onsets_.end() && *it <= pos + tau_; ++it) {
+    const double d = std::abs(*it - pos);
+    if (d <= best_d) {
+      best_d = d;
+      best = static_cast<int>(it - onsets_.begin());
+    }
+  }
+  return best;
+}
+
+void TrainMatcher::accept(const Train& t, const std::vector<int>& shafts) {
+  std::vector<double> w;
+  for (auto [k, ev] : t.hits) w.push_back(events_[ev].end - events_[ev].start);
+  accepted_.push_back({t, shafts, median_of(w)});
+}
+
+std::vector<std::size_t> TrainMatcher::trains_passing(std::size_t self, double lo,
+                                                      double hi) const {
+  std::vector<std::size_t> out;
+  for (std::size_t b = 0; b < accepted_.size(); ++b) {
+    if (b == self) continue;
+    const Train& t = accepted_[b].train;
+    const double from = lo - tau_ - accepted_[b].pulse_width;
+    const double q = t.phase_rad + std::ceil((from - t.phase_rad) / t.period_rad) * t.period_rad;
+    if (q <= hi + tau_) out.push_back(b);
+  }
+  return out;
+}
+
+Train TrainMatcher::build_train(double p, double phi) const {
+  Train t;
+  t.period_rad = p;
+  t.phase_rad = phi;
+  for (long k = static_cast<long>(std::floor(-phi / p)); phi + k * p <= x_end_; ++k) {
+    const double pos = phi + k * p;
+    if (pos < -tau_) continue;
+    const bool interior = pos >= 0 && pos <= x_end_ - 2 * tau_;
+    const int ev = nearest_event(pos);
+    if (interior && (ev >= 0 || trains_passing(kNoTrain, pos, pos).empty())) ++t.expected;
+    if (ev >= 0) t.hits.emplace_back(static_cast<int>(k), ev);
+  }
+  return t;
+}
+
+void TrainMatcher::fit_period(Train& t) const {
+  double sn = 0, sx = 0, snn = 0, snx = 0;
+  for (auto [k, ev] : t.hits) {
+    sn += k;
+    sx += onsets_[ev];
+    snn += double(k) * k;
+    snx += k * onsets_[ev];
+  }
+  const double m = static_cast<double>(t.hits.size());
+  const double den = m * snn - sn * sn;
+  t.measured_period_rad = den > 0 ? (m * snx - sn * sx) / den : t.period_rad;
+  t.first_onset = onsets_[t.hits.front().second];
+}
+
+void TrainMatcher::match(const std::map<double, std::vector<int>>& period_shafts,
+                         const diag::Gearbox& gb, double sigma, const AttributionOptions& opt) {
+  for (auto it = period_shafts.begin(); it != period_shafts.end(); ++it) {
+    const double p = it->first;
+    // Cluster the unassigned events by phase modulo p.
+    std::vector<std::pair<double, int>> phases;
+    for (std::size_t k = 0; k < events_.size(); ++k) {
+      if (!assigned_[k]) phases.emplace_back(std::fmod(onsets_[k], p), static_cast<int>(k));
+    }
+    std::sort(phases.begin(), phases.end());
+    std::vector<std::vector<std::pair<double, int>>> clusters;
+    for (const auto& ph : phases) {
+      if (clusters.empty() || ph.first - clusters.back().back().first > tau_)
+        clusters.emplace_back();
+      clusters.back().push_back(ph);
+    }
+    if (clusters.size() > 1 &&
+        clusters.front().front().first + p - clusters.back().back().first <= tau_) {
+      for (auto& ph : clusters.back()) ph.first -= p;  // wrap-around: one cluster
+      clusters.front().insert(clusters.front().begin(), clusters.back().begin(),
+                              clusters.back().end());
+      clusters.pop_back();
+    }
+    for (const auto& cl : clusters) {
+      if (assigned_[cl.front().second] && cl.size() == 1) continue;
+      std::vector<double> ph;
+      for (const auto& c : cl) ph.push_back(c.first);
+      Train t = build_train(p, median_of(ph));
+      const int hits_interior = static_cast<int>(t.hits.size());
+      if (t.expected < 3 || hits_interior < 3 || hits_interior < opt.min_coverage * t.expected) {
+        continue;
+      }
+      fit_period(t);
+      if (std::abs(t.measured_period_rad - p) > opt.period_tolerance * p) continue;
+      split_alternating(t, it, period_shafts, gb, sigma);
+      for (auto [k, ev] : t.hits) assigned_[ev] = 1;
+      accept(t, it->second);
+    }
+  }
+}
+
+void TrainMatcher::split_alternating(Train& t,
+                                     std::map<double, std::vector<int>>::const_iterator it,
+                                     const std::map<double, std::vector<int>>& period_shafts,
+                                     const diag::Gearbox& gb, double sigma) {
+  const double p = it->first;
+  for (auto jt = std::next(it); jt != period_shafts.end(); ++jt) {
+    const double ratio = jt->first / p;
+    const long m = std::lround(ratio);
+    if (m < 2 || std::abs(ratio - m) > 1e-6 * ratio) continue;
+    std::vector<std::vector<int>> groups(m);
+    for (auto [k, ev] : t.hits) groups[((k % m) + m) % m].push_back(ev);
+    std::vector<double> med(m, 0.0);
+    bool all_seen = true;
+    for (long r = 0; r < m; ++r) {
+      std::vector<double> h;
+      for (int ev : groups[r]) h.push_back(events_[ev].height);
+      all_seen &= h.size() >= 2;
+      med[r] = median_of(h);
+    }
+    if (!all_seen) continue;
+    const double low = *std::min_element(med.begin(), med.end());
+    const double split = std::max(6.0 * sigma, 0.15 * low);
+    std::vector<Train> slow;
+    for (long r = 0; r < m; ++r) {
+      if (med[r] - low <= split) continue;
+      std::vector<double> anchors;
+      for (int ev : groups[r]) anchors.push_back(std::fmod(onsets_[ev], jt->first));
+      Train sub = build_train(jt->first, median_of(anchors));
+      if (sub.hits.size() < 2) continue;
+      fit_period(sub);
+      slow.push_back(sub);
+    }
+    if (slow.empty()) continue;
+    t.size_events.clear();
+    for (long r = 0; r < m; ++r) {
+      if (med[r] - low <= split)
+        t.size_events.insert(t.size_events.end(), groups[r].begin(), groups[r].end());
+    }
+    std::ostringstream alt_text;
+    alt_text << "one recurrence in " << m << " coincides with a defect on shaft '"
+             << gb.shafts()[jt->second.front()].name << "' (period " << jt->first / kTwoPi
+             << " input rev); " << m << " defects on that shaft, " << p / kTwoPi
+             << " input rev apart, would give the same events";
+    const std::string alt = alt_text.str();
+    t.note = alt;
+    t.ambiguous = true;
+    for (auto& sub : slow) {
+      sub.note = alt;
+      sub.ambiguous = true;
+      for (auto [k, ev] : sub.hits) assigned_[ev] = 1;
+      accept(sub, jt->second);
+    }
+    return;
+  }
+}
+
+void TrainMatcher::resolve_coincidences() {
+  for (std::size_t a = 0; a < accepted_.size(); ++a) {
+    Train& t = accepted_[a].train;
+    Train clean = t;
+    clean.hits.clear();
+    for (auto [k, ev] : t.hits) {
+      if (trains_passing(a, events_[ev].start, events_[ev].end).empty()) {
+        clean.hits.emplace_back(k, ev);
+      }
+    }
+    if (clean.hits.size() == t.hits.size() || clean.hits.size() < 2) continue;
+    t.coincident = static_cast<int>(t.hits.size() - clean.hits.size());
+    fit_period(clean);
+    t.measured_period_rad = clean.measured_period_rad;
+    t.first_onset = clean.first_onset -
+                    (clean.hits.front().first - t.hits.front().first) * t.measured_period_rad;
+    std::vector<int> sizing;
+    for (auto [k, ev] : clean.hits) {
+      if (t.size_events.empty() ||
+          std::find(t.size_events.begin(), t.size_events.end(), ev) != t.size_events.end()) {
+        sizing.push_back(ev);
+      }
+    }
+    if (sizing.size() >= 2) t.size_events = sizing;
+  }
+  for (std::size_t k = 0; k < events_.size(); ++k) {
+    if (assigned_[k]) continue;
+    const auto passing = trains_passing(kNoTrain, events_[k].start, events_[k].end);
+    if (passing.empty()) continue;
+    assigned_[k] = 1;
+    for (std::size_t b : passing) ++accepted_[b].train.coincident;
+  }
+}
+
+// 5. The finding of an accepted train: its shaft(s) and their gears on the power path, its size
+// on the gear (the median height of its sizing events, scaled from the output to the shaft), and
+// a confidence from its coverage, period match and the spread of its heights.
+Finding train_finding(const Accepted& a, const std::vector<Event>& events, const diag::Gearbox& gb,
+                      const AttributionOptions& opt) {
+  Finding f;
+  std::vector<std::string> shaft_names;
+  for (int s : a.shafts) {
+    shaft_names.push_back(gb.shafts()[s].name);
+    for (int g : gb.shafts()[s].gears) {
+      if (gb.on_power_path(g)) f.gears.push_back(gb.gears()[g].name);
+    }
+  }
+  f.shaft = shaft_names.front();
+  for (std::size_t k = 1; k < shaft_names.size(); ++k) f.shaft += " or " + shaft_names[k];
+  std::vector<double> heights;
+  if (a.train.size_events.empty()) {
+    for (auto [k, ev] : a.train.hits) heights.push_back(events[ev].height);
+  } else {
+    for (int ev : a.train.size_events) heights.push_back(events[ev].height);
+  }
+  f.kind = "attribution";
+  f.fault = diag::FaultKind::kToothDamage;
+  f.note = a.train.note;
+  const double size_output_rad = median_of(heights);
+  f.size = size_output_rad * std::abs(gb.shafts()[a.shafts.front()].speed_ratio /
+                                      gb.shafts()[gb.output_shaft()].speed_ratio);
+  f.size_unit = "rad";
+  const int seen = static_cast<int>(a.train.hits.size());
+  f.evidence = {{"period_input_rev", a.train.period_rad / kTwoPi},
+                {"measured_period_input_rev", a.train.measured_period_rad / kTwoPi},
+                {"size_output_rad", size_output_rad},
+                {"size_gear_rad", f.size},
+                {"first_event_input_rad", a.train.first_onset},
+                {"events", seen},
+                {"expected_events", std::max(a.train.expected, seen)},
+                {"coincident_events", a.train.coincident}};
+  std::vector<double> dev;
+  for (double h : heights) dev.push_back(std::abs(h - size_output_rad));
+  const double cv = size_output_rad > 0 ? 1.4826 * median_of(dev) / size_output_rad : 1.0;
+  const double coverage = std::min(1.0, double(seen) / std::max(1, a.train.expected));
+  const double period_match =
+      std::max(0.0, 1.0 - std::abs(a.train.measured_period_rad - a.train.period_rad) /
+                              (opt.period_tolerance * a.train.period_rad));
+  f.confidence = std::clamp(coverage * period_match / (1.0 + cv), 0.0, 1.0);
+  if (a.train.ambiguous) f.confidence *= 0.5;
+  return f;
+}
+
+// The distinct path-shaft periods [rad of input], shortest first, each with its shafts.
+std::map<double, std::vector<int>> candidate_periods(const diag::Gearbox& gb,
+                                                     const std::vector<int>& path_shafts) {
+  std::map<double, std::vector<int>> period_shafts;
+  for (int s : path_shafts) {
+    const double p = kTwoPi * gb.shaft_period_input_rev(s);
+    bool placed = false;
+    for (auto& [q, list] : period_shafts) {
+      if (std::abs(q - p) <= 1e-9 * p) {
+        if (std::find(list.begin(), list.end(), s) == list.end()) list.push_back(s);
+        placed = true;
+      }
+    }
+    if (!placed) period_shafts[p].push_back(s);
+  }
+  return period_shafts;
+}
+
+}  // namespace
+
 AttributionResult attribute_defects(std::span<const double> in, std::span<const double> out,
                                     const diag::Gearbox& gb, const AttributionOptions& opt) {
   opt.validate();
@@ -332,297 +662,35 @@ AttributionResult attribute_defects(std::span<const double> in, std::span<const 
   // 1-2. The lag of the output behind its theoretical angle, less the smooth periodic part.
   const double step = span_in / static_cast<double>(n - 1);
   const LagResidual lr = lag_residual(in, out, gb, path, path_shafts, opt);
-  const std::vector<double>& x = lr.x;
-  const std::vector<double>& e = lr.e;
-  const double sigma = lr.sigma, thr = lr.thr;
 
   // 3. Events.
-  std::vector<Event> events = find_events(x, e, thr, nullptr);
+  std::vector<Event> events = find_events(lr.x, lr.e, lr.thr, nullptr);
   std::sort(events.begin(), events.end(),
             [](const Event& a, const Event& b) { return a.onset < b.onset; });
-  std::vector<double> onsets(events.size());
-  for (std::size_t k = 0; k < events.size(); ++k) onsets[k] = events[k].onset;
 
   AttributionResult res;
   res.events_detected = static_cast<int>(events.size());
-  res.noise_rad = sigma;
-  res.threshold_rad = thr;
+  res.noise_rad = lr.sigma;
+  res.threshold_rad = lr.thr;
   res.record_input_rev = record_rev;
 
+  // 4. Trains of the path shafts' periods.
   const double tau = opt.position_tolerance_rad > 0
                          ? opt.position_tolerance_rad
                          : std::max(5.0 * step, diag::units::deg_to_rad(0.5));
-  const double x_end = x[n - 1];
-
-  // Candidate periods: the distinct path-shaft periods, shortest first.
-  std::map<double, std::vector<int>> period_shafts;  // period [rad] -> shafts
-  for (int s : path_shafts) {
-    const double p = kTwoPi * gb.shaft_period_input_rev(s);
-    bool placed = false;
-    for (auto& [q, list] : period_shafts) {
-      if (std::abs(q - p) <= 1e-9 * p) {
-        if (std::find(list.begin(), list.end(), s) == list.end()) list.push_back(s);
-        placed = true;
-      }
-    }
-    if (!placed) period_shafts[p].push_back(s);
-  }
-
-  auto nearest_event = [&](double pos) -> int {
-    auto it = std::lower_bound(onsets.begin(), onsets.end(), pos - tau);
-    int best = -1;
-    double best_d = tau;
-    for (; it != onsets.end() && *it <= pos + tau; ++it) {
-      const double d = std::abs(*it - pos);
-      if (d <= best_d) {
-        best_d = d;
-        best = static_cast<int>(it - onsets.begin());
-      }
-    }
-    return best;
-  };
-
-  struct Accepted {
-    Train train;
-    std::vector<int> shafts;
-    double pulse_width = 0;  // median width of its events [rad of input]
-  };
-  std::vector<Accepted> accepted;
-  auto accept = [&](const Train& t, const std::vector<int>& shafts) {
-    std::vector<double> w;
-    for (auto [k, ev] : t.hits) w.push_back(events[ev].end - events[ev].start);
-    accepted.push_back({t, shafts, median_of(w)});
-  };
-  // The accepted trains other than `self` that pass during [lo, hi] of input angle: an expected
-  // onset q whose pulse [q, q + width] meets it, within the position tolerance.
-  constexpr std::size_t kNoTrain = static_cast<std::size_t>(-1);
-  auto trains_passing = [&](std::size_t self, double lo, double hi) {
-    std::vector<std::size_t> out;
-    for (std::size_t b = 0; b < accepted.size(); ++b) {
-      if (b == self) continue;
-      const Train& t = accepted[b].train;
-      const double from = lo - tau - accepted[b].pulse_width;
-      const double q = t.phase_rad + std::ceil((from - t.phase_rad) / t.period_rad) * t.period_rad;
-      if (q <= hi + tau) out.push_back(b);
-    }
-    return out;
-  };
-
-  // Builds the train of period p anchored at phase phi: every recurrence within the record. A
-  // recurrence without an event where an accepted train passes is not expected to show: the
-  // other defect's pulse hides it (the output stays stopped while either gap is taken up).
-  auto build_train = [&](double p, double phi) {
-    Train t;
-    t.period_rad = p;
-    t.phase_rad = phi;
-    for (long k = static_cast<long>(std::floor(-phi / p)); phi + k * p <= x_end; ++k) {
-      const double pos = phi + k * p;
-      if (pos < -tau) continue;
-      const bool interior = pos >= 0 && pos <= x_end - 2 * tau;
-      const int ev = nearest_event(pos);
-      if (interior && (ev >= 0 || trains_passing(kNoTrain, pos, pos).empty())) ++t.expected;
-      if (ev >= 0) t.hits.emplace_back(static_cast<int>(k), ev);
-    }
-    return t;
-  };
-
-  auto fit_period = [&](Train& t) {
-    double sn = 0, sx = 0, snn = 0, snx = 0;
-    for (auto [k, ev] : t.hits) {
-      sn += k;
-      sx += onsets[ev];
-      snn += double(k) * k;
-      snx += k * onsets[ev];
-    }
-    const double m = static_cast<double>(t.hits.size());
-    const double den = m * snn - sn * sn;
-    t.measured_period_rad = den > 0 ? (m * snx - sn * sx) / den : t.period_rad;
-    t.first_onset = onsets[t.hits.front().second];
-  };
-
-  std::vector<char> assigned(events.size(), 0);
-
-  for (auto it = period_shafts.begin(); it != period_shafts.end(); ++it) {
-    const double p = it->first;
-    // Cluster the unassigned events by phase modulo p.
-    std::vector<std::pair<double, int>> phases;
-    for (std::size_t k = 0; k < events.size(); ++k) {
-      if (!assigned[k]) phases.emplace_back(std::fmod(onsets[k], p), static_cast<int>(k));
-    }
-    std::sort(phases.begin(), phases.end());
-    std::vector<std::vector<std::pair<double, int>>> clusters;
-    for (const auto& ph : phases) {
-      if (clusters.empty() || ph.first - clusters.back().back().first > tau)
-        clusters.emplace_back();
-      clusters.back().push_back(ph);
-    }
-    if (clusters.size() > 1 &&
-        clusters.front().front().first + p - clusters.back().back().first <= tau) {
-      for (auto& ph : clusters.back()) ph.first -= p;  // wrap-around: one cluster
-      clusters.front().insert(clusters.front().begin(), clusters.back().begin(),
-                              clusters.back().end());
-      clusters.pop_back();
-    }
-    for (const auto& cl : clusters) {
-      if (assigned[cl.front().second] && cl.size() == 1) continue;
-      std::vector<double> ph;
-      for (const auto& c : cl) ph.push_back(c.first);
-      const double phi = median_of(ph);
-      Train t = build_train(p, phi);
-      const int hits_interior = static_cast<int>(t.hits.size());
-      if (t.expected < 3 || hits_interior < 3 || hits_interior < opt.min_coverage * t.expected) {
-        continue;
-      }
-      fit_period(t);
-      if (std::abs(t.measured_period_rad - p) > opt.period_tolerance * p) continue;
-
-      // Alternating heights: some recurrences carry a second defect on a slower shaft whose
-      // period is a whole multiple m of this one, passing at the same time (seed 003, Fig. 9).
-      // Explained as this train (sized from its lower recurrences) plus a train of period m p
-      // for each higher group. Two defects on the slower shaft exactly p apart would give the
-      // same events; that reading is named in the note and both confidences are halved.
-      for (auto jt = std::next(it); jt != period_shafts.end(); ++jt) {
-        const double ratio = jt->first / p;
-        const long m = std::lround(ratio);
-        if (m < 2 || std::abs(ratio - m) > 1e-6 * ratio) continue;
-        std::vector<std::vector<int>> groups(m);
-        for (auto [k, ev] : t.hits) groups[((k % m) + m) % m].push_back(ev);
-        std::vector<double> med(m, 0.0);
-        bool all_seen = true;
-        for (long r = 0; r < m; ++r) {
-          std::vector<double> h;
-          for (int ev : groups[r]) h.push_back(events[ev].height);
-          all_seen &= h.size() >= 2;
-          med[r] = median_of(h);
-        }
-        if (!all_seen) continue;
-        const double low = *std::min_element(med.begin(), med.end());
-        const double split = std::max(6.0 * sigma, 0.15 * low);
-        std::vector<Train> slow;
-        for (long r = 0; r < m; ++r) {
-          if (med[r] - low <= split) continue;
-          std::vector<double> anchors;
-          for (int ev : groups[r]) anchors.push_back(std::fmod(onsets[ev], jt->first));
-          Train sub = build_train(jt->first, median_of(anchors));
-          if (sub.hits.size() < 2) continue;
-          fit_period(sub);
-          slow.push_back(sub);
-        }
-        if (slow.empty()) continue;
-        t.size_events.clear();
-        for (long r = 0; r < m; ++r) {
-          if (med[r] - low <= split)
-            t.size_events.insert(t.size_events.end(), groups[r].begin(), groups[r].end());
-        }
-        std::ostringstream alt_text;
-        alt_text << "one recurrence in " << m << " coincides with a defect on shaft '"
-                 << gb.shafts()[jt->second.front()].name << "' (period " << jt->first / kTwoPi
-                 << " input rev); " << m << " defects on that shaft, " << p / kTwoPi
-                 << " input rev apart, would give the same events";
-        const std::string alt = alt_text.str();
-        t.note = alt;
-        t.ambiguous = true;
-        for (auto& sub : slow) {
-          sub.note = alt;
-          sub.ambiguous = true;
-          for (auto [k, ev] : sub.hits) assigned[ev] = 1;
-          accept(sub, jt->second);
-        }
-        break;
-      }
-      for (auto [k, ev] : t.hits) assigned[ev] = 1;
-      accept(t, it->second);
-    }
-  }
-
-  // 4b. Coincidences. Where another train passes during an event, the event is the
-  // overlap of two defects (the output stays stopped while either gap is taken up, and the hold
-  // of one delays the other's onset): its height and onset belong to neither defect alone. Such
-  // hits are left out of a train's size and period fit when it has at least two others, and an
-  // event no train claimed but during which a train passes is explained by the trains passing
-  // there (a pulse split by the overlap) instead of being called unexplained.
-  for (std::size_t a = 0; a < accepted.size(); ++a) {
-    Train& t = accepted[a].train;
-    Train clean = t;
-    clean.hits.clear();
-    for (auto [k, ev] : t.hits) {
-      if (trains_passing(a, events[ev].start, events[ev].end).empty()) {
-        clean.hits.emplace_back(k, ev);
-      }
-    }
-    if (clean.hits.size() == t.hits.size() || clean.hits.size() < 2) continue;
-    t.coincident = static_cast<int>(t.hits.size() - clean.hits.size());
-    fit_period(clean);
-    t.measured_period_rad = clean.measured_period_rad;
-    t.first_onset = clean.first_onset -
-                    (clean.hits.front().first - t.hits.front().first) * t.measured_period_rad;
-    std::vector<int> sizing;
-    for (auto [k, ev] : clean.hits) {
-      if (t.size_events.empty() ||
-          std::find(t.size_events.begin(), t.size_events.end(), ev) != t.size_events.end()) {
-        sizing.push_back(ev);
-      }
-    }
-    if (sizing.size() >= 2) t.size_events = sizing;
-  }
-  for (std::size_t k = 0; k < events.size(); ++k) {
-    if (assigned[k]) continue;
-    const auto passing = trains_passing(kNoTrain, events[k].start, events[k].end);
-    if (passing.empty()) continue;
-    assigned[k] = 1;
-    for (std::size_t b : passing) ++accepted[b].train.coincident;
-  }
+  TrainMatcher matcher(events, tau, lr.x[n - 1]);
+  matcher.match(candidate_periods(gb, path_shafts), gb, lr.sigma, opt);
+  matcher.resolve_coincidences();
 
   // 5. Findings.
-  for (const auto& a : accepted) {
-    Finding f;
-    std::vector<std::string> shaft_names;
-    for (int s : a.shafts) {
-      shaft_names.push_back(gb.shafts()[s].name);
-      for (int g : gb.shafts()[s].gears) {
-        if (gb.on_power_path(g)) f.gears.push_back(gb.gears()[g].name);
-      }
-    }
-    f.shaft = shaft_names.front();
-    for (std::size_t k = 1; k < shaft_names.size(); ++k) f.shaft += " or " + shaft_names[k];
-    std::vector<double> heights;
-    if (a.train.size_events.empty()) {
-      for (auto [k, ev] : a.train.hits) heights.push_back(events[ev].height);
-    } else {
-      for (int ev : a.train.size_events) heights.push_back(events[ev].height);
-    }
-    f.kind = "attribution";
-    f.fault = diag::FaultKind::kToothDamage;
-    f.note = a.train.note;
-    const double size_output_rad = median_of(heights);
-    f.size = size_output_rad * std::abs(gb.shafts()[a.shafts.front()].speed_ratio /
-                                        gb.shafts()[gb.output_shaft()].speed_ratio);
-    f.size_unit = "rad";
-    const int seen = static_cast<int>(a.train.hits.size());
-    f.evidence = {{"period_input_rev", a.train.period_rad / kTwoPi},
-                  {"measured_period_input_rev", a.train.measured_period_rad / kTwoPi},
-                  {"size_output_rad", size_output_rad},
-                  {"size_gear_rad", f.size},
-                  {"first_event_input_rad", a.train.first_onset},
-                  {"events", seen},
-                  {"expected_events", std::max(a.train.expected, seen)},
-                  {"coincident_events", a.train.coincident}};
-    std::vector<double> dev;
-    for (double h : heights) dev.push_back(std::abs(h - size_output_rad));
-    const double cv = size_output_rad > 0 ? 1.4826 * median_of(dev) / size_output_rad : 1.0;
-    const double coverage = std::min(1.0, double(seen) / std::max(1, a.train.expected));
-    const double period_match =
-        std::max(0.0, 1.0 - std::abs(a.train.measured_period_rad - a.train.period_rad) /
-                                (opt.period_tolerance * a.train.period_rad));
-    f.confidence = std::clamp(coverage * period_match / (1.0 + cv), 0.0, 1.0);
-    if (a.train.ambiguous) f.confidence *= 0.5;
-    res.findings.push_back(f);
+  for (const Accepted& a : matcher.accepted()) {
+    res.findings.push_back(train_finding(a, events, gb, opt));
   }
   std::sort(res.findings.begin(), res.findings.end(), [](const Finding& a, const Finding& b) {
     return a.evidence_value("first_event_input_rad") < b.evidence_value("first_event_input_rad");
   });
   for (std::size_t k = 0; k < events.size(); ++k) {
-    if (!assigned[k]) res.unexplained.push_back({events[k].onset, events[k].height});
+    if (!matcher.assigned(k)) res.unexplained.push_back({events[k].onset, events[k].height});
   }
   res.multiplicity = !res.unexplained.empty();
   res.status = res.multiplicity       ? AttributionStatus::kMultiplicity

@@ -29,7 +29,7 @@ namespace detect {
 struct RecordingInput {
   std::filesystem::path path;
   std::shared_ptr<const diag::Recording> recording;  // null: read `opened`, else `path`
-  diag::OpenedFrames opened;                          // frames null: read `path`
+  diag::OpenedFrames opened;                         // frames null: read `path`
 
   RecordingInput() = default;
   RecordingInput(std::filesystem::path p) : path(std::move(p)) {}  // NOLINT: a path is an input
