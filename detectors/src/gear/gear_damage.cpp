@@ -438,6 +438,212 @@ void decide_damaged_shafts(GearDamageResult& res, const diag::Gearbox& gb,
   }
 }
 
+// What every shaft's scoring shares (locate_impl): the recording, the options, the reference's
+// frequency and the corrected revolutions (`base`, once per revolution of a shaft turning at
+// |speed_ratio| = base_ratio), and where to put a baseline's averages when one is being made.
+struct LocateContext {
+  const diag::Recording& rec;
+  const diag::Gearbox& gb;
+  const GearDamageOptions& options;
+  double ref_ratio, ref_hz;
+  const std::vector<double>& base;
+  double base_ratio;
+  bool varying_speed;
+  GearDamageBaseline* capture;
+};
+
+// The channels a shaft is scored on: the options' for it, else those near its gears.
+std::vector<const diag::Signal*> shaft_channels(const LocateContext& cx, const diag::Shaft& sh) {
+  std::vector<const diag::Signal*> chans;
+  if (auto it = cx.options.channels.find(sh.name); it != cx.options.channels.end()) {
+    for (const auto& n : it->second) chans.push_back(&cx.rec.require(n, "locate_gear_damage"));
+  } else {
+    chans = shaft_vibration_channels(cx.rec, cx.gb, sh.name);
+  }
+  return chans;
+}
+
+// Steps 2-5 for one shaft with gears: its revolutions averaged on each of its channels, the
+// exclusive orders, significance, level and the tooth score, kept from the channel that scores
+// highest; with a baseline, its averages subtracted first (`used_baseline` set). When a baseline
+// is being made (capture), the averages go there and nothing is scored.
+ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ostringstream& note,
+                        bool& used_baseline) {
+  const diag::Gearbox& gb = cx.gb;
+  const GearDamageOptions& options = cx.options;
+  GearDamageBaseline* capture = cx.capture;
+  ResampleOptions ro;
+  ro.pulses_per_rev = 1;
+  auto baseline_of = [&](const std::string& shaft, const std::string& channel) {
+    const BaselineTsa* b = nullptr;
+    if (!options.baseline) return b;
+    if (auto it = options.baseline->tsa.find(shaft); it != options.baseline->tsa.end()) {
+      if (auto jt = it->second.find(channel); jt != it->second.end()) b = &jt->second;
+    }
+    return b;
+  };
+  ShaftDamage sd;
+  sd.shaft = sh.name;
+  sd.score = sd.fm4 = sd.snr = kNaN;
+  const double rel = std::abs(sh.speed_ratio) / cx.ref_ratio;  // f_s / f_ref
+  sd.frequency_hz = cx.ref_hz * rel;
+
+  const std::vector<const diag::Signal*> chans = shaft_channels(cx, sh);
+  if (chans.empty()) {
+    note << "shaft '" << sh.name << "': no channel. ";
+    return sd;
+  }
+  // Highest order analysed and the TSA resolution (options).
+  const TsaResolution reso = tsa_resolution(chans.front()->fs_hz, sd.frequency_hz,
+                                            options.band_fraction, options.samples_per_rev);
+  const int spr = reso.samples_per_rev;
+  const int half = spr / 2;
+  const std::size_t top = reso.top;
+  sd.samples_per_rev = spr;
+  ro.samples_per_rev = spr;
+  const std::vector<int> mesh_orders = synchronous_mesh_orders(gb, sh, half);
+  std::vector<int> own_orders;
+  for (int g : sh.gears) own_orders.push_back(gb.gears()[g].spec.teeth);
+  // Orders shared with faster shafts.
+  std::vector<int> shared_steps;
+  for (const diag::Shaft& other : gb.shafts()) {
+    if (other.gears.empty() || &other == &sh) continue;
+    const double r = std::abs(other.speed_ratio) / std::abs(sh.speed_ratio);
+    if (r <= 1.0 + kRatioTol) continue;
+    const int p = shared_order_step(r);
+    if (p > 0 && p <= half) shared_steps.push_back(p);
+  }
+  const std::vector<bool> keep =
+      exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, shared_steps, own_orders,
+                       options.extra_sideband_orders, top);
+
+  // The same band without the removal of the shared orders (the exclusive share's reference).
+  const std::vector<bool> in_band =
+      exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, {}, own_orders,
+                       options.extra_sideband_orders, top);
+  const std::vector<bool> regular =
+      tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
+  const std::vector<double> pulses =
+      scale_pulses(cx.base, std::abs(sh.speed_ratio) / cx.base_ratio);
+  RealFft fft(static_cast<std::size_t>(spr));
+  std::vector<std::complex<double>> mean_spec(fft.bins());
+  std::vector<double> var(fft.bins());
+  // The leading channels of the first one's rate and length through one plan (its taps
+  // computed once for all: resample.hpp; the same bytes as one call per channel); the others,
+  // or all when the plan cannot be built, one by one below, where a failure is reported.
+  std::vector<AngleResampled> shared;
+  try {
+    const diag::Signal& first = *chans.front();
+    std::vector<std::span<const double>> same;
+    for (const diag::Signal* ch : chans) {
+      if (ch->fs_hz != first.fs_hz || ch->samples.size() != first.samples.size() ||
+          !std::all_of(ch->samples.begin(), ch->samples.end(),
+                       [](double v) { return std::isfinite(v); })) {
+        break;
+      }
+      same.emplace_back(ch->samples);
+    }
+    if (!same.empty()) {
+      shared =
+          resample_by_angle(same, make_angle_plan(pulses, first.fs_hz, first.samples.size(), ro));
+    }
+  } catch (const diag::InputError&) {
+    shared.clear();
+  }
+  for (std::size_t ci = 0; ci < chans.size(); ++ci) {
+    const diag::Signal* ch = chans[ci];
+    AngleResampled ar;
+    Tsa t;
+    try {
+      ar = ci < shared.size() ? std::move(shared[ci])
+                              : resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
+      t = tsa(ar, options.min_revolutions);
+    } catch (const diag::InputError& e) {
+      note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
+      break;
+    }
+    revolution_spectrum(ar, t, cx.varying_speed, keep, fft, mean_spec, var);
+    if (capture) {
+      capture->tsa[sh.name][ch->name] = {mean_spec, var};
+      continue;
+    }
+    double regular_energy = 0.0;
+    for (std::size_t k = 1; k < keep.size() && k <= top; ++k) {
+      if (regular[k]) regular_energy += std::norm(mean_spec[k]);
+    }
+    bool compared = false;
+    if (const BaselineTsa* b = baseline_of(sh.name, ch->name);
+        b && b->spectrum.size() == mean_spec.size()) {
+      // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
+      // into this record's angle and subtracted in the analysed band; its noise adds.
+      std::vector<bool> band_mask(keep.size());
+      for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
+      const double phi = baseline_rotation(mean_spec, b->spectrum, band_mask, fft);
+      for (std::size_t k = 0; k < keep.size(); ++k) {
+        if (!band_mask[k]) continue;
+        mean_spec[k] -= b->spectrum[k] *
+                        std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
+        var[k] += b->noise[k];
+      }
+      used_baseline = true;
+      compared = true;
+    }
+    double energy = 0.0, noise = 0.0, band = 0.0;
+    for (std::size_t k = 0; k < keep.size(); ++k) {
+      if (in_band[k]) band += std::norm(mean_spec[k]);
+      if (keep[k]) {
+        energy += std::norm(mean_spec[k]);
+        noise += var[k];
+      } else {
+        mean_spec[k] = 0.0;
+      }
+    }
+    std::vector<double> excl(static_cast<std::size_t>(spr));
+    fft.inverse(mean_spec, excl);
+    const double raw = energy > 0.0 ? fm4(excl) : kNaN;
+    const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
+    // The tooth that stands out, per gear of the shaft (its own high-passed copy of e_s).
+    double score = 1.0;
+    ToothOutlier best_tooth;
+    std::string best_gear;
+    if ((compared || snr >= options.min_snr) && energy > 0.0) {
+      for (int g : sh.gears) {
+        const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
+        if (z < kMinTeethForOutlier) continue;
+        std::vector<std::complex<double>> hp = mean_spec;
+        const auto cut = static_cast<std::size_t>(z / 2);
+        for (std::size_t k = 0; k < cut && k < hp.size(); ++k) hp[k] = 0.0;
+        std::vector<double> x(static_cast<std::size_t>(spr));
+        fft.inverse(hp, x);
+        const ToothOutlier to = tooth_outlier(x, z);
+        if (to.ratio > score) score = to.ratio, best_tooth = to, best_gear = gb.gears()[g].name;
+      }
+    }
+    if (std::isnan(sd.score) || score > sd.score || (score == sd.score && snr > sd.snr)) {
+      sd.score = score;
+      sd.gear = best_gear;
+      sd.angle_deg = best_tooth.angle_deg;
+      sd.fm4 = raw;
+      sd.snr = snr;
+      sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
+      const double synchronous = compared ? energy : std::max(0.0, energy - noise);
+      sd.level = regular_energy > 0.0 ? std::sqrt(synchronous / regular_energy) : kInf;
+      sd.compared = compared;
+      sd.channel = ch->name;
+      sd.revolutions = t.revolutions;
+      const std::vector<double> diff = tsa_difference(t, mesh_orders);
+      sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
+    }
+  }
+  const bool significant =
+      (sd.compared || sd.snr >= options.min_snr) && !(sd.level < options.min_level) &&
+      !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
+  sd.significant = significant;
+  sd.damaged = significant && sd.score > options.damaged_fm4;
+  sd.uncertain = significant && !sd.damaged && sd.score > options.healthy_fm4;
+  return sd;
+}
+
 GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb,
                              const std::string& reference_shaft,
                              std::span<const double> pulse_times_s,
@@ -455,19 +661,7 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
   const std::vector<double> ref_pulses =
       smooth_pulse_times_polynomial(pulse_times_s, options.pulse_fit_degree);
 
-  ResampleOptions ro;
-  ro.pulses_per_rev = 1;
   const bool varying_speed = speed_varies(ref_pulses);
-
-  auto channels_of = [&](const diag::Shaft& sh) {
-    std::vector<const diag::Signal*> chans;
-    if (auto it = options.channels.find(sh.name); it != options.channels.end()) {
-      for (const auto& n : it->second) chans.push_back(&rec.require(n, where));
-    } else {
-      chans = shaft_vibration_channels(rec, gb, sh.name);
-    }
-    return chans;
-  };
 
   // ---- pulse correction (pulse_refine.hpp): smoothed, then corrected from a mesh line's phase
   // on the fastest shaft; every shaft's revolutions are scaled from the result ----
@@ -479,179 +673,11 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
       std::abs(shafts[static_cast<std::size_t>(gb.shaft_index(refined.shaft))].speed_ratio);
 
   bool used_baseline = false;
-  auto baseline_of = [&](const std::string& shaft, const std::string& channel) {
-    const BaselineTsa* b = nullptr;
-    if (!options.baseline) return b;
-    if (auto it = options.baseline->tsa.find(shaft); it != options.baseline->tsa.end()) {
-      if (auto jt = it->second.find(channel); jt != it->second.end()) b = &jt->second;
-    }
-    return b;
-  };
-  for (std::size_t si = 0; si < shafts.size(); ++si) {
-    const diag::Shaft& sh = shafts[si];
-    if (sh.gears.empty()) continue;
-    ShaftDamage sd;
-    sd.shaft = sh.name;
-    sd.score = sd.fm4 = sd.snr = kNaN;
-    const double rel = std::abs(sh.speed_ratio) / ref_ratio;  // f_s / f_ref
-    sd.frequency_hz = ref_hz * rel;
-
-    const std::vector<const diag::Signal*> chans = channels_of(sh);
-    if (chans.empty()) {
-      note << "shaft '" << sh.name << "': no channel. ";
-      res.shafts.push_back(sd);
-      continue;
-    }
-    // Highest order analysed and the TSA resolution (options).
-    const TsaResolution reso = tsa_resolution(chans.front()->fs_hz, sd.frequency_hz,
-                                              options.band_fraction, options.samples_per_rev);
-    const int spr = reso.samples_per_rev;
-    const int half = spr / 2;
-    const std::size_t top = reso.top;
-    sd.samples_per_rev = spr;
-    ro.samples_per_rev = spr;
-    const std::vector<int> mesh_orders = synchronous_mesh_orders(gb, sh, half);
-    std::vector<int> own_orders;
-    for (int g : sh.gears) own_orders.push_back(gb.gears()[g].spec.teeth);
-    // Orders shared with faster shafts.
-    std::vector<int> shared_steps;
-    for (const diag::Shaft& other : shafts) {
-      if (other.gears.empty() || &other == &sh) continue;
-      const double r = std::abs(other.speed_ratio) / std::abs(sh.speed_ratio);
-      if (r <= 1.0 + kRatioTol) continue;
-      const int p = shared_order_step(r);
-      if (p > 0 && p <= half) shared_steps.push_back(p);
-    }
-    const std::vector<bool> keep =
-        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, shared_steps, own_orders,
-                         options.extra_sideband_orders, top);
-
-    // The same band without the removal of the shared orders (the exclusive share's reference).
-    const std::vector<bool> in_band =
-        exclusive_orders(static_cast<std::size_t>(spr), mesh_orders, {}, own_orders,
-                         options.extra_sideband_orders, top);
-    const std::vector<bool> regular =
-        tsa_regular_orders(static_cast<std::size_t>(spr), mesh_orders, 1);
-    const std::vector<double> pulses = scale_pulses(base, std::abs(sh.speed_ratio) / base_ratio);
-    RealFft fft(static_cast<std::size_t>(spr));
-    std::vector<std::complex<double>> mean_spec(fft.bins());
-    std::vector<double> var(fft.bins());
-    // The leading channels of the first one's rate and length through one plan (its taps
-    // computed once for all: resample.hpp; the same bytes as one call per channel); the others,
-    // or all when the plan cannot be built, one by one below, where a failure is reported.
-    std::vector<AngleResampled> shared;
-    try {
-      const diag::Signal& first = *chans.front();
-      std::vector<std::span<const double>> same;
-      for (const diag::Signal* ch : chans) {
-        if (ch->fs_hz != first.fs_hz || ch->samples.size() != first.samples.size() ||
-            !std::all_of(ch->samples.begin(), ch->samples.end(),
-                         [](double v) { return std::isfinite(v); })) {
-          break;
-        }
-        same.emplace_back(ch->samples);
-      }
-      if (!same.empty()) {
-        shared =
-            resample_by_angle(same, make_angle_plan(pulses, first.fs_hz, first.samples.size(), ro));
-      }
-    } catch (const diag::InputError&) {
-      shared.clear();
-    }
-    for (std::size_t ci = 0; ci < chans.size(); ++ci) {
-      const diag::Signal* ch = chans[ci];
-      AngleResampled ar;
-      Tsa t;
-      try {
-        ar = ci < shared.size() ? std::move(shared[ci])
-                                : resample_by_angle(ch->samples, ch->fs_hz, pulses, ro);
-        t = tsa(ar, options.min_revolutions);
-      } catch (const diag::InputError& e) {
-        note << "shaft '" << sh.name << "' skipped: " << e.what() << ". ";
-        break;
-      }
-      revolution_spectrum(ar, t, varying_speed, keep, fft, mean_spec, var);
-      if (capture) {
-        capture->tsa[sh.name][ch->name] = {mean_spec, var};
-        continue;
-      }
-      double regular_energy = 0.0;
-      for (std::size_t k = 1; k < keep.size() && k <= top; ++k) {
-        if (regular[k]) regular_energy += std::norm(mean_spec[k]);
-      }
-      bool compared = false;
-      if (const BaselineTsa* b = baseline_of(sh.name, ch->name);
-          b && b->spectrum.size() == mean_spec.size()) {
-        // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
-        // into this record's angle and subtracted in the analysed band; its noise adds.
-        std::vector<bool> band_mask(keep.size());
-        for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
-        const double phi = baseline_rotation(mean_spec, b->spectrum, band_mask, fft);
-        for (std::size_t k = 0; k < keep.size(); ++k) {
-          if (!band_mask[k]) continue;
-          mean_spec[k] -= b->spectrum[k] *
-                          std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
-          var[k] += b->noise[k];
-        }
-        used_baseline = true;
-        compared = true;
-      }
-      double energy = 0.0, noise = 0.0, band = 0.0;
-      for (std::size_t k = 0; k < keep.size(); ++k) {
-        if (in_band[k]) band += std::norm(mean_spec[k]);
-        if (keep[k]) {
-          energy += std::norm(mean_spec[k]);
-          noise += var[k];
-        } else {
-          mean_spec[k] = 0.0;
-        }
-      }
-      std::vector<double> excl(static_cast<std::size_t>(spr));
-      fft.inverse(mean_spec, excl);
-      const double raw = energy > 0.0 ? fm4(excl) : kNaN;
-      const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
-      // The tooth that stands out, per gear of the shaft (its own high-passed copy of e_s).
-      double score = 1.0;
-      ToothOutlier best_tooth;
-      std::string best_gear;
-      if ((compared || snr >= options.min_snr) && energy > 0.0) {
-        for (int g : sh.gears) {
-          const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
-          if (z < kMinTeethForOutlier) continue;
-          std::vector<std::complex<double>> hp = mean_spec;
-          const auto cut = static_cast<std::size_t>(z / 2);
-          for (std::size_t k = 0; k < cut && k < hp.size(); ++k) hp[k] = 0.0;
-          std::vector<double> x(static_cast<std::size_t>(spr));
-          fft.inverse(hp, x);
-          const ToothOutlier to = tooth_outlier(x, z);
-          if (to.ratio > score) score = to.ratio, best_tooth = to, best_gear = gb.gears()[g].name;
-        }
-      }
-      if (std::isnan(sd.score) || score > sd.score || (score == sd.score && snr > sd.snr)) {
-        sd.score = score;
-        sd.gear = best_gear;
-        sd.angle_deg = best_tooth.angle_deg;
-        sd.fm4 = raw;
-        sd.snr = snr;
-        sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
-        const double synchronous = compared ? energy : std::max(0.0, energy - noise);
-        sd.level = regular_energy > 0.0 ? std::sqrt(synchronous / regular_energy) : kInf;
-        sd.compared = compared;
-        sd.channel = ch->name;
-        sd.revolutions = t.revolutions;
-        const std::vector<double> diff = tsa_difference(t, mesh_orders);
-        sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
-      }
-    }
-    const bool significant =
-        (sd.compared || sd.snr >= options.min_snr) && !(sd.level < options.min_level) &&
-        !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
-    sd.significant = significant;
-    sd.damaged = significant && sd.score > options.damaged_fm4;
-    sd.uncertain = significant && !sd.damaged && sd.score > options.healthy_fm4;
-    res.shafts.push_back(sd);
+  const LocateContext cx{rec,  gb,         options,       ref_ratio, ref_hz,
+                         base, base_ratio, varying_speed, capture};
+  for (const diag::Shaft& sh : shafts) {
+    if (!sh.gears.empty()) res.shafts.push_back(score_shaft(cx, sh, note, used_baseline));
   }
-
   decide_damaged_shafts(res, gb, options, used_baseline, note);
   res.note = note.str();
   return res;
