@@ -6,6 +6,8 @@
 #include <hdf5.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -17,7 +19,9 @@
 
 #include "diag/error.hpp"
 #include "diag/io/import.hpp"
+#include "diag/io/open_recording.hpp"
 #include "diag/io/recording.hpp"
+#include "diag/io/recording_frames.hpp"
 
 namespace fs = std::filesystem;
 
@@ -179,6 +183,77 @@ TEST_F(ImportMatLimits, Mat73VectorIsRead) {
   for (const std::string& n : rec.notes)
     noted |= n.find("variable S skipped: a sparse matrix") == 0;
   EXPECT_TRUE(noted);
+}
+
+// A level 7.3 file is read frame by frame (diag::open_recording_frames), as an HDF5 recording
+// is: every frame holds exactly the samples the whole read gives for its span, with the same
+// channels, metadata and speed; a NaN refuses the frame that holds it, naming the variable and
+// the sample, not the others. A row vector and a column vector (HDF5 n x 1 and 1 x n).
+TEST_F(ImportMatLimits, Mat73IsReadFrameByFrameLikeTheWholeFile) {
+  constexpr hsize_t kN = 10000;
+  std::vector<double> x(kN), y(kN);
+  for (hsize_t i = 0; i < kN; ++i) {
+    x[i] = std::sin(0.01 * static_cast<double>(i));
+    y[i] = 0.5 * static_cast<double>(i) - 7;
+  }
+  auto write = [&](const fs::path& path, const std::vector<double>& xs) {
+    write_mat73(path, [&](hid_t file) {
+      const auto vector = [&](const char* name, hsize_t d0, hsize_t d1, const double* data) {
+        const hsize_t dims[2] = {d0, d1};
+        const hid_t space = H5Screate_simple(2, dims, nullptr);
+        const hid_t ds =
+            H5Dcreate2(file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+        H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+        matlab_class(ds, "double");
+        H5Dclose(ds);
+        H5Sclose(space);
+      };
+      vector("x", kN, 1, xs.data());  // MATLAB's 1 x n
+      vector("y", 1, kN, y.data());   // MATLAB's n x 1
+      const double rpm = 1797;
+      vector("X100RPM", 1, 1, &rpm);
+    });
+  };
+  const fs::path path = dir_ / "long73.mat";
+  write(path, x);
+  diag::OpenOptions o;
+  o.fs_hz = 1000.0;
+  const diag::Recording whole = diag::open_recording(path, o);
+  const diag::OpenedFrames opened = diag::open_recording_frames(path, o);
+  EXPECT_EQ(opened.format, "mat");
+  ASSERT_NE(opened.frames, nullptr);
+  EXPECT_DOUBLE_EQ(opened.frames->duration_s(), 10.0);
+  std::size_t at = 0;
+  for (double t0 = 0; t0 < 10.0; t0 += 3.0) {  // 3 s frames, the last one short
+    const diag::Recording f = opened.frames->frame(t0, t0 + 3.0);
+    ASSERT_EQ(f.signals.size(), whole.signals.size());
+    for (std::size_t c = 0; c < f.signals.size(); ++c) {
+      EXPECT_EQ(f.signals[c].name, whole.signals[c].name);
+      EXPECT_EQ(f.signals[c].fs_hz, 1000.0);
+      const std::vector<double>& all = whole.signals[c].samples;
+      ASSERT_LE(at + f.signals[c].samples.size(), all.size());
+      EXPECT_TRUE(std::equal(f.signals[c].samples.begin(), f.signals[c].samples.end(),
+                             all.begin() + static_cast<std::ptrdiff_t>(at)))
+          << f.signals[c].name << " from " << t0 << " s";
+    }
+    EXPECT_EQ(f.metadata, whole.metadata);
+    EXPECT_EQ(f.speed_rpm, 1797.0);
+    EXPECT_FALSE(f.roles_stated);
+    at += f.signals[0].samples.size();
+  }
+  EXPECT_EQ(at, kN);  // every sample once
+
+  std::vector<double> with_nan = x;
+  with_nan[7000] = std::nan("");
+  const fs::path bad = dir_ / "nan73.mat";
+  write(bad, with_nan);
+  const std::string e = error_of([&] { diag::open_recording(bad, o); });
+  EXPECT_NE(e.find("variable x, sample 7000"), std::string::npos) << e;
+  const diag::OpenedFrames frames = diag::open_recording_frames(bad, o);
+  EXPECT_EQ(frames.frames->frame(0, 6.0).signals[0].samples.size(), 6000u);
+  const std::string fe = error_of([&] { frames.frames->frame(6.0, 9.0); });
+  EXPECT_NE(fe.find("nan73.mat"), std::string::npos) << fe;
+  EXPECT_NE(fe.find("variable x, sample 7000"), std::string::npos) << fe;
 }
 
 // 1e8 doubles declared, none written, in a 2 KB file: refused at once (before: 8 GB of zeros).

@@ -52,22 +52,22 @@ void cwru_locations(Recording& rec) {
   }
 }
 
-}  // namespace
-
-Recording import_mat(const std::filesystem::path& path, const std::string& where,
-                     const ImportOptions& options, std::uint64_t file_size) {
-  using namespace import_detail;
-  // Level 7.3 is HDF5: read through the project's one HDF5 open and the crash guard (mat73.cpp).
-  std::vector<std::string> notes;
-  std::vector<mat::Variable> vars =
-      mat::is_mat73(path) ? mat::read_mat73_variables(path, &notes)
-                          : mat::read_numeric_variables(path, where, file_size, &notes);
+// The recording a file's variables make (mat.hpp); a variable only described (mat73_frames)
+// makes a channel without samples.
+Recording recording_of(std::vector<mat::Variable>& vars, std::vector<std::string> notes,
+                       const std::string& where, const ImportOptions& options) {
   Recording rec;
   rec.notes = std::move(notes);
   std::vector<std::pair<std::string, double>> rpm_values;
   for (mat::Variable& var : vars) {
     if (var.dims.size() != 2) continue;
     if (var.dims[0] != 1 && var.dims[1] != 1) continue;  // matrices are not channels
+    if (var.described) {
+      Signal s;
+      s.name = var.name;
+      rec.signals.push_back(std::move(s));
+      continue;
+    }
     if (var.values.empty()) continue;
     if (var.values.size() == 1) {
       rec.metadata[var.name] = scalar_text(var);
@@ -114,6 +114,28 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
     }
   }
   return rec;
+}
+
+}  // namespace
+
+Recording import_mat(const std::filesystem::path& path, const std::string& where,
+                     const ImportOptions& options, std::uint64_t file_size) {
+  // Level 7.3 is HDF5: read through the project's one HDF5 open and the crash guard (mat73.cpp).
+  std::vector<std::string> notes;
+  std::vector<mat::Variable> vars =
+      mat::is_mat73(path) ? mat::read_mat73_variables(path, &notes)
+                          : mat::read_numeric_variables(path, where, file_size, &notes);
+  return recording_of(vars, std::move(notes), where, options);
+}
+
+std::shared_ptr<const FrameSource> mat_frames(const std::filesystem::path& path,
+                                              const std::string& where,
+                                              const ImportOptions& options) {
+  if (!mat::is_mat73(path)) return nullptr;
+  return mat::mat73_frames(path,
+                           [&](std::vector<mat::Variable>& vars, std::vector<std::string>& notes) {
+                             return recording_of(vars, std::move(notes), where, options);
+                           });
 }
 
 }  // namespace diag

@@ -6,10 +6,12 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 
 #include "diag/io/import.hpp"
 #include "diag/io/recording.hpp"
+#include "diag/io/recording_frames.hpp"
 
 namespace diag {
 
@@ -18,5 +20,12 @@ namespace diag {
 // decoder's damage checks (mat_file.hpp).
 Recording import_mat(const std::filesystem::path& path, const std::string& where,
                      const ImportOptions& options, std::uint64_t file_size);
+
+// A level 7.3 file frame by frame (mat_file.hpp's mat73_frames: memory holds a frame, not the
+// file), the same channels, metadata and speed as import_mat; null for levels 4 and 5, which
+// are read whole. Throws InputError as import_mat.
+std::shared_ptr<const FrameSource> mat_frames(const std::filesystem::path& path,
+                                              const std::string& where,
+                                              const ImportOptions& options);
 
 }  // namespace diag

@@ -11,17 +11,23 @@
 // reference.
 #include <hdf5.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "crash_guard.hpp"
 #include "diag/error.hpp"
+#include "diag/io/hdf5.hpp"
+#include "diag/io/printable.hpp"
 #include "hdf5_file.hpp"
 #include "hdf5_handle.hpp"
+#include "import_common.hpp"
 #include "mat_file.hpp"
 
 namespace diag::mat {
@@ -95,7 +101,10 @@ const std::map<std::string, bool>& numeric_classes() {
   return classes;
 }
 
-std::vector<Variable> read_variables(const Hdf5Source& source, std::vector<std::string>* notes) {
+// Every real numeric variable; with `values` false only the scalars' values are read, the
+// others described (their dimensions).
+std::vector<Variable> read_variables(const Hdf5Source& source, std::vector<std::string>* notes,
+                                     bool values) {
   const std::string& where = source.where();
   const Hid file = source.open();
   std::vector<Variable> vars;
@@ -134,12 +143,17 @@ std::vector<Variable> read_variables(const Hdf5Source& source, std::vector<std::
     v.dims.assign(dims.rbegin(), dims.rend());  // MATLAB's order
     // The size was checked against the stored bytes when the file was opened (hdf5_file.hpp).
     const auto n = static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.get()));
+    v.integer_class = numeric->second;
+    if (!values && n > 1) {
+      v.described = true;
+      vars.push_back(std::move(v));
+      continue;
+    }
     v.values.resize(n);
     if (n > 0 &&
         H5Dread(obj.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.values.data()) < 0) {
       damaged(where, name, "cannot read its values (corrupted file?)");
     }
-    v.integer_class = numeric->second;
     if (n == 1 && (cls == "int64" || cls == "uint64")) {
       if (cls == "int64") {
         long long value = 0;
@@ -159,10 +173,11 @@ std::vector<Variable> read_variables(const Hdf5Source& source, std::vector<std::
 }
 
 // Any error but InputError (an HDF5 call failing, memory) is damage to the file: exit 2.
-std::vector<Variable> reading(const Hdf5Source& source, std::vector<std::string>* notes) {
+std::vector<Variable> reading(const Hdf5Source& source, std::vector<std::string>* notes,
+                              bool values = true) {
   const auto library = hdf5_detail::hold_hdf5();
   try {
-    return read_variables(source, notes);
+    return read_variables(source, notes, values);
   } catch (const InputError&) {
     throw;
   } catch (const std::bad_alloc&) {
@@ -173,7 +188,121 @@ std::vector<Variable> reading(const Hdf5Source& source, std::vector<std::string>
   }
 }
 
+// Samples [first, first + out.size()) of the vector variable `name` (HDF5 dimensions 1 x n or
+// n x 1), with the library held.
+void read_vector_span(hid_t file, const std::string& where, const std::string& name,
+                      std::uint64_t first, std::span<double> out) {
+  const Hid ds(H5Dopen2(file, name.c_str(), H5P_DEFAULT), H5Dclose);
+  const Hid space(ds.valid() ? H5Dget_space(ds.get()) : -1, H5Sclose);
+  hsize_t dims[2] = {0, 0};
+  if (!space.valid() || H5Sget_simple_extent_ndims(space.get()) != 2 ||
+      H5Sget_simple_extent_dims(space.get(), dims, nullptr) != 2 ||
+      (dims[0] != 1 && dims[1] != 1)) {
+    damaged(where, name, "no longer a vector (changed while read?)");
+  }
+  const bool along_second = dims[0] == 1;
+  const hsize_t start[2] = {along_second ? 0 : first, along_second ? first : 0};
+  const hsize_t count[2] = {along_second ? 1 : out.size(), along_second ? out.size() : 1};
+  const hsize_t n = out.size();
+  const Hid memory(H5Screate_simple(1, &n, nullptr), H5Sclose);
+  if (H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 ||
+      !memory.valid() ||
+      H5Dread(ds.get(), H5T_NATIVE_DOUBLE, memory.get(), space.get(), H5P_DEFAULT, out.data()) <
+          0) {
+    damaged(where, name,
+            "cannot read samples " + std::to_string(first) + " .. " +
+                std::to_string(first + out.size()) + " (corrupted file?)");
+  }
+}
+
+std::uint64_t element_count(const Variable& v) {
+  std::uint64_t n = 1;
+  for (std::size_t d : v.dims) n *= d;
+  return n;
+}
+
+// A level 7.3 file's vectors read frame by frame (mat73_frames).
+class Mat73Frames final : public FrameSource {
+ public:
+  Mat73Frames(const std::filesystem::path& path, const Assemble& assemble)
+      : source_(path, false), file_(-1, H5Fclose) {
+    const std::string& where = source_.where();
+    // The child reads every value, by blocks, so that a file that would crash or hang the
+    // library is refused before this process reads it.
+    hdf5_detail::run_guarded(where, [&] {
+      const std::vector<Variable> vars = reading(source_, nullptr, false);
+      const Hid file = source_.open();
+      std::vector<double> block(std::size_t{1} << 16);
+      for (const Variable& v : vars) {
+        if (!v.described || v.dims.size() != 2 || (v.dims[0] != 1 && v.dims[1] != 1)) continue;
+        for (std::uint64_t at = 0, n = element_count(v); at < n; at += block.size()) {
+          const std::size_t count =
+              static_cast<std::size_t>(std::min<std::uint64_t>(block.size(), n - at));
+          read_vector_span(file.get(), where, v.name, at, std::span<double>(block).first(count));
+        }
+      }
+    });
+    std::vector<std::string> notes;
+    std::vector<Variable> vars = reading(source_, &notes, false);
+    std::map<std::string, std::uint64_t> lengths;
+    for (const Variable& v : vars) lengths[v.name] = element_count(v);
+    template_ = assemble(vars, notes);
+    for (Signal& s : template_.signals) {
+      channels_.push_back({s.name, lengths.at(s.name), s.fs_hz});
+      s.samples.clear();
+    }
+    template_.metadata.try_emplace("source", path.filename().string());
+    make_printable(template_);
+    template_.roles_stated = false;
+    file_ = source_.open();
+  }
+
+  std::vector<ChannelExtent> extents() const override {
+    std::vector<ChannelExtent> out;
+    for (const Channel& c : channels_) out.push_back({c.length, c.fs_hz});
+    return out;
+  }
+
+  Recording frame(double t0_s, double t1_s) const override {
+    Recording rec = template_;
+    const std::string& where = source_.where();
+    const auto library = hdf5_detail::hold_hdf5();
+    for (std::size_t i = 0; i < channels_.size(); ++i) {
+      const Channel& c = channels_[i];
+      const std::uint64_t first = samples_within(c.length, c.fs_hz, t0_s);
+      const std::uint64_t end = std::max(first, samples_within(c.length, c.fs_hz, t1_s));
+      std::vector<double>& x = rec.signals[i].samples;
+      x.resize(static_cast<std::size_t>(end - first));
+      if (!x.empty()) read_vector_span(file_.get(), where, c.variable, first, x);
+      for (std::size_t j = 0; j < x.size(); ++j) {
+        if (!std::isfinite(x[j])) {
+          throw InputError(format_error(
+              where, "variable " + c.variable + ", sample " + std::to_string(first + j),
+              import_detail::finite_error(x[j])));
+        }
+      }
+    }
+    return rec;
+  }
+
+ private:
+  struct Channel {
+    std::string variable;  // the dataset's name (the signal's, before made printable)
+    std::uint64_t length = 0;
+    double fs_hz = 0;
+  };
+  Hdf5Source source_;
+  Hid file_;  // closed before source_'s descriptor
+  Recording template_;
+  std::vector<Channel> channels_;
+};
+
 }  // namespace
+
+std::shared_ptr<const FrameSource> mat73_frames(const std::filesystem::path& path,
+                                                const Assemble& assemble) {
+  return std::make_shared<const Mat73Frames>(path, assemble);
+}
 
 std::vector<Variable> read_mat73_variables(const std::filesystem::path& path,
                                            std::vector<std::string>* notes) {

@@ -18,8 +18,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "diag/io/recording.hpp"
+#include "diag/io/recording_frames.hpp"
 
 namespace diag::mat {
 
@@ -29,6 +34,8 @@ struct Variable {
   std::vector<double> values;  // column-major
   bool integer_class = false;  // int8 ... uint64 (prints as an integer)
   std::string exact_text;      // a 64-bit integer scalar's exact value ("" otherwise)
+  bool described = false;      // values not read, only the dimensions (mat73_frames: the
+                               // samples are read frame by frame)
 };
 
 // True when the file is a MATLAB 7.3 .mat file (HDF5 with a MATLAB header).
@@ -44,5 +51,15 @@ std::vector<Variable> read_numeric_variables(const std::filesystem::path& path,
 // open (hdf5_file.hpp) and the crash guard. Throws InputError naming the file and the variable.
 std::vector<Variable> read_mat73_variables(const std::filesystem::path& path,
                                            std::vector<std::string>* notes = nullptr);
+
+// A level 7.3 file frame by frame: its variables surveyed once (the crash guard's child reads
+// every value; this process only the scalars' and every variable's dimensions), `assemble`
+// makes the recording from them (its vector channels without samples, named after their
+// variables, at their rate), and each frame reads those vectors' samples by blocks. A frame
+// with a NaN or infinite sample is refused naming the variable and the sample's index.
+using Assemble =
+    std::function<Recording(std::vector<Variable>& variables, std::vector<std::string>& notes)>;
+std::shared_ptr<const FrameSource> mat73_frames(const std::filesystem::path& path,
+                                                const Assemble& assemble);
 
 }  // namespace diag::mat

@@ -113,6 +113,16 @@ constexpr std::array<Format, 4> kFormats = {{
     {"mat", [](const Probe& p) { return ends_with(p.name, ".mat"); },
      [](const std::filesystem::path& path, const Probe& p, const OpenOptions& o) {
        return measured(path, p, o, "mat", import_mat);
+     },
+     [](const std::filesystem::path& path, const Probe& p, const OpenOptions& o) {
+       ImportOptions io;
+       io.fs_hz = o.fs_hz;
+       if (auto frames = mat_frames(path, path.string(), io)) {  // level 7.3: by blocks
+         return std::make_shared<const RecordingFrames>(std::move(frames));
+       }
+       auto rec =
+           std::make_shared<const Recording>(measured(path, p, o, "mat", import_mat).recording);
+       return std::make_shared<const RecordingFrames>(std::move(rec));
      }},
     {"hdf5", is_hdf5_named,
      [](const std::filesystem::path& path, const Probe& p, const OpenOptions& o) {
