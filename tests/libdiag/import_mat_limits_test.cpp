@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <cmath>
@@ -183,6 +184,94 @@ TEST_F(ImportMatLimits, Mat73VectorIsRead) {
   for (const std::string& n : rec.notes)
     noted |= n.find("variable S skipped: a sparse matrix") == 0;
   EXPECT_TRUE(noted);
+}
+
+// A level 5 file is read frame by frame: a vector of doubles, one stored as int16 and one in a
+// compressed element (each over the 64 KiB read whole), and a scalar speed. Every frame holds the
+// samples the whole read gives for its span, also when an earlier frame is asked for again (the
+// compressed stream starts over); a NaN refuses the frame that holds it, naming the variable and
+// sample; a compressed element cut short refuses the frames past its end.
+TEST_F(ImportMatLimits, Level5IsReadFrameByFrameLikeTheWholeFile) {
+  constexpr int kN = 10000;
+  std::vector<double> x(kN), z(kN);
+  std::string y16;
+  for (int i = 0; i < kN; ++i) {
+    x[i] = std::sin(0.01 * i);
+    z[i] = std::sin(1e3 * i) * std::exp(std::cos(7.1 * i));  // hardly compressible: > 64 KiB
+    const std::int16_t v = static_cast<std::int16_t>(i % 3000 - 1500);
+    y16.append(reinterpret_cast<const char*>(&v), 2);
+  }
+  auto compressed = [](const std::string& element_bytes, std::size_t cut) {
+    uLongf size = compressBound(element_bytes.size());
+    std::string out(size, '\0');
+    compress2(reinterpret_cast<Bytef*>(out.data()), &size,
+              reinterpret_cast<const Bytef*>(element_bytes.data()), element_bytes.size(), 6);
+    out.resize(size - cut);
+    std::string tagged;
+    put32(tagged, 15);
+    put32(tagged, static_cast<std::uint32_t>(out.size()));
+    return tagged + out;  // a top-level element is not padded
+  };
+  auto write = [&](const fs::path& path, const std::vector<double>& xs, std::size_t cut) {
+    std::ofstream(path, std::ios::binary)
+        << level5_header() + matrix(6, {1, kN}, "x", {element(9, doubles(xs))}) +
+               matrix(6, {kN, 1}, "y", {element(3, y16)}) +
+               compressed(matrix(6, {kN, 1}, "z", {element(9, doubles(z))}), cut) +
+               matrix(6, {1, 1}, "X100RPM", {element(9, doubles({1797.0}))});
+  };
+  diag::OpenOptions o;
+  o.fs_hz = 1000.0;
+  const fs::path path = dir_ / "long5.mat";
+  write(path, x, 0);
+  const diag::Recording whole = diag::open_recording(path, o);
+  ASSERT_EQ(whole.signals.size(), 3u);
+  const diag::OpenedFrames opened = diag::open_recording_frames(path, o);
+  ASSERT_NE(opened.frames, nullptr);
+  EXPECT_DOUBLE_EQ(opened.frames->duration_s(), 10.0);
+  auto expect_span = [&](double t0, double t1) {
+    const diag::Recording f = opened.frames->frame(t0, t1);
+    ASSERT_EQ(f.signals.size(), 3u);
+    const auto first = static_cast<std::ptrdiff_t>(std::lround(t0 * 1000));
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::vector<double>& all = whole.signals[c].samples;
+      EXPECT_EQ(f.signals[c].name, whole.signals[c].name);
+      EXPECT_EQ(f.signals[c].samples,
+                std::vector<double>(
+                    all.begin() + first,
+                    all.begin() + first + static_cast<std::ptrdiff_t>(f.signals[c].samples.size())))
+          << f.signals[c].name << " from " << t0 << " s";
+      EXPECT_EQ(static_cast<double>(f.signals[c].samples.size()),
+                std::min(t1, 10.0) * 1000 - static_cast<double>(first));
+    }
+    EXPECT_EQ(f.metadata, whole.metadata);
+    EXPECT_EQ(f.speed_rpm, 1797.0);
+  };
+  expect_span(0, 3);
+  expect_span(3, 6);
+  expect_span(6, 9);
+  expect_span(9, 12);
+  expect_span(1.5, 4.5);  // back: the compressed stream again from its start
+
+  std::vector<double> with_nan = x;
+  with_nan[7000] = std::nan("");
+  const fs::path bad = dir_ / "nan5.mat";
+  write(bad, with_nan, 0);
+  EXPECT_NE(error_of([&] { diag::open_recording(bad, o); }).find("x"), std::string::npos);
+  const diag::OpenedFrames frames = diag::open_recording_frames(bad, o);
+  EXPECT_EQ(frames.frames->frame(0, 6.0).signals[0].samples.size(), 6000u);
+  const std::string fe = error_of([&] { frames.frames->frame(6.0, 9.0); });
+  EXPECT_NE(fe.find("nan5.mat"), std::string::npos) << fe;
+  EXPECT_NE(fe.find("variable x, sample 7000"), std::string::npos) << fe;
+
+  const fs::path cut = dir_ / "cut5.mat";
+  write(cut, x, 2000);  // z's compressed stream loses its last 2000 bytes
+  EXPECT_NE(error_of([&] { diag::open_recording(cut, o); }).find("compressed data"),
+            std::string::npos);
+  const diag::OpenedFrames cut_frames = diag::open_recording_frames(cut, o);
+  EXPECT_EQ(cut_frames.frames->frame(0, 3.0).signals[2].samples.size(), 3000u);
+  const std::string ce = error_of([&] { cut_frames.frames->frame(9.0, 10.0); });
+  EXPECT_NE(ce.find("'z'"), std::string::npos) << ce;
+  EXPECT_NE(ce.find("compressed data"), std::string::npos) << ce;
 }
 
 // A level 7.3 file is read frame by frame (diag::open_recording_frames), as an HDF5 recording

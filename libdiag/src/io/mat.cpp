@@ -130,12 +130,14 @@ Recording import_mat(const std::filesystem::path& path, const std::string& where
 
 std::shared_ptr<const FrameSource> mat_frames(const std::filesystem::path& path,
                                               const std::string& where,
-                                              const ImportOptions& options) {
-  if (!mat::is_mat73(path)) return nullptr;
-  return mat::mat73_frames(path,
-                           [&](std::vector<mat::Variable>& vars, std::vector<std::string>& notes) {
-                             return recording_of(vars, std::move(notes), where, options);
-                           });
+                                              const ImportOptions& options,
+                                              std::uint64_t file_size) {
+  const mat::Assemble assemble = [&](std::vector<mat::Variable>& vars,
+                                     std::vector<std::string>& notes) {
+    return recording_of(vars, std::move(notes), where, options);
+  };
+  if (mat::is_mat73(path)) return mat::mat73_frames(path, assemble);
+  return mat::level5_frames(path, where, file_size, assemble);
 }
 
 }  // namespace diag

@@ -21,11 +21,12 @@ namespace diag {
 Recording import_mat(const std::filesystem::path& path, const std::string& where,
                      const ImportOptions& options, std::uint64_t file_size);
 
-// A level 7.3 file frame by frame (mat_file.hpp's mat73_frames: memory holds a frame, not the
-// file), the same channels, metadata and speed as import_mat; null for levels 4 and 5, which
-// are read whole. Throws InputError as import_mat.
+// A level 5 or 7.3 file frame by frame (mat_file.hpp's level5_frames and mat73_frames: memory
+// holds a frame, not the file), the same channels, metadata and speed as import_mat; null for
+// level 4, read whole. Throws InputError as import_mat.
 std::shared_ptr<const FrameSource> mat_frames(const std::filesystem::path& path,
                                               const std::string& where,
-                                              const ImportOptions& options);
+                                              const ImportOptions& options,
+                                              std::uint64_t file_size);
 
 }  // namespace diag

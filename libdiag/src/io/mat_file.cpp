@@ -1,15 +1,25 @@
 #include "mat_file.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <bit>
+#include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <memory>
+#include <new>
+#include <optional>
 
 #include "diag/error.hpp"
+#include "diag/io/hdf5.hpp"
 #include "diag/io/input_file.hpp"
+#include "diag/io/printable.hpp"
+#include "import_common.hpp"
 
 namespace diag::mat {
 
@@ -151,8 +161,20 @@ Element element_at(const Bytes& b, std::size_t offset, const Context& ctx, const
   return e;
 }
 
-// Decodes one miMATRIX body. False for a variable an import does not use (skipped).
-bool decode_matrix(const Bytes& b, Context& ctx, Variable& out) {
+// A numeric matrix's real part as its header declares it: values of `type`, `count` of them,
+// from byte `data` of the matrix body, `nbytes` in all.
+struct RealPart {
+  std::uint32_t type = 0;
+  std::uint64_t count = 0;
+  std::size_t data = 0;
+  std::size_t nbytes = 0;
+};
+
+// The header of one miMATRIX body (`declared` bytes, of which `b` holds the first, at least up to
+// the real part's tag): the variable's name and dimensions into `out`, and where its real part
+// lies. Nothing for a variable an import does not use (skipped).
+std::optional<RealPart> matrix_header(const Bytes& b, std::size_t declared, Context& ctx,
+                                      Variable& out) {
   const Element flags = element_at(b, 0, ctx, "array flags");
   if (flags.type != kUint32 || flags.nbytes != 8) ctx.fail("array flags: not 8 bytes of uint32");
   const std::uint32_t word = b.get<std::uint32_t>(flags.data);
@@ -175,8 +197,8 @@ bool decode_matrix(const Bytes& b, Context& ctx, Variable& out) {
   if (cls == kSparseClass && ctx.notes != nullptr) {
     ctx.notes->push_back("variable " + out.name + " skipped: a sparse matrix, not a channel");
   }
-  if (cls < kFirstNumericClass || cls > kLastNumericClass) return false;
-  if ((word & (kComplexFlag | kLogicalFlag)) != 0) return false;
+  if (cls < kFirstNumericClass || cls > kLastNumericClass) return std::nullopt;
+  if ((word & (kComplexFlag | kLogicalFlag)) != 0) return std::nullopt;
 
   // The element count, refused as soon as it exceeds what the variable's bytes could hold.
   std::uint64_t count = 1;
@@ -188,15 +210,20 @@ bool decode_matrix(const Bytes& b, Context& ctx, Variable& out) {
     if (d == 0) empty = true;
     if (!empty) {
       count *= static_cast<std::uint64_t>(d);
-      if (count > b.size) {
-        ctx.fail("dimensions declare more elements than the variable's " + std::to_string(b.size) +
-                 " bytes hold (corrupted header)");
+      if (count > declared) {
+        ctx.fail("dimensions declare more elements than the variable's " +
+                 std::to_string(declared) + " bytes hold (corrupted header)");
       }
     }
   }
   if (empty) count = 0;
 
-  const Element real = element_at(b, name.next, ctx, "real part");
+  // The real part's tag (its bytes may lie beyond `b`: checked against `declared`).
+  const Bytes whole{b.data, declared, b.swap};
+  if (name.next > b.size || b.size - name.next < 8) {
+    ctx.fail("real part: truncated (no room for its tag)");
+  }
+  const Element real = element_at(whole, name.next, ctx, "real part");
   const std::size_t size = type_size(real.type);
   if (size == 0) ctx.fail("real part: data type " + std::to_string(real.type) + " is not numeric");
   if (real.nbytes != count * size) {
@@ -204,14 +231,23 @@ bool decode_matrix(const Bytes& b, Context& ctx, Variable& out) {
              std::to_string(count) + " values of " + std::to_string(size) +
              " bytes = " + std::to_string(count * size));
   }
-  out.values.resize(static_cast<std::size_t>(count));
-  for (std::size_t i = 0; i < count; ++i)
-    out.values[i] = value_of(b, real.data + i * size, real.type);
   out.integer_class = cls >= kFirstIntegerClass;
-  if (count == 1 && real.type == kInt64)
-    out.exact_text = std::to_string(b.get<std::int64_t>(real.data));
-  if (count == 1 && real.type == kUint64) {
-    out.exact_text = std::to_string(b.get<std::uint64_t>(real.data));
+  return RealPart{real.type, count, real.data, real.nbytes};
+}
+
+// Decodes one miMATRIX body. False for a variable an import does not use (skipped).
+bool decode_matrix(const Bytes& b, Context& ctx, Variable& out) {
+  const std::optional<RealPart> real = matrix_header(b, b.size, ctx, out);
+  if (!real) return false;
+  const std::size_t size = type_size(real->type);
+  out.values.resize(static_cast<std::size_t>(real->count));
+  for (std::size_t i = 0; i < real->count; ++i) {
+    out.values[i] = value_of(b, real->data + i * size, real->type);
+  }
+  if (real->count == 1 && real->type == kInt64)
+    out.exact_text = std::to_string(b.get<std::int64_t>(real->data));
+  if (real->count == 1 && real->type == kUint64) {
+    out.exact_text = std::to_string(b.get<std::uint64_t>(real->data));
   }
   return true;
 }
@@ -366,7 +402,339 @@ std::vector<Variable> read_level4(const Bytes& data, const std::string& where) {
   return vars;
 }
 
+// ---- level 5, frame by frame -----------------------------------------------------------------
+
+// Elements up to this size are read and decoded whole (scalars, short vectors); larger vectors
+// are described from their first kHeadBytes and read frame by frame.
+constexpr std::size_t kWholeElement = std::size_t{1} << 16;
+constexpr std::size_t kHeadBytes = std::size_t{1} << 12;
+constexpr std::size_t kReadBlock = std::size_t{1} << 16;
+
+// The file opened once, read at offsets.
+class File {
+ public:
+  explicit File(const std::filesystem::path& path) : where_(path.string()) {
+    fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0)
+      throw InputError(
+          format_error(where_, "", std::string("cannot open: ") + std::strerror(errno)));
+  }
+  ~File() { ::close(fd_); }
+  File(const File&) = delete;
+  File& operator=(const File&) = delete;
+  // Up to n bytes at `offset` (fewer only at the end of the file).
+  std::size_t read(std::uint64_t offset, unsigned char* out, std::size_t n) const {
+    std::size_t done = 0;
+    while (done < n) {
+      const ssize_t r = ::pread(fd_, out + done, n - done, static_cast<off_t>(offset + done));
+      if (r < 0 && errno == EINTR) continue;
+      if (r < 0)
+        throw InputError(
+            format_error(where_, "", std::string("cannot read: ") + std::strerror(errno)));
+      if (r == 0) break;
+      done += static_cast<std::size_t>(r);
+    }
+    return done;
+  }
+  std::vector<unsigned char> bytes(std::uint64_t offset, std::size_t n, const Context& ctx) const {
+    std::vector<unsigned char> out(n);
+    if (read(offset, out.data(), n) != n) ctx.fail("truncated (the file changed while read?)");
+    return out;
+  }
+
+ private:
+  std::string where_;
+  int fd_ = -1;
+};
+
+// A miCOMPRESSED element's inflated stream, read forward from where the last read ended (a read
+// before that starts the stream again): frames read in order inflate the element once.
+class Inflater {
+ public:
+  Inflater(const File& file, std::uint64_t begin, std::uint64_t bytes)
+      : file_(&file), begin_(begin), bytes_(bytes), in_(kReadBlock) {
+    start();
+  }
+  ~Inflater() { inflateEnd(&z_); }
+  Inflater(const Inflater&) = delete;
+  Inflater& operator=(const Inflater&) = delete;
+
+  // The stream's bytes [from, from + n) into `out`; fewer at the stream's end. Throws InputError
+  // (ctx) on corrupt data.
+  std::size_t read(std::uint64_t from, unsigned char* out, std::size_t n, const Context& ctx) {
+    if (from < produced_) {
+      inflateEnd(&z_);
+      start();
+    }
+    std::vector<unsigned char> skip;
+    while (produced_ < from) {
+      skip.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kReadBlock, from - produced_)));
+      if (pump(skip.data(), skip.size(), ctx) < skip.size()) return 0;
+    }
+    return pump(out, n, ctx);
+  }
+
+ private:
+  void start() {
+    z_ = z_stream{};
+    if (inflateInit(&z_) != Z_OK) throw std::bad_alloc();
+    consumed_ = produced_ = 0;
+    ended_ = false;
+  }
+  std::size_t pump(unsigned char* out, std::size_t n, const Context& ctx) {
+    std::size_t done = 0;
+    while (done < n && !ended_) {
+      if (z_.avail_in == 0) {
+        const std::size_t want =
+            static_cast<std::size_t>(std::min<std::uint64_t>(in_.size(), bytes_ - consumed_));
+        if (want == 0) ctx.fail("compressed data: truncated");
+        if (file_->read(begin_ + consumed_, in_.data(), want) != want) {
+          ctx.fail("compressed data: truncated (the file changed while read?)");
+        }
+        consumed_ += want;
+        z_.next_in = in_.data();
+        z_.avail_in = static_cast<uInt>(want);
+      }
+      z_.next_out = out + done;
+      z_.avail_out = static_cast<uInt>(std::min<std::size_t>(n - done, kReadBlock));
+      const uInt before = z_.avail_out;
+      const int rc = inflate(&z_, Z_NO_FLUSH);
+      if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) {
+        ctx.fail(std::string("compressed data: ") + (z_.msg != nullptr ? z_.msg : "corrupt"));
+      }
+      done += before - z_.avail_out;
+      ended_ = rc == Z_STREAM_END;
+    }
+    produced_ += done;
+    return done;
+  }
+
+  const File* file_;
+  std::uint64_t begin_, bytes_;
+  std::vector<unsigned char> in_;
+  z_stream z_{};
+  std::uint64_t consumed_ = 0, produced_ = 0;
+  bool ended_ = false;
+};
+
+// Where a vector variable's values lie: in the file (a miMATRIX element) or in the inflated
+// stream of a miCOMPRESSED one.
+struct Place {
+  std::string variable;
+  RealPart real;           // its offsets relative to `data`'s origin below
+  std::uint64_t data = 0;  // the first value: a file offset, or an offset in the inflated stream
+  bool compressed = false;
+  std::uint64_t element = 0, element_bytes = 0;  // the compressed element's body in the file
+};
+
+bool is_vector(const std::vector<std::size_t>& dims) {
+  return dims.size() == 2 && (dims[0] == 1 || dims[1] == 1);
+}
+
+// A level 5 file's vectors read frame by frame (level5_frames).
+class Level5Frames final : public FrameSource {
+ public:
+  Level5Frames(const std::filesystem::path& path, const std::string& where, std::uint64_t file_size,
+               bool swap, const Assemble& assemble)
+      : file_(path), where_(where), swap_(swap) {
+    std::vector<std::string> notes;
+    std::vector<Variable> vars = survey(file_size, notes);
+    template_ = assemble(vars, notes);
+    for (Signal& sig : template_.signals) {
+      const auto it = std::find_if(places_.begin(), places_.end(),
+                                   [&](const Place& p) { return p.variable == sig.name; });
+      if (it == places_.end()) {  // short vectors were decoded whole
+        channels_.push_back({std::nullopt, sig.samples, sig.fs_hz});
+      } else {
+        channels_.push_back({*it, {}, sig.fs_hz});
+      }
+      sig.samples.clear();
+    }
+    inflaters_.resize(channels_.size());
+    template_.metadata.try_emplace("source", path.filename().string());
+    make_printable(template_);
+    template_.roles_stated = false;
+  }
+
+  std::vector<ChannelExtent> extents() const override {
+    std::vector<ChannelExtent> out;
+    for (const Channel& c : channels_) out.push_back({c.length(), c.fs_hz});
+    return out;
+  }
+
+  Recording frame(double t0_s, double t1_s) const override {
+    Recording rec = template_;
+    for (std::size_t i = 0; i < channels_.size(); ++i) {
+      const Channel& c = channels_[i];
+      const std::uint64_t first = samples_within(c.length(), c.fs_hz, t0_s);
+      const std::uint64_t end = std::max(first, samples_within(c.length(), c.fs_hz, t1_s));
+      std::vector<double>& x = rec.signals[i].samples;
+      if (!c.place) {
+        x.assign(c.values.begin() + static_cast<std::ptrdiff_t>(first),
+                 c.values.begin() + static_cast<std::ptrdiff_t>(end));
+      } else {
+        read_values(i, first, end, x);
+      }
+      const std::string variable = c.place ? c.place->variable : rec.signals[i].name;
+      for (std::size_t j = 0; j < x.size(); ++j) {
+        if (!std::isfinite(x[j])) {
+          throw InputError(
+              format_error(where_, "variable " + variable + ", sample " + std::to_string(first + j),
+                           import_detail::finite_error(x[j])));
+        }
+      }
+    }
+    return rec;
+  }
+
+ private:
+  struct Channel {
+    std::optional<Place> place;  // none: decoded whole, `values`
+    std::vector<double> values;
+    double fs_hz = 0;
+    std::uint64_t length() const { return place ? place->real.count : values.size(); }
+  };
+
+  std::vector<Variable> survey(std::uint64_t file_size, std::vector<std::string>& notes) {
+    std::vector<Variable> vars;
+    Context ctx{where_, 0, {}, &notes};
+    std::uint64_t offset = 128;
+    while (offset < file_size) {
+      ++ctx.index;
+      ctx.name.clear();
+      if (file_size - offset < 8) {
+        const auto rest = file_.bytes(offset, static_cast<std::size_t>(file_size - offset), ctx);
+        if (std::all_of(rest.begin(), rest.end(), [](unsigned char c) { return c == 0; })) break;
+        ctx.fail("truncated (" + std::to_string(file_size - offset) + " bytes after the last one)");
+      }
+      const auto tag = file_.bytes(offset, 8, ctx);
+      const Bytes t{tag.data(), 8, swap_};
+      const std::uint32_t type = t.get<std::uint32_t>(0);
+      const std::uint64_t nbytes = t.get<std::uint32_t>(4);
+      const std::uint64_t body = offset + 8;
+      if (nbytes > file_size - body) {
+        ctx.fail("declares " + std::to_string(nbytes) + " bytes at byte " + std::to_string(offset) +
+                 ", the file holds only " + std::to_string(file_size - body) +
+                 " more (truncated or corrupted)");
+      }
+      if (type == kMatrix || type == kCompressed) {
+        Variable v;
+        if (nbytes <= kWholeElement) {
+          const auto b = file_.bytes(body, static_cast<std::size_t>(nbytes), ctx);
+          bool used = false;
+          if (type == kMatrix) {
+            used = decode_matrix(Bytes{b.data(), b.size(), swap_}, ctx, v);
+          } else {
+            const auto inner = inflate_element(b.data(), b.size(), swap_, ctx);
+            used = decode_matrix(Bytes{inner.data() + 8, inner.size() - 8, swap_}, ctx, v);
+          }
+          if (used) vars.push_back(std::move(v));
+        } else if (auto place = describe(type, body, nbytes, ctx, v)) {
+          places_.push_back(*place);
+          v.described = true;
+          vars.push_back(std::move(v));
+        }
+      } else if (type == 0 || type > 18) {
+        ctx.fail("element type " + std::to_string(type) + " is not a MAT-file type (corrupted)");
+      }
+      offset = body + nbytes;
+    }
+    return vars;
+  }
+
+  // A large element's header: where its values lie when it is a numeric vector.
+  std::optional<Place> describe(std::uint32_t type, std::uint64_t body, std::uint64_t nbytes,
+                                Context& ctx, Variable& v) const {
+    Place p;
+    std::vector<unsigned char> head;
+    std::uint64_t declared = nbytes;
+    std::size_t skip = 0;  // bytes before the matrix body in `head`
+    if (type == kMatrix) {
+      head = file_.bytes(
+          body, static_cast<std::size_t>(std::min<std::uint64_t>(nbytes, kHeadBytes)), ctx);
+    } else {
+      Inflater z(file_, body, nbytes);
+      head.resize(kHeadBytes + 8);
+      head.resize(z.read(0, head.data(), head.size(), ctx));
+      if (head.size() < 8) ctx.fail("compressed data: truncated");
+      const Bytes tag{head.data(), 8, swap_};
+      if (tag.get<std::uint32_t>(0) != kMatrix) {
+        ctx.fail("compressed data does not hold a matrix (type " +
+                 std::to_string(tag.get<std::uint32_t>(0)) + ")");
+      }
+      declared = tag.get<std::uint32_t>(4);
+      if (declared > nbytes * kMaxInflateRatio + 64) {
+        ctx.fail("compressed matrix declares " + std::to_string(declared) + " bytes, more than " +
+                 std::to_string(nbytes) + " compressed bytes can expand to (corrupted)");
+      }
+      skip = 8;
+      p.compressed = true;
+      p.element = body;
+      p.element_bytes = nbytes;
+    }
+    const std::optional<RealPart> real =
+        matrix_header(Bytes{head.data() + skip, head.size() - skip, swap_},
+                      static_cast<std::size_t>(declared), ctx, v);
+    if (!real || !is_vector(v.dims) || real->count < 2) return std::nullopt;
+    p.variable = v.name;
+    p.real = *real;
+    p.data = (p.compressed ? skip : body) + real->data;
+    return p;
+  }
+
+  void read_values(std::size_t i, std::uint64_t first, std::uint64_t end,
+                   std::vector<double>& x) const {
+    const Place& p = *channels_[i].place;
+    const std::size_t size = type_size(p.real.type);
+    const std::size_t n = static_cast<std::size_t>(end - first);
+    std::vector<unsigned char> raw(n * size);
+    const Context ctx{where_, 0, p.variable, nullptr};
+    const std::uint64_t at = p.data + first * size;
+    if (p.compressed) {
+      auto& z = inflaters_[i];
+      if (!z) z = std::make_unique<Inflater>(file_, p.element, p.element_bytes);
+      if (z->read(at, raw.data(), raw.size(), ctx) != raw.size()) {
+        ctx.fail("compressed data: ends before its values do (truncated)");
+      }
+    } else if (file_.read(at, raw.data(), raw.size()) != raw.size()) {
+      ctx.fail("truncated (the file changed while read?)");
+    }
+    const Bytes b{raw.data(), raw.size(), swap_};
+    x.resize(n);
+    for (std::size_t j = 0; j < n; ++j) x[j] = value_of(b, j * size, p.real.type);
+  }
+
+  File file_;
+  std::string where_;
+  bool swap_;
+  std::vector<Place> places_;
+  Recording template_;
+  std::vector<Channel> channels_;
+  mutable std::vector<std::unique_ptr<Inflater>> inflaters_;  // frames are read one at a time
+};
+
 }  // namespace
+
+std::shared_ptr<const FrameSource> level5_frames(const std::filesystem::path& path,
+                                                 const std::string& where, std::uint64_t file_size,
+                                                 const Assemble& assemble) {
+  unsigned char head[128] = {};
+  {
+    const File file(path);
+    if (file_size < 128 || file.read(0, head, sizeof head) != sizeof head) return nullptr;
+  }
+  const bool little = head[126] == 'I' && head[127] == 'M';
+  const bool big = head[126] == 'M' && head[127] == 'I';
+  if (!little && !big) return nullptr;  // level 4
+  const bool swap = little != (std::endian::native == std::endian::little);
+  const std::uint16_t version = Bytes{head, sizeof head, swap}.get<std::uint16_t>(124);
+  if (version != 0x0100) {
+    throw InputError(format_error(
+        where, "",
+        "MAT-file version " + std::to_string(version >> 8) + " is not 5 (level 5) nor 7.3"));
+  }
+  return std::make_shared<const Level5Frames>(path, where, file_size, swap, assemble);
+}
 
 bool is_mat73(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);

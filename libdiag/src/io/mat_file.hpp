@@ -62,4 +62,14 @@ using Assemble =
 std::shared_ptr<const FrameSource> mat73_frames(const std::filesystem::path& path,
                                                 const Assemble& assemble);
 
+// A level 5 file frame by frame: the file surveyed once by its elements' tags and headers
+// (scalars and vectors of up to 64 KiB decoded whole, as read_numeric_variables does; larger
+// vectors only described), and each frame reads those vectors' values at their offsets, or, in a
+// compressed element, inflates its stream forward from the previous frame's end (frames read in
+// order inflate each element once). Memory holds a frame, not the file. Null for a level 4 file
+// (read whole). Throws InputError as read_numeric_variables, a frame for its damage or a NaN.
+std::shared_ptr<const FrameSource> level5_frames(const std::filesystem::path& path,
+                                                 const std::string& where, std::uint64_t file_size,
+                                                 const Assemble& assemble);
+
 }  // namespace diag::mat

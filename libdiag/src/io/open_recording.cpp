@@ -117,7 +117,7 @@ constexpr std::array<Format, 4> kFormats = {{
      [](const std::filesystem::path& path, const Probe& p, const OpenOptions& o) {
        ImportOptions io;
        io.fs_hz = o.fs_hz;
-       if (auto frames = mat_frames(path, path.string(), io)) {  // level 7.3: by blocks
+       if (auto frames = mat_frames(path, path.string(), io, p.size)) {  // levels 5 and 7.3
          return std::make_shared<const RecordingFrames>(std::move(frames));
        }
        auto rec =

@@ -14,7 +14,8 @@
 //
 // Only an HDF5 recording can be read in part (OpenOptions::limits: its first seconds, read by
 // blocks so that memory stays bounded); the other formats are read whole. Frame by frame
-// (recording_frames.hpp), HDF5, CSV, sound and MAT 7.3 files are read a frame at a time.
+// (recording_frames.hpp), HDF5, CSV, sound and MAT (level 5 and 7.3) files are read a frame at
+// a time.
 #pragma once
 
 #include <filesystem>

@@ -1,10 +1,10 @@
 // A recording read frame by frame: the unit of a whole-log analysis (detect::analyze_file). An
 // HDF5 recording stays open and each frame is read from it by blocks; a CSV file (plain or gzip)
 // is read row by row, each frame parsed when it is asked for; a sound file (WAV, FLAC...) is kept
-// open and each frame read after a seek; a MAT 7.3 file (HDF5 inside) is kept open and each frame
-// read from its vector variables by blocks; memory holds one frame whatever the file's length. A
-// MAT file of level 4 or 5 (read whole by its reader) or a recording already in memory is cut in
-// frames in memory.
+// open and each frame read after a seek; a MAT file of level 5 or 7.3 is kept open and each
+// frame read from its vector variables (mat_file.hpp); memory holds one frame whatever the file's
+// length. A MAT file of level 4 (read whole by its reader) or a recording already in memory is
+// cut in frames in memory.
 //
 // A frame [t0, t1) holds the samples floor(t0 fs) ... floor(t1 fs) - 1 of every channel (tachos
 // too), so consecutive frames hold every sample once; it carries the recording's gearbox, truth,
@@ -63,9 +63,9 @@ struct OpenedFrames {
 };
 
 // Opens `path` with the reader its format calls for (open_recording's table and errors): an HDF5
-// recording, a sound file or a MAT 7.3 file is kept open and read frame by frame, a CSV file row
-// by row, a MAT file of level 4 or 5 is read whole. OpenOptions::limits is not used (the frames
-// are).
+// recording, a sound file or a MAT file of level 5 or 7.3 is kept open and read frame by frame,
+// a CSV file row by row, a MAT file of level 4 is read whole. OpenOptions::limits is not used
+// (the frames are).
 OpenedFrames open_recording_frames(const std::filesystem::path& path,
                                    const OpenOptions& options = {});
 
