@@ -1,4 +1,5 @@
-// libFuzzer target: MATLAB .mat import (level 4 and 5 decoder, mat_file.cpp).
+// libFuzzer target: MATLAB .mat import (level 4 and 5 decoder, mat_file.cpp), and the same file
+// read frame by frame (diag::open_recording_frames: level 5 surveyed by its elements' headers).
 #include <cstddef>
 #include <cstdint>
 
@@ -10,5 +11,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   diag::ImportOptions options;
   options.fs_hz = 12000.0;
   fuzz::expect_input_error_only([&] { diag::import_recording(path, options); });
+  fuzz::expect_input_error_only([&] { fuzz::read_in_frames(path, 12000.0); });
   return 0;
 }
