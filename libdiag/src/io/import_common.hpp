@@ -4,6 +4,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -29,6 +31,18 @@ inline bool ends_with(std::string_view s, std::string_view suffix) {
 
 inline std::string finite_error(double value) {
   return std::string(std::isnan(value) ? "NaN" : "infinite") + " value; samples must be finite";
+}
+
+// Refuses the first NaN or infinite value of `samples`, samples `first` ... of `what` (e.g.
+// "variable x", "channel ch0"), naming it: "<where>: <what>, sample <n>: NaN value; ...".
+inline void require_finite(const std::string& where, const std::string& what, std::uint64_t first,
+                           std::span<const double> samples) {
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (!std::isfinite(samples[i])) {
+      throw InputError(format_error(where, what + ", sample " + std::to_string(first + i),
+                                    finite_error(samples[i])));
+    }
+  }
 }
 
 inline void check_option_fs(const std::string& where, const ImportOptions& options) {

@@ -78,13 +78,7 @@ Recording recording_of(std::vector<mat::Variable>& vars, std::vector<std::string
       }
       continue;
     }
-    for (std::size_t i = 0; i < var.values.size(); ++i) {
-      if (!std::isfinite(var.values[i])) {
-        throw InputError(format_error(where,
-                                      "variable " + var.name + ", sample " + std::to_string(i),
-                                      finite_error(var.values[i])));
-      }
-    }
+    require_finite(where, "variable " + var.name, 0, var.values);
     Signal s;
     s.name = var.name;
     s.samples = std::move(var.values);

@@ -12,7 +12,6 @@
 #include <hdf5.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -23,11 +22,8 @@
 
 #include "crash_guard.hpp"
 #include "diag/error.hpp"
-#include "diag/io/hdf5.hpp"
-#include "diag/io/printable.hpp"
 #include "hdf5_file.hpp"
 #include "hdf5_handle.hpp"
-#include "import_common.hpp"
 #include "mat_file.hpp"
 
 namespace diag::mat {
@@ -222,7 +218,7 @@ std::uint64_t element_count(const Variable& v) {
 }
 
 // A level 7.3 file's vectors read frame by frame (mat73_frames).
-class Mat73Frames final : public FrameSource {
+class Mat73Frames final : public VariableFrames {
  public:
   Mat73Frames(const std::filesystem::path& path, const Assemble& assemble)
       : source_(path, false), file_(-1, H5Fclose) {
@@ -246,55 +242,19 @@ class Mat73Frames final : public FrameSource {
     std::vector<Variable> vars = reading(source_, &notes, false);
     std::map<std::string, std::uint64_t> lengths;
     for (const Variable& v : vars) lengths[v.name] = element_count(v);
-    template_ = assemble(vars, notes);
-    for (Signal& s : template_.signals) {
-      channels_.push_back({s.name, lengths.at(s.name), s.fs_hz});
-      s.samples.clear();
-    }
-    template_.metadata.try_emplace("source", path.filename().string());
-    make_printable(template_);
-    template_.roles_stated = false;
+    set_recording(assemble(vars, notes), path, where,
+                  [&](std::size_t, const Signal& s) { return lengths.at(s.name); });
     file_ = source_.open();
   }
 
-  std::vector<ChannelExtent> extents() const override {
-    std::vector<ChannelExtent> out;
-    for (const Channel& c : channels_) out.push_back({c.length, c.fs_hz});
-    return out;
-  }
-
-  Recording frame(double t0_s, double t1_s) const override {
-    Recording rec = template_;
-    const std::string& where = source_.where();
-    const auto library = hdf5_detail::hold_hdf5();
-    for (std::size_t i = 0; i < channels_.size(); ++i) {
-      const Channel& c = channels_[i];
-      const std::uint64_t first = samples_within(c.length, c.fs_hz, t0_s);
-      const std::uint64_t end = std::max(first, samples_within(c.length, c.fs_hz, t1_s));
-      std::vector<double>& x = rec.signals[i].samples;
-      x.resize(static_cast<std::size_t>(end - first));
-      if (!x.empty()) read_vector_span(file_.get(), where, c.variable, first, x);
-      for (std::size_t j = 0; j < x.size(); ++j) {
-        if (!std::isfinite(x[j])) {
-          throw InputError(format_error(
-              where, "variable " + c.variable + ", sample " + std::to_string(first + j),
-              import_detail::finite_error(x[j])));
-        }
-      }
-    }
-    return rec;
-  }
-
  private:
-  struct Channel {
-    std::string variable;  // the dataset's name (the signal's, before made printable)
-    std::uint64_t length = 0;
-    double fs_hz = 0;
-  };
+  void read_span(std::size_t i, std::uint64_t first, std::span<double> out) const override {
+    const auto library = hdf5_detail::hold_hdf5();
+    read_vector_span(file_.get(), where(), variable(i), first, out);
+  }
+
   Hdf5Source source_;
   Hid file_;  // closed before source_'s descriptor
-  Recording template_;
-  std::vector<Channel> channels_;
 };
 
 }  // namespace

@@ -299,47 +299,6 @@ std::vector<unsigned char> inflate_element(const unsigned char* data, std::size_
   return out;
 }
 
-std::vector<Variable> read_level5(const Bytes& file, const std::string& where,
-                                  std::vector<std::string>* notes) {
-  std::vector<Variable> vars;
-  Context ctx{where, 0, {}, notes};
-  std::size_t offset = 128;
-  while (offset < file.size) {
-    ++ctx.index;
-    ctx.name.clear();
-    if (file.size - offset < 8) {
-      const bool zeros = std::all_of(file.data + offset, file.data + file.size,
-                                     [](unsigned char c) { return c == 0; });
-      if (zeros) break;  // padding at the end of the file
-      ctx.fail("truncated (" + std::to_string(file.size - offset) + " bytes after the last one)");
-    }
-    const std::uint32_t type = file.get<std::uint32_t>(offset);
-    const std::size_t nbytes = file.get<std::uint32_t>(offset + 4);
-    const std::size_t body = offset + 8;
-    if (nbytes > file.size - body) {
-      ctx.fail("declares " + std::to_string(nbytes) + " bytes at byte " + std::to_string(offset) +
-               ", the file holds only " + std::to_string(file.size - body) +
-               " more (truncated or corrupted)");
-    }
-    Variable v;
-    if (type == kMatrix) {
-      if (decode_matrix(Bytes{file.data + body, nbytes, file.swap}, ctx, v)) {
-        vars.push_back(std::move(v));
-      }
-    } else if (type == kCompressed) {
-      const std::vector<unsigned char> inner =
-          inflate_element(file.data + body, nbytes, file.swap, ctx);
-      if (decode_matrix(Bytes{inner.data() + 8, inner.size() - 8, file.swap}, ctx, v)) {
-        vars.push_back(std::move(v));
-      }
-    } else if (type == 0 || type > 18) {
-      ctx.fail("element type " + std::to_string(type) + " is not a MAT-file type (corrupted)");
-    }
-    offset = body + nbytes;
-  }
-  return vars;
-}
-
 std::vector<Variable> read_level4(const Bytes& data, const std::string& where) {
   std::vector<Variable> vars;
   Context ctx{where, 0, {}, nullptr};
@@ -531,164 +490,155 @@ bool is_vector(const std::vector<std::size_t>& dims) {
   return dims.size() == 2 && (dims[0] == 1 || dims[1] == 1);
 }
 
-// A level 5 file's vectors read frame by frame (level5_frames).
-class Level5Frames final : public FrameSource {
+// A large element's header: where its values lie when it is a numeric vector (else nothing).
+std::optional<Place> describe(const File& file, std::uint32_t type, std::uint64_t body,
+                              std::uint64_t nbytes, bool swap, Context& ctx, Variable& v) {
+  Place p;
+  std::vector<unsigned char> head;
+  std::uint64_t declared = nbytes;
+  std::size_t skip = 0;  // bytes before the matrix body in `head`
+  if (type == kMatrix) {
+    head = file.bytes(body, static_cast<std::size_t>(std::min<std::uint64_t>(nbytes, kHeadBytes)),
+                      ctx);
+  } else {
+    Inflater z(file, body, nbytes);
+    head.resize(kHeadBytes + 8);
+    head.resize(z.read(0, head.data(), head.size(), ctx));
+    if (head.size() < 8) ctx.fail("compressed data: truncated");
+    const Bytes tag{head.data(), 8, swap};
+    if (tag.get<std::uint32_t>(0) != kMatrix) {
+      ctx.fail("compressed data does not hold a matrix (type " +
+               std::to_string(tag.get<std::uint32_t>(0)) + ")");
+    }
+    declared = tag.get<std::uint32_t>(4);
+    if (declared > nbytes * kMaxInflateRatio + 64) {
+      ctx.fail("compressed matrix declares " + std::to_string(declared) + " bytes, more than " +
+               std::to_string(nbytes) + " compressed bytes can expand to (corrupted)");
+    }
+    skip = 8;
+    p.compressed = true;
+    p.element = body;
+    p.element_bytes = nbytes;
+  }
+  const std::optional<RealPart> real =
+      matrix_header(Bytes{head.data() + skip, head.size() - skip, swap},
+                    static_cast<std::size_t>(declared), ctx, v);
+  if (!real || !is_vector(v.dims) || real->count < 2) return std::nullopt;
+  p.variable = v.name;
+  p.real = *real;
+  p.data = (p.compressed ? skip : body) + real->data;
+  return p;
+}
+
+// A level 5 file's variables, element by element from the file (never the whole file in
+// memory): an element of at most `whole` bytes is read and decoded whole; a larger numeric
+// vector only described, its place added to `places` (with `places` null, every element is
+// decoded whole).
+std::vector<Variable> survey_level5(const File& file, const std::string& where,
+                                    std::uint64_t file_size, bool swap, std::uint64_t whole,
+                                    std::vector<std::string>* notes, std::vector<Place>* places) {
+  std::vector<Variable> vars;
+  Context ctx{where, 0, {}, notes};
+  std::uint64_t offset = 128;
+  while (offset < file_size) {
+    ++ctx.index;
+    ctx.name.clear();
+    if (file_size - offset < 8) {
+      const auto rest = file.bytes(offset, static_cast<std::size_t>(file_size - offset), ctx);
+      if (std::all_of(rest.begin(), rest.end(), [](unsigned char c) { return c == 0; })) break;
+      ctx.fail("truncated (" + std::to_string(file_size - offset) + " bytes after the last one)");
+    }
+    const auto tag = file.bytes(offset, 8, ctx);
+    const Bytes t{tag.data(), 8, swap};
+    const std::uint32_t type = t.get<std::uint32_t>(0);
+    const std::uint64_t nbytes = t.get<std::uint32_t>(4);
+    const std::uint64_t body = offset + 8;
+    if (nbytes > file_size - body) {
+      ctx.fail("declares " + std::to_string(nbytes) + " bytes at byte " + std::to_string(offset) +
+               ", the file holds only " + std::to_string(file_size - body) +
+               " more (truncated or corrupted)");
+    }
+    if (type == kMatrix || type == kCompressed) {
+      Variable v;
+      if (places == nullptr || nbytes <= whole) {
+        const auto b = file.bytes(body, static_cast<std::size_t>(nbytes), ctx);
+        bool used = false;
+        if (type == kMatrix) {
+          used = decode_matrix(Bytes{b.data(), b.size(), swap}, ctx, v);
+        } else {
+          const auto inner = inflate_element(b.data(), b.size(), swap, ctx);
+          used = decode_matrix(Bytes{inner.data() + 8, inner.size() - 8, swap}, ctx, v);
+        }
+        if (used) vars.push_back(std::move(v));
+      } else if (auto place = describe(file, type, body, nbytes, swap, ctx, v)) {
+        places->push_back(*place);
+        v.described = true;
+        vars.push_back(std::move(v));
+      }
+    } else if (type == 0 || type > 18) {
+      ctx.fail("element type " + std::to_string(type) + " is not a MAT-file type (corrupted)");
+    }
+    offset = body + nbytes;
+  }
+  return vars;
+}
+
+// From a file's first 128 bytes: whether its level 5 data are in the other byte order than this
+// machine's; nothing when it has no level 5 header (level 4). Throws InputError for another
+// version.
+std::optional<bool> level5_swap(const unsigned char (&head)[128], const std::string& where) {
+  const bool little = head[126] == 'I' && head[127] == 'M';
+  const bool big = head[126] == 'M' && head[127] == 'I';
+  if (!little && !big) return std::nullopt;
+  const bool swap = little != (std::endian::native == std::endian::little);
+  const std::uint16_t version = Bytes{head, sizeof head, swap}.get<std::uint16_t>(124);
+  if (version != 0x0100) {
+    throw InputError(format_error(
+        where, "",
+        "MAT-file version " + std::to_string(version >> 8) + " is not 5 (level 5) nor 7.3"));
+  }
+  return swap;
+}
+
+// A level 5 file's vectors read frame by frame (level5_frames): the large ones at their places,
+// the short ones (decoded whole by the survey) from memory.
+class Level5Frames final : public VariableFrames {
  public:
   Level5Frames(const std::filesystem::path& path, const std::string& where, std::uint64_t file_size,
                bool swap, const Assemble& assemble)
-      : file_(path), where_(where), swap_(swap) {
+      : file_(path), swap_(swap) {
     std::vector<std::string> notes;
-    std::vector<Variable> vars = survey(file_size, notes);
-    template_ = assemble(vars, notes);
-    for (Signal& sig : template_.signals) {
-      const auto it = std::find_if(places_.begin(), places_.end(),
+    std::vector<Place> places;
+    std::vector<Variable> vars =
+        survey_level5(file_, where, file_size, swap, kWholeElement, &notes, &places);
+    Recording rec = assemble(vars, notes);
+    for (const Signal& sig : rec.signals) {
+      const auto it = std::find_if(places.begin(), places.end(),
                                    [&](const Place& p) { return p.variable == sig.name; });
-      if (it == places_.end()) {  // short vectors were decoded whole
-        channels_.push_back({std::nullopt, sig.samples, sig.fs_hz});
-      } else {
-        channels_.push_back({*it, {}, sig.fs_hz});
-      }
-      sig.samples.clear();
+      sources_.push_back(it == places.end() ? Source{std::nullopt, sig.samples} : Source{*it, {}});
     }
-    inflaters_.resize(channels_.size());
-    template_.metadata.try_emplace("source", path.filename().string());
-    make_printable(template_);
-    template_.roles_stated = false;
-  }
-
-  std::vector<ChannelExtent> extents() const override {
-    std::vector<ChannelExtent> out;
-    for (const Channel& c : channels_) out.push_back({c.length(), c.fs_hz});
-    return out;
-  }
-
-  Recording frame(double t0_s, double t1_s) const override {
-    Recording rec = template_;
-    for (std::size_t i = 0; i < channels_.size(); ++i) {
-      const Channel& c = channels_[i];
-      const std::uint64_t first = samples_within(c.length(), c.fs_hz, t0_s);
-      const std::uint64_t end = std::max(first, samples_within(c.length(), c.fs_hz, t1_s));
-      std::vector<double>& x = rec.signals[i].samples;
-      if (!c.place) {
-        x.assign(c.values.begin() + static_cast<std::ptrdiff_t>(first),
-                 c.values.begin() + static_cast<std::ptrdiff_t>(end));
-      } else {
-        read_values(i, first, end, x);
-      }
-      const std::string variable = c.place ? c.place->variable : rec.signals[i].name;
-      for (std::size_t j = 0; j < x.size(); ++j) {
-        if (!std::isfinite(x[j])) {
-          throw InputError(
-              format_error(where_, "variable " + variable + ", sample " + std::to_string(first + j),
-                           import_detail::finite_error(x[j])));
-        }
-      }
-    }
-    return rec;
+    inflaters_.resize(sources_.size());
+    set_recording(std::move(rec), path, where, [&](std::size_t i, const Signal&) {
+      return sources_[i].place ? sources_[i].place->real.count : sources_[i].values.size();
+    });
   }
 
  private:
-  struct Channel {
+  struct Source {
     std::optional<Place> place;  // none: decoded whole, `values`
     std::vector<double> values;
-    double fs_hz = 0;
-    std::uint64_t length() const { return place ? place->real.count : values.size(); }
   };
 
-  std::vector<Variable> survey(std::uint64_t file_size, std::vector<std::string>& notes) {
-    std::vector<Variable> vars;
-    Context ctx{where_, 0, {}, &notes};
-    std::uint64_t offset = 128;
-    while (offset < file_size) {
-      ++ctx.index;
-      ctx.name.clear();
-      if (file_size - offset < 8) {
-        const auto rest = file_.bytes(offset, static_cast<std::size_t>(file_size - offset), ctx);
-        if (std::all_of(rest.begin(), rest.end(), [](unsigned char c) { return c == 0; })) break;
-        ctx.fail("truncated (" + std::to_string(file_size - offset) + " bytes after the last one)");
-      }
-      const auto tag = file_.bytes(offset, 8, ctx);
-      const Bytes t{tag.data(), 8, swap_};
-      const std::uint32_t type = t.get<std::uint32_t>(0);
-      const std::uint64_t nbytes = t.get<std::uint32_t>(4);
-      const std::uint64_t body = offset + 8;
-      if (nbytes > file_size - body) {
-        ctx.fail("declares " + std::to_string(nbytes) + " bytes at byte " + std::to_string(offset) +
-                 ", the file holds only " + std::to_string(file_size - body) +
-                 " more (truncated or corrupted)");
-      }
-      if (type == kMatrix || type == kCompressed) {
-        Variable v;
-        if (nbytes <= kWholeElement) {
-          const auto b = file_.bytes(body, static_cast<std::size_t>(nbytes), ctx);
-          bool used = false;
-          if (type == kMatrix) {
-            used = decode_matrix(Bytes{b.data(), b.size(), swap_}, ctx, v);
-          } else {
-            const auto inner = inflate_element(b.data(), b.size(), swap_, ctx);
-            used = decode_matrix(Bytes{inner.data() + 8, inner.size() - 8, swap_}, ctx, v);
-          }
-          if (used) vars.push_back(std::move(v));
-        } else if (auto place = describe(type, body, nbytes, ctx, v)) {
-          places_.push_back(*place);
-          v.described = true;
-          vars.push_back(std::move(v));
-        }
-      } else if (type == 0 || type > 18) {
-        ctx.fail("element type " + std::to_string(type) + " is not a MAT-file type (corrupted)");
-      }
-      offset = body + nbytes;
+  void read_span(std::size_t i, std::uint64_t first, std::span<double> out) const override {
+    const Source& s = sources_[i];
+    if (!s.place) {
+      std::copy_n(s.values.begin() + static_cast<std::ptrdiff_t>(first), out.size(), out.begin());
+      return;
     }
-    return vars;
-  }
-
-  // A large element's header: where its values lie when it is a numeric vector.
-  std::optional<Place> describe(std::uint32_t type, std::uint64_t body, std::uint64_t nbytes,
-                                Context& ctx, Variable& v) const {
-    Place p;
-    std::vector<unsigned char> head;
-    std::uint64_t declared = nbytes;
-    std::size_t skip = 0;  // bytes before the matrix body in `head`
-    if (type == kMatrix) {
-      head = file_.bytes(
-          body, static_cast<std::size_t>(std::min<std::uint64_t>(nbytes, kHeadBytes)), ctx);
-    } else {
-      Inflater z(file_, body, nbytes);
-      head.resize(kHeadBytes + 8);
-      head.resize(z.read(0, head.data(), head.size(), ctx));
-      if (head.size() < 8) ctx.fail("compressed data: truncated");
-      const Bytes tag{head.data(), 8, swap_};
-      if (tag.get<std::uint32_t>(0) != kMatrix) {
-        ctx.fail("compressed data does not hold a matrix (type " +
-                 std::to_string(tag.get<std::uint32_t>(0)) + ")");
-      }
-      declared = tag.get<std::uint32_t>(4);
-      if (declared > nbytes * kMaxInflateRatio + 64) {
-        ctx.fail("compressed matrix declares " + std::to_string(declared) + " bytes, more than " +
-                 std::to_string(nbytes) + " compressed bytes can expand to (corrupted)");
-      }
-      skip = 8;
-      p.compressed = true;
-      p.element = body;
-      p.element_bytes = nbytes;
-    }
-    const std::optional<RealPart> real =
-        matrix_header(Bytes{head.data() + skip, head.size() - skip, swap_},
-                      static_cast<std::size_t>(declared), ctx, v);
-    if (!real || !is_vector(v.dims) || real->count < 2) return std::nullopt;
-    p.variable = v.name;
-    p.real = *real;
-    p.data = (p.compressed ? skip : body) + real->data;
-    return p;
-  }
-
-  void read_values(std::size_t i, std::uint64_t first, std::uint64_t end,
-                   std::vector<double>& x) const {
-    const Place& p = *channels_[i].place;
+    const Place& p = *s.place;
     const std::size_t size = type_size(p.real.type);
-    const std::size_t n = static_cast<std::size_t>(end - first);
-    std::vector<unsigned char> raw(n * size);
-    const Context ctx{where_, 0, p.variable, nullptr};
+    std::vector<unsigned char> raw(out.size() * size);
+    const Context ctx{where(), 0, p.variable, nullptr};
     const std::uint64_t at = p.data + first * size;
     if (p.compressed) {
       auto& z = inflaters_[i];
@@ -700,20 +650,52 @@ class Level5Frames final : public FrameSource {
       ctx.fail("truncated (the file changed while read?)");
     }
     const Bytes b{raw.data(), raw.size(), swap_};
-    x.resize(n);
-    for (std::size_t j = 0; j < n; ++j) x[j] = value_of(b, j * size, p.real.type);
+    for (std::size_t j = 0; j < out.size(); ++j) out[j] = value_of(b, j * size, p.real.type);
   }
 
   File file_;
-  std::string where_;
   bool swap_;
-  std::vector<Place> places_;
-  Recording template_;
-  std::vector<Channel> channels_;
+  std::vector<Source> sources_;
   mutable std::vector<std::unique_ptr<Inflater>> inflaters_;  // frames are read one at a time
 };
 
 }  // namespace
+
+void VariableFrames::set_recording(
+    Recording rec, const std::filesystem::path& path, const std::string& where,
+    const std::function<std::uint64_t(std::size_t, const Signal&)>& length) {
+  where_ = where;
+  for (std::size_t i = 0; i < rec.signals.size(); ++i) {
+    Signal& s = rec.signals[i];
+    channels_.push_back({s.name, length(i, s), s.fs_hz});
+    s.samples.clear();
+  }
+  // As every measured format's recording: named after its file, printable, roles unstated.
+  rec.metadata.try_emplace("source", path.filename().string());
+  make_printable(rec);
+  rec.roles_stated = false;
+  recording_ = std::move(rec);
+}
+
+std::vector<ChannelExtent> VariableFrames::extents() const {
+  std::vector<ChannelExtent> out;
+  for (const Channel& c : channels_) out.push_back({c.length, c.fs_hz});
+  return out;
+}
+
+Recording VariableFrames::frame(double t0_s, double t1_s) const {
+  Recording rec = recording_;
+  for (std::size_t i = 0; i < channels_.size(); ++i) {
+    const Channel& c = channels_[i];
+    const std::uint64_t first = samples_within(c.length, c.fs_hz, t0_s);
+    const std::uint64_t end = std::max(first, samples_within(c.length, c.fs_hz, t1_s));
+    std::vector<double>& x = rec.signals[i].samples;
+    x.resize(static_cast<std::size_t>(end - first));
+    if (!x.empty()) read_span(i, first, x);
+    import_detail::require_finite(where_, "variable " + c.variable, first, x);
+  }
+  return rec;
+}
 
 std::shared_ptr<const FrameSource> level5_frames(const std::filesystem::path& path,
                                                  const std::string& where, std::uint64_t file_size,
@@ -723,17 +705,9 @@ std::shared_ptr<const FrameSource> level5_frames(const std::filesystem::path& pa
     const File file(path);
     if (file_size < 128 || file.read(0, head, sizeof head) != sizeof head) return nullptr;
   }
-  const bool little = head[126] == 'I' && head[127] == 'M';
-  const bool big = head[126] == 'M' && head[127] == 'I';
-  if (!little && !big) return nullptr;  // level 4
-  const bool swap = little != (std::endian::native == std::endian::little);
-  const std::uint16_t version = Bytes{head, sizeof head, swap}.get<std::uint16_t>(124);
-  if (version != 0x0100) {
-    throw InputError(format_error(
-        where, "",
-        "MAT-file version " + std::to_string(version >> 8) + " is not 5 (level 5) nor 7.3"));
-  }
-  return std::make_shared<const Level5Frames>(path, where, file_size, swap, assemble);
+  const std::optional<bool> swap = level5_swap(head, where);
+  if (!swap) return nullptr;  // level 4
+  return std::make_shared<const Level5Frames>(path, where, file_size, *swap, assemble);
 }
 
 bool is_mat73(const std::filesystem::path& path) {
@@ -749,25 +723,20 @@ bool is_mat73(const std::filesystem::path& path) {
 std::vector<Variable> read_numeric_variables(const std::filesystem::path& path,
                                              const std::string& where, std::uint64_t file_size,
                                              std::vector<std::string>* notes) {
-  // The file in memory once, decoded where it lies.
-  const std::string text = read_input_bytes(path, "", file_size);
-  const Bytes data{reinterpret_cast<const unsigned char*>(text.data()), text.size(), false};
-  if (data.size >= 128) {
-    const bool little = data.data[126] == 'I' && data.data[127] == 'M';
-    const bool big = data.data[126] == 'M' && data.data[127] == 'I';
-    if (little || big) {
-      const Bytes file{data.data, data.size,
-                       little != (std::endian::native == std::endian::little)};
-      const std::uint16_t version = file.get<std::uint16_t>(124);
-      if (version != 0x0100) {
-        throw InputError(format_error(
-            where, "",
-            "MAT-file version " + std::to_string(version >> 8) + " is not 5 (level 5) nor 7.3"));
+  {
+    // Level 5: element by element (each element's bytes in memory once, decoded where they lie).
+    unsigned char head[128] = {};
+    const File file(path);
+    if (file_size >= 128 && file.read(0, head, sizeof head) == sizeof head) {
+      if (const std::optional<bool> swap = level5_swap(head, where)) {
+        return survey_level5(file, where, file_size, *swap, file_size, notes, nullptr);
       }
-      return read_level5(file, where, notes);
     }
   }
-  return read_level4(data, where);
+  // Level 4: the file in memory once, decoded where it lies.
+  const std::string text = read_input_bytes(path, "", file_size);
+  return read_level4(Bytes{reinterpret_cast<const unsigned char*>(text.data()), text.size(), false},
+                     where);
 }
 
 }  // namespace diag::mat

@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,36 @@ std::vector<Variable> read_numeric_variables(const std::filesystem::path& path,
 // open (hdf5_file.hpp) and the crash guard. Throws InputError naming the file and the variable.
 std::vector<Variable> read_mat73_variables(const std::filesystem::path& path,
                                            std::vector<std::string>* notes = nullptr);
+
+// What a MAT file read frame by frame hands out (level5_frames, mat73_frames): the recording its
+// variables make, without samples, as every measured format's (named after its file, printable,
+// roles unstated); each frame reads every channel's span (read_span) and refuses a NaN or
+// infinite sample, naming the variable and the sample.
+class VariableFrames : public FrameSource {
+ public:
+  std::vector<ChannelExtent> extents() const override;
+  Recording frame(double t0_s, double t1_s) const override;
+
+ protected:
+  // `rec` as Assemble made it, its channels named after their variables; `length(i, signal)`:
+  // the samples of channel i.
+  void set_recording(Recording rec, const std::filesystem::path& path, const std::string& where,
+                     const std::function<std::uint64_t(std::size_t, const Signal&)>& length);
+  // Samples [first, first + out.size()) of channel i's variable.
+  virtual void read_span(std::size_t i, std::uint64_t first, std::span<double> out) const = 0;
+  const std::string& where() const { return where_; }
+  const std::string& variable(std::size_t i) const { return channels_[i].variable; }
+
+ private:
+  struct Channel {
+    std::string variable;  // the signal's name before it was made printable
+    std::uint64_t length = 0;
+    double fs_hz = 0;
+  };
+  std::string where_;
+  Recording recording_;
+  std::vector<Channel> channels_;
+};
 
 // A level 7.3 file frame by frame: its variables surveyed once (the crash guard's child reads
 // every value; this process only the scalars' and every variable's dimensions), `assemble`

@@ -179,12 +179,7 @@ Recording import_sound(const std::filesystem::path& path, const std::string& whe
   Recording rec;
   for (std::size_t c = 0; c < o.channels; ++c) {
     Signal s = channel(o, interleaved, c, options);
-    for (std::size_t i = 0; i < s.samples.size(); ++i) {
-      if (!std::isfinite(s.samples[i])) {
-        throw InputError(format_error(where, "channel " + s.name + ", sample " + std::to_string(i),
-                                      finite_error(s.samples[i])));
-      }
-    }
+    require_finite(where, "channel " + s.name, 0, s.samples);
     rec.signals.push_back(std::move(s));
   }
   rec.metadata["source_fs_hz"] = std::to_string(o.info.samplerate);
