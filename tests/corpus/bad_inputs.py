@@ -457,6 +457,13 @@ def generate(c):
         d.attrs["MATLAB_class"] = np.bytes_("double")
     c.import_case("mat73_external_storage", mat73("external73.mat", mat73_external),
                   ["external73.mat", "/x", "external files"], ["--fs", "100"])
+    # A mutation of external73.mat that fuzz_mat made: /x cannot be opened, the file's close then
+    # fails and it stays half-open in the HDF5 library, whose exit handler crashed on it (SIGSEGV
+    # after the message) until geardiag turned that handler off.
+    half_open = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "fuzz",
+                             "regressions", "mat", "half_open73.mat")
+    c.all_readers("mat73_half_open", half_open, ["half_open73.mat", "/x", "cannot be opened"],
+                  ["--fs", "12000"], info=False)
 
     # ---- face-gear stiffness tables and wear runs ------------------------------------------
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))

@@ -29,6 +29,16 @@ std::unique_lock<std::recursive_mutex> hold_hdf5() {
   // The child has one thread, and the lock it inherited names the parent's thread as holder.
   if (in_guard_child()) return {};
   std::unique_lock<std::recursive_mutex> lock(mutex);
+  // Before the library's first use: no closing of the library at exit. A corrupted file can
+  // fail H5Fclose and stay half-open (a MAT 7.3 file whose dataset cannot be opened: found by
+  // fuzz_mat); the library's exit handler then crashed on it (SIGSEGV in H5F__close_cb), turning
+  // the clean refusal, exit 2, into a crash. geardiag closes every file it opens itself and
+  // writes through its own file I/O (hdf5_file_bytes), so nothing needs that handler.
+  static const bool no_atexit = [] {
+    H5dont_atexit();
+    return true;
+  }();
+  (void)no_atexit;
   thread_local bool silenced = false;
   if (!silenced) {
     silence_hdf5();
