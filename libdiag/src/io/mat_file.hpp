@@ -13,7 +13,9 @@
 // stored in any numeric type). Other variables (char, cell, struct, sparse, complex, logical,
 // objects) are skipped by their byte count, unread, whatever dimensions they declare (a sparse
 // matrix of 10^5 x 10^5 holds only its non-zeros); a sparse matrix is named in a note. Level 7.3
-// files are HDF5 (is_mat73(), read by mat73.cpp). The file is held in memory once.
+// files are HDF5 (is_mat73(), read by mat73.cpp). A level 4 file is held in memory once; a level
+// 5 file is read element by element (an element's bytes in memory once), or frame by frame
+// (level5_frames).
 #pragma once
 
 #include <cstdint>
