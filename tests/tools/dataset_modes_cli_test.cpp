@@ -5,6 +5,7 @@
 // warning of a duration too short for the damaged-gear locator.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -133,6 +134,44 @@ TEST(DatasetModesCli, FaceGearClassesRecordTheDteAndTheirDynamicOutcome) {
   r = run("validate --dataset " + one.string());
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("no detector"), std::string::npos) << r.out;
+}
+
+// The shipped face-gear spec (testdata/dataset/face_gear.json) makes the regimes the manual
+// names for its classes, on the shipped description: the rated point without impact, period-1;
+// Fig. 7's resonance with the DTE at least 3x the rated point's (measured ~5x) and its DLF over
+// 2 (measured 2.29-2.40); 12 N.m with the 10x stiffness in Fig. 10's chaotic range, impacting
+// with a DLF over 10 (measured 35-63). A description or model change that moves a regime fails.
+TEST(DatasetModesCli, ShippedFaceGearSpecMakesTheRegimesItsClassesName) {
+  const fs::path out = scratch("shipped_fg");
+  const auto r =
+      run("dataset " + (fs::path(GEARDIAG_TESTDATA_DIR) / "dataset" / "face_gear.json").string() +
+          " -o " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::map<std::string, std::vector<json>> by_class;
+  for (const json& row : cli_test::manifest_rows(out)) {
+    by_class[row["class"].get<std::string>()].push_back(row);
+  }
+  ASSERT_EQ(by_class.size(), 4u);
+  double rated_dte = 0;
+  for (const json& row : by_class["rated"]) {
+    EXPECT_EQ(row["impact"], "no impact") << row;
+    EXPECT_EQ(row["period"], "period-1") << row;
+    EXPECT_LT(row["dlf"].get<double>(), 1.6) << row;
+    rated_dte = std::max(rated_dte, row["dte_peak_to_peak_urad"].get<double>());
+  }
+  for (const json& row : by_class["resonance"]) {
+    EXPECT_GT(row["dlf"].get<double>(), 2.0) << row;
+    EXPECT_GT(row["dte_peak_to_peak_urad"].get<double>(), 3 * rated_dte) << row;
+  }
+  for (const json& row : by_class["fluctuating"]) {
+    EXPECT_EQ(row["impact"], "no impact") << row;
+    EXPECT_NE(row["period"], "period-1") << row;  // incommensurate with the mesh
+  }
+  for (const json& row : by_class["light_stiff"]) {
+    EXPECT_NE(row["impact"], "no impact") << row;
+    EXPECT_EQ(row["period"], "chaos") << row;
+    EXPECT_GT(row["dlf"].get<double>(), 10.0) << row;
+  }
 }
 
 TEST(DatasetModesCli, BadModeSpecsExit2NamingTheFieldBeforeWriting) {
