@@ -114,6 +114,7 @@ TEST_F(AnalyzeFrames, AFaultFromPartWayIsFoundAndPlacedInTime) {
   const detect::Finding& f = r.findings[0];
   EXPECT_EQ(f.kind, "bearing");
   EXPECT_EQ(diag::to_string(f.fault), "inner_race");
+  ASSERT_EQ(r.segments.size(), 5u) << report::to_json(r)["segments"].dump(1);
   // Placed to within a frame: from the frame holding the fault's start (half of it healthy) or
   // the next, to the end of the log.
   EXPECT_GT(f.first_s, log.fault_from_s - r.coverage->frame_s);

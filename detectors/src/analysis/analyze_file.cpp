@@ -1,11 +1,14 @@
 #include "detect/analysis/analyze_file.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <limits>
+#include <memory>
 #include <mutex>
+#include <optional>
 #include <utility>
 
 #include "detect/angular/tacho.hpp"
@@ -327,13 +330,108 @@ std::vector<StateCut> tacho_cuts(const diag::Recording& frame, double t0, int pp
   return cuts;
 }
 
+// Pieces of a frame halved no further than this [s] in search of a speed step.
+constexpr double kMinBisectS = 0.5;
+constexpr int kMaxBisectDepth = 5;
+// A step of the speed followed in a frame larger than this is taken for the line lost.
+constexpr double kBisectStepFraction = 0.1;
+
+double record_duration(const diag::Recording& rec) {
+  double duration = 0;
+  for (const diag::Signal& s : rec.signals) duration = std::max(duration, s.duration_s());
+  return duration;
+}
+
+// The speed the vibration gives over a record, as kinematics.hpp measures it for the analysis
+// (nullopt: a tacho, the nominal speed, or an error: the analysis says why).
+std::optional<ShaftKinematics> vibration_speed(const diag::Recording& rec, const diag::Gearbox& gb,
+                                               const AnalyzeOptions& opt) {
+  std::vector<std::string> notes;
+  try {
+    ShaftKinematics k = shaft_kinematics(rec, gb, record_duration(rec), opt, notes);
+    if (k.speed.source == "vibration") return k;
+  } catch (const diag::InputError&) {
+  }
+  return std::nullopt;
+}
+
+// The input shaft's speed [rpm] of a speed measured on the reference shaft.
+double input_rpm(const diag::Gearbox& gb, const std::string& reference_shaft, double rpm) {
+  const int ref = gb.shaft_index(reference_shaft);
+  const double ratio =
+      ref >= 0 ? std::abs(gb.shafts()[static_cast<std::size_t>(ref)].speed_ratio) : 0.0;
+  return ratio > 0 ? rpm / ratio : 0.0;
+}
+
+// A piece of a frame and the input speed the vibration gives in it [rpm] (0: none measured).
+struct SpeedPiece {
+  double from_s = 0, to_s = 0, rpm = 0;
+};
+
+// A frame whose speed the vibration does not give as a whole: a step too large for one line to be
+// followed across it (the nominal speed near one side of it and beyond the search band of the
+// other). Its halves are measured, and the halves not measured or not steady halved again, down
+// to kMinBisectS; the pieces' speeds then place the step between two of them. Only when a half
+// is measured at all (else the frame's speed is simply not in its vibration).
+void bisect_speed(const diag::RecordingFrames& frame, double from, double to,
+                  const diag::Gearbox& gb, const AnalyzeOptions& opt, int depth,
+                  std::vector<SpeedPiece>& out) {
+  const double mid = 0.5 * (from + to);
+  std::array<SpeedPiece, 2> halves{SpeedPiece{from, mid, 0}, SpeedPiece{mid, to, 0}};
+  std::array<bool, 2> steady{false, false};
+  for (std::size_t h = 0; h < 2; ++h) {
+    const auto k = vibration_speed(frame.frame(halves[h].from_s, halves[h].to_s), gb, opt);
+    if (!k) continue;
+    halves[h].rpm = input_rpm(gb, k->speed.reference_shaft, k->speed.mean_rpm);
+    steady[h] = k->speed.stationary;
+  }
+  if (depth == 1 && halves[0].rpm == 0 && halves[1].rpm == 0) return;
+  for (std::size_t h = 0; h < 2; ++h) {
+    const bool deeper = !steady[h] && depth < kMaxBisectDepth &&
+                        halves[h].to_s - halves[h].from_s >= 2 * kMinBisectS;
+    if (deeper) {
+      bisect_speed(frame, halves[h].from_s, halves[h].to_s, gb, opt, depth + 1, out);
+    } else {
+      out.push_back(halves[h]);
+    }
+  }
+}
+
+// The cuts between the pieces of bisect_speed: where two measured pieces' speeds part by more
+// than kStepFraction, and where a stretch not measured (analysed at the frame's nominal speed)
+// meets one measured that far from the nominal. Consecutive pieces of one speed are one part.
+std::vector<StateCut> piece_cuts(const std::vector<SpeedPiece>& pieces, double t0,
+                                 const diag::Gearbox& gb) {
+  const double nominal = gb.shaft_speed_rpm(gb.input_shaft());
+  const auto apart = [](double a, double b) { return std::abs(b / a - 1) > kStepFraction; };
+  std::vector<StateCut> cuts;
+  for (std::size_t i = 1; i < pieces.size(); ++i) {
+    const double a = pieces[i - 1].rpm, b = pieces[i].rpm;
+    const bool cut = a > 0 && b > 0 ? apart(a, b)
+                     : a > 0        ? apart(a, nominal)
+                                    : b > 0 && apart(nominal, b);
+    if (!cut) continue;
+    const double t = pieces[i].from_s;
+    std::string what =
+        a > 0 && b > 0 ? "a speed step, " + fmt(a, 5) + " to " + fmt(b, 5) + " rpm"
+        : b > 0 ? "the speed " + fmt(b, 5) + " rpm measured from here (not before: the nominal " +
+                      fmt(nominal, 5) + " rpm)"
+                : "the speed not measured from here (" + fmt(a, 5) + " rpm before: the nominal " +
+                      fmt(nominal, 5) + " rpm assumed)";
+    what += " of the " + gb.shafts()[static_cast<std::size_t>(gb.input_shaft())].name +
+            " shaft (from the vibration of the frame's halves) at " + fmt(t0 + t, 6) + " s";
+    cuts.push_back({t, std::move(what), a, b});
+  }
+  return cuts;
+}
+
 // The cuts the vibration shows in a frame without a tacho: the reference shaft's speed measured
 // from a mesh (or shaft) line over the frame (kinematics.hpp, as the analysis measures it), its
-// steps as a tacho's. Only a speed the vibration measured and found unsteady is looked at.
+// steps as a tacho's. When the frame as a whole gives no speed, its halves are measured
+// (bisect_speed).
 std::vector<StateCut> vibration_cuts(const diag::Recording& frame, const diag::Gearbox& gb,
                                      double t0, const AnalyzeOptions& opt) {
-  double duration = 0;
-  for (const diag::Signal& s : frame.signals) duration = std::max(duration, s.duration_s());
+  const double duration = record_duration(frame);
   std::vector<std::string> notes;
   ShaftKinematics k;
   try {
@@ -341,20 +439,34 @@ std::vector<StateCut> vibration_cuts(const diag::Recording& frame, const diag::G
   } catch (const diag::InputError&) {
     return {};  // the analysis says why
   }
-  if (k.speed.source != "vibration" || k.speed.stationary) return {};
+  const auto bisected = [&] {
+    // A view of the frame, not a copy (the aliasing constructor: nothing owned).
+    const diag::RecordingFrames view(
+        std::shared_ptr<const diag::Recording>(std::shared_ptr<const void>(), &frame));
+    std::vector<SpeedPiece> pieces;
+    bisect_speed(view, 0.0, duration, gb, opt, 1, pieces);
+    return piece_cuts(pieces, t0, gb);
+  };
+  const bool can_bisect = duration >= 2 * kMinBisectS;
+  if (k.speed.source != "vibration") return can_bisect ? bisected() : std::vector<StateCut>{};
+  if (k.speed.stationary) return {};
   std::vector<double> rate;
   for (double rpm : k.speed.speed_rpm) rate.push_back(rpm / 60);
   std::vector<StateCut> cuts =
       profile_cuts(k.speed.time_s, rate, std::vector<char>(rate.size(), 0), t0,
                    "the " + k.speed.reference_shaft + " shaft (from the vibration)");
+  // A step larger than the ridge follows (its bounded step, the band searched around the nominal
+  // speed) shows as a jump of the line followed to another line: the halves are measured instead.
+  for (const StateCut& c : cuts) {
+    if (can_bisect && std::abs(c.after_rpm / c.before_rpm - 1) > kBisectStepFraction) {
+      return bisected();
+    }
+  }
   // The speeds as the input shaft's: each part is analysed at its own (the nominal speed of the
   // frame may be far from a part's after a step).
-  const int ref = gb.shaft_index(k.speed.reference_shaft);
-  const double ratio =
-      ref >= 0 ? std::abs(gb.shafts()[static_cast<std::size_t>(ref)].speed_ratio) : 0.0;
   for (StateCut& c : cuts) {
-    c.before_rpm = ratio > 0 ? c.before_rpm / ratio : 0;
-    c.after_rpm = ratio > 0 ? c.after_rpm / ratio : 0;
+    c.before_rpm = input_rpm(gb, k.speed.reference_shaft, c.before_rpm);
+    c.after_rpm = input_rpm(gb, k.speed.reference_shaft, c.after_rpm);
   }
   return cuts;
 }

@@ -191,7 +191,7 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
       const double record_s = static_cast<double>(length) / fs;
       double lowest_order = lines.front().order;
       for (const SpeedLine& l : lines) lowest_order = std::min(lowest_order, l.order);
-      auto attempt = [&](double nominal_time_s) {
+      auto attempt = [&](double nominal_time_s, double around_hz) {
         SpeedEstimateOptions so;
         so.search_fraction = kSpeedSearchFraction;
         // A frame bin no wider than 1/kCyclesPerFrame of the lowest candidate line (a shaft
@@ -203,14 +203,34 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
         so.hop_s = so.frame_s / 4;
         so.nominal_time_s = nominal_time_s;
         so.require_confirmation = lines.size() > 1;  // `usable` takes no other line
-        return estimate_speed(channels, fs, nominal_hz, lines, so);
+        return estimate_speed(channels, fs, around_hz, lines, so);
       };
       auto usable = [&](const SpeedEstimate& e) {
         return e.status == SpeedStatus::kTracked && (e.confirmations > 0 || lines.size() == 1);
       };
-      SpeedEstimate est = attempt(opt.nominal_time_s >= 0 ? opt.nominal_time_s : -1.0);
-      if (!usable(est) && opt.nominal_time_s < 0) {
-        SpeedEstimate run_up = attempt(0.5 * record_s);
+      SpeedEstimate est = attempt(opt.nominal_time_s >= 0 ? opt.nominal_time_s : -1.0, nominal_hz);
+      // The lines fit a speed outside the band around the nominal one better than anything in
+      // it (the nominal speed far off): searched again around that speed, and used only if the
+      // search there finds it too (a line confirmed by another, showing as many lines).
+      if (est.status == SpeedStatus::kElsewhere) {
+        const double other_hz = est.better_speed_hz;
+        const std::string fit = fmt(60 * other_hz) + " rpm (" +
+                                std::to_string(est.better_lines_found) + " of " +
+                                std::to_string(est.better_lines_counted) + " candidate lines)";
+        SpeedEstimate there = attempt(-1.0, other_hz);
+        if (usable(there) && there.lines_found + 1 >= est.better_lines_found) {
+          notes.push_back("warning: the lines of the vibration fit " + fit +
+                          ", not the band around the nominal " + fmt(60 * nominal_hz) +
+                          " rpm: the speed is sought around " + fmt(60 * other_hz) + " rpm");
+          est = std::move(there);
+        } else {
+          notes.push_back("warning: the lines of the vibration fit " + fit +
+                          " rather than the nominal " + fmt(60 * nominal_hz) +
+                          " rpm, but no line is confirmed there: the speed is not measured");
+        }
+      }
+      if (!usable(est) && opt.nominal_time_s < 0 && est.status != SpeedStatus::kElsewhere) {
+        SpeedEstimate run_up = attempt(0.5 * record_s, nominal_hz);
         if (usable(run_up)) {
           est = std::move(run_up);
           notes.push_back("no steady mesh line: the speed followed as a run-up from mid-record (" +
@@ -245,6 +265,7 @@ ShaftKinematics shaft_kinematics(const diag::Recording& rec, const diag::Gearbox
       std::string why = est.status == SpeedStatus::kNoLine          ? "no line"
                         : est.status == SpeedStatus::kAmbiguous     ? "ambiguous lines"
                         : est.status == SpeedStatus::kLowConfidence ? "low confidence"
+                        : est.status == SpeedStatus::kElsewhere     ? "the lines fit another speed"
                                                                     : "no other line agrees";
       notes.push_back("speed from the vibration not used (" + why + ")");
     } catch (const diag::InputError& e) {

@@ -36,6 +36,12 @@ constexpr double kDistinctPeakBins = 2.0;
 constexpr double kMinRidgeBins = 4.0;
 // Frames whose least-squares line extrapolates the ridge beyond the first and last frame centres.
 constexpr std::size_t kEndFitFrames = 5;
+// The harmonic-set check: a bin's floor is the median of the bins within kFloorHalfBins of it,
+// taken every kFloorStride bins and interpolated; speeds are scanned over [1/kScanRange,
+// kScanRange] x the nominal.
+constexpr std::size_t kFloorHalfBins = 64;
+constexpr std::size_t kFloorStride = 16;
+constexpr double kScanRange = 2.0;
 
 std::size_t next_pow2(std::size_t n) {
   std::size_t p = 1;
@@ -100,6 +106,63 @@ struct Choice {
   double prominence_db = -1e300;
   double floor_psd = 0;  // median PSD of the band [x^2/Hz]
 };
+
+// Each bin's height over the median of its neighbourhood [dB] (the floor every kFloorStride bins,
+// linear between): where a line stands out, for the harmonic-set check.
+std::vector<float> prominence_db(std::span<const double> p) {
+  const std::size_t n = p.size();
+  std::vector<float> out(n, 0.0f);
+  if (n < 2 * kFloorHalfBins + 1) return out;
+  std::vector<double> knots_at, knots;
+  std::vector<double> buf;
+  for (std::size_t k = 0;; k += kFloorStride) {
+    const std::size_t c = std::min(k, n - 1);
+    const std::size_t lo = c > kFloorHalfBins ? c - kFloorHalfBins : 0;
+    const std::size_t hi = std::min(n, c + kFloorHalfBins + 1);
+    buf.assign(p.begin() + static_cast<std::ptrdiff_t>(lo),
+               p.begin() + static_cast<std::ptrdiff_t>(hi));
+    knots_at.push_back(static_cast<double>(c));
+    knots.push_back(median_of(std::move(buf)));
+    if (c == n - 1) break;
+  }
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    while (j + 2 < knots_at.size() && knots_at[j + 1] < static_cast<double>(k)) ++j;
+    const double u = (static_cast<double>(k) - knots_at[j]) / (knots_at[j + 1] - knots_at[j]);
+    const double floor = knots[j] + std::clamp(u, 0.0, 1.0) * (knots[j + 1] - knots[j]);
+    out[k] = floor > 0.0 && p[k] > 0.0 ? static_cast<float>(10.0 * std::log10(p[k] / floor)) : 0.0f;
+  }
+  return out;
+}
+
+struct LineCount {
+  int found = 0, counted = 0;
+  double score = 0;  // the found lines' prominences [dB], each at most kMaxLineScoreDb
+};
+// A line's share of the score: the lines of the true speed are the mesh's or shaft's own, far
+// stronger than the sidebands or harmonics another speed's candidates may fall on, but one
+// very strong line must not outweigh several.
+constexpr double kMaxLineScoreDb = 60.0;
+
+// How many of the orders, at speed f_hz, have a bin within tol_hz standing min_db over its floor
+// (orders whose line is above max_hz are not counted), and their score.
+LineCount lines_at(const std::vector<double>& orders, std::span<const float> prom, double df,
+                   double f_hz, double tol_hz, double min_db, double max_hz) {
+  LineCount c;
+  for (double o : orders) {
+    const double f = o * f_hz;
+    if (f > max_hz) continue;
+    ++c.counted;
+    const BinRange r = bins_of(f - tol_hz, f + tol_hz, df, prom.size());
+    float top = 0.0f;
+    for (std::size_t k = r.lo; k <= r.hi; ++k) top = std::max(top, prom[k]);
+    if (top >= min_db) {
+      ++c.found;
+      c.score += std::min<double>(top, kMaxLineScoreDb);
+    }
+  }
+  return c;
+}
 
 // Searches one group of mutually overlapping candidates (size 1: a plain band) on spectrum p.
 // Returns a choice, or sets *ambiguous when a prominent peak cannot be attributed.
@@ -286,6 +349,8 @@ std::string_view to_string(SpeedStatus s) {
       return "ambiguous";
     case SpeedStatus::kUnconfirmed:
       return "unconfirmed";
+    case SpeedStatus::kElsewhere:
+      return "elsewhere";
   }
   return "?";
 }
@@ -421,10 +486,13 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
   Choice best;
   std::vector<Choice> found;
   bool ambiguous = false;
+  const bool steady = options.nominal_time_s < 0.0;
+  std::vector<std::vector<float>> prominence;  // per channel, for the harmonic-set check
   for (std::size_t c = 0; c < channels.size(); ++c) {
     // Welch over exactly the selection frames: the mean of their PSDs.
     const std::vector<double> avg =
         welch(channels[c].subspan(sel_lo * hop, nperseg + (sel_hi - sel_lo) * hop), wo).value;
+    if (steady) prominence.push_back(prominence_db(avg));
     for (const auto& g : groups) {
       bool amb = false;
       Choice ch = search_group(g, avg, df, kDistinctPeakBins * frame_bin_hz,
@@ -440,6 +508,101 @@ SpeedEstimate estimate_speed(const std::vector<std::span<const double>>& channel
       ch.channel = c;
       found.push_back(ch);
       if (ch.prominence_db > best.prominence_db) best = ch;
+    }
+  }
+  // The harmonic-set check (steady records): all the candidate lines together at the speed found
+  // in the band and at every speed in [nominal / 2, 2 x nominal]. A nominal speed far off can put
+  // a harmonic of the true speed's lines into a candidate's band (4/3 off: the third mesh
+  // harmonic's band holds the fourth's line, for every mesh at once, so the lines even confirm
+  // each other) or no line at all into any band; the true speed shows all its lines.
+  if (steady && lines.size() >= 3) {
+    // The candidates and their doubles (a mesh's harmonics 1-3 give 1-4 and 6): with orders
+    // that are multiples of one another (one mesh's first harmonic the other's second) the
+    // first three alone fit 3/2 or 2 x the speed nearly as well as the speed; their doubles
+    // tell them apart.
+    std::vector<double> orders;
+    for (const double m : {1.0, 2.0}) {
+      for (const SpeedLine& l : lines) {
+        const double order = m * l.order;
+        if (std::none_of(orders.begin(), orders.end(),
+                         [&](double o) { return std::abs(o - order) <= kSameOrderTol * o; })) {
+          orders.push_back(order);
+        }
+      }
+    }
+    const double max_hz = kMaxNyquistFraction * nyquist, tol_hz = frame_bin_hz;
+    const auto count_of = [&](const std::vector<double>& set, double f) {
+      LineCount most;
+      for (const std::vector<float>& prom : prominence) {
+        const LineCount c = lines_at(set, prom, df, f, tol_hz, options.min_prominence_db, max_hz);
+        if (c.score > most.score) most = c;
+        if (most.counted == 0) most.counted = c.counted;
+      }
+      return most;
+    };
+    const auto count_at = [&](double f) { return count_of(orders, f); };
+    const double top_order = *std::max_element(orders.begin(), orders.end());
+    LineCount here;  // the best of the speeds the lines found in the band imply
+    for (const Choice& ch : found) {
+      const LineCount c = count_at(ch.frequency_hz / ch.cand.line.order);
+      if (c.score > here.score || here.counted == 0) here = c;
+    }
+    est.lines_found = here.found;
+    est.lines_counted = here.counted;
+    // Speeds a step apart that moves the highest line by a frame bin at most.
+    LineCount better;
+    double better_hz = 0;
+    for (double f = nominal_speed_hz / kScanRange; f <= kScanRange * nominal_speed_hz;
+         f *= 1.0 + tol_hz / (top_order * f + tol_hz)) {
+      const LineCount c = count_at(f);
+      if (c.score > better.score) better = c, better_hz = f;
+    }
+    // An octave (or twelfth) error: the true speed's harmonics are the lines of twice (three
+    // times) it too, and may score more when its higher harmonics are strong and its first
+    // weak. The lines a half (third) predicts that the speed does not (its odd multiples) tell:
+    // when a third of them stand out, the half is the speed; when none do, the half has no line
+    // of its own.
+    for (bool lower = true; lower;) {
+      lower = false;
+      for (const double k : {2.0, 3.0}) {
+        const double f = better_hz / k;
+        if (f < nominal_speed_hz / kScanRange) continue;
+        std::vector<double> own;  // orders whose line at f is no line of better_hz
+        for (double o : orders) {
+          if (o * f > max_hz) continue;
+          const bool shared = std::any_of(orders.begin(), orders.end(), [&](double q) {
+            return std::abs(q * better_hz - o * f) <= tol_hz;
+          });
+          if (!shared) own.push_back(o);
+        }
+        if (own.empty()) continue;
+        const int own_found = count_of(own, f).found;
+        if (3 * own_found >= static_cast<int>(own.size()) && own_found >= 1) {
+          better = count_at(f), better_hz = f, lower = true;
+          break;
+        }
+      }
+    }
+    est.better_speed_hz = better_hz;
+    est.better_lines_found = better.found;
+    est.better_lines_counted = better.counted;
+    const bool outside = std::abs(better_hz / nominal_speed_hz - 1.0) > s;
+    // Outside the band, more of the lines and stronger than at any speed the band's lines imply
+    // (the band's best speed is among those scanned: a true speed there scores the most).
+    const bool clearly = better.found >= std::max(3, here.found + 1) && better.score > here.score &&
+                         2 * better.found >= better.counted;
+    if (outside && clearly) {
+      est.status = SpeedStatus::kElsewhere;
+      est.notes.push_back(
+          "the candidate lines fit " + diag::format_significant(better_hz, 6) + " Hz (" +
+          std::to_string(better.found) + " of " + std::to_string(better.counted) +
+          " stand out) better than the band around the nominal " +
+          diag::format_significant(nominal_speed_hz, 6) + " Hz (" +
+          (best.found ? std::to_string(here.found) + " of " + std::to_string(here.counted) +
+                            " at the line found there"
+                      : std::string("no line found there")) +
+          "): no speed claimed in the band");
+      return est;
     }
   }
   if (!best.found) {

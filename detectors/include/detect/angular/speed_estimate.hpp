@@ -123,6 +123,9 @@ enum class SpeedStatus {
                    // told apart: no speed claimed
   kUnconfirmed,    // require_confirmation and no other candidate confirms the chosen line: not
                    // followed, no speed claimed (line, frequency, prominence, contradictions set)
+  kElsewhere,      // the candidate lines, all together, fit a speed outside the search band
+                   // (better_speed_hz) clearly better than what was found inside it: no speed
+                   // claimed; search again around better_speed_hz
 };
 std::string_view to_string(SpeedStatus s);
 
@@ -139,6 +142,20 @@ struct SpeedEstimate {
   // a candidate; the notes name them). Orders equal to the chosen one are not counted.
   int confirmations = 0;
   int contradictions = 0;
+  // The harmonic-set check (steady records): how many of the candidate lines (distinct orders
+  // below 0.8 x Nyquist) stand min_prominence_db over their neighbourhood, at the speed found in
+  // the band (lines_found of lines_counted; 0 of 0 when none was found) and at the speed in
+  // [nominal / 2, 2 x nominal] that shows them most strongly (better_*: the largest sum of the
+  // found lines' prominences, each at most 60 dB, on the channel where it is largest);
+  // kElsewhere when that speed is outside the band, shows more lines (at least 3, at least half
+  // of its own) and a larger sum than the band's speed. The candidates are taken with their
+  // doubles (orders x 1 and x 2), and a speed whose half (third) has lines of its own (a third
+  // of the lines it predicts that the speed does not) is that half (third): an octave error.
+  int lines_found = 0;
+  int lines_counted = 0;
+  double better_speed_hz = 0;
+  int better_lines_found = 0;
+  int better_lines_counted = 0;
   // Per STFT frame: centre time [s], speed of the reference shaft from the angle [Hz] and from the
   // frame's spectral peak alone (the ridge) [Hz].
   std::vector<double> time_s;
