@@ -380,3 +380,33 @@ TEST(SpeedEstimate, BadOptionsAndInputsAreRefused) {
 }
 
 }  // namespace
+
+namespace {
+
+// The harmonic-set check: a mesh at 25 Hz told 4/3 of it. No line of the mesh is in its own
+// band (the second harmonic's band reaches the third harmonic's line at most); all the lines
+// together (orders 23, 46, 69 and their doubles: three of five below 0.8 Nyquist stand out) fit
+// 25 Hz, outside the band: kElsewhere, that speed to within the lines' tolerance (a frame bin,
+// 5 Hz, at the highest line found, 1725 Hz: 0.3 %), and searched again around it the speed is
+// the true one. Its half, 12.5 Hz, has
+// no line of its own (the mesh's odd multiples of 12.5 Hz x 23): not taken for it.
+TEST(SpeedEstimate, AllTheLinesTogetherFindASpeedOutsideTheBand) {
+  constexpr double kSpeedHz = 25.0;
+  const std::vector<double> x = mesh_signal([](double t) { return kSpeedHz * t; }, 4.0, 1.0, 17);
+  const auto e = detect::estimate_speed(x, kFs, kSpeedHz * 4.0 / 3.0, mesh_lines());
+  ASSERT_EQ(e.status, detect::SpeedStatus::kElsewhere) << e.notes.back();
+  EXPECT_EQ(detect::to_string(e.status), "elsewhere");
+  EXPECT_FALSE(e.has_speed());
+  EXPECT_NEAR(e.better_speed_hz / kSpeedHz, 1.0, 3e-3);
+  EXPECT_EQ(e.better_lines_found, 3);
+  EXPECT_EQ(e.better_lines_counted, 5);
+  const auto again = detect::estimate_speed(x, kFs, e.better_speed_hz, mesh_lines());
+  ASSERT_TRUE(again.has_speed()) << again.notes.back();
+  EXPECT_NEAR(again.mean_speed_hz / kSpeedHz, 1.0, 1e-4);
+  // At the right nominal speed the check agrees with the band: tracked, nothing elsewhere.
+  const auto right = detect::estimate_speed(x, kFs, kSpeedHz, mesh_lines());
+  EXPECT_EQ(right.status, detect::SpeedStatus::kTracked);
+  EXPECT_EQ(right.lines_found, 3);
+}
+
+}  // namespace

@@ -6,7 +6,8 @@
 //    on and not before, at the nominal speed and with the nominal speed 5 % off; without the
 //    tacho the frames stay whole (no splice is seen) and the chip is found after the join;
 //  - a speed step (1500 -> 1800 rpm in 0.2 s) inside a frame: cut at the step, each side at its
-//    own speed; without the tacho (1500 -> 1620 rpm) from the speed the vibration shows.
+//    own speed; without the tacho (1500 -> 1620 rpm) from the speed the vibration shows, and a
+//    step beyond the band searched (1500 -> 1850 rpm) by halving the frame.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -121,9 +122,9 @@ void expect_step_cut(const detect::AnalysisResult& r, double to_rpm, double with
       << report::to_json(r)["findings"].dump(1);
 }
 
-diag::Recording stepping(double to_rpm) {
+diag::Recording stepping(double to_rpm, double at_s = 1.5) {
   return two_stage_case::simulate(two_stage_case::gearbox(1500),
-                                  sim::SpeedProfile::ramp(1500, to_rpm, 1.5, 0.2), 6.0,
+                                  sim::SpeedProfile::ramp(1500, to_rpm, at_s, 0.2), 6.0,
                                   std::nullopt);
 }
 
@@ -148,6 +149,44 @@ TEST(AnalyzeStateFrames, WithoutTachoASpeedStepIsCutWhereTheVibrationShowsIt) {
   expect_step_cut(r, 1620, 0.3, "vibration", 1e-2);
   ASSERT_EQ(r.segments.size(), 3u);
   EXPECT_NE(r.segments[1].cut.find("from the vibration"), std::string::npos) << r.segments[1].cut;
+}
+
+// Without the tacho, a step beyond the band the speed is sought in around the nominal 1500 rpm
+// (12.5 %): 1500 -> 1850 rpm (+23 %) in the ramp at 1.1-1.3 s. The line followed over the frame
+// is lost at the step (or none is found), so the frame's halves are measured, the halves not
+// measured halved again down to pieces of 0.5-1 s: the parts wholly before the ramp at 1500 rpm,
+// those after at 1850 rpm (1 %), the steady last frame too (the harmonic-set check finds 1850 rpm
+// although it is outside the band), all from the vibration but the piece holding the ramp (at
+// most 0.75 s here), whose speed is not measured: a part of its own at the nominal speed, said so
+// ("nominal"); no gear finding.
+TEST(AnalyzeStateFrames, WithoutTachoAStepBeyondTheSearchBandIsPlacedByHalvingTheFrame) {
+  diag::Recording r0 = stepping(1850, 1.1);
+  r0.tachos.clear();
+  const auto rec = std::make_shared<const diag::Recording>(std::move(r0));
+  const detect::AnalysisResult r = analysed(rec, 1500, 3.0);
+  const std::string segments = report::to_json(r)["segments"].dump(1);
+  ASSERT_GE(r.segments.size(), 3u) << segments;
+  for (const detect::AnalysisSegment& seg : r.segments) {
+    if (seg.start_s > 0 && seg.start_s < 3.0) {
+      EXPECT_NE(seg.cut.find("from the vibration"), std::string::npos) << seg.cut;
+    }
+    if (seg.speed_source != "vibration") {
+      EXPECT_EQ(seg.speed_source, "nominal") << segments;
+      EXPECT_LE(seg.start_s, 1.1) << segments;  // the piece holds the ramp
+      EXPECT_GE(seg.end_s, 1.3) << segments;
+      EXPECT_LE(seg.end_s - seg.start_s, 0.75 + 1e-9) << segments;
+      continue;
+    }
+    if (seg.end_s <= 1.1) {
+      EXPECT_NEAR(seg.speed_rpm / 1500, 1.0, 1e-2) << segments;
+    }
+    if (seg.start_s >= 1.3) {
+      EXPECT_NEAR(seg.speed_rpm / 1850, 1.0, 1e-2) << segments;
+    }
+  }
+  EXPECT_NEAR(r.segments.back().speed_rpm / 1850, 1.0, 1e-3) << segments;
+  EXPECT_TRUE(two_stage_case::of_kind(r, "gear_damage").empty())
+      << report::to_json(r)["findings"].dump(1);
 }
 
 }  // namespace

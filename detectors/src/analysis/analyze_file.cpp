@@ -398,19 +398,29 @@ void bisect_speed(const diag::RecordingFrames& frame, double from, double to,
 }
 
 // The cuts between the pieces of bisect_speed: where two measured pieces' speeds part by more
-// than kStepFraction, and where a stretch not measured (analysed at the frame's nominal speed)
-// meets one measured that far from the nominal. Consecutive pieces of one speed are one part.
+// than kStepFraction, and around a stretch not measured when the frame steps (its speed is then
+// unknown: a part of its own, analysed at the frame's nominal speed; in a frame of one measured
+// speed such a stretch is taken for that speed, a cut there only when the speed is that far
+// from the nominal). Consecutive pieces of one speed are one part.
 std::vector<StateCut> piece_cuts(const std::vector<SpeedPiece>& pieces, double t0,
                                  const diag::Gearbox& gb) {
   const double nominal = gb.shaft_speed_rpm(gb.input_shaft());
   const auto apart = [](double a, double b) { return std::abs(b / a - 1) > kStepFraction; };
+  bool steps = false;
+  for (const SpeedPiece& p : pieces) {
+    for (const SpeedPiece& q : pieces) {
+      steps = steps || (p.rpm > 0 && q.rpm > 0 && apart(p.rpm, q.rpm));
+    }
+  }
+  const auto cut_at = [&](double a, double b) {
+    if (a > 0 && b > 0) return apart(a, b);
+    if (a > 0 || b > 0) return steps || apart(nominal, a + b);
+    return false;
+  };
   std::vector<StateCut> cuts;
   for (std::size_t i = 1; i < pieces.size(); ++i) {
     const double a = pieces[i - 1].rpm, b = pieces[i].rpm;
-    const bool cut = a > 0 && b > 0 ? apart(a, b)
-                     : a > 0        ? apart(a, nominal)
-                                    : b > 0 && apart(nominal, b);
-    if (!cut) continue;
+    if (!cut_at(a, b)) continue;
     const double t = pieces[i].from_s;
     std::string what =
         a > 0 && b > 0 ? "a speed step, " + fmt(a, 5) + " to " + fmt(b, 5) + " rpm"
