@@ -41,6 +41,9 @@ ChannelView channel_view(const Page& page, const ChannelAnalysis& c) {
   v.base.width_px = page.opt.plot_width_px;
   v.spectrum = v.base;
   v.spectrum.title = v.orders ? "Amplitude order spectrum" : "Amplitude spectrum";
+  if (c.spectrum_parts > 1) {
+    v.spectrum.title += " (power average of " + std::to_string(c.spectrum_parts) + " parts)";
+  }
   v.spectrum.x_label =
       v.orders ? "frequency at the mean speed [Hz] (input order x " + f3(v.input_hz) + " Hz)"
                : "frequency [Hz]";
@@ -180,8 +183,11 @@ std::string envelope_plot(const ChannelView& v) {
   }
   PlotOptions pe = v.spectrum;
   pe.title = std::string(v.orders ? "Envelope order spectrum" : "Envelope spectrum") + ", band " +
-             f3(c.envelope_low_hz) + "-" + f3(c.envelope_high_hz) +
-             " Hz (kurtogram); fault families dashed, the one decided solid";
+             f3(c.envelope_low_hz) + "-" + f3(c.envelope_high_hz) + " Hz (kurtogram" +
+             (c.envelope_parts > 1 ? "; the power average of " + std::to_string(c.envelope_parts) +
+                                         " parts, each in its own band"
+                                   : std::string()) +
+             "); fault families dashed, the one decided solid";
   pe.y_label = "amplitude [" + v.amp_unit + "]";
   pe.y_db = false;
   const PlotSeries es{c.envelope.x, c.envelope.y, "", "#8c564b"};

@@ -230,6 +230,7 @@ nlohmann::json channel_json(const ChannelAnalysis& c) {
     cj["spectrum"] = {{"resolution_hz", c.spectrum_resolution_hz},
                       {"enbw_hz", c.spectrum_enbw_hz},
                       {"peaks", peaks_json(c.spectrum_peaks)}};
+    if (c.spectrum_parts > 1) cj["spectrum"]["parts"] = c.spectrum_parts;
     cj["psd"] = {{"resolution_hz", c.psd_resolution_hz}, {"segments", c.psd_segments}};
   }
   if (c.sensor && c.spectrum_resolution_hz > 0) {  // envelope: vibration sensors (traces or not)
@@ -238,6 +239,7 @@ nlohmann::json channel_json(const ChannelAnalysis& c) {
                       {"kurtogram_level", c.kurtogram_level},
                       {"kurtogram_kurtosis", c.kurtogram_kurtosis},
                       {"peaks", peaks_json(c.envelope_peaks)}};
+    if (c.envelope_parts > 1) cj["envelope"]["parts"] = c.envelope_parts;
   }
   cj["meshes"] = meshes_json(c);
   cj["tsa"] = tsa_json(c);

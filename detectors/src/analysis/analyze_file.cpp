@@ -594,6 +594,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   const int frame_threads = framed ? diag::parallel_threads(n_frames, opt.threads) : 1;
   AnalyzeOptions frame_opt = opt;
   if (framed) frame_opt.traces = false;  // the detail frame is analysed again with them
+  frame_opt.keep_spectra = framed;       // their amplitude and envelope spectra averaged
   if (frame_threads > 1) frame_opt.threads = 1;
   struct PartOutcome {
     AnalysisSegment seg;
@@ -606,15 +607,41 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     std::vector<double> frequency_hz, weighted;
     std::size_t segments = 0;
   };
+  // A channel's amplitude or envelope power spectrum (amplitude^2) summed over parts of one
+  // layout (the first's: bins resolution_hz apart, as many), single precision; parts of another
+  // layout (the last frame, a part cut where the state changed) are left out and counted.
+  struct PowerSum {
+    double resolution_hz = 0;
+    std::vector<float> power;
+    std::size_t parts = 0, skipped = 0;
+  };
   struct FrameOutcome {
     std::vector<PartOutcome> parts;  // the frame, or its parts where the operating state changed
     std::map<std::string, MomentAccumulator> moments;
     std::map<std::string, PsdSum> psd;  // its time-domain parts' (merged in frame order)
+    // Its steady parts' amplitude and envelope power spectra (merged in frame order).
+    std::map<std::string, PowerSum> spectrum, envelope;
     bool merged = false;
     std::map<std::string, double> timing;
     double read_s = 0;
   };
   std::vector<FrameOutcome> outcome(n_frames);
+  // A part's power spectrum added to a sum (taken over when the sum is empty).
+  const auto add_power = [](PowerSum& sum, std::vector<float>&& power, double resolution_hz) {
+    if (power.empty()) return;
+    if (sum.parts == 0) {
+      sum.resolution_hz = resolution_hz;
+      sum.power = std::move(power);
+      sum.parts = 1;
+      return;
+    }
+    if (resolution_hz != sum.resolution_hz || power.size() != sum.power.size()) {
+      ++sum.skipped;
+      return;
+    }
+    for (std::size_t b = 0; b < power.size(); ++b) sum.power[b] += power[b];
+    ++sum.parts;
+  };
   using PartId = std::pair<std::size_t, std::size_t>;  // (frame, part of it)
   struct Detail {
     PartId at{0, 0};
@@ -816,10 +843,14 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
         }
         sum.segments += psd.segments;
       }
-      for (const ChannelAnalysis& c : res.channels) {
+      for (ChannelAnalysis& c : res.channels) {
         if (!c.sensor) continue;
         seg.channels.push_back(c.name);
         seg.indicators.push_back(c.time);
+        // The spectra of a steady part (a part analysed in the order domain has order spectra).
+        if (res.speed.spectra_domain == "order") continue;
+        add_power(o.spectrum[c.name], std::move(c.spectrum_power), c.spectrum_resolution_hz);
+        add_power(o.envelope[c.name], std::move(c.envelope_power), c.envelope_resolution_hz);
       }
       const PartId id{k, j};
       if (!healthy.empty()) {
@@ -862,6 +893,25 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   // count; only the frames in flight hold theirs).
   std::map<std::string, PsdSum> psd_total;
   std::size_t next_merge = 0;
+  std::map<std::string, PowerSum> spectrum_total, envelope_total;
+  const auto merge_power = [](std::map<std::string, PowerSum>& totals,
+                              std::map<std::string, PowerSum>& parts) {
+    for (auto& [name, part] : parts) {
+      PowerSum& total = totals[name];
+      if (total.parts == 0) {
+        part.skipped += total.skipped;
+        total = std::move(part);
+      } else if (part.parts > 0 && part.resolution_hz == total.resolution_hz &&
+                 part.power.size() == total.power.size()) {
+        for (std::size_t b = 0; b < part.power.size(); ++b) total.power[b] += part.power[b];
+        total.parts += part.parts;
+        total.skipped += part.skipped;
+      } else {
+        total.skipped += part.parts + part.skipped;
+      }
+    }
+    parts.clear();
+  };
   const auto merge_psd = [&](std::size_t k) {
     const std::lock_guard<std::mutex> lock(keep_lock);
     outcome[k].merged = true;
@@ -878,6 +928,8 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
         total.segments += part.segments;
       }
       outcome[next_merge].psd.clear();
+      merge_power(spectrum_total, outcome[next_merge].spectrum);
+      merge_power(envelope_total, outcome[next_merge].envelope);
     }
   };
   diag::parallel_for(n_frames, frame_threads, [&](std::size_t k) {
@@ -1049,6 +1101,48 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       c.psd = decimate_for_plot(sum.frequency_hz, mean, static_cast<std::size_t>(opt.plot_points),
                                 Decimation::kMax);
     }
+    // The amplitude and envelope spectra averaged (their power) over the steady parts of the
+    // detail frame's layout; the peaks sought on the average.
+    for (ChannelAnalysis& c : r.channels) {
+      if (!c.sensor || r.speed.spectra_domain == "order") continue;
+      const auto average = [&](const PowerSum& sum) {
+        Spectrum sp;
+        sp.resolution_hz = sum.resolution_hz;
+        sp.frequency_hz.resize(sum.power.size());
+        sp.amplitude.resize(sum.power.size());
+        for (std::size_t b = 0; b < sum.power.size(); ++b) {
+          sp.frequency_hz[b] = static_cast<double>(b) * sum.resolution_hz;
+          sp.amplitude[b] =
+              std::sqrt(static_cast<double>(sum.power[b]) / static_cast<double>(sum.parts));
+        }
+        return sp;
+      };
+      const auto s = spectrum_total.find(c.name);
+      if (s != spectrum_total.end() && s->second.parts > 0 &&
+          s->second.resolution_hz == c.spectrum_resolution_hz) {
+        Spectrum sp = average(s->second);
+        sp.enbw_hz = c.spectrum_enbw_hz;
+        c.spectrum_peaks = analysis_stages::largest_peaks(sp, opt.peaks_reported, 0.5 * c.fs_hz);
+        c.spectrum_parts = s->second.parts;
+        if (opt.traces) {
+          c.spectrum =
+              decimate_for_plot(sp.frequency_hz, sp.amplitude,
+                                static_cast<std::size_t>(opt.plot_points), Decimation::kMax);
+        }
+      }
+      const auto e = envelope_total.find(c.name);
+      if (e != envelope_total.end() && e->second.parts > 0 && !c.envelope_peaks.empty()) {
+        const Spectrum sp = average(e->second);
+        c.envelope_peaks =
+            analysis_stages::largest_peaks(sp, opt.peaks_reported, sp.frequency_hz.back());
+        c.envelope_parts = e->second.parts;
+        if (opt.traces) {
+          c.envelope = analysis_stages::slice_for_plot(sp.frequency_hz, sp.amplitude, 0,
+                                                       sp.frequency_hz.back(),
+                                                       static_cast<std::size_t>(opt.plot_points));
+        }
+      }
+    }
     const AnalysisSegment& d = segments[coverage.detail_frame];
     std::string note =
         "long recording analysed in " + std::to_string(n_frames) + " frames of " +
@@ -1058,10 +1152,10 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
              : "") +
         " (" + std::to_string(coverage.frames_examined) + " examined, " +
         fmt(coverage.analysed_s, 5) + " of " + fmt(duration, 5) +
-        " s): findings are every frame's, the channels' time indicators and Welch PSD over " +
-        "every sample examined (the PSD over the steady ones), the other spectra, TSA and " +
-        "locator those of " + fmt(d.start_s, 5) + "-" + fmt(d.end_s, 5) + " s (frame " +
-        std::to_string(coverage.detail_frame + 1) + ", " +
+        " s): findings are every frame's, the channels' time indicators over every sample " +
+        "examined, their Welch PSD, amplitude and envelope spectra over the steady parts, the " +
+        "order spectrum, kurtogram, sidebands, TSA and locator those of " + fmt(d.start_s, 5) +
+        "-" + fmt(d.end_s, 5) + " s (frame " + std::to_string(coverage.detail_frame + 1) + ", " +
         (detail_confidence > 0 ? "where the most confident finding is seen"
                                : "the first examined") +
         ")";

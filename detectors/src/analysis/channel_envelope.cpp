@@ -174,6 +174,13 @@ void envelope_results(const AnalysisContext& ctx, const Spectrum& env, double fs
                       ChannelAnalysis& c) {
   const double env_max = envelope_plot_max_hz(ctx, fs_hz);
   c.envelope_peaks = largest_peaks(env, ctx.opt.peaks_reported, env_max);
+  if (ctx.opt.keep_spectra) {  // up to where the peaks are sought
+    c.envelope_resolution_hz = env.resolution_hz;
+    c.envelope_power.clear();
+    for (std::size_t k = 0; k < env.amplitude.size() && env.frequency_hz[k] <= env_max; ++k) {
+      c.envelope_power.push_back(static_cast<float>(env.amplitude[k] * env.amplitude[k]));
+    }
+  }
   c.envelope = slice_for_plot(env.frequency_hz, env.amplitude, 0, env_max, ctx.plot_points);
   const SpectrumView ev{env.frequency_hz, env.amplitude};
   for (BearingAnalysis& ba : c.bearings)

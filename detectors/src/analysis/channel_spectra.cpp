@@ -127,6 +127,12 @@ void spectra_stage(ChannelWork& w) {
   c.spectrum_resolution_hz = sp.resolution_hz;
   c.spectrum_enbw_hz = sp.enbw_hz;
   c.spectrum_peaks = largest_peaks(sp, opt.peaks_reported, 0.5 * fs);
+  if (opt.keep_spectra) {
+    c.spectrum_power.resize(sp.amplitude.size());
+    for (std::size_t k = 0; k < sp.amplitude.size(); ++k) {
+      c.spectrum_power[k] = static_cast<float>(sp.amplitude[k] * sp.amplitude[k]);
+    }
+  }
   WelchOptions wo;
   wo.fs_hz = fs;
   wo.nperseg = welch_segment(opt, x.size());

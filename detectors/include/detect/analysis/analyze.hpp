@@ -122,6 +122,9 @@ struct AnalyzeOptions {
   // from the Welch layout, WelchOptions::segments); every other field, the findings and the
   // notes are the same.
   bool traces = true;
+  // Keep each vibration channel's whole amplitude and envelope spectra as power (ChannelAnalysis::
+  // spectrum_power, envelope_power), for a caller that averages them over the frames of a log.
+  bool keep_spectra = false;
   bool timing = false;               // record the wall time of each stage (AnalysisResult::
                                      // timing_s); off by default: it differs run to run
   bool speed_from_vibration = true;  // without a tacho, estimate the speed from the strongest
@@ -223,8 +226,16 @@ struct ChannelAnalysis : diag::ChannelIdentity {
   double spectrum_resolution_hz = 0;  // bin spacing fs / nfft (nfft = next_fast_length(samples))
   double spectrum_enbw_hz = 0;
   std::vector<SpectralPeak> spectrum_peaks;  // largest local maxima, descending amplitude
-  PlotTrace spectrum;                        // amplitude spectrum [unit] vs Hz
-  PlotTrace psd;                             // Welch PSD [unit^2/Hz] vs Hz
+  // Parts of a long log whose spectra are averaged into spectrum_peaks and spectrum (their power
+  // per bin; 1: this record's), and into envelope_peaks and envelope.
+  std::size_t spectrum_parts = 1, envelope_parts = 1;
+  // With AnalyzeOptions::keep_spectra: the squares of the amplitude spectrum the peaks come from
+  // (bins spectrum_resolution_hz apart) and of the envelope spectrum up to where its peaks are
+  // sought (bins envelope_resolution_hz apart); single precision: a frame's spectra for averaging.
+  std::vector<float> spectrum_power, envelope_power;
+  double envelope_resolution_hz = 0;
+  PlotTrace spectrum;  // amplitude spectrum [unit] vs Hz
+  PlotTrace psd;       // Welch PSD [unit^2/Hz] vs Hz
   double psd_resolution_hz = 0;
   std::size_t psd_segments = 0;
   double envelope_low_hz = 0, envelope_high_hz = 0;                   // demodulation band
