@@ -172,7 +172,8 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
     request.baseline = in.baseline;
     request.baseline_required = false;  // the row keeps its analysis; the error column says why
     request.options.threads = 1;        // the files are the parallel work
-    request.options.traces = !in.reports.empty();  // the report's plots
+    request.options.traces = !in.reports.empty();   // the report's plots
+    request.average_spectra = !in.reports.empty();  // only the reports show spectra
     request.gear_baseline = in.gear_baseline;
     std::string gear_baseline_error;
     const detect::FileAnalysis a = [&] {

@@ -594,7 +594,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
   const int frame_threads = framed ? diag::parallel_threads(n_frames, opt.threads) : 1;
   AnalyzeOptions frame_opt = opt;
   if (framed) frame_opt.traces = false;  // the detail frame is analysed again with them
-  frame_opt.keep_spectra = framed;       // their amplitude and envelope spectra averaged
+  frame_opt.keep_spectra = framed && request.average_spectra;  // their spectra averaged
   if (frame_threads > 1) frame_opt.threads = 1;
   struct PartOutcome {
     AnalysisSegment seg;

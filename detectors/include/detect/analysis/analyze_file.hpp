@@ -78,6 +78,10 @@ struct AnalyzeRequest {
   // The frames' length [s] when shorter than frame_samples allows (a finer timeline: findings
   // are placed to within a frame); 0: as long as frame_samples allows. >= 0.
   double frame_s = 0;
+  // A long log's amplitude and envelope spectra (their peaks and plots) averaged over its steady
+  // parts; false: the detail frame's, and the memory of two spectra per channel saved (a caller
+  // that shows no spectrum: `batch` without its per-recording reports).
+  bool average_spectra = true;
   // 0 (default): every sample is examined. Else an opt-in limit: only the first part holding at
   // most this many samples in all (the per-channel rules of frame_samples) is analysed; the rest
   // is reported as not examined (AnalysisCoverage::not_examined).
