@@ -113,6 +113,10 @@ int cmd_analyze(int argc, char** argv) {
       "frames of at most this length [s] (a finer timeline: findings are placed to within a "
       "frame; each frame must hold what its stages need, e.g. the TSA's revolutions); 0: as "
       "long as memory allows");
+  desc.add_options()(
+      "load", po::value(&request.load_channel),
+      "a channel whose RMS level is the machine's load (a torque, a motor current): a long "
+      "log's frames are also cut where it steps by more than 5 %");
   desc.add_options()("timing", po::bool_switch(&opt.timing),
                      "add the time of each stage to the JSON (timing_s: wall time per stage, "
                      "CPU time per channel stage)")(

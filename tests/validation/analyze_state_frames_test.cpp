@@ -13,9 +13,12 @@
 #include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numbers>
+#include <random>
 #include <string>
 
 #include "detect/analysis/analyze_file.hpp"
+#include "diag/error.hpp"
 #include "report/report.hpp"
 #include "two_stage_case.hpp"
 
@@ -187,6 +190,64 @@ TEST(AnalyzeStateFrames, WithoutTachoAStepBeyondTheSearchBandIsPlacedByHalvingTh
   EXPECT_NEAR(r.segments.back().speed_rpm / 1850, 1.0, 1e-3) << segments;
   EXPECT_TRUE(two_stage_case::of_kind(r, "gear_damage").empty())
       << report::to_json(r)["findings"].dump(1);
+}
+
+// A load channel (`--load`): the two-stage box at a steady 1500 rpm with a torque channel of
+// 100 N m (5 % ripple at 50 Hz, noise) stepping to 150 N m at 4.2 s, in 3 s frames: the second
+// frame is cut at the step (its RMS over 0.05 s windows: within two windows), with and without
+// the tacho; the parts keep the frame's speed. A frame is not cut by the ripple (5 %: a level
+// that steps by more than 5 % between the lines fitted on each side). A name the recording does
+// not have is an error naming it, even for a recording of one frame.
+TEST(AnalyzeStateFrames, ALoadStepCutsTheFrameWhereTheLoadChannelShowsIt) {
+  const diag::Gearbox gb = two_stage_case::gearbox(1500);
+  diag::Recording base =
+      two_stage_case::simulate(gb, sim::SpeedProfile::constant(1500), 6.0, std::nullopt);
+  diag::Signal torque;
+  torque.name = "torque";
+  torque.unit = "N m";
+  torque.role = diag::Role::kOther;
+  torque.fs_hz = base.signals.front().fs_hz;
+  const std::size_t n = base.signals.front().samples.size();
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> noise(0.0, 2.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / torque.fs_hz;
+    torque.samples.push_back((t < 4.2 ? 100.0 : 150.0) *
+                                 (1 + 0.05 * std::sin(2 * std::numbers::pi * 50 * t)) +
+                             noise(rng));
+  }
+  base.signals.push_back(std::move(torque));
+  for (const bool tacho : {true, false}) {
+    diag::Recording r0 = base;
+    if (!tacho) r0.tachos.clear();
+    const auto rec = std::make_shared<const diag::Recording>(std::move(r0));
+    detect::AnalyzeRequest q;
+    q.recording = detect::RecordingInput(rec, "loaded");
+    q.gearbox = gb;
+    q.frame_s = 3.0;
+    q.load_channel = "torque";
+    q.options.traces = false;
+    const detect::AnalysisResult r = detect::analyze_file(q).result;
+    const std::string segments = report::to_json(r)["segments"].dump(1);
+    ASSERT_EQ(r.segments.size(), 3u) << tacho << segments;
+    EXPECT_NEAR(r.segments[2].start_s, 4.2, 0.1) << segments;
+    EXPECT_NE(r.segments[2].cut.find("a load step, "), std::string::npos) << segments;
+    EXPECT_NE(r.segments[2].cut.find("N m RMS of channel 'torque'"), std::string::npos) << segments;
+    for (const detect::AnalysisSegment& seg : r.segments) {
+      EXPECT_NEAR(seg.speed_rpm / 1500, 1.0, 1e-3) << tacho << segments;
+    }
+  }
+  detect::AnalyzeRequest q;
+  q.recording = detect::RecordingInput(std::make_shared<const diag::Recording>(base), "loaded");
+  q.gearbox = gb;
+  q.load_channel = "torq";
+  q.options.traces = false;
+  try {
+    detect::analyze_file(q);
+    ADD_FAILURE() << "a load channel the recording has not must be refused";
+  } catch (const diag::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("load channel 'torq'"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

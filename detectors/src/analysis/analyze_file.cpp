@@ -230,9 +230,18 @@ constexpr double kSpliceFraction = 0.1;
 // kStepFraction apart is a speed step (a load or set-point change). A partial point where they
 // agree is a splice. A cut leaves at least kMinStatePoints points on each side; the strongest
 // cuts are kept first. `name` says whose speed it is in the reasons.
+// What a profile is of: its name in a cut's words, the factor from the profile's values to the
+// unit said, the unit, and the relative step that cuts.
+struct ProfileKind {
+  std::string quantity = "speed";
+  double scale = 60;  // revolutions per second -> rpm
+  std::string unit = "rpm";
+  double step_fraction = kStepFraction;
+};
+
 std::vector<StateCut> profile_cuts(const std::vector<double>& t, const std::vector<double>& rate,
                                    const std::vector<char>& partial, double t0,
-                                   const std::string& name) {
+                                   const std::string& name, const ProfileKind& kind = {}) {
   const std::size_t n = t.size();
   if (n < 2 * kMinStatePoints + 1) return {};
   // The least-squares line through the kStatePoints whole points next to point i (before it, or
@@ -251,7 +260,9 @@ std::vector<StateCut> profile_cuts(const std::vector<double>& t, const std::vect
     return den > 0 ? (sv * stt - st * stv) / den : sv / m;
   };
   // The median speed of points [a, b) [rpm].
-  const auto median_rpm = [&](std::size_t a, std::size_t b) { return 60 * median_of(rate, a, b); };
+  const auto median_rpm = [&](std::size_t a, std::size_t b) {
+    return kind.scale * median_of(rate, a, b);
+  };
   struct Candidate {
     double score;
     std::size_t i;
@@ -265,14 +276,15 @@ std::vector<StateCut> profile_cuts(const std::vector<double>& t, const std::vect
     const double mean = 0.5 * (before + after);
     if (!(mean > 0)) continue;
     const double step = std::abs(after - before) / mean;
-    if (step > kStepFraction) {
+    if (step > kind.step_fraction) {
       // Said as the median speeds of the kMinStatePoints points on each side (the fitted lines
       // meet inside the change).
       const double from_rpm = median_rpm(i - kMinStatePoints, i);
       const double to_rpm = median_rpm(i + 1, std::min(n, i + 1 + kMinStatePoints));
-      found.push_back({step / kStepFraction, i,
-                       "a speed step, " + fmt(from_rpm, 5) + " to " + fmt(to_rpm, 5) + " rpm of " +
-                           name + " at " + fmt(t0 + t[i], 6) + " s",
+      found.push_back({step / kind.step_fraction, i,
+                       "a " + kind.quantity + " step, " + fmt(from_rpm, 5) + " to " +
+                           fmt(to_rpm, 5) + " " + kind.unit + " of " + name + " at " +
+                           fmt(t0 + t[i], 6) + " s",
                        from_rpm, to_rpm});
     } else if (partial[i]) {
       found.push_back({std::abs(rate[i] / mean - 1) / kSpliceFraction, i,
@@ -326,6 +338,48 @@ std::vector<StateCut> tacho_cuts(const diag::Recording& frame, double t0, int pp
   }
   std::vector<StateCut> cuts = profile_cuts(mid, rate, partial, t0, "tacho '" + tacho.name + "'");
   // The parts take their speed from the tacho: the frame's nominal speed serves them all.
+  for (StateCut& c : cuts) c.before_rpm = c.after_rpm = 0;
+  return cuts;
+}
+
+// A load channel's level: its RMS over windows of kLoadWindowS (at least), a step of more than
+// kLoadStepFraction of it between the lines fitted on each side cuts the frame.
+constexpr double kLoadWindowS = 0.05;
+constexpr double kLoadStepFraction = 0.05;
+constexpr double kNearCutS = 1.0;
+
+// The cuts a frame's load channel shows: its RMS level over windows of kLoadWindowS, its steps
+// found as a speed's are (kMinStatePoints windows kept on each side of a cut: 0.8 s).
+// The parts keep the frame's speed (before_rpm = after_rpm = 0).
+std::vector<StateCut> load_cuts(const diag::Recording& frame, const std::string& channel,
+                                double t0) {
+  const diag::Signal* load = nullptr;
+  for (const diag::Signal& s : frame.signals) {
+    if (s.name == channel) load = &s;
+  }
+  if (load == nullptr) {
+    std::string names;
+    for (const diag::Signal& s : frame.signals) names += (names.empty() ? "" : ", ") + s.name;
+    throw diag::InputError("load channel '" + channel + "': the recording has no such channel (" +
+                           names + ")");
+  }
+  const auto per_window =
+      static_cast<std::size_t>(std::max(1.0, std::ceil(kLoadWindowS * load->fs_hz)));
+  const std::size_t windows = load->samples.size() / per_window;
+  if (windows < 2 * kMinStatePoints + 1) return {};
+  std::vector<double> t(windows), level(windows);
+  for (std::size_t w = 0; w < windows; ++w) {
+    double sum = 0;
+    for (std::size_t i = w * per_window; i < (w + 1) * per_window; ++i) {
+      sum += load->samples[i] * load->samples[i];
+    }
+    level[w] = std::sqrt(sum / static_cast<double>(per_window));
+    t[w] = (static_cast<double>(w) + 0.5) * static_cast<double>(per_window) / load->fs_hz;
+  }
+  const ProfileKind kind{"load", 1.0, load->unit.empty() ? "(RMS)" : load->unit + " RMS",
+                         kLoadStepFraction};
+  std::vector<StateCut> cuts =
+      profile_cuts(t, level, std::vector<char>(windows, 0), t0, "channel '" + channel + "'", kind);
   for (StateCut& c : cuts) c.before_rpm = c.after_rpm = 0;
   return cuts;
 }
@@ -718,6 +772,31 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       cuts = tacho_cuts(rec, t0, request.options.tacho_pulses_per_rev);
     } else if (framed && at != nullptr) {
       cuts = vibration_cuts(rec, *at, t0, o);
+    }
+    if (!request.load_channel.empty()) {
+      const std::vector<StateCut> load = load_cuts(rec, request.load_channel, t0);  // checks it
+      if (!framed) {
+        parts.push_back({std::move(rec), 0, std::numeric_limits<double>::infinity(), {}, 0});
+        return parts;
+      }
+      // A load step as well; one within a second of a speed cut is that cut (a set-point change
+      // moves both). Each part keeps the speed of the speed part it falls in.
+      for (const StateCut& c : load) {
+        const bool near = std::any_of(cuts.begin(), cuts.end(), [&](const StateCut& s) {
+          return std::abs(s.t_s - c.t_s) < kNearCutS;
+        });
+        if (!near) cuts.push_back(c);
+      }
+      std::stable_sort(cuts.begin(), cuts.end(),
+                       [](const StateCut& a, const StateCut& b) { return a.t_s < b.t_s; });
+      double speed = cuts.empty() ? 0 : cuts.front().before_rpm;
+      for (StateCut& c : cuts) {
+        if (c.before_rpm == 0 && c.after_rpm == 0) {
+          c.before_rpm = c.after_rpm = speed;
+        } else {
+          speed = c.after_rpm;
+        }
+      }
     }
     if (cuts.empty()) {
       parts.push_back({std::move(rec), 0, std::numeric_limits<double>::infinity(), {}, 0});

@@ -60,6 +60,10 @@ struct AnalyzeRequest {
   // unit-free indicators and spectra are computed).
   std::optional<diag::Gearbox> gearbox;
   diag::ChannelSetup channels;  // channel map, tachos and speed, applied to every recording read
+  // A channel whose level is the machine's load (a torque, a motor current; any role): a long
+  // log's frames are also cut where its RMS level steps (load_step_fraction). Empty: none. A name
+  // the recording does not have is an error.
+  std::string load_channel;
   // Healthy recordings of the same machine and channels: the anomaly score (score_against_
   // baseline) and, with a gearbox, the wear indicator per mesh (wear_against_baseline).
   std::vector<RecordingInput> baseline;
