@@ -434,7 +434,11 @@ void bisect_speed(const diag::RecordingFrames& frame, double from, double to,
   std::array<SpeedPiece, 2> halves{SpeedPiece{from, mid, 0}, SpeedPiece{mid, to, 0}};
   std::array<bool, 2> steady{false, false};
   for (std::size_t h = 0; h < 2; ++h) {
-    const auto k = vibration_speed(frame.frame(halves[h].from_s, halves[h].to_s), gb, opt);
+    std::optional<ShaftKinematics> k;
+    try {
+      k = vibration_speed(frame.frame(halves[h].from_s, halves[h].to_s), gb, opt);
+    } catch (const diag::InputError&) {  // a piece that cannot be cut out: not measured
+    }
     if (!k) continue;
     halves[h].rpm = input_rpm(gb, k->speed.reference_shaft, k->speed.mean_rpm);
     steady[h] = k->speed.stationary;
