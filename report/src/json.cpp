@@ -387,6 +387,13 @@ nlohmann::json to_json(const AnalysisResult& r) {
   for (const auto& f : r.findings) j["findings"].push_back(to_json(f));
   if (r.baseline) add_baseline(*r.baseline, j);
   j["notes"] = r.notes;
+  nlohmann::json stages = nlohmann::json::array();
+  for (const StageRun& st : r.stages) {
+    nlohmann::json sj{{"stage", st.stage}, {"ran", st.ran}, {"skipped", st.skipped}};
+    if (!st.why.empty()) sj["why"] = st.why;
+    stages.push_back(std::move(sj));
+  }
+  j["stages"] = std::move(stages);
   return j;
 }
 

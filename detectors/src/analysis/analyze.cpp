@@ -11,6 +11,8 @@
 #include <cmath>
 #include <iterator>
 #include <span>
+#include <string_view>
+#include <utility>
 
 #include "diag/error.hpp"
 #include "diag/io/channels.hpp"
@@ -36,18 +38,32 @@ double thread_cpu_s() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
+// The needs of `needs` a channel lacks (ChannelNeed bits; 0: every one met).
+unsigned channel_needs_unmet(const ChannelWork& w, unsigned needs) {
+  unsigned unmet = 0;
+  for (unsigned bit = 1; bit <= kTraces; bit <<= 1) {
+    if ((needs & bit) == 0 || channel_needs_met(w, bit)) continue;
+    // No spectral record because the channel is no vibration channel: that is the reason.
+    unmet |= bit == kSpectralRecord && !w.out.vibration ? kVibrationChannel : bit;
+  }
+  return unmet;
+}
+
 // One channel through the rows of kChannelStages whose needs it meets. Channels are independent,
 // so they run in parallel (FFT plans are shared and thread-safe, fft.hpp) and each writes only
 // its own slots: same bytes whatever the thread count. `spectrum` gets the channel's whole
 // amplitude spectrum (the two-direction stage reads it); `cpu` (empty unless timed) gets each
-// stage's CPU time, one slot per row of the table.
+// stage's CPU time, one slot per row of the table; `unmet`, per row, the needs this channel
+// lacked (0: the stage ran).
 ChannelAnalysis analyse_channel(const AnalysisContext& ctx, const AngularRecords& ang,
-                                std::size_t ci, Spectrum& spectrum, std::span<double> cpu) {
+                                std::size_t ci, Spectrum& spectrum, std::span<double> cpu,
+                                std::span<unsigned> unmet) {
   ChannelAnalysis c;
   ChannelWork w{ctx, ang, ci, ctx.rec.signals[ci], c, {}, {}, {}};
   for (std::size_t k = 0; k < std::size(kChannelStages); ++k) {
     const ChannelStage& stage = kChannelStages[k];
-    if (!channel_needs_met(w, stage.needs)) continue;
+    unmet[k] = channel_needs_unmet(w, stage.needs);
+    if (unmet[k] != 0) continue;
     const double t0 = cpu.empty() ? 0.0 : thread_cpu_s();
     stage.run(w);
     if (!cpu.empty()) cpu[k] += thread_cpu_s() - t0;
@@ -248,10 +264,12 @@ void channels_stage(RecordWork& w) {
   w.spectra.assign(nc, Spectrum{});
   r.channels.resize(nc);
   std::vector<double> cpu(opt.timing ? nc * kStages : 0, 0.0);
+  std::vector<unsigned> unmet(nc * kStages, 0u);
   diag::parallel_for(nc, opt.threads, [&](std::size_t ci) {
     const std::span<double> own =
         opt.timing ? std::span<double>(cpu).subspan(ci * kStages, kStages) : std::span<double>();
-    r.channels[ci] = analyse_channel(ctx, w.ang, ci, w.spectra[ci], own);
+    r.channels[ci] = analyse_channel(ctx, w.ang, ci, w.spectra[ci], own,
+                                     std::span<unsigned>(unmet).subspan(ci * kStages, kStages));
     // Only the two-direction stage reads a channel's spectrum afterwards, and only an along- or
     // normal-LOA channel's, up to its highest band: any other is freed now, and an LOA channel's
     // is cut above that band (two record-length vectors per channel otherwise).
@@ -262,6 +280,29 @@ void channels_stage(RecordWork& w) {
       keep_two_direction_bins(opt.two_direction, r.meshes, w.spectra[ci]);
     }
   });
+  // What ran on how many channels, and why not on the others (in the order of the needs; the
+  // plot-only stages are not listed).
+  static constexpr std::pair<unsigned, const char*> kWhy[] = {
+      {kVibrationChannel, "not a vibration, force or displacement channel"},
+      {kSpectralRecord, "no record to take spectra of (its angle-domain resampling failed)"},
+      {kSensorChannel, "not a sensor (does not vote)"},
+      {kGearbox, "no gearbox description"},
+  };
+  for (std::size_t k = 0; k < kStages; ++k) {
+    // A plot-only stage is left out: the report is the same whether plots are asked for or not.
+    if ((kChannelStages[k].needs & kTraces) != 0) continue;
+    StageRun run{std::string("channel.") + kChannelStages[k].name, 0, 0, {}};
+    unsigned lacking = 0;
+    for (std::size_t ci = 0; ci < nc; ++ci) {
+      const unsigned u = unmet[ci * kStages + k];
+      ++(u == 0 ? run.ran : run.skipped);
+      lacking |= u;
+    }
+    for (const auto& [bit, why] : kWhy) {
+      if ((lacking & bit) != 0) run.why += (run.why.empty() ? "" : "; ") + std::string(why);
+    }
+    r.stages.push_back(std::move(run));
+  }
   for (std::size_t k = 0; k < kStages && opt.timing; ++k) {
     double total = 0;
     for (std::size_t ci = 0; ci < nc; ++ci) total += cpu[ci * kStages + k];
@@ -322,7 +363,11 @@ AnalysisResult analyze_recording(const diag::Recording& rec, const diag::Gearbox
 
   const unsigned have = gb ? kWithGearbox : 0u;
   for (const RecordStage& stage : kRecordStages) {
-    if ((stage.needs & have) != stage.needs) continue;
+    if ((stage.needs & have) != stage.needs) {
+      r.stages.push_back({stage.name, 0, 1, "no gearbox description"});
+      continue;
+    }
+    if (std::string_view(stage.name) != "channels") r.stages.push_back({stage.name, 1, 0, {}});
     if (opt.progress) opt.progress(stage.name);
     // Wall time per stage (AnalyzeOptions::timing; left out otherwise, so reports stay
     // byte-equal).

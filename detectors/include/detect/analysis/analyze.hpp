@@ -357,6 +357,16 @@ struct AnalysisCoverage {
   bool complete() const { return not_examined.empty() && frames_examined == frames; }
 };
 
+// One stage of the analysis table (the recording's stages, then the channels'), in the order run:
+// on how many of its units it ran (1 for a recording-level stage; channels for a channel stage)
+// and on how many not, and why not (what it needs that they lack). A stage that ran may still
+// have found nothing to do (too few revolutions for a TSA): the channel's notes say so.
+struct StageRun {
+  std::string stage;
+  std::size_t ran = 0, skipped = 0;
+  std::string why;  // empty when nothing was skipped
+};
+
 struct AnalysisResult {
   std::string gearbox_name;  // empty without a gearbox
   std::string input_shaft;   // the gearbox's input shaft (order spectra are in its orders)
@@ -372,6 +382,7 @@ struct AnalysisResult {
                                                 // say why)
   std::string gear_damage_angles;  // "tacho", "vibration" or "nominal": the shaft angles used
   std::vector<std::string> notes;  // recording-level notes (speed source, skipped steps)
+  std::vector<StageRun> stages;    // what ran and what did not, and why
   std::map<std::string, double> timing_s;  // wall time per stage [s] (AnalyzeOptions::timing),
                                            // and "channel_cpu.<stage>": the CPU time of each
                                            // per-channel stage summed over the channels
