@@ -284,7 +284,9 @@ void channels_stage(RecordWork& w) {
   // plot-only stages are not listed).
   static constexpr std::pair<unsigned, const char*> kWhy[] = {
       {kVibrationChannel, "not a vibration, force or displacement channel"},
-      {kSpectralRecord, "no record to take spectra of (its angle-domain resampling failed)"},
+      {kSpectralRecord,
+       "no record to take spectra of (under 64 samples, or its angle-domain "
+       "resampling failed: the channel's notes say which)"},
       {kSensorChannel, "not a sensor (does not vote)"},
       {kGearbox, "no gearbox description"},
   };
