@@ -23,6 +23,7 @@
 #include <sstream>
 
 #include "allocator.hpp"
+#include "batch.hpp"
 #include "channel_options.hpp"
 #include "cli_options.hpp"
 #include "commands.hpp"
@@ -39,6 +40,7 @@
 #include "report/html_report.hpp"
 #include "report/report.hpp"
 #include "report/svg_plot.hpp"
+#include "time_stamp.hpp"
 
 namespace po = boost::program_options;
 namespace fs = std::filesystem;
@@ -261,22 +263,6 @@ std::string table_csv(const std::vector<json>& rows, const std::set<std::string>
 
 // The trend page: one plot per chosen indicator and one of the anomaly score with the alarm
 // threshold, against the recording's position in the table (the files' order).
-// Seconds since 1970 of "YYYY-MM-DDTHH:MM:SS" (UTC, as the times are compared), or NaN.
-double epoch_s(const std::string& time) {
-  int y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0;
-  if (std::sscanf(time.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d", &y, &mo, &d, &h, &mi, &sec) != 6) {
-    return std::nan("");
-  }
-  // Days from the civil date (Howard Hinnant's days_from_civil).
-  y -= mo <= 2;
-  const int era = (y >= 0 ? y : y - 399) / 400;
-  const int yoe = y - era * 400;
-  const int doy = (153 * (mo + (mo > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-  const int doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  const double days = static_cast<double>(era) * 146097 + doe - 719468;
-  return days * 86400 + h * 3600 + mi * 60 + sec;
-}
-
 // `page_dir`: the page's folder, from which the links to the recordings' reports are made.
 std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
                        const std::string& order, const json& events, const fs::path& page_dir) {
@@ -520,64 +506,23 @@ std::vector<std::string> read_list(const std::string& list) {
 
 }  // namespace
 
-int cmd_batch(int argc, char** argv) {
-  tune_allocator_for_recordings();
-  std::vector<std::string> files, baselines, trend, healthy;
-  std::string list, gearbox, table, html, json_out;
-  double fs_hz = 0;
-  int jobs = 0;
-  int healthy_first = 0;
-  Inputs in;
-  po::options_description desc(
-      "geardiag batch FILE... | --list LIST.txt [--gearbox GB.json] [--baseline FILE...] "
-      "-o TABLE.csv [--html OUT.html] [--json OUT.json] [--trend FEATURE...] [--jobs N]\n"
-      "geardiag batch FILE... --healthy-first K | --healthy FILE... [...]: a machine's history\n"
-      "mpirun -np N geardiag batch ...\n\n"
-      "Analyses every recording as `geardiag analyze` does and writes one row per recording:\n"
-      "file, time stamp (the file's metadata, else its name), speed, status and error, the\n"
-      "anomaly score and alarm against --baseline (healthy recordings of the same channels),\n"
-      "the findings in short form and every condition indicator per channel\n"
-      "(\"<channel>/<indicator>\"). A file that fails is a row with its error. --html: the\n"
-      "trend of the --trend indicators and of the anomaly score with its alarm threshold.\n"
-      "--list: one file per line (relative to the list's folder; '#' comments).\n"
-      "A history (--healthy-first K or --healthy): the recordings in time order (the file's\n"
-      "time, else a date in its name, else the order given), the first K (or the --healthy\n"
-      "files) the machine's healthy reference; every later recording compared with it (not\n"
-      "comparable outside the reference's speeds); --json: the recordings and the events (each\n"
-      "distinct finding with the recordings that show it).\n\noptions");
-  desc.add_options()("help,h", "this help")("files", po::value(&files)->multitoken(), "recordings")(
-      "list", po::value(&list), "a file listing the recordings, one per line")(
-      "gearbox", po::value(&gearbox), "gearbox description (default: each file's /gearbox)")(
-      "baseline", po::value(&baselines)->multitoken(), "healthy recordings to compare with")(
-      "output,o", po::value(&table)->required(), "the table (CSV; '-': stdout)")(
-      "html", po::value(&html), "trend page (HTML)")(
-      "json", po::value(&json_out), "the recordings and the history's events (JSON)")(
-      "healthy-first", po::value(&healthy_first)->default_value(0),
-      "a history: the first K recordings in time order are the healthy reference")(
-      "healthy", po::value(&healthy)->multitoken(),
-      "a history: these recordings are the healthy reference")(
-      "trend", po::value(&trend)->multitoken(),
-      "indicators to trend (default: rms and kurtosis of the first sensor channel)")(
-      "reports", po::value(&in.reports),
-      "a folder for each recording's own HTML report (as analyze --html), linked from --html")(
-      "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT")(
-      "jobs,j", po::value(&jobs)->default_value(0), "worker threads per process; 0 = every core");
-  in.channels.add_to(desc, true);
-  po::positional_options_description pos;
-  pos.add("files", -1);
-  po::variables_map vm;
-  if (!parse_options(argc, argv, desc, vm, &pos)) return 0;
-  MpiWorld world(&argc, &argv);
-  jobs = resolve_jobs(jobs);
-  if (!list.empty()) {
-    for (std::string& f : read_list(list)) files.push_back(std::move(f));
-  }
+BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
+  BatchResult out;
+  std::vector<std::string>& files = request.files;
+  std::vector<std::string>& baselines = request.baselines;
+  const std::vector<std::string>& healthy = request.healthy;
+  const int healthy_first = request.healthy_first;
   if (files.empty()) throw diag::InputError("no recordings: give FILE... or --list LIST.txt");
+  Inputs in;
+  in.channels = request.channels;
+  in.fs = request.fs;
+  in.reports = request.reports;
   // A history: the recordings in time order, the reference first.
   const bool history = healthy_first != 0 || !healthy.empty();
-  std::vector<std::string> history_notes;
-  std::vector<bool> reference;
-  std::string order = "given";
+  out.history = history;
+  std::vector<std::string>& history_notes = out.notes;
+  std::vector<bool>& reference = out.reference;
+  std::string& order = out.order;
   if (history) {
     if (!baselines.empty()) {
       throw diag::InputError(
@@ -587,7 +532,8 @@ int cmd_batch(int argc, char** argv) {
     if (healthy_first != 0 && !healthy.empty()) {
       throw diag::InputError("--healthy-first and --healthy: give one reference, not both");
     }
-    if (healthy_first < 0 || static_cast<std::size_t>(healthy_first) >= files.size()) {
+    if (healthy.empty() &&
+        (healthy_first < 0 || static_cast<std::size_t>(healthy_first) >= files.size())) {
       throw diag::InputError("--healthy-first: " + std::to_string(healthy_first) +
                              " is not in [1, " + std::to_string(files.size() - 1) +
                              "] (the reference, and at least one recording after it)");
@@ -616,17 +562,7 @@ int cmd_batch(int argc, char** argv) {
     std::fill(reference.begin(), reference.begin() + static_cast<std::ptrdiff_t>(baselines.size()),
               true);
   }
-  if (vm.count("fs")) {
-    if (!(fs_hz > 0 && std::isfinite(fs_hz))) throw diag::InputError("--fs: must be > 0");
-    in.fs = fs_hz;
-  }
-  const bool table_stdout = check_output(table, "--output");
-  const bool html_stdout = !html.empty() && check_output(html, "--html");
-  const bool json_stdout = !json_out.empty() && check_output(json_out, "--json");
-  if (table_stdout + html_stdout + json_stdout > 1) {
-    throw diag::InputError("-o, --html and --json: only one output can go to stdout");
-  }
-  if (!gearbox.empty()) in.gearbox = diag::load_gearbox(gearbox);
+  if (!request.gearbox.empty()) in.gearbox = diag::load_gearbox(request.gearbox);
   if (!in.reports.empty()) {
     std::error_code ec;
     fs::create_directories(in.reports, ec);
@@ -657,10 +593,10 @@ int cmd_batch(int argc, char** argv) {
     mine.push_back(i);
   }
   std::vector<json> rows(mine.size());
-  Progress progress("batch", mine.size(), world.root());
+  Progress progress("batch", mine.size(), world.root() && request.progress);
   std::vector<Opened> opened(mine.size());
   run_in_rounds(
-      mine.size(), jobs, [&](std::size_t i) { opened[i] = open_file(files[mine[i]], in); },
+      mine.size(), request.jobs, [&](std::size_t i) { opened[i] = open_file(files[mine[i]], in); },
       [&](std::size_t i) {
         rows[i] = analyse(mine[i], files[mine[i]], std::move(opened[i]), in);
         opened[i] = {};
@@ -670,17 +606,90 @@ int cmd_batch(int argc, char** argv) {
   json part = json::array();
   for (std::size_t i = 0; i < mine.size(); ++i) part.push_back({mine[i], rows[i]});
   const std::vector<std::string> parts = world.gather(part.dump());
-  if (!world.root()) return 0;
-  std::vector<json> all(files.size());
+  out.files = files;
+  if (!world.root()) return out;
+  out.rows.assign(files.size(), json());
   for (const std::string& p : parts) {
-    for (const json& item : json::parse(p)) all[item[0].get<std::size_t>()] = item[1];
+    for (const json& item : json::parse(p)) out.rows[item[0].get<std::size_t>()] = item[1];
   }
-  json events = json::array();
   if (history) {
-    for (std::string& n : judge_history(all, reference, events)) {
+    for (std::string& n : judge_history(out.rows, reference, out.events)) {
       history_notes.push_back(std::move(n));
     }
   }
+  return out;
+}
+
+int cmd_batch(int argc, char** argv) {
+  tune_allocator_for_recordings();
+  BatchRequest request;
+  std::vector<std::string>& files = request.files;
+  std::vector<std::string> trend;
+  std::string list, table, html, json_out;
+  double fs_hz = 0;
+  int jobs = 0;
+  po::options_description desc(
+      "geardiag batch FILE... | --list LIST.txt [--gearbox GB.json] [--baseline FILE...] "
+      "-o TABLE.csv [--html OUT.html] [--json OUT.json] [--trend FEATURE...] [--jobs N]\n"
+      "geardiag batch FILE... --healthy-first K | --healthy FILE... [...]: a machine's history\n"
+      "mpirun -np N geardiag batch ...\n\n"
+      "Analyses every recording as `geardiag analyze` does and writes one row per recording:\n"
+      "file, time stamp (the file's metadata, else its name), speed, status and error, the\n"
+      "anomaly score and alarm against --baseline (healthy recordings of the same channels),\n"
+      "the findings in short form and every condition indicator per channel\n"
+      "(\"<channel>/<indicator>\"). A file that fails is a row with its error. --html: the\n"
+      "trend of the --trend indicators and of the anomaly score with its alarm threshold.\n"
+      "--list: one file per line (relative to the list's folder; '#' comments).\n"
+      "A history (--healthy-first K or --healthy): the recordings in time order (the file's\n"
+      "time, else a date in its name, else the order given), the first K (or the --healthy\n"
+      "files) the machine's healthy reference; every later recording compared with it (not\n"
+      "comparable outside the reference's speeds); --json: the recordings and the events (each\n"
+      "distinct finding with the recordings that show it).\n\noptions");
+  desc.add_options()("help,h", "this help")("files", po::value(&files)->multitoken(), "recordings")(
+      "list", po::value(&list), "a file listing the recordings, one per line")(
+      "gearbox", po::value(&request.gearbox),
+      "gearbox description (default: each file's /gearbox)")(
+      "baseline", po::value(&request.baselines)->multitoken(),
+      "healthy recordings to compare with")("output,o", po::value(&table)->required(),
+                                            "the table (CSV; '-': stdout)")(
+      "html", po::value(&html), "trend page (HTML)")(
+      "json", po::value(&json_out), "the recordings and the history's events (JSON)")(
+      "healthy-first", po::value(&request.healthy_first)->default_value(0),
+      "a history: the first K recordings in time order are the healthy reference")(
+      "healthy", po::value(&request.healthy)->multitoken(),
+      "a history: these recordings are the healthy reference")(
+      "trend", po::value(&trend)->multitoken(),
+      "indicators to trend (default: rms and kurtosis of the first sensor channel)")(
+      "reports", po::value(&request.reports),
+      "a folder for each recording's own HTML report (as analyze --html), linked from --html")(
+      "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT")(
+      "jobs,j", po::value(&jobs)->default_value(0), "worker threads per process; 0 = every core");
+  request.channels.add_to(desc, true);
+  po::positional_options_description pos;
+  pos.add("files", -1);
+  po::variables_map vm;
+  if (!parse_options(argc, argv, desc, vm, &pos)) return 0;
+  MpiWorld world(&argc, &argv);
+  request.jobs = resolve_jobs(jobs);
+  if (!list.empty()) {
+    for (std::string& f : read_list(list)) files.push_back(std::move(f));
+  }
+  if (vm.count("fs")) {
+    if (!(fs_hz > 0 && std::isfinite(fs_hz))) throw diag::InputError("--fs: must be > 0");
+    request.fs = fs_hz;
+  }
+  const bool table_stdout = check_output(table, "--output");
+  const bool html_stdout = !html.empty() && check_output(html, "--html");
+  const bool json_stdout = !json_out.empty() && check_output(json_out, "--json");
+  if (table_stdout + html_stdout + json_stdout > 1) {
+    throw diag::InputError("-o, --html and --json: only one output can go to stdout");
+  }
+  const BatchResult batch = run_batch(std::move(request), world);
+  if (!world.root()) return 0;
+  const std::vector<json>& all = batch.rows;
+  const json& events = batch.events;
+  const std::vector<std::string>& history_notes = batch.notes;
+  files = batch.files;
   std::set<std::string> features;
   std::size_t failed = 0, alarms = 0;
   for (const json& r : all) {
@@ -702,12 +711,14 @@ int cmd_batch(int argc, char** argv) {
       out["indicators"] = r.value("features", json::object());
       recordings.push_back(std::move(out));
     }
-    json doc = {
-        {"order", order}, {"notes", history_notes}, {"recordings", recordings}, {"events", events}};
-    if (history) {
+    json doc = {{"order", batch.order},
+                {"notes", history_notes},
+                {"recordings", recordings},
+                {"events", events}};
+    if (batch.history) {
       doc["reference"] = json::array();
       for (std::size_t i = 0; i < files.size(); ++i) {
-        if (reference[i]) doc["reference"].push_back(files[i]);
+        if (batch.reference[i]) doc["reference"].push_back(files[i]);
       }
     }
     write_output(json_out, doc.dump(1) + "\n", "--json");
@@ -722,7 +733,7 @@ int cmd_batch(int argc, char** argv) {
       }
     }
     const fs::path page_dir = html_stdout ? fs::current_path() : fs::absolute(html).parent_path();
-    write_output(html, trend_html(all, trend, order, events, page_dir), "--html");
+    write_output(html, trend_html(all, trend, batch.order, events, page_dir), "--html");
   }
   std::ostream& say = table_stdout || html_stdout || json_stdout ? std::cerr : std::cout;
   say << files.size() << " recordings, " << failed << " failed, " << alarms << " alarm(s) -> "

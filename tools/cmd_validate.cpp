@@ -31,6 +31,7 @@ int cmd_validate(int argc, char** argv) {
     if (std::string(argv[i]) == "--gear-damage") return validate_gear_damage(argc, argv);
     if (std::string(argv[i]) == "--bearings") return cmd_validate_bearings(argc, argv);
     if (std::string(argv[i]) == "--dataset") return validate_dataset(argc, argv);
+    if (std::string(argv[i]) == "--history") return validate_history(argc, argv);
   }
   validate::AttributionLoopOptions opt;
   std::string gearbox;
@@ -65,7 +66,8 @@ int cmd_validate(int argc, char** argv) {
   po::variables_map vm;
   if (!parse_options(argc, argv, desc, vm)) return 0;
   if (!vm.count("attribution"))
-    throw diag::InputError("say what to validate: --attribution, --gear-damage or --bearings");
+    throw diag::InputError(
+        "say what to validate: --attribution, --gear-damage, --bearings, --dataset or --history");
   if (opt.cases < 1) throw diag::InputError("--cases: must be >= 1");
   if (!(min_deg > 0 && max_deg >= min_deg)) {
     throw diag::InputError("--min-size-deg/--max-size-deg: need 0 < min <= max");

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <set>
 
+#include "dataset_life.hpp"
 #include "dataset_simulator.hpp"
 #include "detect/gear/gear_damage.hpp"
 #include "detect/gear/sidebands.hpp"
@@ -431,7 +432,8 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
   DrawnRecording r;
   r.index = k;
   std::size_t first = 0, c = 0;
-  while (k >= first + static_cast<std::size_t>(s.classes[c].recordings)) {
+  const std::size_t unit = s.life ? life_step(*s.life, k).history : k;  // classes count histories
+  while (unit >= first + static_cast<std::size_t>(s.classes[c].recordings)) {
     first += static_cast<std::size_t>(s.classes[c].recordings);
     ++c;
   }
@@ -440,6 +442,15 @@ DrawnRecording draw_recording(const DatasetSpec& s, std::size_t k) {
   const int digits = std::max(6, static_cast<int>(std::to_string(s.total - 1).size()));
   std::string index = std::to_string(k);
   r.id = std::string(static_cast<std::size_t>(digits) - index.size(), '0') + index + "-" + r.cls;
+  if (s.life) {  // a life history's step: the history's draws (dataset_life.hpp)
+    const LifeStep at = life_step(*s.life, k);
+    r.history = static_cast<int>(at.history);
+    r.step = at.step;
+    r.id += "-life" + std::to_string(at.history);
+    Stream history = history_stream(s.seed, at.history);
+    simulator_of(s).draw(s, cls, history, r);
+    return r;
+  }
   Stream rng(s.seed, k);
   simulator_of(s).draw(s, cls, rng, r);
   return r;
@@ -477,7 +488,7 @@ class DynamicDataset final : public DatasetSimulator {
     const diag::Fields f(s.json, where, "",
                          {"gearbox", "seed", "recordings_per_class", "duration_s", "fs_hz",
                           "operating_points", "noise_m_per_s2", "accuracy_grade", "runout_um",
-                          "scenario", "classes", "simulator", "sensor_sets"});
+                          "scenario", "classes", "simulator", "sensor_sets", "life"});
     // Gearboxes, relative to the spec's folder.
     s.gearbox_paths = parse_gearbox_paths(f);
     std::string hashed = s.json.dump();
@@ -541,6 +552,7 @@ class DynamicDataset final : public DatasetSimulator {
         cls.faults.push_back(parse_fault(cf.raw("faults")[i], where, cf.sub(indexed("faults", i))));
       }
     });
+    parse_life(f, s);
     check_sampling_rate(s);
     check_classes(s);
     warn_revolutions(s);
@@ -586,8 +598,10 @@ class DynamicDataset final : public DatasetSimulator {
     r.seed = rng.next() % 1000000000ULL;
     // Drawn last, and only when there are sets: the other draws stay those of a spec without them.
     if (!s.sensor_sets.empty()) r.sensor_set = static_cast<int>(rng.pick(s.sensor_sets.size()));
+    if (s.life) live(s, cls, r);  // the step of a life: jitter, noise, the fault's growth
     r.scenario = scenario_json(s, r.speed_rpm, r.torque_nm, r.oil_c, r.noise, r.grade, r.runout_um,
                                r.seed, r.faults);
+    if (s.life) r.scenario["sensors"]["noise_seed"] = r.noise_seed;
   }
 
   std::vector<std::string> manifest_columns(const DatasetSpec& s) const override {
@@ -613,6 +627,12 @@ class DynamicDataset final : public DatasetSimulator {
       }
     }
     if (!s.sensor_sets.empty()) cols.push_back("sensor_set");
+    if (s.life) {
+      for (const char* c :
+           {"history", "step", "time", "onset_step", "reference_recordings", "noise_seed"}) {
+        cols.push_back(c);
+      }
+    }
     return cols;
   }
 
@@ -648,6 +668,14 @@ class DynamicDataset final : public DatasetSimulator {
     }
     if (r.sensor_set >= 0)
       row["sensor_set"] = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)].name;
+    if (s.life) {
+      row["history"] = r.history;
+      row["step"] = r.step;
+      row["time"] = r.time;
+      row["onset_step"] = r.onset >= 0 ? json(r.onset) : json(nullptr);
+      row["reference_recordings"] = s.life->reference;
+      row["noise_seed"] = r.noise_seed;
+    }
     return row;
   }
 
@@ -658,6 +686,7 @@ class DynamicDataset final : public DatasetSimulator {
     const sim::DynamicResult result = sim::simulate_dynamic(gb, sc.dynamics, sc.run);
     diag::Recording rec = sim::to_recording(gb, result);
     apply_sensor_set(s, r, rec);
+    if (!r.time.empty()) rec.metadata["timestamp"] = r.time;  // a life's step: when it was taken
     warnings.insert(warnings.end(), result.warnings.begin(), result.warnings.end());
     return rec;
   }

@@ -37,6 +37,7 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -113,6 +114,17 @@ struct KinematicSettings {
   std::int64_t encoder_counts = 0;
 };
 
+// A machine's life (`life` in a dynamic spec; tools/dataset_life.hpp): every class's
+// `recordings` are histories of `recordings` dated recordings each.
+struct LifeSettings {
+  int recordings = 0;  // per history, >= 2
+  int reference = 0;   // healthy recordings at the start of every history, [1, recordings - 1]
+  IntRange onset;      // the step the fault starts at, within [reference, recordings - 1]
+  std::string start;   // the first recording's time, "YYYY-MM-DDTHH:MM:SS"
+  double interval_h = 24;
+  double speed_jitter = 0, torque_jitter = 0;  // relative, drawn uniformly in +-jitter
+};
+
 struct DatasetSpec {
   std::filesystem::path file;
   std::vector<std::string> gearbox_paths;  // as written in the spec
@@ -141,6 +153,7 @@ struct DatasetSpec {
   std::vector<std::filesystem::path> gearbox_files;
   std::vector<std::string> warnings;   // printed by the command (e.g. too few revolutions)
   std::vector<SensorSet> sensor_sets;  // empty: every channel the simulator writes
+  std::optional<LifeSettings> life;    // life histories (dynamic datasets)
 };
 
 struct DrawnFault {
@@ -174,6 +187,11 @@ struct DrawnRecording {
          input_frequency_hz = 0, load_amplitude = 0, load_frequency_hz = 0;
   nlohmann::json model;
   int sensor_set = -1;  // index into DatasetSpec::sensor_sets, -1: none
+  // A life history's recording: the history, its step in it, the step the fault starts at (-1:
+  // a healthy life), its time, and the sensor noise's own seed (`seed` is the gears').
+  int history = -1, step = -1, onset = -1;
+  std::string time;
+  std::uint64_t noise_seed = 0;
 };
 
 // The random stream of one recording (splitmix64, Steele, Lea & Flood 2014), and the draws made

@@ -136,6 +136,27 @@ void judge_dataset_recordings(const std::string& dir, const std::vector<json>& r
   progress.finish();
 }
 
+std::vector<json> read_manifest(const std::string& dir, const std::string& option) {
+  const fs::path manifest = fs::path(dir) / "manifest.jsonl";
+  std::ifstream in(manifest);
+  if (!in) throw diag::InputError(option + " " + dir + ": no manifest.jsonl (not a dataset?)");
+  std::vector<json> rows;
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (line.empty()) continue;
+    try {
+      rows.push_back(json::parse(line));
+      if (!rows.back().contains("file") || !rows.back().contains("class"))
+        throw std::runtime_error("");
+    } catch (const std::exception&) {
+      throw diag::InputError(manifest.string() + ": line " + std::to_string(n) +
+                             ": not a manifest row");
+    }
+  }
+  if (rows.empty()) throw diag::InputError(manifest.string() + ": no recordings");
+  return rows;
+}
+
 int validate_dataset(int argc, char** argv) {
   std::string dir, json_out, html_out;
   int jobs = 0;
@@ -157,23 +178,7 @@ int validate_dataset(int argc, char** argv) {
   jobs = resolve_jobs(jobs);
   if (!json_out.empty()) check_output(json_out, "--json");
   if (!html_out.empty()) check_output(html_out, "--html");
-  const fs::path manifest = fs::path(dir) / "manifest.jsonl";
-  std::ifstream in(manifest);
-  if (!in) throw diag::InputError("--dataset " + dir + ": no manifest.jsonl (not a dataset?)");
-  std::vector<json> rows;
-  std::string line;
-  for (int n = 1; std::getline(in, line); ++n) {
-    if (line.empty()) continue;
-    try {
-      rows.push_back(json::parse(line));
-      if (!rows.back().contains("file") || !rows.back().contains("class"))
-        throw std::runtime_error("");
-    } catch (const std::exception&) {
-      throw diag::InputError(manifest.string() + ": line " + std::to_string(n) +
-                             ": not a manifest row");
-    }
-  }
-  if (rows.empty()) throw diag::InputError(manifest.string() + ": no recordings");
+  std::vector<json> rows = read_manifest(dir, "--dataset");
   // Kinematic datasets go through the attribution (validate_kinematic.cpp); face-gear ones have
   // no detector.
   const std::string simulator = rows.front().value("simulator", "dynamic");

@@ -14,6 +14,14 @@ namespace geardiag {
 
 int validate_dataset(int argc, char** argv);
 
+// geardiag validate --history DIR: every life history of a dataset through `geardiag batch
+// --healthy-first` (tools/validate_history.cpp).
+int validate_history(int argc, char** argv);
+
+// The rows of DIR/manifest.jsonl (each with at least `file` and `class`). Throws
+// diag::InputError naming `option` and DIR, or the manifest's line.
+std::vector<nlohmann::json> read_manifest(const std::string& dir, const std::string& option);
+
 // The share of rows with "detected" true against a numeric column, in four equal-width bins over
 // the range present (one bin when all are equal): [{from, to, recordings, detected, rate}].
 nlohmann::json rate_by(const std::vector<nlohmann::json>& rows, const std::string& column);

@@ -1,0 +1,307 @@
+// geardiag validate --history DIR: every life history of a dataset (`geardiag dataset` with a
+// `life` block, tools/dataset_life.hpp) through the command a user runs on a machine's history,
+// `geardiag batch --healthy-first K` (run_batch, tools/batch.hpp), and its verdicts against the
+// manifest's truth: per history the first recording with a finding or an alarm after the fault's
+// onset (the detection delay, in recordings, and the fault's size there), the shaft and gear it
+// names (right / silent / wrong), and every finding or alarm on a healthy recording after the
+// reference (a false alarm); per class the rates. docs/cli/validate.md.
+#include <algorithm>
+#include <boost/program_options.hpp>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "batch.hpp"
+#include "cli_options.hpp"
+#include "diag/error.hpp"
+#include "diag/util/number_format.hpp"
+#include "output.hpp"
+#include "parallel.hpp"
+#include "validate_dataset.hpp"
+
+namespace po = boost::program_options;
+namespace fs = std::filesystem;
+
+namespace geardiag {
+
+namespace {
+
+using nlohmann::json;
+
+// The fault's size in a manifest row: crack depth, chip size or spall length [mm], wear depth
+// [um]; NaN for none (a missing tooth, or a healthy row).
+double fault_size(const json& row) {
+  const std::string type = row.value("fault1_type", json()).is_string()
+                               ? row["fault1_type"].get<std::string>()
+                               : std::string();
+  const char* key = type == "wear" ? "fault1_depth_um" : "fault1_size_mm";
+  if (type.empty() || type == "missing" || !row.contains(key) || !row[key].is_number()) {
+    return std::nan("");
+  }
+  return row[key].get<double>();
+}
+
+std::string size_unit(const std::string& type) { return type == "wear" ? "um" : "mm"; }
+
+// A recording's claims: its findings (the one Finding form; the baseline alarm is one of them).
+bool claims(const json& row) {
+  return row.value("alarm", 0) != 0 || !row.value("finding_list", json::array()).empty();
+}
+
+// Where a recording's findings put the fault: "right" (the true shaft alone), "wrong" (another
+// shaft or a bearing), "silent" (no place named: the baseline alarm alone).
+std::string placed(const json& row, const std::string& shaft) {
+  std::set<std::string> named;
+  for (const json& f : row.value("finding_list", json::array())) {
+    if (!f.value("shaft", "").empty()) named.insert(f["shaft"].get<std::string>());
+    if (!f.value("bearing", "").empty()) named.insert("bearing " + f["bearing"].get<std::string>());
+  }
+  if (named.empty()) return "silent";
+  return named.size() == 1 && *named.begin() == shaft ? "right" : "wrong";
+}
+
+// Which gear the findings name: "right" (the true gear alone), "either" (the true gear among the
+// gears of its shaft: "z2 or z3"), "wrong", or "none".
+std::string gear_named(const json& row, const std::string& gear) {
+  std::string verdict = "none";
+  for (const json& f : row.value("finding_list", json::array())) {
+    const json gears = f.value("gears", json::array());
+    if (gears.empty()) continue;
+    const bool has = std::find(gears.begin(), gears.end(), json(gear)) != gears.end();
+    const std::string v = !has ? "wrong" : gears.size() == 1 ? "right" : "either";
+    if (v == "wrong" || verdict == "none" || (v == "either" && verdict == "right")) verdict = v;
+  }
+  return verdict;
+}
+
+std::string what_claimed(const json& row) {
+  std::string out = row.value("findings", "");
+  if (out.empty() && row.value("alarm", 0) != 0) out = "alarm";
+  return out;
+}
+
+struct ClassTally {
+  int histories = 0, detected = 0;
+  std::vector<double> delays, sizes;
+  std::map<std::string, int> shaft, gear;
+  std::string type;
+};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return std::nan("");
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+std::string fmt(double v) { return std::isfinite(v) ? diag::format_significant(v, 3) : "-"; }
+
+}  // namespace
+
+int validate_history(int argc, char** argv) {
+  std::string dir, json_out;
+  int jobs = 0, healthy_first = 0;
+  po::options_description desc(
+      "geardiag validate --history DIR [--healthy-first K] [--json OUT.json] [--jobs N]\n\n"
+      "Runs every life history of DIR (made by geardiag dataset with a `life` block) through\n"
+      "`geardiag batch --healthy-first K` (K: the dataset's reference recordings) and compares\n"
+      "with the truth: per history the detection delay after the fault's onset (recordings),\n"
+      "the fault's size when detected, the shaft and gear named (right / silent / wrong), and\n"
+      "the findings on healthy recordings after the reference (false alarms); per class the\n"
+      "rates.\n\noptions");
+  desc.add_options()("help,h", "this help")("history", po::value(&dir)->required(),
+                                            "a life dataset's folder")(
+      "healthy-first", po::value(&healthy_first)->default_value(0),
+      "reference recordings per history (0: the dataset's)")("json", po::value(&json_out),
+                                                             "the report as JSON")(
+      "jobs,j", po::value(&jobs)->default_value(0), "worker threads; 0 = every core");
+  po::variables_map vm;
+  if (!parse_options(argc, argv, desc, vm)) return 0;
+  MpiWorld world(&argc, &argv);
+  jobs = resolve_jobs(jobs);
+  if (!json_out.empty()) check_output(json_out, "--json");
+  if (healthy_first < 0) throw diag::InputError("--healthy-first: must be >= 0");
+  const std::vector<json> rows = read_manifest(dir, "--history");
+  std::map<int, std::vector<std::size_t>> histories;  // history -> manifest rows, by step
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!rows[i].contains("history") || !rows[i]["history"].is_number_integer()) {
+      throw diag::InputError("--history " + dir +
+                             ": not a life dataset (its manifest has no `history` column; "
+                             "make one with a `life` block, docs/cli/dataset.md)");
+    }
+    histories[rows[i]["history"].get<int>()].push_back(i);
+  }
+  for (auto& [h, members] : histories) {
+    std::sort(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+      return rows[a].value("step", 0) < rows[b].value("step", 0);
+    });
+  }
+  std::map<std::string, ClassTally> classes;
+  std::vector<std::string> class_order;
+  int healthy_after = 0, false_alarms = 0, not_comparable = 0, errors = 0;
+  json report = {{"dataset", dir}, {"histories", json::array()}};
+  Progress progress("validate --history", histories.size(), world.root());
+  for (const auto& [h, members] : histories) {
+    const json& first = rows[members.front()];
+    const int k = healthy_first > 0 ? healthy_first : first.value("reference_recordings", 3);
+    BatchRequest request;
+    request.jobs = jobs;
+    request.healthy_first = k;
+    request.progress = false;
+    std::map<std::string, std::size_t> by_file;
+    for (std::size_t m : members) {
+      request.files.push_back((fs::path(dir) / rows[m]["file"].get<std::string>()).string());
+      by_file[request.files.back()] = m;
+    }
+    BatchResult batch;
+    std::string failure;
+    try {
+      batch = run_batch(request, world);
+    } catch (const diag::InputError& e) {  // e.g. a reference recording that cannot be read
+      failure = e.what();
+    }
+    progress.tick();
+    if (!world.root()) continue;
+    if (!failure.empty()) {
+      errors += static_cast<int>(members.size());
+      report["histories"].push_back({{"history", h}, {"error", failure}});
+      std::cerr << "history " << h << ": " << failure << "\n";
+      continue;
+    }
+    // The truth: the class, the fault's onset, type, gear and shaft.
+    const std::string cls = first["class"].get<std::string>();
+    int onset = -1;
+    std::string type, gear, shaft;
+    for (std::size_t m : members) {
+      const json& r = rows[m];
+      if (r.value("faults", 0) > 0 && onset < 0) {
+        onset = r.value("step", 0);
+        type = r.value("fault1_type", "");
+        gear = r.value("fault1_gear", "");
+        shaft = r.value("fault1_shaft", "");
+      }
+    }
+    if (!classes.count(cls)) class_order.push_back(cls);
+    ClassTally& tally = classes[cls];
+    ++tally.histories;
+    if (!type.empty()) tally.type = type;
+    json hj = {{"history", h},
+               {"class", cls},
+               {"reference", k},
+               {"recordings", members.size()},
+               {"notes", batch.notes}};
+    if (onset >= 0) {
+      hj["fault"] = {{"type", type}, {"gear", gear}, {"shaft", shaft}, {"onset_step", onset}};
+    }
+    json fa = json::array();
+    bool detected = false;
+    for (std::size_t i = 0; i < batch.rows.size(); ++i) {
+      const json& row = batch.rows[i];
+      const json& truth = rows[by_file.at(batch.files[i])];
+      const int step = truth.value("step", 0);
+      if (batch.reference[i]) continue;
+      const std::string status = row.value("status", "");
+      if (status == "error") {
+        ++errors;
+        continue;
+      }
+      not_comparable += status == "not comparable";
+      const bool faulty = truth.value("faults", 0) > 0;
+      if (!faulty) {
+        ++healthy_after;
+        if (claims(row)) {
+          ++false_alarms;
+          fa.push_back({{"step", step}, {"claimed", what_claimed(row)}});
+        }
+        continue;
+      }
+      if (detected || !claims(row)) continue;
+      detected = true;
+      const double size = fault_size(truth);
+      const std::string where = placed(row, shaft), which = gear_named(row, gear);
+      ++tally.detected;
+      tally.delays.push_back(step - onset);
+      if (std::isfinite(size)) tally.sizes.push_back(size);
+      ++tally.shaft[where];
+      ++tally.gear[which];
+      hj["detection"] = {{"step", step},
+                         {"delay", step - onset},
+                         {"claimed", what_claimed(row)},
+                         {"shaft", where},
+                         {"gear", which}};
+      if (std::isfinite(size)) hj["detection"]["size"] = size;
+    }
+    if (onset >= 0 && !detected) ++tally.shaft["missed"];
+    hj["false_alarms"] = fa;
+    report["histories"].push_back(hj);
+  }
+  progress.finish();
+  if (!world.root()) return 0;
+  // The table.
+  std::ostringstream out;
+  out << histories.size() << " histories of " << rows.size() << " recordings in " << dir << "\n";
+  out << std::left << std::setw(16) << "class" << std::setw(11) << "histories" << std::setw(10)
+      << "detected" << std::setw(16) << "delay med/max" << std::setw(18) << "size at detection"
+      << std::setw(28) << "shaft right/silent/wrong"
+      << "gear right/either/wrong\n";
+  json summary = json::object();
+  for (const std::string& c : class_order) {
+    ClassTally& t = classes[c];
+    const bool faulty = !t.type.empty();
+    const double max_delay =
+        t.delays.empty() ? std::nan("") : *std::max_element(t.delays.begin(), t.delays.end());
+    out << std::setw(16) << c << std::setw(11) << t.histories << std::setw(10)
+        << (faulty ? std::to_string(t.detected) : "-") << std::setw(16)
+        << (faulty ? fmt(median(t.delays)) + " / " + fmt(max_delay) : "-") << std::setw(18)
+        << (faulty && !t.sizes.empty() ? fmt(median(t.sizes)) + " " + size_unit(t.type) : "-")
+        << std::setw(28)
+        << (faulty ? std::to_string(t.shaft["right"]) + " / " + std::to_string(t.shaft["silent"]) +
+                         " / " + std::to_string(t.shaft["wrong"])
+                   : "-")
+        << (faulty ? std::to_string(t.gear["right"]) + " / " + std::to_string(t.gear["either"]) +
+                         " / " + std::to_string(t.gear["wrong"])
+                   : "-")
+        << "\n";
+    json cj = {{"histories", t.histories}};
+    if (faulty) {
+      cj["fault"] = t.type;
+      cj["detected"] = t.detected;
+      cj["missed"] = t.shaft["missed"];
+      cj["delay_median"] = median(t.delays);
+      cj["delay_max"] = max_delay;
+      cj["delays"] = t.delays;
+      cj["size_at_detection_median"] = median(t.sizes);
+      cj["size_unit"] = size_unit(t.type);
+      cj["shaft"] = {
+          {"right", t.shaft["right"]}, {"silent", t.shaft["silent"]}, {"wrong", t.shaft["wrong"]}};
+      cj["gear"] = {{"right", t.gear["right"]},
+                    {"either", t.gear["either"]},
+                    {"wrong", t.gear["wrong"]},
+                    {"none", t.gear["none"]}};
+    }
+    summary[c] = cj;
+  }
+  out << "false alarms: " << false_alarms << " of " << healthy_after
+      << " healthy recordings after the reference";
+  if (healthy_after > 0) out << " (" << fmt(100.0 * false_alarms / healthy_after) << " %)";
+  out << "; not comparable: " << not_comparable << "; failed: " << errors << "\n";
+  std::cout << out.str();
+  report["classes"] = summary;
+  report["false_alarms"] = {
+      {"healthy_recordings", healthy_after},
+      {"alarms", false_alarms},
+      {"rate", healthy_after ? json(1.0 * false_alarms / healthy_after) : json(nullptr)}};
+  report["not_comparable"] = not_comparable;
+  report["failed"] = errors;
+  if (!json_out.empty()) write_output(json_out, report.dump(1) + "\n", "--json");
+  return 0;
+}
+
+}  // namespace geardiag
