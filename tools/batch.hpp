@@ -4,6 +4,7 @@
 // --history` runs every life history of a dataset through it, as a user's batch would.
 #pragma once
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -38,6 +39,9 @@ struct BatchResult {
   // history's also index and reference), and the history's events.
   std::vector<nlohmann::json> rows;
   nlohmann::json events = nlohmann::json::array();
+  // A history's damaged-shaft locator gates ("<shaft>/score", "<shaft>/score_alone"): a later
+  // recording's gear damage on the shaft stands above one of them (cmd_batch.cpp).
+  std::map<std::string, double> locator_gate;
 };
 
 // Checks the request (diag::InputError naming the option), orders a history, reads the baseline,

@@ -29,6 +29,8 @@
 #include "commands.hpp"
 #include "detect/analysis/analyze.hpp"
 #include "detect/analysis/analyze_file.hpp"
+#include "detect/baseline/mesh_harmonic_growth.hpp"
+#include "detect/gear/gear_damage.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "diag/io/hdf5.hpp"
@@ -119,6 +121,40 @@ std::string short_findings(const json& findings) {
     }
     s << " (" << std::lround(100 * f.value("confidence", 0.0)) << " %)";
     out += (out.empty() ? "" : "; ") + s.str();
+  }
+  return out;
+}
+
+// The indicators a history trends beside analyze's features: each mesh's harmonic growth against
+// the baseline ("wear/<mesh>/growth_db", mesh_harmonic_growth.hpp), and per bearing and fault
+// family the most prominent envelope line the bearing decision scored over the sensor channels
+// ("bearing/<bearing>/<FTF|BPFO|BPFI|BSF>_db", dB over the local floor).
+std::map<std::string, double> history_indicators(const detect::AnalysisResult& r) {
+  std::map<std::string, double> out;
+  if (r.baseline) {
+    for (const detect::AnalysisMeshWear& w : r.baseline->wear) {
+      if (std::isfinite(w.growth_db)) out["wear/" + w.mesh + "/growth_db"] = w.growth_db;
+    }
+  }
+  if (r.gear_damage) {  // the locator's score of the recording alone, beside its comparison's
+    for (const detect::ShaftDamage& sd : r.gear_damage->shafts) {
+      if (std::isfinite(sd.score_alone)) {
+        out["gear_damage/" + sd.shaft + "/score_alone"] = sd.score_alone;
+      }
+    }
+  }
+  static const char* const kFamily[] = {"FTF", "BPFO", "BPFI", "BSF"};
+  for (const detect::ChannelAnalysis& c : r.channels) {
+    if (!c.sensor) continue;
+    for (const detect::BearingAnalysis& b : c.bearings) {
+      if (!b.diagnosed) continue;
+      for (const detect::BearingLine& line : b.lines) {
+        if (line.family < 0 || line.family > 3 || !std::isfinite(line.prominence_db)) continue;
+        const std::string key = "bearing/" + b.bearing + "/" + kFamily[line.family] + "_db";
+        const auto it = out.find(key);
+        if (it == out.end() || line.prominence_db > it->second) out[key] = line.prominence_db;
+      }
+    }
   }
   return out;
 }
@@ -215,6 +251,7 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
     }
     json features = json::object();
     for (const auto& [name, value] : detect::features(r)) features[name] = value;
+    for (const auto& [name, value] : history_indicators(r)) features[name] = value;
     row["features"] = features;
     if (!in.reports.empty()) {  // the page `geardiag analyze --html` writes, at once (memory flat)
       report::HtmlReportOptions ho;
@@ -264,8 +301,10 @@ std::string table_csv(const std::vector<json>& rows, const std::set<std::string>
 // The trend page: one plot per chosen indicator and one of the anomaly score with the alarm
 // threshold, against the recording's position in the table (the files' order).
 // `page_dir`: the page's folder, from which the links to the recordings' reports are made.
+// `gate`: a history's locator gates (reference_locator_scores x kReferenceScoreMargin).
 std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
-                       const std::string& order, const json& events, const fs::path& page_dir) {
+                       const std::string& order, const json& events, const fs::path& page_dir,
+                       const std::map<std::string, double>& gate) {
   // A history in time order whose every recording has a time is drawn against it (days since the
   // first); otherwise against the position in the table.
   std::vector<double> at(rows.size());
@@ -293,51 +332,115 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
          << (order == "time" ? " (in time order" : " (files in the order given")
          << "; failed files leave a gap).</p>";
   }
-  auto plot = [&](const std::string& title,
-                  const std::function<std::optional<double>(const json&)>& value,
-                  double threshold) {
-    std::vector<double> x, y;
-    for (std::size_t i = 0; i < rows.size(); ++i) {
-      if (const auto v = value(rows[i])) {
-        x.push_back(at[i]);
-        y.push_back(*v);
+  // The events, marked on every plot at their first recording.
+  std::vector<report::PlotMarker> markers;
+  for (const json& e : events) {
+    const std::size_t first = e["first_recording"].get<std::size_t>();
+    if (first >= rows.size() || e.value("status", "confirmed") == "unconfirmed") continue;
+    std::string label = e["kind"].get<std::string>();
+    for (const char* k : {"shaft", "bearing"}) {
+      if (e.contains(k)) label += " " + e[k].get<std::string>();
+    }
+    markers.push_back({at[first], label, "#d62728", true, static_cast<int>(markers.size() % 3)});
+  }
+  // One plot: a series per indicator (row feature, or a top-level key of the row) and a
+  // horizontal line per threshold.
+  struct Line {
+    std::string label, key;
+    bool feature = true;
+  };
+  static const char* const kColors[] = {"#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#17becf"};
+  auto plot = [&](const std::string& title, const std::string& y_label,
+                  const std::vector<Line>& lines,
+                  const std::vector<std::pair<std::string, double>>& thresholds) {
+    std::vector<std::vector<double>> xs(lines.size()), ys(lines.size());
+    double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo;
+    for (std::size_t l = 0; l < lines.size(); ++l) {
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        const json& r = rows[i];
+        const json* v = nullptr;
+        if (!lines[l].feature && r.contains(lines[l].key)) v = &r[lines[l].key];
+        if (lines[l].feature && r.contains("features") && r["features"].contains(lines[l].key)) {
+          v = &r["features"][lines[l].key];
+        }
+        if (!v || !v->is_number()) continue;
+        xs[l].push_back(at[i]);
+        ys[l].push_back(v->get<double>());
+        x_lo = std::min(x_lo, at[i]);
+        x_hi = std::max(x_hi, at[i]);
       }
     }
-    if (x.empty()) {
+    if (!(x_lo <= x_hi)) {
       html << "<h2>" << report::html_escape(title) << "</h2><p>no value in any recording</p>";
       return;
     }
-    std::vector<report::PlotSeries> series = {{x, y, title, "#1f77b4"}};
-    std::vector<double> tx = {x.front(), x.back() == x.front() ? x.front() + 1 : x.back()};
-    std::vector<double> ty = {threshold, threshold};
-    if (std::isfinite(threshold)) series.push_back({tx, ty, "alarm threshold", "#d62728"});
+    std::vector<report::PlotSeries> series;
+    for (std::size_t l = 0; l < lines.size(); ++l) {
+      if (!xs[l].empty()) series.push_back({xs[l], ys[l], lines[l].label, kColors[l % 5]});
+    }
+    const std::vector<double> tx = {x_lo, x_hi == x_lo ? x_lo + 1 : x_hi};
+    std::vector<std::vector<double>> tys;
+    tys.reserve(thresholds.size());
+    for (const auto& [label, value] : thresholds) {
+      if (!std::isfinite(value)) continue;
+      tys.push_back({value, value});
+      series.push_back({tx, tys.back(), label, tys.size() == 1 ? "#d62728" : "#ff7f0e"});
+    }
     report::PlotOptions po;
     po.title = title;
     po.x_label = dated ? "days" : "recording";
-    po.y_label = title;
-    html << "<h2>" << report::html_escape(title) << "</h2>" << report::svg_line_plot(series, po);
+    po.y_label = y_label;
+    html << "<h2>" << report::html_escape(title) << "</h2>"
+         << report::svg_line_plot(series, po, markers);
   };
-  for (const std::string& name : chosen) {
-    plot(
-        name,
-        [&](const json& r) -> std::optional<double> {
-          if (!r.contains("features") || !r["features"].contains(name)) return std::nullopt;
-          return r["features"][name].get<double>();
-        },
-        std::nan(""));
+  for (const std::string& name : chosen) plot(name, name, {{name, name}}, {});
+  // The indicators a machine's history is judged on, from what the rows hold: per shaft the
+  // damaged-shaft locator's scores, per mesh the harmonic growth, per bearing its fault families'
+  // envelope lines; then the anomaly score.
+  std::set<std::string> shafts, meshes, bearings;
+  for (const json& r : rows) {
+    const json features = r.value("features", json::object());
+    for (const auto& [name, v] : features.items()) {
+      const std::size_t slash = name.find('/', name.find('/') + 1);
+      if (slash == std::string::npos) continue;
+      const std::string group = name.substr(0, name.find('/'));
+      const std::string what = name.substr(group.size() + 1, slash - group.size() - 1);
+      if (group == "gear_damage") shafts.insert(what);
+      if (group == "wear") meshes.insert(what);
+      if (group == "bearing") bearings.insert(what);
+    }
+  }
+  const detect::GearDamageOptions locator;
+  for (const std::string& shaft : shafts) {
+    std::vector<std::pair<std::string, double>> t = {{"damaged above", locator.damaged_fm4}};
+    const auto it = gate.find(shaft + "/score");
+    if (it != gate.end()) t.push_back({"reference gate (against the first)", it->second});
+    plot("damaged-shaft locator, shaft " + shaft, "tooth score",
+         {{"against the reference's first", "gear_damage/" + shaft + "/score"},
+          {"alone", "gear_damage/" + shaft + "/score_alone"}},
+         t);
+  }
+  if (!meshes.empty()) {
+    std::vector<Line> lines;
+    for (const std::string& m : meshes) lines.push_back({m, "wear/" + m + "/growth_db"});
+    plot("mesh harmonic growth against the reference (wear)", "dB", lines,
+         {{"flagged above", detect::MeshHarmonicGrowthOptions{}.threshold_db}});
+  }
+  for (const std::string& b : bearings) {
+    std::vector<Line> lines;
+    for (const char* f : {"BPFO", "BPFI", "BSF", "FTF"}) {
+      lines.push_back({f, "bearing/" + b + "/" + f + "_db"});
+    }
+    plot("bearing " + b + ": most prominent envelope line per fault family", "dB over the floor",
+         lines, {});
   }
   double threshold = std::nan("");
   for (const json& r : rows) {
     if (r.contains("alarm_threshold")) threshold = r["alarm_threshold"].get<double>();
   }
   if (std::isfinite(threshold)) {
-    plot(
-        "anomaly score",
-        [](const json& r) -> std::optional<double> {
-          if (!r.contains("anomaly_score")) return std::nullopt;
-          return r["anomaly_score"].get<double>();
-        },
-        threshold);
+    plot("anomaly score", "anomaly score", {{"anomaly score", "anomaly_score", false}},
+         {{"alarm threshold", threshold}});
   }
   // The history: its events, then every recording with its verdict.
   if (!events.empty()) {
@@ -349,7 +452,8 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
       for (const char* k : {"shaft", "bearing"}) {
         if (e.contains(k)) html << " " << report::html_escape(e[k].get<std::string>());
       }
-      html << ": from recording " << e["first_recording"].get<std::size_t>() << " ("
+      html << ": " << report::html_escape(e.value("status", "confirmed")) << ", from recording "
+           << e["first_recording"].get<std::size_t>() << " ("
            << report::html_escape(e["first_time"].get<std::string>()) << "), seen in "
            << e["recordings"].size() << "</li>";
     }
@@ -408,6 +512,110 @@ std::string event_key(const json& f) {
   return key;
 }
 
+// The damaged-shaft locator in a history scores every recording twice: against the reference's
+// first recording (the gear baseline: `score`, the pitch errors' pattern cancelled) and alone
+// (`score_alone`), and reports a shaft either flags. The reference's recordings, scored the same
+// way, show how high a healthy recording of this machine scores: speed and load jitter, noise,
+// the gears' own pattern (which alone may flag a shaft on every recording, healthy ones too). A
+// later recording's gear_damage finding on a shaft stands only when one of its two scores
+// exceeds kReferenceScoreMargin x the largest of the same score over the reference (the
+// comparison's over the reference after its first, which is the gear baseline itself); else it is
+// withheld, and its row says why. Distribution-free, a healthy recording scores above the largest
+// of n healthy scores with probability at most 1/(n + 1); the margin (tuned on life histories,
+// docs/cli/batch.md) takes the rate further down.
+constexpr double kReferenceScoreMargin = 1.5;
+
+// The largest locator score per "<shaft>/score" and "<shaft>/score_alone" over the reference;
+// empty when the gear baseline was used in none of them.
+std::map<std::string, double> reference_locator_scores(const std::vector<json>& rows,
+                                                       const std::vector<bool>& reference) {
+  std::map<std::string, double> out;
+  for (std::size_t i = 0; i < rows.size() && reference[i]; ++i) {
+    const json& row = rows[i];
+    if (row.value("status", "") == "error" ||
+        row.value("error", "").find("gear baseline not used") != std::string::npos) {
+      continue;
+    }
+    const json features = row.value("features", json::object());
+    for (const auto& [name, v] : features.items()) {
+      if (!name.starts_with("gear_damage/")) continue;
+      const std::string key = name.substr(12);  // "<shaft>/score" or "<shaft>/score_alone"
+      const bool alone = key.ends_with("/score_alone");
+      if (!alone && (!key.ends_with("/score") || i == 0)) continue;
+      out[key] = std::max(out.count(key) ? out[key] : 0.0, v.get<double>());
+    }
+  }
+  return out;
+}
+
+// Withholds the row's gear_damage findings whose shaft scores within the reference's own spread
+// on both scores (reference_locator_scores x kReferenceScoreMargin).
+void withhold_within_reference(json& row, const std::map<std::string, double>& ref) {
+  if (ref.empty() || row.value("error", "").find("gear baseline not used") != std::string::npos) {
+    return;
+  }
+  json kept = json::array();
+  for (const json& f : row.value("finding_list", json::array())) {
+    const std::string shaft = f.value("shaft", "");
+    bool stands = f.value("kind", "") != "gear_damage";
+    std::string why;
+    for (const char* which : {"/score", "/score_alone"}) {
+      const auto it = ref.find(shaft + which);
+      const json v = row["features"].value("gear_damage/" + shaft + which, json());
+      if (it == ref.end() || !v.is_number()) {
+        stands = true;  // nothing to compare with
+        continue;
+      }
+      stands = stands || v.get<double>() > kReferenceScoreMargin * it->second;
+      why += std::string(why.empty() ? "" : ", ") +
+             (std::string(which) == "/score" ? "against the gear baseline " : "alone ") +
+             diag::format_significant(v.get<double>(), 3) + " (reference up to " +
+             diag::format_significant(it->second, 3) + ")";
+    }
+    if (stands) {
+      kept.push_back(f);
+      continue;
+    }
+    row["withheld"].push_back({{"finding", short_findings(json::array({f}))},
+                               {"reason", "the shaft scores within " +
+                                              diag::format_significant(kReferenceScoreMargin, 3) +
+                                              " x the healthy reference's own scores: " + why}});
+  }
+  row["finding_list"] = kept;
+  row["findings"] = short_findings(kept);
+}
+
+// An event is confirmed when two successive recordings judged against the reference (status ok:
+// the not comparable and failed ones are passed over) show it: one recording alone can be an
+// outlier of a healthy machine (the damaged-shaft locator's comparison scored 23-35 on healthy
+// shafts of single recordings of life histories, its threshold 20, and the next recording fell
+// back). `first_recording` is the first of the two, `confirmed_recording` the second; an event
+// never confirmed is "unconfirmed", or "pending" when its last sighting is the history's last
+// judged recording (the next one will tell).
+void confirm_events(std::vector<json>& rows, const std::vector<bool>& reference, json& events) {
+  std::vector<std::size_t> judged;  // the rows judged, in order
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (!reference[i] && rows[i].value("status", "") == "ok") judged.push_back(i);
+  }
+  for (json& e : events) {
+    const std::set<std::size_t> seen = e["recordings"].get<std::set<std::size_t>>();
+    e["status"] = "unconfirmed";
+    e["confirmed_recording"] = nullptr;
+    for (std::size_t k = 0; k + 1 < judged.size(); ++k) {
+      if (seen.count(judged[k]) && seen.count(judged[k + 1])) {
+        e["status"] = "confirmed";
+        e["first_recording"] = judged[k];
+        e["first_time"] = rows[judged[k]].value("time", "");
+        e["confirmed_recording"] = judged[k + 1];
+        break;
+      }
+    }
+    if (e["status"] == "unconfirmed" && !judged.empty() && seen.count(judged.back())) {
+      e["status"] = "pending";
+    }
+  }
+}
+
 // The history's verdicts on the rows (in time order; `reference`: the healthy reference's rows):
 // a later recording whose speed lies outside the reference's (its range widened by
 // kComparableSpeed) is "not comparable": what compares it with the reference (the anomaly
@@ -442,10 +650,25 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
         "no speed known for the reference (no description): every recording is "
         "compared with it");
   }
+  const std::map<std::string, double> ref_scores = reference_locator_scores(rows, reference);
+  if (!ref_scores.empty()) {
+    std::string list;
+    for (const auto& [shaft, v] : ref_scores) {
+      list += (list.empty() ? "" : ", ") + shaft + " " + diag::format_significant(v, 3);
+    }
+    notes.push_back(
+        "the damaged-shaft locator's largest scores in the reference (score: against "
+        "its first recording; score_alone: each recording alone): " +
+        list +
+        "; a later recording's gear damage on a shaft stands when one of its "
+        "scores exceeds " +
+        diag::format_significant(kReferenceScoreMargin, 3) + " x these");
+  }
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     json& row = rows[i];
     if (reference[i] || row["status"] != "ok") continue;
+    withhold_within_reference(row, ref_scores);
     if (band && row.contains("speed_rpm")) {
       const double v = row["speed_rpm"].get<double>();
       if (v < lo * (1 - kComparableSpeed) || v > hi * (1 + kComparableSpeed)) {
@@ -486,6 +709,7 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
       e["last_recording"] = i;
     }
   }
+  confirm_events(rows, reference, events);
   return notes;
 }
 
@@ -616,6 +840,9 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     for (std::string& n : judge_history(out.rows, reference, out.events)) {
       history_notes.push_back(std::move(n));
     }
+    for (const auto& [key, v] : reference_locator_scores(out.rows, reference)) {
+      out.locator_gate[key] = kReferenceScoreMargin * v;
+    }
   }
   return out;
 }
@@ -733,7 +960,8 @@ int cmd_batch(int argc, char** argv) {
       }
     }
     const fs::path page_dir = html_stdout ? fs::current_path() : fs::absolute(html).parent_path();
-    write_output(html, trend_html(all, trend, batch.order, events, page_dir), "--html");
+    write_output(html, trend_html(all, trend, batch.order, events, page_dir, batch.locator_gate),
+                 "--html");
   }
   std::ostream& say = table_stdout || html_stdout || json_stdout ? std::cerr : std::cout;
   say << files.size() << " recordings, " << failed << " failed, " << alarms << " alarm(s) -> "
@@ -742,15 +970,32 @@ int cmd_batch(int argc, char** argv) {
   for (const std::string& n : history_notes) say << "note: " << n << "\n";
   for (const json& e : events) {
     const std::size_t first = e["first_recording"].get<std::size_t>();
-    say << "event: " << e["kind"].get<std::string>() << " " << e["fault"].get<std::string>();
+    const std::string status = e.value("status", "confirmed");
+    std::string what = e["kind"].get<std::string>() + " " + e["fault"].get<std::string>();
     for (const char* k : {"shaft", "bearing"}) {
-      if (e.contains(k)) say << " " << e[k].get<std::string>();
+      if (e.contains(k)) what += " " + e[k].get<std::string>();
     }
-    say << ": from recording " << first << " (" << fs::path(files[first]).filename().string()
-        << (e["first_time"].get<std::string>().empty() ? ""
-                                                       : ", " + e["first_time"].get<std::string>())
-        << "), in " << e["recordings"].size() << " of the " << files.size() - first
-        << " recordings from there\n";
+    const std::string at =
+        fs::path(files[first]).filename().string() +
+        (e["first_time"].get<std::string>().empty() ? ""
+                                                    : ", " + e["first_time"].get<std::string>());
+    std::size_t from_there = 0;
+    for (const json& r : e["recordings"]) from_there += r.get<std::size_t>() >= first;
+    if (status == "confirmed") {
+      say << "event: " << what << ": from recording " << first << " (" << at
+          << "), confirmed by recording " << e["confirmed_recording"].get<std::size_t>() << "; in "
+          << from_there << " of the " << files.size() - first << " recordings from there\n";
+    } else if (status == "pending") {
+      say << "pending: " << what << ": in the last recording judged, " << e["last_recording"]
+          << (e["recordings"].size() > 1
+                  ? " (and " + std::to_string(e["recordings"].size() - 1) + " earlier, alone)"
+                  : std::string())
+          << "; the next recording confirms it or not\n";
+    } else {
+      say << "unconfirmed: " << what << ": in " << e["recordings"].size()
+          << " recording(s), never in two successive ones (from recording " << first << ", " << at
+          << "): not an event\n";
+    }
   }
   return 0;
 }

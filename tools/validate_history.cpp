@@ -1,10 +1,10 @@
 // geardiag validate --history DIR: every life history of a dataset (`geardiag dataset` with a
 // `life` block, tools/dataset_life.hpp) through the command a user runs on a machine's history,
 // `geardiag batch --healthy-first K` (run_batch, tools/batch.hpp), and its verdicts against the
-// manifest's truth: per history the first recording with a finding or an alarm after the fault's
-// onset (the detection delay, in recordings, and the fault's size there), the shaft and gear it
-// names (right / silent / wrong), and every finding or alarm on a healthy recording after the
-// reference (a false alarm); per class the rates. docs/cli/validate.md.
+// manifest's truth: per history the first event the history confirms (two successive recordings)
+// after the fault's onset (the detection delay, in recordings, and the fault's size there), the
+// shaft and gear it names (right / silent / wrong), and every event confirmed on a healthy
+// recording (a false alarm); per class the rates. docs/cli/validate.md.
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <cmath>
@@ -55,30 +55,22 @@ bool claims(const json& row) {
   return row.value("alarm", 0) != 0 || !row.value("finding_list", json::array()).empty();
 }
 
-// Where a recording's findings put the fault: "right" (the true shaft alone), "wrong" (another
-// shaft or a bearing), "silent" (no place named: the baseline alarm alone).
-std::string placed(const json& row, const std::string& shaft) {
-  std::set<std::string> named;
-  for (const json& f : row.value("finding_list", json::array())) {
-    if (!f.value("shaft", "").empty()) named.insert(f["shaft"].get<std::string>());
-    if (!f.value("bearing", "").empty()) named.insert("bearing " + f["bearing"].get<std::string>());
-  }
-  if (named.empty()) return "silent";
-  return named.size() == 1 && *named.begin() == shaft ? "right" : "wrong";
+// Which gear an event names: "right" (the true gear alone), "either" (the true gear among the
+// gears of its shaft: "z2 or z3"), "wrong", or "none".
+std::string gear_verdict(const json& gears, const std::string& gear) {
+  if (gears.empty()) return "none";
+  const bool has = std::find(gears.begin(), gears.end(), json(gear)) != gears.end();
+  return !has ? "wrong" : gears.size() == 1 ? "right" : "either";
 }
 
-// Which gear the findings name: "right" (the true gear alone), "either" (the true gear among the
-// gears of its shaft: "z2 or z3"), "wrong", or "none".
-std::string gear_named(const json& row, const std::string& gear) {
-  std::string verdict = "none";
-  for (const json& f : row.value("finding_list", json::array())) {
-    const json gears = f.value("gears", json::array());
-    if (gears.empty()) continue;
-    const bool has = std::find(gears.begin(), gears.end(), json(gear)) != gears.end();
-    const std::string v = !has ? "wrong" : gears.size() == 1 ? "right" : "either";
-    if (v == "wrong" || verdict == "none" || (v == "either" && verdict == "right")) verdict = v;
+// An event in short form: "gear_damage counter z2 z3".
+std::string short_findings_of(const json& e) {
+  std::string out = e.value("kind", "");
+  for (const char* k : {"shaft", "bearing"}) {
+    if (e.contains(k)) out += " " + e[k].get<std::string>();
   }
-  return verdict;
+  for (const json& g : e.value("gears", json::array())) out += " " + g.get<std::string>();
+  return out;
 }
 
 std::string what_claimed(const json& row) {
@@ -145,7 +137,10 @@ int validate_history(int argc, char** argv) {
   }
   std::map<std::string, ClassTally> classes;
   std::vector<std::string> class_order;
-  int healthy_after = 0, false_alarms = 0, not_comparable = 0, errors = 0;
+  // Healthy recordings judged after the reference, the confirmed events on them (false alarms),
+  // and the findings of single healthy recordings (sightings: not events unless the next shows
+  // them too).
+  int healthy_after = 0, false_alarms = 0, sightings = 0, not_comparable = 0, errors = 0;
   json report = {{"dataset", dir}, {"histories", json::array()}};
   Progress progress("validate --history", histories.size(), world.root());
   for (const auto& [h, members] : histories) {
@@ -202,10 +197,34 @@ int validate_history(int argc, char** argv) {
     }
     json fa = json::array();
     bool detected = false;
+    hj["steps"] = json::array();
+    std::vector<int> step_of(batch.rows.size());
+    std::vector<bool> faulty_at(batch.rows.size());
     for (std::size_t i = 0; i < batch.rows.size(); ++i) {
       const json& row = batch.rows[i];
       const json& truth = rows[by_file.at(batch.files[i])];
-      const int step = truth.value("step", 0);
+      step_of[i] = truth.value("step", 0);
+      faulty_at[i] = truth.value("faults", 0) > 0;
+      // Every recording as the history judged it, with the indicators it trends.
+      json sj = {{"step", step_of[i]},
+                 {"status", row.value("status", "")},
+                 {"faulty", faulty_at[i]},
+                 {"claimed", what_claimed(row)}};
+      if (std::isfinite(fault_size(truth))) sj["size"] = fault_size(truth);
+      for (const char* key : {"speed_rpm", "anomaly_score"}) {
+        if (row.contains(key)) sj[key] = row[key];
+      }
+      json indicators = json::object();
+      const json features = row.value("features", json::object());
+      for (const auto& [name, v] : features.items()) {
+        if (name.starts_with("gear_damage/") || name.starts_with("wear/") ||
+            name.starts_with("bearing/")) {
+          indicators[name] = v;
+        }
+      }
+      sj["indicators"] = indicators;
+      if (row.contains("withheld")) sj["withheld"] = row["withheld"];
+      hj["steps"].push_back(sj);
       if (batch.reference[i]) continue;
       const std::string status = row.value("status", "");
       if (status == "error") {
@@ -213,27 +232,70 @@ int validate_history(int argc, char** argv) {
         continue;
       }
       not_comparable += status == "not comparable";
-      const bool faulty = truth.value("faults", 0) > 0;
-      if (!faulty) {
+      if (!faulty_at[i] && status == "ok") {
         ++healthy_after;
-        if (claims(row)) {
-          ++false_alarms;
-          fa.push_back({{"step", step}, {"claimed", what_claimed(row)}});
-        }
+        sightings += claims(row);
+      }
+    }
+    // The verdicts are the history's confirmed events (two successive recordings).
+    std::vector<const json*> at_detection;
+    int detection_step = -1;
+    for (const json& e : batch.events) {
+      if (e.value("status", "") != "confirmed") continue;
+      const auto c = e["confirmed_recording"].get<std::size_t>();
+      const auto f = e["first_recording"].get<std::size_t>();
+      std::string what = e.value("kind", "");
+      for (const char* k : {"shaft", "bearing"}) {
+        if (e.contains(k)) what += " " + e[k].get<std::string>();
+      }
+      if (!faulty_at[c]) {
+        ++false_alarms;
+        fa.push_back({{"step", step_of[f]}, {"confirmed_step", step_of[c]}, {"claimed", what}});
         continue;
       }
-      if (detected || !claims(row)) continue;
+      if (detection_step < 0 || step_of[c] < detection_step) {
+        detection_step = step_of[c];
+        at_detection.clear();
+      }
+      if (step_of[c] == detection_step) at_detection.push_back(&e);
+    }
+    if (detection_step >= 0) {
       detected = true;
-      const double size = fault_size(truth);
-      const std::string where = placed(row, shaft), which = gear_named(row, gear);
+      // The place the events name: right when one names the true shaft or gear, wrong when
+      // they name only other places, silent when they name none.
+      std::string where = "silent", which = "none", claimed;
+      int first_step = detection_step;
+      for (const json* e : at_detection) {
+        claimed += (claimed.empty() ? "" : "; ") + short_findings_of(*e);
+        first_step = std::min(first_step, step_of[(*e)["first_recording"].get<std::size_t>()]);
+        const std::string place = e->contains("shaft")     ? (*e)["shaft"].get<std::string>()
+                                  : e->contains("bearing") ? "bearing"
+                                                           : "";
+        if (place.empty()) continue;
+        // A mesh's finding (wear) names the pinion's shaft and both gears: right when the true
+        // gear is among them.
+        const json gears = e->value("gears", json::array());
+        if (place == shaft || std::find(gears.begin(), gears.end(), json(gear)) != gears.end()) {
+          where = "right";
+        } else if (where != "right") {
+          where = "wrong";
+        }
+        const std::string g = gear_verdict((*e).value("gears", json::array()), gear);
+        if (g != "none" && (which == "none" || which == "wrong" || g == "right")) which = g;
+      }
+      double size = std::nan("");
+      for (std::size_t m : members) {
+        if (rows[m].value("step", -1) == detection_step) size = fault_size(rows[m]);
+      }
       ++tally.detected;
-      tally.delays.push_back(step - onset);
+      tally.delays.push_back(detection_step - onset);
       if (std::isfinite(size)) tally.sizes.push_back(size);
       ++tally.shaft[where];
       ++tally.gear[which];
-      hj["detection"] = {{"step", step},
-                         {"delay", step - onset},
-                         {"claimed", what_claimed(row)},
+      hj["detection"] = {{"first_seen_step", first_step},
+                         {"confirmed_step", detection_step},
+                         {"delay", detection_step - onset},
+                         {"claimed", claimed},
                          {"shaft", where},
                          {"gear", which}};
       if (std::isfinite(size)) hj["detection"]["size"] = size;
@@ -288,10 +350,11 @@ int validate_history(int argc, char** argv) {
     }
     summary[c] = cj;
   }
-  out << "false alarms: " << false_alarms << " of " << healthy_after
-      << " healthy recordings after the reference";
+  out << "false alarms (events confirmed on a healthy recording): " << false_alarms << " over "
+      << healthy_after << " healthy recordings judged after the reference";
   if (healthy_after > 0) out << " (" << fmt(100.0 * false_alarms / healthy_after) << " %)";
-  out << "; not comparable: " << not_comparable << "; failed: " << errors << "\n";
+  out << "; single healthy recordings with a finding (not confirmed by the next): " << sightings
+      << "; not comparable: " << not_comparable << "; failed: " << errors << "\n";
   std::cout << out.str();
   report["classes"] = summary;
   report["false_alarms"] = {

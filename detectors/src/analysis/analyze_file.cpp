@@ -541,6 +541,36 @@ std::vector<StateCut> vibration_cuts(const diag::Recording& frame, const diag::G
 
 }  // namespace
 
+namespace {
+
+// The gear baseline's revolution averages (--gear-baseline, a history's reference): from its
+// tacho as the locator takes them (gear_damage_baseline); a baseline without a tacho, from the
+// angles the analysis finds in its vibration (shaft_kinematics and refine_tsa_pulses at its own
+// speed), exactly as a recording without a tacho gets its own revolutions (gear_damage_stage),
+// so that both averages are taken the same way.
+GearDamageBaseline gear_baseline_of(const diag::Recording& healthy, const diag::Gearbox& gb,
+                                    const diag::ChannelSetup& channels, const AnalyzeOptions& opt) {
+  if (!healthy.tachos.empty()) return gear_damage_baseline(healthy, gb, opt.gear_damage);
+  std::vector<std::string> notes;
+  const diag::Gearbox at = diag::gearbox_at_speed(gb, healthy, channels, notes);
+  double duration_s = 0;
+  for (const diag::Signal& s : healthy.signals) duration_s = std::max(duration_s, s.duration_s());
+  ShaftKinematics k = shaft_kinematics(healthy, at, duration_s, opt, notes);
+  refine_tsa_pulses(healthy, at, opt, k, notes);
+  if (k.tsa_reference.empty() || k.tsa_reference_pulses.size() < 3) {
+    std::string why;
+    for (const std::string& n : notes) why += (why.empty() ? "" : "; ") + n;
+    throw diag::InputError("no tacho, and no revolutions found in the vibration" +
+                           (why.empty() ? std::string() : ": " + why));
+  }
+  GearDamageOptions o = opt.gear_damage;  // as gear_damage_stage: the pulses are corrected once
+  o.pulse_fit_degree = 0;
+  o.refine_speed = false;
+  return gear_damage_baseline(healthy, at, k.tsa_reference, k.tsa_reference_pulses, o);
+}
+
+}  // namespace
+
 FileAnalysis analyze_file(const AnalyzeRequest& request) {
   AnalyzeOptions opt = request.options;
   if (request.frame_samples == 0) {
@@ -635,7 +665,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     try {
       diag::prepare_channels(*gear_healthy, &*gb, request.channels);
       opt.gear_damage.baseline = std::make_shared<const GearDamageBaseline>(
-          gear_damage_baseline(*gear_healthy, *gb, opt.gear_damage));
+          gear_baseline_of(*gear_healthy, *gb, request.channels, opt));
     } catch (const diag::InputError& e) {
       throw diag::InputError("--gear-baseline " + request.gear_baseline->name() + ": " + e.what());
     }
