@@ -12,12 +12,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
 #include <limits>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <optional>
 #include <set>
 #include <sstream>
@@ -525,13 +527,14 @@ std::string event_key(const json& f) {
 // docs/cli/batch.md) takes the rate further down.
 constexpr double kReferenceScoreMargin = 1.5;
 
-// The largest locator score per "<shaft>/score" and "<shaft>/score_alone" over the reference;
-// empty when the gear baseline was used in none of them.
+// The largest locator score per "<shaft>/score" and "<shaft>/score_alone" over a band's
+// reference recordings (`members`, its first the band's gear baseline, whose own comparison score
+// is left out); empty when the gear baseline was used in none of them.
 std::map<std::string, double> reference_locator_scores(const std::vector<json>& rows,
-                                                       const std::vector<bool>& reference) {
+                                                       const std::vector<std::size_t>& members) {
   std::map<std::string, double> out;
-  for (std::size_t i = 0; i < rows.size() && reference[i]; ++i) {
-    const json& row = rows[i];
+  for (std::size_t m = 0; m < members.size(); ++m) {
+    const json& row = rows[members[m]];
     if (row.value("status", "") == "error" ||
         row.value("error", "").find("gear baseline not used") != std::string::npos) {
       continue;
@@ -541,7 +544,7 @@ std::map<std::string, double> reference_locator_scores(const std::vector<json>& 
       if (!name.starts_with("gear_damage/")) continue;
       const std::string key = name.substr(12);  // "<shaft>/score" or "<shaft>/score_alone"
       const bool alone = key.ends_with("/score_alone");
-      if (!alone && (!key.ends_with("/score") || i == 0)) continue;
+      if (!alone && (!key.ends_with("/score") || m == 0)) continue;
       out[key] = std::max(out.count(key) ? out[key] : 0.0, v.get<double>());
     }
   }
@@ -616,73 +619,131 @@ void confirm_events(std::vector<json>& rows, const std::vector<bool>& reference,
   }
 }
 
-// The history's verdicts on the rows (in time order; `reference`: the healthy reference's rows):
-// a later recording whose speed lies outside the reference's (its range widened by
-// kComparableSpeed) is "not comparable": what compares it with the reference (the anomaly
-// score, its alarm and the wear of each mesh) is taken out of its row, never read against the
-// wrong state. Then the events: each distinct finding of the later comparable recordings, with
-// the recordings that show it. Returns the notes.
+// A history's operating states: the reference's speeds grouped into bands (sorted, a new band
+// where the next speed lies more than 2 kComparableSpeed above the band's last), each band the
+// reference of the later recordings whose speed lies within it widened by kComparableSpeed (a
+// recording outside every band is not comparable). Without speeds (no description), one band of
+// every reference recording, which every recording is compared with.
 constexpr double kComparableSpeed = 0.05;
 
+struct SpeedBand {
+  double lo = 0, hi = 0;             // [rpm]; 0, 0 without speeds
+  std::vector<std::size_t> members;  // reference rows, in time order
+};
+
+std::vector<SpeedBand> speed_bands(const std::vector<json>& rows,
+                                   const std::vector<bool>& reference) {
+  std::vector<std::pair<double, std::size_t>> speeds;
+  std::vector<std::size_t> all;
+  for (std::size_t i = 0; i < rows.size() && i < reference.size(); ++i) {
+    if (!reference[i]) continue;
+    all.push_back(i);
+    if (rows[i].contains("speed_rpm")) speeds.emplace_back(rows[i]["speed_rpm"].get<double>(), i);
+  }
+  if (speeds.empty()) return {SpeedBand{0, 0, all}};
+  std::sort(speeds.begin(), speeds.end());
+  std::vector<SpeedBand> bands;
+  for (const auto& [v, i] : speeds) {
+    if (bands.empty() || v > bands.back().hi * (1 + 2 * kComparableSpeed)) {
+      bands.push_back({v, v, {}});
+    }
+    bands.back().hi = v;
+    bands.back().members.push_back(i);
+  }
+  for (SpeedBand& b : bands) std::sort(b.members.begin(), b.members.end());
+  return bands;
+}
+
+// The band of a recording at `rpm`, or -1 when it lies outside every band (widened by
+// kComparableSpeed); band 0 when the bands have no speeds.
+int band_of(const std::vector<SpeedBand>& bands, std::optional<double> rpm) {
+  if ((bands.size() == 1 && bands[0].hi == 0) || !rpm) return 0;  // compared as it is
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    if (*rpm >= bands[b].lo * (1 - kComparableSpeed) &&
+        *rpm <= bands[b].hi * (1 + kComparableSpeed)) {
+      return static_cast<int>(b);
+    }
+  }
+  return -1;
+}
+
+std::optional<double> row_speed(const json& row) {
+  if (!row.contains("speed_rpm")) return std::nullopt;
+  return row["speed_rpm"].get<double>();
+}
+
+// The history's verdicts on the rows (in time order; `reference`: the healthy reference's rows;
+// `bands`: speed_bands of them): a later recording whose speed lies outside every band is "not
+// comparable": what compares it with the reference (the anomaly score, its alarm and the wear
+// of each mesh) is taken out of its row, never read against the wrong state. A damaged-shaft
+// finding within its band's own scores is withheld (withhold_within_reference). Then the events:
+// each distinct finding of the later comparable recordings, with the recordings that show it,
+// confirmed or not (confirm_events). Returns the notes.
 std::vector<std::string> judge_history(std::vector<json>& rows, const std::vector<bool>& reference,
-                                       json& events) {
+                                       const std::vector<SpeedBand>& bands, json& events) {
   std::vector<std::string> notes;
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     rows[i]["index"] = i;
     if (!reference[i]) continue;
     rows[i]["reference"] = true;
     if (rows[i]["status"] == "ok") rows[i]["status"] = "reference";
-    if (rows[i].contains("speed_rpm")) {
-      lo = std::min(lo, rows[i]["speed_rpm"].get<double>());
-      hi = std::max(hi, rows[i]["speed_rpm"].get<double>());
-    }
   }
-  const bool band = lo <= hi;
-  if (band) {
-    notes.push_back("the reference runs at " + diag::format_significant(lo, 5) + "-" +
-                    diag::format_significant(hi, 5) + " rpm: a recording outside " +
-                    diag::format_significant(lo * (1 - kComparableSpeed), 5) + "-" +
-                    diag::format_significant(hi * (1 + kComparableSpeed), 5) +
-                    " rpm is not comparable");
-  } else {
+  const bool speeds = !(bands.size() == 1 && bands[0].hi == 0);
+  std::string ranges;
+  for (const SpeedBand& b : bands) {
+    ranges += (ranges.empty() ? "" : ", ") + diag::format_significant(b.lo, 5) + "-" +
+              diag::format_significant(b.hi, 5) + " rpm";
+  }
+  if (!speeds) {
     notes.push_back(
         "no speed known for the reference (no description): every recording is "
         "compared with it");
+  } else if (bands.size() == 1) {
+    notes.push_back("the reference runs at " + ranges + ": a recording outside " +
+                    diag::format_significant(bands[0].lo * (1 - kComparableSpeed), 5) + "-" +
+                    diag::format_significant(bands[0].hi * (1 + kComparableSpeed), 5) +
+                    " rpm is not comparable");
+  } else {
+    notes.push_back("the reference runs at " + std::to_string(bands.size()) + " speeds (" + ranges +
+                    "): each later recording is compared with the reference recordings of its "
+                    "speed (within 5 %), one outside every one is not comparable");
   }
-  const std::map<std::string, double> ref_scores = reference_locator_scores(rows, reference);
-  if (!ref_scores.empty()) {
+  std::vector<std::map<std::string, double>> ref_scores;
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    ref_scores.push_back(reference_locator_scores(rows, bands[b].members));
+    if (ref_scores.back().empty()) continue;
     std::string list;
-    for (const auto& [shaft, v] : ref_scores) {
+    for (const auto& [shaft, v] : ref_scores.back()) {
       list += (list.empty() ? "" : ", ") + shaft + " " + diag::format_significant(v, 3);
     }
     notes.push_back(
-        "the damaged-shaft locator's largest scores in the reference (score: against "
-        "its first recording; score_alone: each recording alone): " +
-        list +
-        "; a later recording's gear damage on a shaft stands when one of its "
-        "scores exceeds " +
+        "the damaged-shaft locator's largest scores in the reference" +
+        (bands.size() > 1 ? " at " + diag::format_significant(bands[b].lo, 5) + "-" +
+                                diag::format_significant(bands[b].hi, 5) + " rpm"
+                          : std::string()) +
+        " (score: against its first recording; score_alone: each recording alone): " + list +
+        "; a later recording's gear damage on a shaft stands when one of its scores exceeds " +
         diag::format_significant(kReferenceScoreMargin, 3) + " x these");
   }
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     json& row = rows[i];
     if (reference[i] || row["status"] != "ok") continue;
-    withhold_within_reference(row, ref_scores);
-    if (band && row.contains("speed_rpm")) {
-      const double v = row["speed_rpm"].get<double>();
-      if (v < lo * (1 - kComparableSpeed) || v > hi * (1 + kComparableSpeed)) {
-        row["status"] = "not comparable";
-        row["error"] = "its speed, " + diag::format_significant(v, 5) +
-                       " rpm, is outside the reference's: not compared with it";
-        for (const char* k : {"anomaly_score", "alarm", "alarm_threshold"}) row.erase(k);
-        json kept = json::array();
-        for (const json& f : row["finding_list"]) {
-          if (f.value("kind", "") != "baseline" && f.value("kind", "") != "wear") kept.push_back(f);
-        }
-        row["finding_list"] = kept;
-        row["findings"] = short_findings(kept);
+    const int b = band_of(bands, row_speed(row));
+    if (b >= 0) {
+      row["band"] = b;
+      withhold_within_reference(row, ref_scores[static_cast<std::size_t>(b)]);
+    } else {
+      row["status"] = "not comparable";
+      row["error"] = "its speed, " + diag::format_significant(*row_speed(row), 5) +
+                     " rpm, is outside the reference's (" + ranges + "): not compared with it";
+      for (const char* k : {"anomaly_score", "alarm", "alarm_threshold"}) row.erase(k);
+      json kept = json::array();
+      for (const json& f : row["finding_list"]) {
+        if (f.value("kind", "") != "baseline" && f.value("kind", "") != "wear") kept.push_back(f);
       }
+      row["finding_list"] = kept;
+      row["findings"] = short_findings(kept);
     }
     for (const json& f : row.value("finding_list", json::array())) {
       const auto [it, fresh] = index.emplace(event_key(f), events.size());
@@ -808,39 +869,98 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   }
   // A history compares each recording's revolution averages with the reference's first.
   // (Only with a description: without one there is no shaft to average over.)
-  if (history && (in.gearbox || !in.baseline.front().recording->gearbox_json.empty())) {
-    in.gear_baseline = in.baseline.front();
-  }
-  std::vector<std::size_t> mine;
-  for (std::size_t i = static_cast<std::size_t>(world.rank()); i < files.size();
-       i += static_cast<std::size_t>(world.size())) {
-    mine.push_back(i);
-  }
-  std::vector<json> rows(mine.size());
-  Progress progress("batch", mine.size(), world.root() && request.progress);
-  std::vector<Opened> opened(mine.size());
-  run_in_rounds(
-      mine.size(), request.jobs, [&](std::size_t i) { opened[i] = open_file(files[mine[i]], in); },
-      [&](std::size_t i) {
-        rows[i] = analyse(mine[i], files[mine[i]], std::move(opened[i]), in);
-        opened[i] = {};
-        progress.tick();
-      });
-  progress.finish();
-  json part = json::array();
-  for (std::size_t i = 0; i < mine.size(); ++i) part.push_back({mine[i], rows[i]});
-  const std::vector<std::string> parts = world.gather(part.dump());
+  const bool described =
+      in.gearbox || (!in.baseline.empty() && !in.baseline.front().recording->gearbox_json.empty());
+  if (history && described) in.gear_baseline = in.baseline.front();
   out.files = files;
-  if (!world.root()) return out;
+  // One round of analyses: the rows `which` (split across the ranks), each with the inputs
+  // `inputs_of` gives it; on rank 0 their rows land in out.rows.
   out.rows.assign(files.size(), json());
-  for (const std::string& p : parts) {
-    for (const json& item : json::parse(p)) out.rows[item[0].get<std::size_t>()] = item[1];
-  }
-  if (history) {
-    for (std::string& n : judge_history(out.rows, reference, out.events)) {
-      history_notes.push_back(std::move(n));
+  auto analyse_rows = [&](const std::vector<std::size_t>& which,
+                          const std::function<const Inputs&(std::size_t)>& inputs_of) {
+    std::vector<std::size_t> mine;
+    for (std::size_t k = static_cast<std::size_t>(world.rank()); k < which.size();
+         k += static_cast<std::size_t>(world.size())) {
+      mine.push_back(which[k]);
     }
-    for (const auto& [key, v] : reference_locator_scores(out.rows, reference)) {
+    std::vector<json> rows(mine.size());
+    Progress progress("batch", mine.size(), world.root() && request.progress);
+    std::vector<Opened> opened(mine.size());
+    run_in_rounds(
+        mine.size(), request.jobs,
+        [&](std::size_t i) { opened[i] = open_file(files[mine[i]], inputs_of(mine[i])); },
+        [&](std::size_t i) {
+          rows[i] = analyse(mine[i], files[mine[i]], std::move(opened[i]), inputs_of(mine[i]));
+          opened[i] = {};
+          progress.tick();
+        });
+    progress.finish();
+    json part = json::array();
+    for (std::size_t i = 0; i < mine.size(); ++i) part.push_back({mine[i], rows[i]});
+    for (const std::string& p : world.gather(part.dump())) {
+      for (const json& item : json::parse(p)) out.rows[item[0].get<std::size_t>()] = item[1];
+    }
+  };
+  auto every = [&](std::size_t) -> const Inputs& { return in; };
+  std::vector<std::size_t> all(files.size());
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  if (!history) {
+    analyse_rows(all, every);
+    return out;
+  }
+  // A history: the reference first, each of its recordings against the whole reference; its
+  // speeds give the operating states (speed_bands), known to every rank.
+  const std::vector<std::size_t> ref_rows(all.begin(), all.begin() + baselines.size());
+  const std::vector<std::size_t> later(all.begin() + baselines.size(), all.end());
+  analyse_rows(ref_rows, every);
+  std::string speeds = json(out.rows).dump();
+  world.broadcast(speeds);
+  std::vector<SpeedBand> bands =
+      speed_bands(json::parse(speeds).get<std::vector<json>>(), reference);
+  // Each band is the reference of the recordings at its speed: its recordings the baseline, its
+  // first the gear baseline.
+  std::vector<Inputs> band_in(bands.size(), in);
+  for (std::size_t b = 0; b < bands.size() && bands.size() > 1; ++b) {
+    band_in[b].baseline.clear();
+    for (std::size_t m : bands[b].members) band_in[b].baseline.push_back(in.baseline[m]);
+    band_in[b].gear_baseline.reset();
+    if (described) band_in[b].gear_baseline = band_in[b].baseline.front();
+  }
+  std::vector<int> band_at(files.size(), 0);
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    for (std::size_t m : bands[b].members) band_at[m] = static_cast<int>(b);
+  }
+  auto by_band = [&](std::size_t i) -> const Inputs& {
+    return band_in[static_cast<std::size_t>(std::max(0, band_at[i]))];
+  };
+  if (bands.size() > 1) analyse_rows(ref_rows, by_band);  // each against its own band
+  // The later recordings: against the first band, then, for those whose speed lies in another
+  // band, again against that one (their speed is known only from their analysis).
+  analyse_rows(later, by_band);
+  if (bands.size() > 1) {
+    std::string again;
+    if (world.root()) {
+      json redo = json::array();
+      for (std::size_t i : later) {
+        const int b = band_of(bands, row_speed(out.rows[i]));
+        if (b > 0) redo.push_back({i, b});
+      }
+      again = redo.dump();
+    }
+    world.broadcast(again);
+    std::vector<std::size_t> redo;
+    for (const json& item : json::parse(again)) {
+      redo.push_back(item[0].get<std::size_t>());
+      band_at[redo.back()] = item[1].get<int>();
+    }
+    if (!redo.empty()) analyse_rows(redo, by_band);
+  }
+  if (!world.root()) return out;
+  for (std::string& n : judge_history(out.rows, reference, bands, out.events)) {
+    history_notes.push_back(std::move(n));
+  }
+  if (bands.size() == 1) {
+    for (const auto& [key, v] : reference_locator_scores(out.rows, bands[0].members)) {
       out.locator_gate[key] = kReferenceScoreMargin * v;
     }
   }

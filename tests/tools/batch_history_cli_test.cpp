@@ -358,3 +358,68 @@ TEST(BatchHistory, ALifeHistoryFindsTheChipWithinTwoRecordingsWithOrWithoutATach
     }
   }
 }
+
+// A machine that runs at two speeds: its reference holds both (1500 and 2000 rpm, two recordings
+// each), and every later recording is compared with the reference recordings of its own speed.
+// The healthy ones raise nothing at either speed; one at 1750 rpm, between the two, is not
+// comparable (never scored against either); a 1.5 mm chip on z3 that appears at 2000 rpm and
+// stays is an event confirmed by the next recording judged, at 1500 rpm, on the counter shaft.
+TEST(BatchHistory, EachRecordingIsComparedWithTheReferenceAtItsOwnSpeed) {
+  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json";
+  struct Run {
+    int rpm;
+    bool chip;
+  };
+  const std::vector<Run> runs = {{1500, false}, {2000, false}, {1500, false}, {2000, false},
+                                 {1500, false}, {2000, false}, {1750, false}, {2000, true},
+                                 {1500, true},  {2000, true}};
+  std::string given;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const fs::path sc = scratch("batch_history", "bands" + std::to_string(i) + ".json");
+    std::ofstream(sc) << R"({"accuracy_grade": 6, "seed": 5, "sensors": {"noise_m_per_s2": 0.5,
+        "noise_seed": )"
+                      << 40 + i << "}"
+                      << (runs[i].chip ? R"(, "faults": [{"gear": "z3", "tooth": 5, "type": "chip",
+                                          "size_mm": 1.5}])"
+                                       : "")
+                      << "}";
+    const fs::path f = scratch("batch_history", "2026-01-" + std::string(i < 9 ? "0" : "") +
+                                                    std::to_string(i + 1) + "_08-00-00_bands.h5");
+    const auto s = run("simulate --gearbox " + gb + " --scenario " + sc.string() + " --rpm " +
+                       std::to_string(runs[i].rpm) + " --duration 1.5 --fs 10000 -o " + f.string());
+    ASSERT_EQ(s.code, 0) << s.out;
+    given = " " + f.string() + given;  // given newest first
+  }
+  const fs::path js = scratch("batch_history", "bands.json");
+  const auto r = run("batch" + given + " --healthy-first 4 -o " +
+                     scratch("batch_history", "bands.csv").string() + " --json " + js.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("the reference runs at 2 speeds"), std::string::npos) << r.out;
+  const json h = read_json(js);
+  const json& recs = h["recordings"];
+  ASSERT_EQ(recs.size(), runs.size());
+  for (std::size_t i = 4; i < runs.size(); ++i) {
+    SCOPED_TRACE("recording " + std::to_string(i));
+    if (runs[i].rpm == 1750) {
+      EXPECT_EQ(recs[i]["status"], "not comparable");
+      EXPECT_FALSE(recs[i].contains("anomaly_score"));
+      continue;
+    }
+    EXPECT_EQ(recs[i]["status"], "ok");
+    EXPECT_EQ(recs[i]["band"], runs[i].rpm == 1500 ? 0 : 1);
+    EXPECT_EQ(recs[i]["alarm"], 0) << recs[i]["anomaly_score"];  // its own speed's reference
+    if (!runs[i].chip) {
+      EXPECT_TRUE(recs[i]["findings"].empty()) << recs[i]["findings"].dump(1);
+    }
+  }
+  std::size_t confirmed = 0;
+  for (const json& e : h["events"]) {
+    if (e["status"] != "confirmed") continue;
+    ++confirmed;
+    EXPECT_EQ(e["kind"], "gear_damage") << e.dump(1);
+    EXPECT_EQ(e["shaft"], "counter") << e.dump(1);
+    EXPECT_EQ(e["first_recording"], 7);
+    EXPECT_EQ(e["confirmed_recording"], 8);
+  }
+  EXPECT_EQ(confirmed, 1u) << h["events"].dump(1);
+}
