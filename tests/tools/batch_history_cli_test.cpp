@@ -19,6 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using cli_test::run;
+using cli_test::run_mpi;
 using cli_test::scratch;
 using nlohmann::json;
 
@@ -422,4 +423,16 @@ TEST(BatchHistory, EachRecordingIsComparedWithTheReferenceAtItsOwnSpeed) {
     EXPECT_EQ(e["confirmed_recording"], 8);
   }
   EXPECT_EQ(confirmed, 1u) << h["events"].dump(1);
+  // Under MPI (the reference, then the later recordings, then those analysed again, each round
+  // split across the ranks): the same bytes.
+  const std::string mpirun = GEARDIAG_MPIRUN;
+  if (mpirun.empty()) return;
+  const fs::path mpi_js = scratch("batch_history", "bands_mpi.json");
+  const auto m =
+      run_mpi("batch" + given + " --healthy-first 4 -o " +
+              scratch("batch_history", "bands_mpi.csv").string() + " --json " + mpi_js.string());
+  ASSERT_EQ(m.code, 0) << m.out;
+  std::ifstream a(js), b(mpi_js);
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(a), {}),
+            std::string(std::istreambuf_iterator<char>(b), {}));
 }

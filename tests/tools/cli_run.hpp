@@ -36,6 +36,16 @@ inline Run run(const std::string& args, int kill_after_s = 0) {
   return run_command(prefix + std::string(GEARDIAG_BINARY) + " " + args + " 2>&1");
 }
 
+// geardiag under `mpirun -np 2` (GEARDIAG_MPIRUN; the caller skips when it is empty). As root
+// OpenMPI needs --allow-run-as-root. Leak detection is off for it: OpenMPI's start-up leaks by
+// design, which LeakSanitizer would report in the sanitizer build.
+inline Run run_mpi(const std::string& args) {
+  return run_command("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " +
+                     std::string(GEARDIAG_MPIRUN) + " -np 2 --oversubscribe " +
+                     (::geteuid() == 0 ? "--allow-run-as-root " : "") + GEARDIAG_BINARY + " " +
+                     args + " 2>&1");
+}
+
 // A file in a per-process folder under $GEARDIAG_TMP (set by CTest) or the system temp folder;
 // the folders are removed when the test process exits.
 inline std::filesystem::path scratch(const std::string& prefix, const std::string& name) {

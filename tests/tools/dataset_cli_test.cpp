@@ -23,6 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using cli_test::run;
+using cli_test::run_mpi;
 using cli_test::slurp;
 using cli_test::write_text;
 
@@ -48,16 +49,6 @@ fs::path write_spec(const std::string& name, int seed = 42, const std::string& e
  "noise_m_per_s2": [0, 0.05], "accuracy_grade": [5, 7], "runout_um": [0, 10], )"
                       << extra << R"( "classes": )" << classes << "}";
   return spec;
-}
-
-// geardiag under `mpirun -np 2` (GEARDIAG_MPIRUN; the caller skips when it is empty). As root
-// OpenMPI needs --allow-run-as-root. Leak detection is off for it: OpenMPI's start-up leaks by
-// design, which LeakSanitizer would report in the sanitizer build.
-cli_test::Run run_mpi(const std::string& args) {
-  return cli_test::run_command("ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\" " +
-                               std::string(GEARDIAG_MPIRUN) + " -np 2 --oversubscribe " +
-                               (::geteuid() == 0 ? "--allow-run-as-root " : "") + GEARDIAG_BINARY +
-                               " " + args + " 2>&1");
 }
 
 // A reference dataset made once with one thread.
