@@ -23,9 +23,10 @@ struct BatchRequest {
   std::string gearbox;                 // --gearbox (empty: each file's own description)
   ChannelOptions channels;
   std::optional<double> fs;
-  std::string reports;   // --reports: the folder of every recording's own HTML report
-  int jobs = 1;          // worker threads of this process (resolved)
-  bool progress = true;  // a progress line on a terminal
+  std::string reports;       // --reports: the folder of every recording's own HTML report
+  std::string load_channel;  // --load: a channel whose RMS is the machine's load
+  int jobs = 1;              // worker threads of this process (resolved)
+  bool progress = true;      // a progress line on a terminal
 };
 
 struct BatchResult {

@@ -168,7 +168,8 @@ struct Inputs {
   std::optional<detect::RecordingInput> gear_baseline;
   ChannelOptions channels;
   std::optional<double> fs;
-  std::string reports;  // --reports: the folder of every recording's own HTML report
+  std::string reports;       // --reports: the folder of every recording's own HTML report
+  std::string load_channel;  // --load: a channel whose RMS is the machine's load
 };
 
 // The name of recording `index`'s report in --reports: its position (so that two files of one
@@ -215,6 +216,7 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
     request.options.traces = !in.reports.empty();   // the report's plots
     request.average_spectra = !in.reports.empty();  // only the reports show spectra
     request.gear_baseline = in.gear_baseline;
+    request.load_channel = in.load_channel;
     std::string gear_baseline_error;
     const detect::FileAnalysis a = [&] {
       if (!request.gear_baseline) return detect::analyze_file(request);
@@ -255,6 +257,9 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
     for (const auto& [name, value] : detect::features(r)) features[name] = value;
     for (const auto& [name, value] : history_indicators(r)) features[name] = value;
     row["features"] = features;
+    if (!in.load_channel.empty() && features.contains(in.load_channel + "/rms")) {
+      row["load"] = features[in.load_channel + "/rms"];  // its operating state's load
+    }
     if (!in.reports.empty()) {  // the page `geardiag analyze --html` writes, at once (memory flat)
       report::HtmlReportOptions ho;
       ho.source = fs::path(file).filename().string();
@@ -620,67 +625,126 @@ void confirm_events(std::vector<json>& rows, const std::vector<bool>& reference,
 }
 
 // A history's operating states: the reference's speeds grouped into bands (sorted, a new band
-// where the next speed lies more than 2 kComparableSpeed above the band's last), each band the
-// reference of the later recordings whose speed lies within it widened by kComparableSpeed (a
-// recording outside every band is not comparable). Without speeds (no description), one band of
-// every reference recording, which every recording is compared with.
+// where the next speed lies more than 2 kComparableSpeed above the band's last), and within each,
+// with a load channel (--load), its loads the same way (kComparableLoad, on the channel's RMS);
+// each band the reference of the later recordings whose speed and load lie within it, widened by
+// kComparableSpeed and kComparableLoad (a recording outside every band is not comparable).
+// Without speeds (no description), one band of every reference recording.
 constexpr double kComparableSpeed = 0.05;
+constexpr double kComparableLoad = 0.10;
 
-struct SpeedBand {
-  double lo = 0, hi = 0;             // [rpm]; 0, 0 without speeds
+struct OperatingBand {
+  double lo = 0, hi = 0;             // speed [rpm]; 0, 0 without speeds
+  double load_lo = 0, load_hi = 0;   // the load channel's RMS; 0, 0 without a load channel
   std::vector<std::size_t> members;  // reference rows, in time order
 };
 
-std::vector<SpeedBand> speed_bands(const std::vector<json>& rows,
-                                   const std::vector<bool>& reference) {
+std::optional<double> row_value(const json& row, const char* key) {
+  if (!row.contains(key) || !row[key].is_number()) return std::nullopt;
+  return row[key].get<double>();
+}
+
+// `items` (value, row) grouped where the sorted values step by more than 2 `tolerance`.
+std::vector<std::vector<std::pair<double, std::size_t>>> group_by(
+    std::vector<std::pair<double, std::size_t>> items, double tolerance) {
+  std::sort(items.begin(), items.end());
+  std::vector<std::vector<std::pair<double, std::size_t>>> groups;
+  for (const auto& item : items) {
+    if (groups.empty() || item.first > groups.back().back().first * (1 + 2 * tolerance)) {
+      groups.emplace_back();
+    }
+    groups.back().push_back(item);
+  }
+  return groups;
+}
+
+std::vector<OperatingBand> operating_bands(const std::vector<json>& rows,
+                                           const std::vector<bool>& reference) {
   std::vector<std::pair<double, std::size_t>> speeds;
   std::vector<std::size_t> all;
   for (std::size_t i = 0; i < rows.size() && i < reference.size(); ++i) {
     if (!reference[i]) continue;
     all.push_back(i);
-    if (rows[i].contains("speed_rpm")) speeds.emplace_back(rows[i]["speed_rpm"].get<double>(), i);
+    if (const auto v = row_value(rows[i], "speed_rpm")) speeds.emplace_back(*v, i);
   }
-  if (speeds.empty()) return {SpeedBand{0, 0, all}};
-  std::sort(speeds.begin(), speeds.end());
-  std::vector<SpeedBand> bands;
-  for (const auto& [v, i] : speeds) {
-    if (bands.empty() || v > bands.back().hi * (1 + 2 * kComparableSpeed)) {
-      bands.push_back({v, v, {}});
+  std::vector<std::vector<std::pair<double, std::size_t>>> by_speed;
+  if (speeds.empty()) {
+    by_speed.emplace_back();
+    for (std::size_t i : all) by_speed.back().emplace_back(0.0, i);
+  } else {
+    by_speed = group_by(speeds, kComparableSpeed);
+  }
+  std::vector<OperatingBand> bands;
+  for (const auto& group : by_speed) {
+    std::vector<std::pair<double, std::size_t>> loads;
+    for (const auto& [v, i] : group) {
+      if (const auto l = row_value(rows[i], "load")) loads.emplace_back(*l, i);
     }
-    bands.back().hi = v;
-    bands.back().members.push_back(i);
+    if (loads.size() != group.size()) {  // not every recording has the load: speed only
+      loads.clear();
+      for (const auto& [v, i] : group) loads.emplace_back(0.0, i);
+    }
+    for (const auto& by_load : group_by(loads, kComparableLoad)) {
+      OperatingBand b;
+      b.lo = std::numeric_limits<double>::infinity();
+      b.load_lo = b.lo;
+      for (const auto& [l, i] : by_load) {
+        const double v = row_value(rows[i], "speed_rpm").value_or(0.0);
+        b.lo = std::min(b.lo, v);
+        b.hi = std::max(b.hi, v);
+        b.load_lo = std::min(b.load_lo, l);
+        b.load_hi = std::max(b.load_hi, l);
+        b.members.push_back(i);
+      }
+      std::sort(b.members.begin(), b.members.end());
+      bands.push_back(std::move(b));
+    }
   }
-  for (SpeedBand& b : bands) std::sort(b.members.begin(), b.members.end());
   return bands;
 }
 
-// The band of a recording at `rpm`, or -1 when it lies outside every band (widened by
-// kComparableSpeed); band 0 when the bands have no speeds.
-int band_of(const std::vector<SpeedBand>& bands, std::optional<double> rpm) {
-  if ((bands.size() == 1 && bands[0].hi == 0) || !rpm) return 0;  // compared as it is
+// The band of a recording at `rpm` and `load`, or -1 when it lies outside every band (widened by
+// kComparableSpeed and kComparableLoad). An unknown speed or load, or bands without one, match.
+int band_of(const std::vector<OperatingBand>& bands, std::optional<double> rpm,
+            std::optional<double> load) {
   for (std::size_t b = 0; b < bands.size(); ++b) {
-    if (*rpm >= bands[b].lo * (1 - kComparableSpeed) &&
-        *rpm <= bands[b].hi * (1 + kComparableSpeed)) {
-      return static_cast<int>(b);
-    }
+    const OperatingBand& o = bands[b];
+    const bool speed_ok =
+        o.hi == 0 || !rpm ||
+        (*rpm >= o.lo * (1 - kComparableSpeed) && *rpm <= o.hi * (1 + kComparableSpeed));
+    const bool load_ok =
+        o.load_hi == 0 || !load ||
+        (*load >= o.load_lo * (1 - kComparableLoad) && *load <= o.load_hi * (1 + kComparableLoad));
+    if (speed_ok && load_ok) return static_cast<int>(b);
   }
   return -1;
 }
 
-std::optional<double> row_speed(const json& row) {
-  if (!row.contains("speed_rpm")) return std::nullopt;
-  return row["speed_rpm"].get<double>();
+int band_of(const std::vector<OperatingBand>& bands, const json& row) {
+  return band_of(bands, row_value(row, "speed_rpm"), row_value(row, "load"));
+}
+
+// "1500-1510 rpm", with " at load 120-131" when the band has one.
+std::string describe(const OperatingBand& b) {
+  std::string out = b.hi > 0 ? diag::format_significant(b.lo, 5) + "-" +
+                                   diag::format_significant(b.hi, 5) + " rpm"
+                             : std::string("any speed");
+  if (b.load_hi > 0) {
+    out += " at load " + diag::format_significant(b.load_lo, 4) + "-" +
+           diag::format_significant(b.load_hi, 4);
+  }
+  return out;
 }
 
 // The history's verdicts on the rows (in time order; `reference`: the healthy reference's rows;
-// `bands`: speed_bands of them): a later recording whose speed lies outside every band is "not
+// `bands`: operating_bands of them): a later recording whose state lies outside every band is "not
 // comparable": what compares it with the reference (the anomaly score, its alarm and the wear
 // of each mesh) is taken out of its row, never read against the wrong state. A damaged-shaft
 // finding within its band's own scores is withheld (withhold_within_reference). Then the events:
 // each distinct finding of the later comparable recordings, with the recordings that show it,
 // confirmed or not (confirm_events). Returns the notes.
 std::vector<std::string> judge_history(std::vector<json>& rows, const std::vector<bool>& reference,
-                                       const std::vector<SpeedBand>& bands, json& events) {
+                                       const std::vector<OperatingBand>& bands, json& events) {
   std::vector<std::string> notes;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     rows[i]["index"] = i;
@@ -688,25 +752,28 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
     rows[i]["reference"] = true;
     if (rows[i]["status"] == "ok") rows[i]["status"] = "reference";
   }
-  const bool speeds = !(bands.size() == 1 && bands[0].hi == 0);
+  const bool states = !(bands.size() == 1 && bands[0].hi == 0 && bands[0].load_hi == 0);
   std::string ranges;
-  for (const SpeedBand& b : bands) {
-    ranges += (ranges.empty() ? "" : ", ") + diag::format_significant(b.lo, 5) + "-" +
-              diag::format_significant(b.hi, 5) + " rpm";
-  }
-  if (!speeds) {
+  for (const OperatingBand& b : bands) ranges += (ranges.empty() ? "" : "; ") + describe(b);
+  if (!states) {
     notes.push_back(
         "no speed known for the reference (no description): every recording is "
         "compared with it");
-  } else if (bands.size() == 1) {
+  } else if (bands.size() == 1 && bands[0].load_hi == 0) {
     notes.push_back("the reference runs at " + ranges + ": a recording outside " +
                     diag::format_significant(bands[0].lo * (1 - kComparableSpeed), 5) + "-" +
                     diag::format_significant(bands[0].hi * (1 + kComparableSpeed), 5) +
                     " rpm is not comparable");
   } else {
-    notes.push_back("the reference runs at " + std::to_string(bands.size()) + " speeds (" + ranges +
-                    "): each later recording is compared with the reference recordings of its "
-                    "speed (within 5 %), one outside every one is not comparable");
+    bool loads = false;
+    for (const OperatingBand& b : bands) loads = loads || b.load_hi > 0;
+    notes.push_back("the reference runs " +
+                    (loads ? "in " + std::to_string(bands.size()) + " operating states ("
+                           : "at " + std::to_string(bands.size()) + " speeds (") +
+                    ranges +
+                    "): each later recording is compared with the reference recordings of its " +
+                    (loads ? "state (speed within 5 %, load within 10 %)" : "speed (within 5 %)") +
+                    ", one outside every one is not comparable");
   }
   std::vector<std::map<std::string, double>> ref_scores;
   for (std::size_t b = 0; b < bands.size(); ++b) {
@@ -718,9 +785,7 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
     }
     notes.push_back(
         "the damaged-shaft locator's largest scores in the reference" +
-        (bands.size() > 1 ? " at " + diag::format_significant(bands[b].lo, 5) + "-" +
-                                diag::format_significant(bands[b].hi, 5) + " rpm"
-                          : std::string()) +
+        (bands.size() > 1 ? " at " + describe(bands[b]) : std::string()) +
         " (score: against its first recording; score_alone: each recording alone): " + list +
         "; a later recording's gear damage on a shaft stands when one of its scores exceeds " +
         diag::format_significant(kReferenceScoreMargin, 3) + " x these");
@@ -729,14 +794,19 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
   for (std::size_t i = 0; i < rows.size(); ++i) {
     json& row = rows[i];
     if (reference[i] || row["status"] != "ok") continue;
-    const int b = band_of(bands, row_speed(row));
+    const int b = band_of(bands, row);
     if (b >= 0) {
       row["band"] = b;
       withhold_within_reference(row, ref_scores[static_cast<std::size_t>(b)]);
     } else {
       row["status"] = "not comparable";
-      row["error"] = "its speed, " + diag::format_significant(*row_speed(row), 5) +
-                     " rpm, is outside the reference's (" + ranges + "): not compared with it";
+      const auto v = row_value(row, "speed_rpm");
+      const auto l = row_value(row, "load");
+      std::string state =
+          "its operating state (" +
+          (v ? diag::format_significant(*v, 5) + " rpm" : std::string("speed unknown")) +
+          (l ? " at load " + diag::format_significant(*l, 4) : std::string()) + ")";
+      row["error"] = state + " is outside the reference's (" + ranges + "): not compared with it";
       for (const char* k : {"anomaly_score", "alarm", "alarm_threshold"}) row.erase(k);
       json kept = json::array();
       for (const json& f : row["finding_list"]) {
@@ -764,6 +834,17 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
         json point = {{"recording", i}, {"confidence", f.value("confidence", 0.0)}};
         if (row.contains("anomaly_score") && f.value("kind", "") == "baseline") {
           point["anomaly_score"] = row["anomaly_score"];
+        }
+        // The indicator behind it: the locator's scores of the shaft, a mesh's growth [dB].
+        if (f.value("kind", "") == "gear_damage") {
+          const json features = row.value("features", json::object());
+          for (const char* which : {"score", "score_alone"}) {
+            const std::string key = "gear_damage/" + f.value("shaft", "") + "/" + which;
+            if (features.contains(key)) point[which] = features[key];
+          }
+        }
+        if (f.contains("evidence") && f["evidence"].contains("growth_db")) {
+          point["growth_db"] = f["evidence"]["growth_db"];
         }
         e["trend"].push_back(point);
       }
@@ -802,6 +883,7 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   in.channels = request.channels;
   in.fs = request.fs;
   in.reports = request.reports;
+  in.load_channel = request.load_channel;
   // A history: the recordings in time order, the reference first.
   const bool history = healthy_first != 0 || !healthy.empty();
   out.history = history;
@@ -909,14 +991,14 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     return out;
   }
   // A history: the reference first, each of its recordings against the whole reference; its
-  // speeds give the operating states (speed_bands), known to every rank.
+  // speeds (and loads) give the operating states (operating_bands), known to every rank.
   const std::vector<std::size_t> ref_rows(all.begin(), all.begin() + baselines.size());
   const std::vector<std::size_t> later(all.begin() + baselines.size(), all.end());
   analyse_rows(ref_rows, every);
   std::string speeds = json(out.rows).dump();
   world.broadcast(speeds);
-  std::vector<SpeedBand> bands =
-      speed_bands(json::parse(speeds).get<std::vector<json>>(), reference);
+  std::vector<OperatingBand> bands =
+      operating_bands(json::parse(speeds).get<std::vector<json>>(), reference);
   // Each band is the reference of the recordings at its speed: its recordings the baseline, its
   // first the gear baseline.
   std::vector<Inputs> band_in(bands.size(), in);
@@ -942,7 +1024,7 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     if (world.root()) {
       json redo = json::array();
       for (std::size_t i : later) {
-        const int b = band_of(bands, row_speed(out.rows[i]));
+        const int b = band_of(bands, out.rows[i]);
         if (b > 0) redo.push_back({i, b});
       }
       again = redo.dump();
@@ -1007,6 +1089,9 @@ int cmd_batch(int argc, char** argv) {
       "a history: these recordings are the healthy reference")(
       "trend", po::value(&trend)->multitoken(),
       "indicators to trend (default: rms and kurtosis of the first sensor channel)")(
+      "load", po::value(&request.load_channel),
+      "a channel whose RMS level is the machine's load (a torque, a motor current): a history's "
+      "reference is learned per speed and load, a long log's frames cut where it steps")(
       "reports", po::value(&request.reports),
       "a folder for each recording's own HTML report (as analyze --html), linked from --html")(
       "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT")(

@@ -436,3 +436,43 @@ TEST(BatchHistory, EachRecordingIsComparedWithTheReferenceAtItsOwnSpeed) {
   EXPECT_EQ(std::string(std::istreambuf_iterator<char>(a), {}),
             std::string(std::istreambuf_iterator<char>(b), {}));
 }
+
+// A machine at two loads (30 and 60 N m at 2000 rpm), with its mesh force as the load channel
+// (--load): the reference is learned per load, the healthy later recordings at either load raise
+// nothing against their own load's recordings, and one at 45 N m is not comparable (it lies in
+// neither band), said so.
+TEST(BatchHistory, WithALoadChannelEachLoadHasItsOwnReference) {
+  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json";
+  const std::vector<int> torques = {30, 60, 30, 60, 30, 60, 45};
+  std::string given;
+  for (std::size_t i = 0; i < torques.size(); ++i) {
+    const fs::path sc = scratch("batch_history", "loads" + std::to_string(i) + ".json");
+    std::ofstream(sc) << R"({"accuracy_grade": 6, "seed": 5, "torque_nm": )" << torques[i]
+                      << R"(, "sensors": {"noise_m_per_s2": 0.5, "noise_seed": )" << 60 + i << "}}";
+    const fs::path f =
+        scratch("batch_history", "2026-02-0" + std::to_string(i + 1) + "_08-00-00_loads.h5");
+    const auto s = run("simulate --gearbox " + gb + " --scenario " + sc.string() +
+                       " --rpm 2000 --duration 1.0 --fs 10000 -o " + f.string());
+    ASSERT_EQ(s.code, 0) << s.out;
+    given += " " + f.string();
+  }
+  const fs::path js = scratch("batch_history", "loads.json");
+  const auto r = run("batch" + given + " --healthy-first 4 --load z1_z2_force -o " +
+                     scratch("batch_history", "loads.csv").string() + " --json " + js.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("2 operating states"), std::string::npos) << r.out;
+  const json h = read_json(js);
+  const json& recs = h["recordings"];
+  ASSERT_EQ(recs.size(), torques.size());
+  for (std::size_t i = 4; i < 6; ++i) {
+    EXPECT_EQ(recs[i]["status"], "ok") << i;
+    EXPECT_EQ(recs[i]["band"], torques[i] == 30 ? 0 : 1) << i;
+    EXPECT_EQ(recs[i]["alarm"], 0) << recs[i]["anomaly_score"];
+    EXPECT_TRUE(recs[i]["findings"].empty()) << recs[i]["findings"].dump(1);
+  }
+  EXPECT_EQ(recs[6]["status"], "not comparable");
+  EXPECT_NE(recs[6]["error"].get<std::string>().find("at load"), std::string::npos)
+      << recs[6]["error"];
+  EXPECT_FALSE(recs[6].contains("anomaly_score"));
+  EXPECT_TRUE(h["events"].empty()) << h["events"].dump(1);
+}
