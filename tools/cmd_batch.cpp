@@ -548,6 +548,7 @@ std::map<std::string, double> reference_locator_scores(const std::vector<json>& 
     for (const auto& [name, v] : features.items()) {
       if (!name.starts_with("gear_damage/")) continue;
       const std::string key = name.substr(12);  // "<shaft>/score" or "<shaft>/score_alone"
+      if (std::count(key.begin(), key.end(), '/') != 1) continue;  // a gear's own score
       const bool alone = key.ends_with("/score_alone");
       if (!alone && (!key.ends_with("/score") || m == 0)) continue;
       out[key] = std::max(out.count(key) ? out[key] : 0.0, v.get<double>());
