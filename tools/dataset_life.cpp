@@ -54,6 +54,11 @@ void parse_life(const diag::Fields& top, DatasetSpec& s) {
   }
   life.interval_h = f.has("interval_h") ? f.positive("interval_h") : 24.0;
   if (life.interval_h > 1e6) f.fail("interval_h", "must be <= 1e6 h");
+  // The dates must stay four-digit years, which the times sort by as text.
+  if (epoch_s(life.start) + life.interval_h * 3600.0 * (life.recordings - 1) >
+      epoch_s("9999-12-31T23:59:59")) {
+    f.fail("interval_h", "the last recording would fall after the year 9999");
+  }
   for (const char* key : {"speed_jitter", "torque_jitter"}) {
     double& v = std::string(key) == "speed_jitter" ? life.speed_jitter : life.torque_jitter;
     v = f.has(key) ? f.num(key) : 0.0;

@@ -326,6 +326,26 @@ TEST(DatasetLife, OneGearboxsDatedRecordingsAndAFaultThatGrows) {
       run("dataset " + bad.string() + " -o " + scratch("batch_history", "life_bad").string());
   EXPECT_EQ(refused.code, 2) << refused.out;
   EXPECT_NE(refused.out.find("life.onset"), std::string::npos) << refused.out;
+  // And the other fields, each named.
+  const std::vector<std::pair<std::string, std::string>> bad_lives = {
+      {R"("recordings": 1)", "life.recordings"},
+      {R"("recordings": 5, "reference": 5)", "life.reference"},
+      {R"("recordings": 5, "start": "2026-02-30T00:00:00")", "life.start"},
+      {R"("recordings": 5, "interval_h": 0)", "life.interval_h"},
+      {R"("recordings": 100000, "interval_h": 1000000)", "life.interval_h"},
+      {R"("recordings": 5, "torque_jitter": 0.7)", "life.torque_jitter"},
+      {R"("recordings": 5, "every": 2)", "life.every"}};
+  for (const auto& [life, field] : bad_lives) {
+    std::ofstream(bad) << R"({"gearbox": ")" << gb << R"(", "seed": 1, "recordings_per_class": 1,
+        "duration_s": 0.05, "fs_hz": 10000, "operating_points": {"speed_rpm": 2000,
+        "torque_nm": 50}, "life": {)"
+                       << life << R"(}, "classes": [{"name": "healthy"}]})";
+    const auto r2 =
+        run("dataset " + bad.string() + " -o " + scratch("batch_history", "life_bad").string());
+    EXPECT_EQ(r2.code, 2) << life << ": " << r2.out;
+    EXPECT_NE(r2.out.find(field), std::string::npos) << life << ": " << r2.out;
+  }
+  EXPECT_FALSE(fs::exists(scratch("batch_history", "life_bad") / "manifest.csv"));
 }
 
 // The closed loop of a machine's life, through the command users run (validate --history runs
