@@ -1072,9 +1072,10 @@ int cmd_batch(int argc, char** argv) {
       "--list: one file per line (relative to the list's folder; '#' comments).\n"
       "A history (--healthy-first K or --healthy): the recordings in time order (the file's\n"
       "time, else a date in its name, else the order given), the first K (or the --healthy\n"
-      "files) the machine's healthy reference; every later recording compared with it (not\n"
-      "comparable outside the reference's speeds); --json: the recordings and the events (each\n"
-      "distinct finding with the recordings that show it).\n\noptions");
+      "files) the machine's healthy reference, learned per speed (and per load with --load);\n"
+      "every later recording compared with the reference of its own speed (not comparable\n"
+      "outside every one); an event is a finding two successive recordings show; --json: the\n"
+      "recordings and the events (confirmed, pending or unconfirmed).\n\noptions");
   desc.add_options()("help,h", "this help")("files", po::value(&files)->multitoken(), "recordings")(
       "list", po::value(&list), "a file listing the recordings, one per line")(
       "gearbox", po::value(&request.gearbox),

@@ -104,10 +104,10 @@ int validate_history(int argc, char** argv) {
       "geardiag validate --history DIR [--healthy-first K] [--json OUT.json] [--jobs N]\n\n"
       "Runs every life history of DIR (made by geardiag dataset with a `life` block) through\n"
       "`geardiag batch --healthy-first K` (K: the dataset's reference recordings) and compares\n"
-      "with the truth: per history the detection delay after the fault's onset (recordings),\n"
-      "the fault's size when detected, the shaft and gear named (right / silent / wrong), and\n"
-      "the findings on healthy recordings after the reference (false alarms); per class the\n"
-      "rates.\n\noptions");
+      "its events (confirmed by two successive recordings) with the truth: per history the\n"
+      "detection delay after the fault's onset (recordings), the fault's size when detected,\n"
+      "the shaft and gear named (right / silent / wrong), and the events confirmed on healthy\n"
+      "recordings (false alarms); per class the rates.\n\noptions");
   desc.add_options()("help,h", "this help")("history", po::value(&dir)->required(),
                                             "a life dataset's folder")(
       "healthy-first", po::value(&healthy_first)->default_value(0),

@@ -346,6 +346,10 @@ TEST(DatasetLife, OneGearboxsDatedRecordingsAndAFaultThatGrows) {
     EXPECT_NE(r2.out.find(field), std::string::npos) << life << ": " << r2.out;
   }
   EXPECT_FALSE(fs::exists(scratch("batch_history", "life_bad") / "manifest.csv"));
+  // --help is the help, even where an option would take it as its value.
+  const auto help = run("validate --history --help");
+  EXPECT_EQ(help.code, 0) << help.out;
+  EXPECT_NE(help.out.find("geardiag validate --history DIR"), std::string::npos) << help.out;
 }
 
 // The closed loop of a machine's life, through the command users run (validate --history runs
