@@ -305,8 +305,10 @@ std::string table_csv(const std::vector<json>& rows, const std::set<std::string>
   return out.str();
 }
 
-// The trend page: one plot per chosen indicator and one of the anomaly score with the alarm
-// threshold, against the recording's position in the table (the files' order).
+// The trend page: one plot per chosen indicator, then (from what the rows hold) the damaged-shaft
+// locator's scores per shaft, the wear growth per mesh, the bearing lines per bearing and the
+// anomaly score, each with its thresholds and the events marked; against the dates of a dated
+// history, else the recording's position in the table. Then the events and the recordings.
 // `page_dir`: the page's folder, from which the links to the recordings' reports are made.
 // `gate`: a history's locator gates (reference_locator_scores x kReferenceScoreMargin).
 std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
@@ -528,8 +530,8 @@ std::string event_key(const json& f) {
 // exceeds kReferenceScoreMargin x the largest of the same score over the reference (the
 // comparison's over the reference after its first, which is the gear baseline itself); else it is
 // withheld, and its row says why. Distribution-free, a healthy recording scores above the largest
-// of n healthy scores with probability at most 1/(n + 1); the margin (tuned on life histories,
-// docs/cli/batch.md) takes the rate further down.
+// of n healthy scores with probability at most 1/(n + 1); the margin takes the rate further down
+// (chosen beforehand, checked on the development life histories: docs/validation.md).
 constexpr double kReferenceScoreMargin = 1.5;
 
 // The largest locator score per "<shaft>/score" and "<shaft>/score_alone" over a band's

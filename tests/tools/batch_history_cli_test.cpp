@@ -239,6 +239,27 @@ fs::path life_dataset(const std::string& name, bool tachos) {
   return dir;
 }
 
+// A recording of the three-shaft box with grade-6 gears (seed 5: the same gears every time) and
+// 0.5 m/s^2 of sensor noise of its own (`noise_seed`), by `geardiag simulate` with `more`
+// scenario fields, named with the date 2026-01-<day> so that a history orders it.
+fs::path dated_recording(const std::string& name, int day, int noise_seed, const std::string& more,
+                         int rpm, double duration_s) {
+  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json";
+  const std::string stem = name + std::to_string(day);
+  const fs::path sc = scratch("batch_history", stem + ".json");
+  std::ofstream(sc) << R"({"accuracy_grade": 6, "seed": 5, "sensors": {"noise_m_per_s2": 0.5,
+      "noise_seed": )"
+                    << noise_seed << "}" << more << "}";
+  const fs::path f =
+      scratch("batch_history", "2026-01-" + std::string(day < 10 ? "0" : "") + std::to_string(day) +
+                                   "_08-00-00_" + name + ".h5");
+  const auto s = run("simulate --gearbox " + gb + " --scenario " + sc.string() + " --rpm " +
+                     std::to_string(rpm) + " --duration " + std::to_string(duration_s) +
+                     " --fs 10000 -o " + f.string());
+  EXPECT_EQ(s.code, 0) << s.out;
+  return f;
+}
+
 std::vector<json> manifest(const fs::path& dir) {
   std::vector<json> rows;
   std::ifstream in(dir / "manifest.jsonl");
@@ -390,7 +411,6 @@ TEST(BatchHistory, ALifeHistoryFindsTheChipWithinTwoRecordingsWithOrWithoutATach
 // comparable (never scored against either); a 1.5 mm chip on z3 that appears at 2000 rpm and
 // stays is an event confirmed by the next recording judged, at 1500 rpm, on the counter shaft.
 TEST(BatchHistory, EachRecordingIsComparedWithTheReferenceAtItsOwnSpeed) {
-  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json";
   struct Run {
     int rpm;
     bool chip;
@@ -400,19 +420,11 @@ TEST(BatchHistory, EachRecordingIsComparedWithTheReferenceAtItsOwnSpeed) {
                                  {1500, true},  {2000, true}};
   std::string given;
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const fs::path sc = scratch("batch_history", "bands" + std::to_string(i) + ".json");
-    std::ofstream(sc) << R"({"accuracy_grade": 6, "seed": 5, "sensors": {"noise_m_per_s2": 0.5,
-        "noise_seed": )"
-                      << 40 + i << "}"
-                      << (runs[i].chip ? R"(, "faults": [{"gear": "z3", "tooth": 5, "type": "chip",
-                                          "size_mm": 1.5}])"
-                                       : "")
-                      << "}";
-    const fs::path f = scratch("batch_history", "2026-01-" + std::string(i < 9 ? "0" : "") +
-                                                    std::to_string(i + 1) + "_08-00-00_bands.h5");
-    const auto s = run("simulate --gearbox " + gb + " --scenario " + sc.string() + " --rpm " +
-                       std::to_string(runs[i].rpm) + " --duration 1.5 --fs 10000 -o " + f.string());
-    ASSERT_EQ(s.code, 0) << s.out;
+    const fs::path f = dated_recording(
+        "bands", static_cast<int>(i) + 1, 40 + static_cast<int>(i),
+        runs[i].chip ? R"(, "faults": [{"gear": "z3", "tooth": 5, "type": "chip", "size_mm": 1.5}])"
+                     : "",
+        runs[i].rpm, 1.5);
     given = " " + f.string() + given;  // given newest first
   }
   const fs::path js = scratch("batch_history", "bands.json");
@@ -466,19 +478,12 @@ TEST(BatchHistory, EachRecordingIsComparedWithTheReferenceAtItsOwnSpeed) {
 // nothing against their own load's recordings, and one at 45 N m is not comparable (it lies in
 // neither band), said so.
 TEST(BatchHistory, WithALoadChannelEachLoadHasItsOwnReference) {
-  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json";
   const std::vector<int> torques = {30, 60, 30, 60, 30, 60, 45};
   std::string given;
   for (std::size_t i = 0; i < torques.size(); ++i) {
-    const fs::path sc = scratch("batch_history", "loads" + std::to_string(i) + ".json");
-    std::ofstream(sc) << R"({"accuracy_grade": 6, "seed": 5, "torque_nm": )" << torques[i]
-                      << R"(, "sensors": {"noise_m_per_s2": 0.5, "noise_seed": )" << 60 + i << "}}";
-    const fs::path f =
-        scratch("batch_history", "2026-02-0" + std::to_string(i + 1) + "_08-00-00_loads.h5");
-    const auto s = run("simulate --gearbox " + gb + " --scenario " + sc.string() +
-                       " --rpm 2000 --duration 1.0 --fs 10000 -o " + f.string());
-    ASSERT_EQ(s.code, 0) << s.out;
-    given += " " + f.string();
+    given += " " + dated_recording("loads", static_cast<int>(i) + 1, 60 + static_cast<int>(i),
+                                   R"(, "torque_nm": )" + std::to_string(torques[i]), 2000, 1.0)
+                       .string();
   }
   const fs::path js = scratch("batch_history", "loads.json");
   const auto r = run("batch" + given + " --healthy-first 4 --load z1_z2_force -o " +

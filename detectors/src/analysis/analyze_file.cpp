@@ -223,13 +223,6 @@ constexpr std::size_t kMinStatePoints = 16;  // speed points kept on each side o
 constexpr double kStepFraction = 0.02;
 constexpr double kSpliceFraction = 0.1;
 
-// The cuts of a speed profile: `rate` [rev/s] at times `t` (increasing), `partial` marking the
-// points that are no speed of the shaft (a tacho's partial revolution). At each point the speed
-// fitted over the kStatePoints whole points before it and the kStatePoints after it (straight
-// lines: a run-up's steady ramp is no change) are compared where they meet; more than
-// kStepFraction apart is a speed step (a load or set-point change). A partial point where they
-// agree is a splice. A cut leaves at least kMinStatePoints points on each side; the strongest
-// cuts are kept first. `name` says whose speed it is in the reasons.
 // What a profile is of: its name in a cut's words, the factor from the profile's values to the
 // unit said, the unit, and the relative step that cuts.
 struct ProfileKind {
@@ -239,6 +232,13 @@ struct ProfileKind {
   double step_fraction = kStepFraction;
 };
 
+// The cuts of a profile (a speed's unless `kind` says otherwise): `rate` [rev/s] at times `t`
+// (increasing), `partial` marking the points that are no speed of the shaft (a tacho's partial
+// revolution). At each point the speed fitted over the kStatePoints whole points before it and the
+// kStatePoints after it (straight lines: a run-up's steady ramp is no change) are compared where
+// they meet; more than kStepFraction apart is a speed step (a load or set-point change). A partial
+// point where they agree is a splice. A cut leaves at least kMinStatePoints points on each side;
+// the strongest cuts are kept first. `name` says whose speed it is in the reasons.
 std::vector<StateCut> profile_cuts(const std::vector<double>& t, const std::vector<double>& rate,
                                    const std::vector<char>& partial, double t0,
                                    const std::string& name, const ProfileKind& kind = {}) {
@@ -360,8 +360,7 @@ std::vector<StateCut> load_cuts(const diag::Recording& frame, const std::string&
   if (load == nullptr) {
     std::string names;
     for (const diag::Signal& s : frame.signals) names += (names.empty() ? "" : ", ") + s.name;
-    throw diag::InputError("load channel '" + channel + "': the recording has no such channel (" +
-                           names + ")");
+    throw diag::InputError("no such channel (its channels: " + names + ")");
   }
   const auto per_window =
       static_cast<std::size_t>(std::max(1.0, std::ceil(kLoadWindowS * load->fs_hz)));
@@ -538,10 +537,6 @@ std::vector<StateCut> vibration_cuts(const diag::Recording& frame, const diag::G
   }
   return cuts;
 }
-
-}  // namespace
-
-namespace {
 
 // The gear baseline's revolution averages (--gear-baseline, a history's reference): from its
 // tacho as the locator takes them (gear_damage_baseline); a baseline without a tacho, from the
@@ -808,7 +803,14 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       cuts = vibration_cuts(rec, *at, t0, o);
     }
     if (!request.load_channel.empty()) {
-      const std::vector<StateCut> load = load_cuts(rec, request.load_channel, t0);  // checks it
+      const std::vector<StateCut> load = [&] {  // checks that the channel is there
+        try {
+          return load_cuts(rec, request.load_channel, t0);
+        } catch (const diag::InputError& e) {
+          throw diag::InputError("--load " + request.load_channel + ": " + out.source + ": " +
+                                 e.what());
+        }
+      }();
       if (!framed) {
         parts.push_back({std::move(rec), 0, std::numeric_limits<double>::infinity(), {}, 0});
         return parts;
