@@ -253,6 +253,10 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
       row["error"] =
           row.value("error", "") + (row.contains("error") ? "; " : "") + gear_baseline_error;
     }
+    for (const detect::ChannelAnalysis& c : r.channels) {  // for a history's bearing growth
+      for (const detect::BearingAnalysis& b : c.bearings)
+        row["bearing_shafts"][b.bearing] = b.shaft;
+    }
     json features = json::object();
     for (const auto& [name, value] : detect::features(r)) features[name] = value;
     for (const auto& [name, value] : history_indicators(r)) features[name] = value;
@@ -596,6 +600,112 @@ void withhold_within_reference(json& row, const std::map<std::string, double>& r
   row["findings"] = short_findings(kept);
 }
 
+// A history's bearings against the reference's own recordings. The bearing decision of one
+// recording can fire on a healthy machine: a bearing's fault frequency may sit on a shaft
+// harmonic of the gearbox (the counter bearing's BPFO within 1 % of twice the input speed in a
+// two-stage box), or a line may stand out by chance. Such a finding shows in the reference too.
+// So, per band:
+//  - a later recording's bearing finding (bearing, fault) that the band's reference also gave
+//    stands only when its score exceeds the reference's largest score of the same finding by
+//    kBearingMarginDb; else it is withheld, its row says why. A finding the reference never gave
+//    stands as it is.
+//  - a fault family's envelope line ("bearing/<bearing>/<BPFO|BPFI|BSF>_db", history_indicators)
+//    that stands kBearingGrowthDb over the reference's largest of the same line is a finding of
+//    its own (growth), where the recording's decision gave none for that bearing and fault. The
+//    cage line (FTF) is left out: it also rises with a ball fault, whose load zone it modulates.
+// Distribution-free, a healthy recording exceeds the largest of n healthy values with probability
+// at most 1/(n + 1); the margins (chosen beforehand: 3 dB, twice the power; 6 dB, four times)
+// take the rate further down, and an event needs two successive recordings (confirm_events). On
+// the development life histories no healthy line rose more than 5 dB over its reference
+// (docs/validation.md).
+constexpr double kBearingMarginDb = 3.0;
+constexpr double kBearingGrowthDb = 6.0;
+
+struct ReferenceBearings {
+  std::map<std::string, double> finding_db;  // "<bearing>|<fault>": largest score_db
+  std::map<std::string, double> line_db;     // "bearing/<bearing>/<FAM>_db": largest
+};
+
+ReferenceBearings reference_bearings(const std::vector<json>& rows,
+                                     const std::vector<std::size_t>& members) {
+  ReferenceBearings out;
+  for (std::size_t m : members) {
+    const json& row = rows[m];
+    if (row.value("status", "") == "error") continue;
+    for (const json& f : row.value("finding_list", json::array())) {
+      if (f.value("kind", "") != "bearing") continue;
+      const std::string key = f.value("bearing", "") + "|" + f.value("fault", "");
+      const double db = f.value("score_db", 0.0);
+      out.finding_db[key] = std::max(out.finding_db.count(key) ? out.finding_db[key] : db, db);
+    }
+    const json features = row.value("features", json::object());
+    for (const auto& [name, v] : features.items()) {
+      if (!name.starts_with("bearing/") || !v.is_number()) continue;
+      const double db = v.get<double>();
+      out.line_db[name] = std::max(out.line_db.count(name) ? out.line_db[name] : db, db);
+    }
+  }
+  return out;
+}
+
+void judge_bearings(json& row, const ReferenceBearings& ref) {
+  json kept = json::array();
+  std::set<std::string> standing;  // "<bearing>|<fault>" of the findings that stand
+  for (const json& f : row.value("finding_list", json::array())) {
+    if (f.value("kind", "") != "bearing") {
+      kept.push_back(f);
+      continue;
+    }
+    const std::string key = f.value("bearing", "") + "|" + f.value("fault", "");
+    const auto it = ref.finding_db.find(key);
+    const double db = f.value("score_db", 0.0);
+    if (it == ref.finding_db.end() || db > it->second + kBearingMarginDb) {
+      kept.push_back(f);
+      standing.insert(key);
+      continue;
+    }
+    row["withheld"].push_back(
+        {{"finding", short_findings(json::array({f}))},
+         {"reason", "the healthy reference gave the same finding, scoring up to " +
+                        diag::format_significant(it->second, 3) + " dB; this recording " +
+                        diag::format_significant(db, 3) + " dB, not " +
+                        diag::format_significant(kBearingMarginDb, 2) + " dB more"}});
+  }
+  static const std::map<std::string, std::string> kFault = {
+      {"BPFO", "outer_race"}, {"BPFI", "inner_race"}, {"BSF", "rolling_element"}};
+  const json shafts = row.value("bearing_shafts", json::object());
+  const json features = row.value("features", json::object());
+  for (const auto& [name, v] : features.items()) {
+    if (!name.starts_with("bearing/") || !v.is_number()) continue;
+    const auto it = ref.line_db.find(name);
+    if (it == ref.line_db.end()) continue;
+    const std::string rest = name.substr(8);  // "<bearing>/<FAM>_db"
+    const std::string bearing = rest.substr(0, rest.rfind('/'));
+    const std::string family = rest.substr(rest.rfind('/') + 1, rest.size() - rest.rfind('/') - 4);
+    const auto fault = kFault.find(family);
+    const double growth = v.get<double>() - it->second;
+    if (fault == kFault.end() || growth <= kBearingGrowthDb ||
+        standing.count(bearing + "|" + fault->second)) {
+      continue;
+    }
+    json f = {{"kind", "bearing"},
+              {"fault", fault->second},
+              {"bearing", bearing},
+              {"confidence", std::min(1.0, growth / (2 * kBearingGrowthDb))},
+              {"score_db", v.get<double>()},
+              {"evidence",
+               {{"growth_db", growth}, {"line_db", v.get<double>()}, {"reference_db", it->second}}},
+              {"note", "the " + family + " lines of " + bearing + " stand " +
+                           diag::format_significant(growth, 3) +
+                           " dB over the healthy reference's largest (" +
+                           diag::format_significant(it->second, 3) + " dB over the local floor)"}};
+    if (shafts.contains(bearing)) f["shaft"] = shafts[bearing];
+    kept.push_back(f);
+  }
+  row["finding_list"] = kept;
+  row["findings"] = short_findings(kept);
+}
+
 // An event is confirmed when two successive recordings judged against the reference (status ok:
 // the not comparable and failed ones are passed over) show it: one recording alone can be an
 // outlier of a healthy machine (the damaged-shaft locator's comparison scored 23-35 on healthy
@@ -793,6 +903,8 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
         "; a later recording's gear damage on a shaft stands when one of its scores exceeds " +
         diag::format_significant(kReferenceScoreMargin, 3) + " x these");
   }
+  std::vector<ReferenceBearings> ref_bearings;
+  for (const OperatingBand& b : bands) ref_bearings.push_back(reference_bearings(rows, b.members));
   std::map<std::string, std::size_t> index;
   for (std::size_t i = 0; i < rows.size(); ++i) {
     json& row = rows[i];
@@ -801,6 +913,7 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
     if (b >= 0) {
       row["band"] = b;
       withhold_within_reference(row, ref_scores[static_cast<std::size_t>(b)]);
+      judge_bearings(row, ref_bearings[static_cast<std::size_t>(b)]);
     } else {
       row["status"] = "not comparable";
       const auto v = row_value(row, "speed_rpm");
@@ -849,12 +962,16 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
         if (f.contains("evidence") && f["evidence"].contains("growth_db")) {
           point["growth_db"] = f["evidence"]["growth_db"];
         }
+        if (f.value("kind", "") == "bearing" && f.contains("score_db")) {
+          point["score_db"] = f["score_db"];
+        }
         e["trend"].push_back(point);
       }
       e["last_recording"] = i;
     }
   }
   confirm_events(rows, reference, events);
+  for (json& row : rows) row.erase("bearing_shafts");
   return notes;
 }
 
@@ -991,6 +1108,7 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   std::iota(all.begin(), all.end(), std::size_t{0});
   if (!history) {
     analyse_rows(all, every);
+    for (json& row : out.rows) row.erase("bearing_shafts");  // only a history's judgement reads it
     return out;
   }
   // A history: the reference first, each of its recordings against the whole reference; its

@@ -105,6 +105,10 @@ void live(const DatasetSpec& s, const DatasetClass& cls, DrawnRecording& r) {
   for (std::size_t i = 0; i < r.faults.size(); ++i) {
     const DatasetFault& f = cls.faults[i];
     DrawnFault& d = r.faults[i];
+    if (d.type == "bearing") {
+      d.amplitude = round4(f.amplitude.lo + g * (f.amplitude.hi - f.amplitude.lo));
+      continue;
+    }
     if (d.type != "missing" && d.type != "wear") {
       d.size_mm = round4(f.size_mm.lo + g * (f.size_mm.hi - f.size_mm.lo));
     }

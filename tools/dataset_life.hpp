@@ -4,9 +4,10 @@
 // pitch errors and operating point, drawn once per history), each with its own sensor noise and a
 // small jitter of speed and torque, taken `interval_h` apart. A class's faults start at a drawn
 // step (`onset`) and grow linearly with the step: each size range [lo, hi] of the fault (crack
-// depth_mm, chip size_mm, spall length_mm and depth_um, wear depth_um) is lo at the onset and hi
-// at the history's last recording. The first `reference` recordings of every history are
-// healthy: the reference a monitoring system learns the machine from.
+// depth_mm, chip size_mm, spall length_mm and depth_um, wear depth_um, a bearing defect's
+// amplitude_m_per_s2) is lo at the onset and hi at the history's last recording. The first
+// `reference` recordings of every history are healthy: the reference a monitoring system learns the
+// machine from.
 //
 // Spec block (JSON, unknown fields refused):
 //   life {recordings      integer >= 2, per history

@@ -132,7 +132,50 @@ std::vector<std::string> parse_gearbox_paths(const diag::Fields& f) {
 
 namespace {
 
+// A name, an array of names or "any" (empty: any) of field `key`.
+std::vector<std::string> names_or_any(const diag::Fields& f, const char* key, const char* what) {
+  std::vector<std::string> out;
+  if (!f.has(key))
+    f.fail(key, std::string("required: a ") + what + ", an array of them or \"any\"");
+  const json& g = f.raw(key);
+  if (g.is_string() && g.get<std::string>() == "any") return out;
+  if (g.is_string()) return {g.get<std::string>()};
+  if (!g.is_array() || g.empty()) {
+    f.fail(key, std::string("must be a ") + what + ", a non-empty array of them or \"any\"");
+  }
+  for (const json& name : g) {
+    if (!name.is_string()) f.fail(key, "an array holds only strings");
+    out.push_back(name.get<std::string>());
+  }
+  return out;
+}
+
+// {"type": "bearing", "bearing", "fault", "amplitude_m_per_s2", "resonance_hz"}.
+DatasetFault parse_bearing_fault(const json& j, const std::string& where, const std::string& path) {
+  const diag::Fields f(j, where, path,
+                       {"type", "bearing", "fault", "amplitude_m_per_s2", "resonance_hz"});
+  DatasetFault d;
+  d.type = "bearing";
+  d.bearings = names_or_any(f, "bearing", "bearing name");
+  d.bearing_faults = names_or_any(f, "fault", "bearing fault");
+  for (const std::string& k : d.bearing_faults) {
+    if (k != "outer_race" && k != "inner_race" && k != "rolling_element" && k != "cage") {
+      f.fail("fault", "'" + k + "' is not outer_race, inner_race, rolling_element or cage");
+    }
+  }
+  if (d.bearing_faults.empty()) d.bearing_faults = {"outer_race", "inner_race", "rolling_element"};
+  if (!f.has("amplitude_m_per_s2")) {
+    f.fail("amplitude_m_per_s2", "required number or range is missing");
+  }
+  d.amplitude = parse_range(f, "amplitude_m_per_s2", 0, 1e6, true);
+  if (f.has("resonance_hz")) d.resonance_hz = parse_range(f, "resonance_hz", 0, 1e6, true);
+  return d;
+}
+
 DatasetFault parse_fault(const json& j, const std::string& where, const std::string& path) {
+  if (j.is_object() && j.value("type", json()) == "bearing") {
+    return parse_bearing_fault(j, where, path);
+  }
   const diag::Fields f(j, where, path,
                        {"type", "gear", "tooth", "depth_mm", "size_mm", "length_mm", "depth_um",
                         "position_mm", "width_fraction"});
@@ -147,7 +190,7 @@ DatasetFault parse_fault(const json& j, const std::string& where, const std::str
       {"wear", {"depth_um"}}};  // worn flanks of the gear's mesh (scenario faults[] type wear)
   const auto it = fields.find(d.type);
   if (it == fields.end())
-    f.fail("type", "'" + d.type + "' is not crack, chip, missing, spall or wear");
+    f.fail("type", "'" + d.type + "' is not crack, chip, missing, spall, wear or bearing");
   for (const char* key : {"depth_mm", "size_mm", "length_mm", "depth_um", "position_mm"}) {
     if (f.has(key) && !it->second.count(key)) {
       f.fail(key, "is not a field of a " + d.type + " fault");
@@ -200,6 +243,13 @@ const std::set<std::string> kDrawnScenarioFields = {
     "speed", "torque_nm", "faults", "accuracy_grade", "runout_um", "duration_s", "fs_hz", "seed"};
 
 json fault_json(const DrawnFault& f) {
+  if (f.type == "bearing") {
+    return {{"type", f.type},
+            {"bearing", f.bearing},
+            {"fault", f.bearing_fault},
+            {"amplitude_m_per_s2", f.amplitude},
+            {"resonance_hz", f.resonance_hz}};
+  }
   if (f.type == "wear") return {{"type", f.type}, {"gear", f.gear}, {"depth_um", f.depth_um}};
   json j = {{"type", f.type}, {"gear", f.gear}, {"tooth", f.tooth}};
   if (f.type == "crack") j["depth_mm"] = f.size_mm;
@@ -260,6 +310,59 @@ std::vector<int> candidate_gears(const DatasetFault& f, const diag::Gearbox& gb)
   return out;
 }
 
+// The bearings a bearing fault may land on in gearbox `gb`: those named, else every bearing of
+// the description at a simulator bearing location (<shaft>_bearing1 or _bearing2 of its shaft).
+std::vector<int> candidate_bearings(const DatasetFault& f, const diag::Gearbox& gb) {
+  std::vector<int> out;
+  for (std::size_t b = 0; b < gb.bearings().size(); ++b) {
+    const diag::BearingSpec& spec = gb.bearings()[b];
+    const bool listed =
+        f.bearings.empty()
+            ? spec.name == spec.shaft + "_bearing1" || spec.name == spec.shaft + "_bearing2"
+            : std::find(f.bearings.begin(), f.bearings.end(), spec.name) != f.bearings.end();
+    if (listed) out.push_back(static_cast<int>(b));
+  }
+  return out;
+}
+
+// A bearing fault's bearings exist in every gearbox, and sit where the simulator has
+// accelerometers; its ring lies below 0.45 fs.
+void check_bearing_fault(const DatasetSpec& s, const DatasetFault& f, const std::string& field) {
+  const std::string where = s.file.string();
+  if (!(f.resonance_hz.hi < 0.45 * s.fs_hz)) {
+    diag::fail(where, field + ".resonance_hz",
+               diag::format_significant(f.resonance_hz.hi, 6) + " Hz is not below 0.45 fs = " +
+                   diag::format_significant(0.45 * s.fs_hz, 6) + " Hz");
+  }
+  for (std::size_t b = 0; b < s.gearboxes.size(); ++b) {
+    const diag::Gearbox& gb = s.gearboxes[b];
+    std::string list;
+    for (const auto& spec : gb.bearings()) list += (list.empty() ? "" : ", ") + spec.name;
+    for (const std::string& name : f.bearings) {
+      const auto it = std::find_if(gb.bearings().begin(), gb.bearings().end(),
+                                   [&](const diag::BearingSpec& x) { return x.name == name; });
+      if (it == gb.bearings().end()) {
+        diag::fail(where, field + ".bearing",
+                   "'" + name + "' is not a bearing of " + s.gearbox_paths[b] + " (" +
+                       (list.empty() ? "it lists none" : list) + ")");
+      }
+      if (name != it->shaft + "_bearing1" && name != it->shaft + "_bearing2") {
+        diag::fail(where, field + ".bearing",
+                   "'" + name + "' of " + s.gearbox_paths[b] +
+                       " is not at a simulator bearing location (the simulator's accelerometers "
+                       "are at <shaft>_bearing1 and <shaft>_bearing2: name it " +
+                       it->shaft + "_bearing1 or " + it->shaft + "_bearing2)");
+      }
+    }
+    if (candidate_bearings(f, gb).empty()) {
+      diag::fail(where, field + ".bearing",
+                 "\"any\": " + s.gearbox_paths[b] +
+                     " has no bearing at a simulator bearing location (<shaft>_bearing1 or "
+                     "<shaft>_bearing2)");
+    }
+  }
+}
+
 // Everything the simulator would refuse about a class, found before anything is written: each
 // fault at its largest size, on every gear it may land on, at the highest speed and torque.
 void check_classes(const DatasetSpec& s) {
@@ -268,6 +371,10 @@ void check_classes(const DatasetSpec& s) {
     for (std::size_t i = 0; i < s.classes[c].faults.size(); ++i) {
       const DatasetFault& f = s.classes[c].faults[i];
       const std::string field = indexed("classes", c) + "." + indexed("faults", i);
+      if (f.type == "bearing") {
+        check_bearing_fault(s, f, field);
+        continue;
+      }
       for (std::size_t b = 0; b < s.gearboxes.size(); ++b) {
         const diag::Gearbox& gb = s.gearboxes[b];
         for (const std::string& name : f.gears) {
@@ -285,16 +392,16 @@ void check_classes(const DatasetSpec& s) {
                        std::to_string(f.tooth.hi) + " is not a tooth of gear '" +
                            gb.gears()[g].name + "' (0.." + std::to_string(teeth - 1) + ")");
           }
-          DrawnFault d{f.type,
-                       gb.gears()[g].name,
-                       "",
-                       f.any_tooth ? 0 : f.tooth.lo,
-                       f.size_mm.hi,
-                       f.depth_um.hi,
-                       f.position_mm.hi,
-                       f.width_fraction.hi,
-                       true,
-                       f.has_position};
+          DrawnFault d;
+          d.type = f.type;
+          d.gear = gb.gears()[g].name;
+          d.tooth = f.any_tooth ? 0 : f.tooth.lo;
+          d.size_mm = f.size_mm.hi;
+          d.depth_um = f.depth_um.hi;
+          d.position_mm = f.position_mm.hi;
+          d.width_fraction = f.width_fraction.hi;
+          d.has_depth = true;
+          d.has_position = f.has_position;
           const json sc =
               scenario_json(s, s.speed_rpm.hi, s.torque_nm.hi, s.oil_c.hi, 0, 0, 0, 1, {d});
           try {
@@ -550,6 +657,7 @@ class DynamicDataset final : public DatasetSimulator {
       if (!cf.raw("faults").is_array()) cf.fail("faults", "must be an array");
       for (std::size_t i = 0; i < cf.raw("faults").size(); ++i) {
         cls.faults.push_back(parse_fault(cf.raw("faults")[i], where, cf.sub(indexed("faults", i))));
+        if (cls.faults.back().type == "bearing") s.bearing_faults = true;
       }
     });
     parse_life(f, s);
@@ -570,6 +678,20 @@ class DynamicDataset final : public DatasetSimulator {
     r.grade = rng.draw(s.grade);
     r.runout_um = rng.draw(s.runout_um);
     for (const DatasetFault& f : cls.faults) {
+      if (f.type == "bearing") {  // four draws: the bearing, its fault, amplitude, resonance
+        const std::vector<int> bearings = candidate_bearings(f, gb);
+        const diag::BearingSpec& spec =
+            gb.bearings()[static_cast<std::size_t>(bearings[rng.pick(bearings.size())])];
+        DrawnFault d;
+        d.type = f.type;
+        d.bearing = spec.name;
+        d.shaft = spec.shaft;
+        d.bearing_fault = f.bearing_faults[rng.pick(f.bearing_faults.size())];
+        d.amplitude = rng.draw(f.amplitude);
+        d.resonance_hz = rng.draw(f.resonance_hz);
+        r.faults.push_back(d);
+        continue;
+      }
       const std::vector<int> gears = candidate_gears(f, gb);
       const int g = gears[rng.pick(gears.size())];
       DrawnFault d;
@@ -626,6 +748,13 @@ class DynamicDataset final : public DatasetSimulator {
         cols.push_back("fault" + std::to_string(i) + "_" + field);
       }
     }
+    if (s.bearing_faults) {  // only then, so that other datasets' manifests stay as they were
+      for (std::size_t i = 1; i <= s.max_faults; ++i) {
+        for (const char* field : {"bearing", "bearing_fault", "amplitude_m_per_s2"}) {
+          cols.push_back("fault" + std::to_string(i) + "_" + field);
+        }
+      }
+    }
     if (!s.sensor_sets.empty()) cols.push_back("sensor_set");
     if (s.life) {
       for (const char* c :
@@ -657,14 +786,21 @@ class DynamicDataset final : public DatasetSimulator {
       const std::string p = "fault" + std::to_string(i + 1) + "_";
       const DrawnFault* f = i < r.faults.size() ? &r.faults[i] : nullptr;
       row[p + "type"] = f ? json(f->type) : json(nullptr);
-      row[p + "gear"] = f ? json(f->gear) : json(nullptr);
       row[p + "shaft"] = f ? json(f->shaft) : json(nullptr);
-      row[p + "tooth"] = f && f->type != "wear" ? json(f->tooth) : json(nullptr);
+      const bool tooth = f && f->type != "bearing";
+      row[p + "gear"] = tooth ? json(f->gear) : json(nullptr);
+      row[p + "tooth"] = tooth && f->type != "wear" ? json(f->tooth) : json(nullptr);
       row[p + "size_mm"] =
-          f && f->type != "missing" && f->type != "wear" ? json(f->size_mm) : json(nullptr);
+          tooth && f->type != "missing" && f->type != "wear" ? json(f->size_mm) : json(nullptr);
       row[p + "depth_um"] = f && f->has_depth ? json(f->depth_um) : json(nullptr);
       row[p + "position_mm"] = f && f->has_position ? json(f->position_mm) : json(nullptr);
-      row[p + "width_fraction"] = f ? json(f->width_fraction) : json(nullptr);
+      row[p + "width_fraction"] = tooth ? json(f->width_fraction) : json(nullptr);
+      if (s.bearing_faults) {
+        const bool bearing = f && f->type == "bearing";
+        row[p + "bearing"] = bearing ? json(f->bearing) : json(nullptr);
+        row[p + "bearing_fault"] = bearing ? json(f->bearing_fault) : json(nullptr);
+        row[p + "amplitude_m_per_s2"] = bearing ? json(f->amplitude) : json(nullptr);
+      }
     }
     if (r.sensor_set >= 0)
       row["sensor_set"] = s.sensor_sets[static_cast<std::size_t>(r.sensor_set)].name;

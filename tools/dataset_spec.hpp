@@ -19,6 +19,10 @@
 //                        tooth: an integer, [lo, hi] or "any" (default)
 //                        type wear: depth_um only, the deepest worn point of the gear's mesh
 //                        (scenario faults[] type wear; no tooth)
+//                        type bearing: {bearing, fault, amplitude_m_per_s2, resonance_hz}:
+//                        bearing a name, array or "any" (the gearbox's bearings named as the
+//                        simulator's bearing locations, <shaft>_bearing1|2); fault outer_race,
+//                        inner_race, rolling_element, an array of them or "any" (the three)
 //   simulator            "dynamic" (default: the fields above), "kinematic" (seed 003) or
 //                        "face_gear" (seed 002; implied by a face-gear gearbox): their fields in
 //                        tools/dataset_modes.hpp
@@ -65,6 +69,12 @@ struct DatasetFault {
   bool has_position = false;
   Range position_mm;  // spall only, optional
   Range width_fraction{1, 1};
+  // type bearing: a localized defect of a rolling bearing (the scenario's faults[] type bearing,
+  // sim::BearingFault); the bearing and its fault drawn among those listed (empty: any bearing
+  // of the gearbox at a simulator bearing location; any of outer race, inner race, ball).
+  std::vector<std::string> bearings, bearing_faults;
+  Range amplitude{0, 0};           // amplitude_m_per_s2: one impact's ring at full load
+  Range resonance_hz{3000, 3000};  // the ring's frequency [Hz]
 };
 
 // A sporadic tooth defect of a kinematic class (seed 003; dataset_modes.cpp): on a power-path
@@ -154,6 +164,7 @@ struct DatasetSpec {
   std::vector<std::string> warnings;   // printed by the command (e.g. too few revolutions)
   std::vector<SensorSet> sensor_sets;  // empty: every channel the simulator writes
   std::optional<LifeSettings> life;    // life histories (dynamic datasets)
+  bool bearing_faults = false;         // a class has a bearing fault: the manifest's columns
 };
 
 struct DrawnFault {
@@ -161,6 +172,8 @@ struct DrawnFault {
   int tooth = 0;
   double size_mm = 0, depth_um = 0, position_mm = 0, width_fraction = 1;
   bool has_depth = false, has_position = false;
+  std::string bearing, bearing_fault;  // type bearing: where, and outer_race / inner_race / ...
+  double amplitude = 0, resonance_hz = 0;
 };
 
 struct DrawnDefect {

@@ -36,19 +36,29 @@ namespace {
 using nlohmann::json;
 
 // The fault's size in a manifest row: crack depth, chip size or spall length [mm], wear depth
-// [um]; NaN for none (a missing tooth, or a healthy row).
+// [um], a bearing defect's impact amplitude [m/s^2]; NaN for none (a missing tooth, or a healthy
+// row).
 double fault_size(const json& row) {
   const std::string type = row.value("fault1_type", json()).is_string()
                                ? row["fault1_type"].get<std::string>()
                                : std::string();
-  const char* key = type == "wear" ? "fault1_depth_um" : "fault1_size_mm";
+  const char* key = type == "wear"      ? "fault1_depth_um"
+                    : type == "bearing" ? "fault1_amplitude_m_per_s2"
+                                        : "fault1_size_mm";
   if (type.empty() || type == "missing" || !row.contains(key) || !row[key].is_number()) {
     return std::nan("");
   }
   return row[key].get<double>();
 }
 
-std::string size_unit(const std::string& type) { return type == "wear" ? "um" : "mm"; }
+std::string size_unit(const std::string& type) {
+  return type == "wear" ? "um" : type == "bearing" ? "m/s^2" : "mm";
+}
+
+// A manifest row's string field, "" when absent or null.
+std::string text(const json& row, const char* key) {
+  return row.contains(key) && row[key].is_string() ? row[key].get<std::string>() : std::string();
+}
 
 // A recording's claims: its findings (the one Finding form; the baseline alarm is one of them).
 bool claims(const json& row) {
@@ -173,14 +183,16 @@ int validate_history(int argc, char** argv) {
     // The truth: the class, the fault's onset, type, gear and shaft.
     const std::string cls = first["class"].get<std::string>();
     int onset = -1;
-    std::string type, gear, shaft;
+    std::string type, gear, shaft, bearing, bearing_fault;
     for (std::size_t m : members) {
       const json& r = rows[m];
       if (r.value("faults", 0) > 0 && onset < 0) {
         onset = r.value("step", 0);
-        type = r.value("fault1_type", "");
-        gear = r.value("fault1_gear", "");
-        shaft = r.value("fault1_shaft", "");
+        type = text(r, "fault1_type");
+        gear = text(r, "fault1_gear");
+        shaft = text(r, "fault1_shaft");
+        bearing = text(r, "fault1_bearing");
+        bearing_fault = text(r, "fault1_bearing_fault");
       }
     }
     if (!classes.count(cls)) class_order.push_back(cls);
@@ -193,7 +205,13 @@ int validate_history(int argc, char** argv) {
                {"recordings", members.size()},
                {"notes", batch.notes}};
     if (onset >= 0) {
-      hj["fault"] = {{"type", type}, {"gear", gear}, {"shaft", shaft}, {"onset_step", onset}};
+      hj["fault"] = {{"type", type}, {"shaft", shaft}, {"onset_step", onset}};
+      if (type == "bearing") {
+        hj["fault"]["bearing"] = bearing;
+        hj["fault"]["fault"] = bearing_fault;
+      } else {
+        hj["fault"]["gear"] = gear;
+      }
     }
     json fa = json::array();
     bool detected = false;
@@ -272,6 +290,15 @@ int validate_history(int argc, char** argv) {
                                   : e->contains("bearing") ? "bearing"
                                                            : "";
         if (place.empty()) continue;
+        if (type == "bearing") {  // right when it names the bearing; the family in the next column
+          if (e->value("bearing", "") == bearing) {
+            where = "right";
+            which = e->value("fault", "") == bearing_fault ? "right" : "wrong";
+          } else if (where != "right") {
+            where = "wrong";
+          }
+          continue;
+        }
         // A mesh's finding (wear) names the pinion's shaft and both gears: right when the true
         // gear is among them.
         const json gears = e->value("gears", json::array());
@@ -312,7 +339,7 @@ int validate_history(int argc, char** argv) {
   out << std::left << std::setw(16) << "class" << std::setw(11) << "histories" << std::setw(10)
       << "detected" << std::setw(16) << "delay med/max" << std::setw(18) << "size at detection"
       << std::setw(28) << "shaft right/silent/wrong"
-      << "gear right/either/wrong\n";
+      << "gear (bearing: fault) right/either/wrong\n";
   json summary = json::object();
   for (const std::string& c : class_order) {
     ClassTally& t = classes[c];

@@ -102,12 +102,10 @@ void BearingSignalOptions::validate() const {
                 "must be finite and >= 0");
 }
 
-BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
-                                      const BearingSignalOptions& opt) {
+std::vector<double> bearing_fault_samples(const diag::BearingSpec& bearing,
+                                          const BearingSignalOptions& opt, int& impacts) {
   opt.validate();
-  BearingSignal out;
-  out.rates = diag::bearing_rates(bearing, opt.shaft_hz, kWhere);
-  const BearingRates& r = out.rates;
+  const BearingRates r = diag::bearing_rates(bearing, opt.shaft_hz, kWhere);
   const double fs = opt.fs_hz;
   const auto n = static_cast<std::size_t>(std::llround(opt.duration_s * fs));
   diag::require(n >= 16, kWhere, "duration_s", "gives fewer than 16 samples");
@@ -115,12 +113,14 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
   const double slip = 1 - opt.mean_slip;
   const double eps = opt.load_zone_factor, a = opt.impact_amplitude;
 
-  // Independent streams per purpose, so that changing e.g. the noise does not move the impacts.
+  // Independent streams per purpose, so that changing e.g. the noise does not move the impacts
+  // (simulate_bearing_signal draws the noise and the interference's phases from the others).
   std::mt19937_64 rng_impacts(opt.seed * 4 + 0), rng_phase(opt.seed * 4 + 1),
-      rng_noise(opt.seed * 4 + 2), rng_track(opt.seed * 4 + 3);
+      rng_track(opt.seed * 4 + 3);
   std::uniform_real_distribution<double> uphase(0.0, kTwoPi);
   const double phi0 = uphase(rng_phase);  // defect's angle at t = 0 (inner race, ball, cage)
 
+  impacts = 0;
   std::vector<double> fault(n, 0.0);
   switch (opt.fault) {
     case BearingFaultKind::kNone:
@@ -129,7 +129,7 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
       const double q = load(opt.defect_angle_rad, eps);
       for (double t : impact_times(r.bpfo_hz * slip, opt.jitter, opt.duration_s, rng_impacts)) {
         add_ring(fault, fs, t, a * q, wn, zeta);
-        ++out.impacts;
+        ++impacts;
       }
       break;
     }
@@ -137,7 +137,7 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
       const double fr = r.shaft_hz;  // the inner race turns with the shaft: no slip
       for (double t : impact_times(r.bpfi_hz * slip, opt.jitter, opt.duration_s, rng_impacts)) {
         add_ring(fault, fs, t, a * load(kTwoPi * fr * t + phi0, eps), wn, zeta);
-        ++out.impacts;
+        ++impacts;
       }
       break;
     }
@@ -157,7 +157,7 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
         const double g = (strike++ % 2 == 0) ? 1.0 : opt.inner_strike_gain;
         if (!track[std::min(k, track.size() - 1)]) continue;
         add_ring(fault, fs, t, a * g * load(kTwoPi * fc * t + phi0, eps), wn, zeta);
-        ++out.impacts;
+        ++impacts;
       }
       break;
     }
@@ -182,6 +182,23 @@ BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
       break;
     }
   }
+  return fault;
+}
+
+BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
+                                      const BearingSignalOptions& opt) {
+  BearingSignal out;
+  const std::vector<double> fault = bearing_fault_samples(bearing, opt, out.impacts);
+  out.rates = diag::bearing_rates(bearing, opt.shaft_hz, kWhere);
+  const BearingRates& r = out.rates;
+  const double fs = opt.fs_hz;
+  const std::size_t n = fault.size();
+  const double wn = kTwoPi * opt.resonance_hz, zeta = opt.damping_ratio;
+  const double slip = 1 - opt.mean_slip;
+  const double a = opt.impact_amplitude;
+  std::mt19937_64 rng_phase(opt.seed * 4 + 1), rng_noise(opt.seed * 4 + 2);
+  std::uniform_real_distribution<double> uphase(0.0, kTwoPi);
+  uphase(rng_phase);  // the defect's phase, drawn by bearing_fault_samples
 
   double p_fault = 0;
   for (double v : fault) p_fault += v * v;

@@ -1,5 +1,6 @@
 #include "sim/dynamics/scenario.hpp"
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -74,7 +75,8 @@ GearFault parse_fault(const json& j, const std::string& where, const std::string
     if (!f.has("profile")) f.fail("profile", "required for type profile");
     g.profile_json = f.raw("profile").dump();
   } else {
-    f.fail("type", "'" + type + "' is not one of crack, chip, missing, spall, profile, wear");
+    f.fail("type",
+           "'" + type + "' is not one of crack, chip, missing, spall, profile, wear, bearing");
   }
   return g;
 }
@@ -106,6 +108,39 @@ MeshWear parse_wear(const json& j, const std::string& where, const std::string& 
     if (w.steps < 1 || w.steps > 1000) f.fail("steps", "must be in [1, 1000]");
   }
   return w;
+}
+
+// {"type": "bearing", "bearing": NAME, "fault": "outer_race" | "inner_race" |
+//  "rolling_element" | "cage", "amplitude_m_per_s2": A, "resonance_hz", "damping_ratio",
+//  "mean_slip", "jitter"}: a localized bearing defect (sim::BearingFault).
+BearingFault parse_bearing_fault(const json& j, const std::string& where, const std::string& path) {
+  diag::Fields f(j, where, path,
+                 {"type", "bearing", "fault", "amplitude_m_per_s2", "resonance_hz", "damping_ratio",
+                  "mean_slip", "jitter"});
+  BearingFault b;
+  b.bearing = f.str("bearing");
+  const std::string kind = f.str("fault");
+  if (kind == "outer_race") {
+    b.kind = BearingFaultKind::kOuterRace;
+  } else if (kind == "inner_race") {
+    b.kind = BearingFaultKind::kInnerRace;
+  } else if (kind == "rolling_element") {
+    b.kind = BearingFaultKind::kRollingElement;
+  } else if (kind == "cage") {
+    b.kind = BearingFaultKind::kCage;
+  } else {
+    f.fail("fault", "'" + kind + "' is not outer_race, inner_race, rolling_element or cage");
+  }
+  b.amplitude_m_per_s2 = f.positive("amplitude_m_per_s2");
+  if (!(b.amplitude_m_per_s2 <= 1e6)) f.fail("amplitude_m_per_s2", "must be <= 1e6 m/s^2");
+  b.resonance_hz = f.positive("resonance_hz", b.resonance_hz);
+  b.damping_ratio = f.positive("damping_ratio", b.damping_ratio);
+  if (!(b.damping_ratio <= 0.5)) f.fail("damping_ratio", "must be in (0, 0.5]");
+  b.mean_slip = f.num("mean_slip", b.mean_slip);
+  if (!(std::abs(b.mean_slip) <= 0.05)) f.fail("mean_slip", "must be in [-0.05, 0.05]");
+  b.jitter = f.non_negative("jitter", b.jitter);
+  if (!(b.jitter <= 0.1)) f.fail("jitter", "must be in [0, 0.1]");
+  return b;
 }
 
 }  // namespace
@@ -197,6 +232,8 @@ Scenario parse_scenario(const json& j, const std::string& where) {
     for (std::size_t i = 0; i < arr.size(); ++i) {
       if (arr[i].is_object() && arr[i].value("type", json()) == "wear") {
         d.wear.push_back(parse_wear(arr[i], where, indexed("faults", i)));
+      } else if (arr[i].is_object() && arr[i].value("type", json()) == "bearing") {
+        r.bearing_faults.push_back(parse_bearing_fault(arr[i], where, indexed("faults", i)));
       } else {
         d.faults.push_back(parse_fault(arr[i], where, indexed("faults", i)));
       }

@@ -411,11 +411,104 @@ std::vector<Channel> assemble_channels(const std::vector<ChannelPlan>& plans,
   return channels;
 }
 
+// RunOptions::bearing_faults resolved against the gearbox and the channel plan before the run
+// (so that a bad one is refused before the integration), then each defect's impacts added to the
+// accelerometers at its bearing. What the truth records of each: the bearing's shaft and rate,
+// the impacts.
+struct AppliedBearingFault {
+  const BearingFault* fault = nullptr;
+  const diag::BearingSpec* spec = nullptr;
+  std::string shaft;
+  double shaft_hz = 0, fault_rms = 0;
+  int impacts = 0;
+  BearingSignalOptions options;  // the impacts' model; duration set from the recorded window
+};
+
+std::vector<AppliedBearingFault> resolve_bearing_faults(const diag::Gearbox& gb,
+                                                        const DynamicsOptions& opt,
+                                                        const RunOptions& run,
+                                                        const std::vector<ChannelPlan>& plans) {
+  std::vector<AppliedBearingFault> out;
+  for (std::size_t i = 0; i < run.bearing_faults.size(); ++i) {
+    const BearingFault& f = run.bearing_faults[i];
+    const std::string where = "simulate: bearing_faults[" + std::to_string(i) + "]";
+    const auto spec = std::find_if(gb.bearings().begin(), gb.bearings().end(),
+                                   [&](const diag::BearingSpec& b) { return b.name == f.bearing; });
+    if (spec == gb.bearings().end()) {
+      throw diag::InputError(diag::format_error(
+          where, "bearing", "'" + f.bearing + "' is not a bearing of the gearbox description"));
+    }
+    if (opt.speed.min_rpm() != opt.speed.max_rpm()) {
+      throw diag::InputError(
+          diag::format_error(where, "bearing", "a bearing defect needs a constant speed"));
+    }
+    const bool sensed = std::any_of(plans.begin(), plans.end(), [&](const ChannelPlan& p) {
+      return p.source == Source::kAccel && p.channel.location == f.bearing;
+    });
+    if (!sensed) {
+      throw diag::InputError(diag::format_error(
+          where, "bearing",
+          "no accelerometer at '" + f.bearing + "' (the simulator's bearings are named " +
+              "<shaft>_bearing1 and <shaft>_bearing2, e.g. " + spec->shaft + "_bearing1)"));
+    }
+    AppliedBearingFault a;
+    a.fault = &f;
+    a.spec = &*spec;
+    a.shaft = spec->shaft;
+    a.shaft_hz =
+        std::abs(gb.shafts()[static_cast<std::size_t>(gb.shaft_index(spec->shaft))].speed_ratio) *
+        opt.speed.max_rpm() / 60.0;
+    BearingSignalOptions& o = a.options;
+    o.fs_hz = run.fs_hz;
+    o.duration_s = run.duration_s;
+    o.shaft_hz = a.shaft_hz;
+    o.fault = f.kind;
+    o.impact_amplitude = f.amplitude_m_per_s2;
+    o.resonance_hz = f.resonance_hz;
+    o.damping_ratio = f.damping_ratio;
+    o.mean_slip = f.mean_slip;
+    o.jitter = f.jitter;
+    // Its own stream, from the run's noise seed and the defect's index.
+    o.seed = (run.seed ^ (0x9E3779B97F4A7C15ULL * (i + 1))) % 1000000007ULL;
+    // The model's own checks (resonance below 0.45 fs, slip, geometry) before the run.
+    try {
+      o.validate();
+      diag::bearing_rates(*spec, a.shaft_hz);
+    } catch (const diag::InputError& e) {
+      throw diag::InputError(where + ": " + e.what());
+    }
+    out.push_back(a);
+  }
+  return out;
+}
+
+void add_bearing_faults(const RunOptions& run, std::vector<AppliedBearingFault>& faults,
+                        std::vector<Channel>& channels) {
+  for (AppliedBearingFault& a : faults) {
+    const BearingFault& f = *a.fault;
+    std::vector<Channel*> at;
+    for (Channel& c : channels) {
+      if (c.location == f.bearing && c.unit == "m/s^2") at.push_back(&c);
+    }
+    BearingSignalOptions o = a.options;
+    o.duration_s = static_cast<double>(at.front()->samples.size()) / run.fs_hz;
+    const std::vector<double> x = bearing_fault_samples(*a.spec, o, a.impacts);
+    double p = 0;
+    for (double v : x) p += v * v;
+    a.fault_rms = x.empty() ? 0.0 : std::sqrt(p / static_cast<double>(x.size()));
+    for (Channel* c : at) {
+      const std::size_t n = std::min(c->samples.size(), x.size());
+      for (std::size_t j = 0; j < n; ++j) c->samples[j] += x[j];
+    }
+  }
+}
+
 // The ground truth of a run (diag/io/truth.hpp): speeds, torques, defects, the model and its
 // integration, and the seeds that reproduce it.
 nlohmann::json dynamic_truth(const diag::Gearbox& gb, const GearboxModel& model,
                              const RunOptions& run, const StepPlan& steps,
-                             const std::vector<std::string>& warnings) {
+                             const std::vector<std::string>& warnings,
+                             const std::vector<AppliedBearingFault>& bearing_faults) {
   const DynamicsOptions& opt = model.options();
   const auto& [nat, w_in_max, h, D, delay_out, settle_out, n_out, first_push_step, total_steps] =
       steps;
@@ -443,7 +536,26 @@ nlohmann::json dynamic_truth(const diag::Gearbox& gb, const GearboxModel& model,
     }
     st.defects.push_back(std::move(d));
   }
+  nlohmann::json bearing_json = nlohmann::json::array();
+  for (const AppliedBearingFault& a : bearing_faults) {
+    diag::TruthDefect d;
+    d.kind = fault_kind(a.fault->kind);
+    d.bearing = a.fault->bearing;
+    d.shaft = a.shaft;
+    d.shaft_frequency_hz = a.shaft_hz;
+    st.defects.push_back(std::move(d));
+    bearing_json.push_back({{"bearing", a.fault->bearing},
+                            {"fault", to_string(a.fault->kind)},
+                            {"amplitude_m_per_s2", a.fault->amplitude_m_per_s2},
+                            {"resonance_hz", a.fault->resonance_hz},
+                            {"damping_ratio", a.fault->damping_ratio},
+                            {"mean_slip", a.fault->mean_slip},
+                            {"jitter", a.fault->jitter},
+                            {"impacts", a.impacts},
+                            {"fault_rms_m_per_s2", a.fault_rms}});
+  }
   nlohmann::json& truth = st.extra;
+  if (!bearing_faults.empty()) truth["bearing_faults"] = bearing_json;
   truth["model"] = "lumped gearbox dynamics (seed 000 generalised): rotations + shaft translations";
   truth["friction_law"] = static_cast<int>(opt.friction.law);
   truth["oil_temperature_c"] = opt.friction.oil_temperature_c;
@@ -572,6 +684,7 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   result.decimation = D;
 
   const std::vector<ChannelPlan> plans = plan_channels(gb, model, run);
+  std::vector<AppliedBearingFault> bearing_faults = resolve_bearing_faults(gb, opt, run, plans);
   std::vector<diag::Decimator> decimators;
   std::vector<Resonator> casings;
   for (const ChannelPlan& p : plans) {
@@ -700,8 +813,9 @@ DynamicResult simulate_dynamic(const diag::Gearbox& gb, const DynamicsOptions& d
   }
 
   result.channels = assemble_channels(plans, raw, delay_out, n_out, run);
+  add_bearing_faults(run, bearing_faults, result.channels);
   for (Channel& tc : result.tachos) tc.samples.resize(static_cast<std::size_t>(n_out), 0.0);
-  result.truth = dynamic_truth(gb, model, run, steps, result.warnings);
+  result.truth = dynamic_truth(gb, model, run, steps, result.warnings, bearing_faults);
   return result;
 }
 

@@ -60,6 +60,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "diag/faults/fault_kind.hpp"
 #include "diag/gearbox/bearing_rates.hpp"
@@ -124,5 +125,12 @@ struct BearingSignal {
 // Throws diag::InputError for invalid options or geometry.
 BearingSignal simulate_bearing_signal(const diag::BearingSpec& bearing,
                                       const BearingSignalOptions& options);
+
+// The fault component of the model above alone: the impact train (or the cage's rub), no noise
+// and no interference; `impacts` receives the number of impacts. What a dynamic run adds to the
+// accelerometers at a bearing with a defect (sim/dynamics/simulate.hpp, RunOptions::
+// bearing_faults). Throws diag::InputError for invalid options or geometry.
+std::vector<double> bearing_fault_samples(const diag::BearingSpec& bearing,
+                                          const BearingSignalOptions& options, int& impacts);
 
 }  // namespace sim

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "diag/io/recording.hpp"
+#include "sim/bearing/bearing_signal.hpp"
 #include "sim/dynamics/gearbox_model.hpp"
 
 namespace sim {
@@ -33,6 +34,22 @@ inline constexpr int kMaxContactSubsteps = 256;              // contact_substeps
 inline constexpr double kMaxStepsPerSample = 1e6;            // integration steps per output sample
 inline constexpr double kMaxRunSteps = 2e9;                  // integration steps x meshes per run
 inline constexpr double kMaxOutputBytes = 4.0 * (1u << 30);  // samples x channels x 8 bytes
+
+// A localized rolling-bearing defect (scenario faults[] type "bearing"): the impacts of
+// sim/bearing/bearing_signal.hpp's model at the bearing's shaft speed, added to every
+// accelerometer at the bearing (the channels whose location is its name: the simulator's
+// "<shaft>_bearing1" and "<shaft>_bearing2"). The impacts ring the sensor's own structural
+// resonance and are not fed back into the gears' dynamics: a spall's excitation of the shafts is
+// small beside the meshes', and what a diagnosis sees of it is the ring at the sensor.
+struct BearingFault {
+  std::string bearing;  // a bearing of the gearbox description, with its geometry
+  BearingFaultKind kind = BearingFaultKind::kOuterRace;  // outer race, inner race, ball or cage
+  double amplitude_m_per_s2 = 0;  // one impact's ring at its peak, at full load [m/s^2], > 0
+  double resonance_hz = 3000;     // the ring's frequency [Hz], < 0.45 fs
+  double damping_ratio = 0.05;    // (0, 0.5]
+  double mean_slip = 0.01;        // contact rates (1 - slip) x kinematic, [-0.05, 0.05]
+  double jitter = 0.01;           // relative RMS fluctuation of each interval, [0, 0.1]
+};
 
 struct RunOptions {
   double duration_s = 1.0;  // recorded duration [s], > 0
@@ -60,7 +77,10 @@ struct RunOptions {
   std::uint64_t seed = 1;              // sensor noise
   bool mesh_channels = true;           // dynamic mesh force, friction, DTE, contact per mesh
   bool bearing_channels = true;        // accelerations at every bearing
-  void validate() const;               // throws diag::InputError naming the field
+  // Bearing defects: their impacts on the accelerometers at the bearing (needs a constant speed
+  // and the bearing's channels); the impacts' randomness is seeded from `seed` and the index.
+  std::vector<BearingFault> bearing_faults;
+  void validate() const;  // throws diag::InputError naming the field
 };
 
 // A channel at the output rate (fs_hz = DynamicResult::fs_hz), as a recording holds it.
