@@ -611,8 +611,9 @@ void withhold_within_reference(json& row, const std::map<std::string, double>& r
 //    stands as it is.
 //  - a fault family's envelope line ("bearing/<bearing>/<BPFO|BPFI|BSF>_db", history_indicators)
 //    that stands kBearingGrowthDb over the reference's largest of the same line is a finding of
-//    its own (growth), where the recording's decision gave none for that bearing and fault. The
-//    cage line (FTF) is left out: it also rises with a ball fault, whose load zone it modulates.
+//    its own (growth; per bearing the family that grew most), where the recording's decision
+//    gave none that stands for that bearing. The cage line (FTF) is left out: it also rises with
+//    a ball fault, whose load zone it modulates.
 // Distribution-free, a healthy recording exceeds the largest of n healthy values with probability
 // at most 1/(n + 1); the margins (chosen beforehand: 3 dB, twice the power; 6 dB, four times)
 // take the rate further down, and an event needs two successive recordings (confirm_events). On
@@ -671,9 +672,16 @@ void judge_bearings(json& row, const ReferenceBearings& ref) {
                         diag::format_significant(db, 3) + " dB, not " +
                         diag::format_significant(kBearingMarginDb, 2) + " dB more"}});
   }
+  // Per bearing without a standing finding, the family whose line grew most, when it grew more
+  // than kBearingGrowthDb: one defect is one family, though the others' lines may rise with it
+  // (a slow shaft's BPFO, BPFI and BSF harmonics lie close together).
   static const std::map<std::string, std::string> kFault = {
       {"BPFO", "outer_race"}, {"BPFI", "inner_race"}, {"BSF", "rolling_element"}};
-  const json shafts = row.value("bearing_shafts", json::object());
+  struct Growth {
+    std::string family;
+    double growth = 0, line = 0, reference = 0;
+  };
+  std::map<std::string, Growth> grown;  // by bearing
   const json features = row.value("features", json::object());
   for (const auto& [name, v] : features.items()) {
     if (!name.starts_with("bearing/") || !v.is_number()) continue;
@@ -682,23 +690,29 @@ void judge_bearings(json& row, const ReferenceBearings& ref) {
     const std::string rest = name.substr(8);  // "<bearing>/<FAM>_db"
     const std::string bearing = rest.substr(0, rest.rfind('/'));
     const std::string family = rest.substr(rest.rfind('/') + 1, rest.size() - rest.rfind('/') - 4);
-    const auto fault = kFault.find(family);
     const double growth = v.get<double>() - it->second;
-    if (fault == kFault.end() || growth <= kBearingGrowthDb ||
-        standing.count(bearing + "|" + fault->second)) {
+    if (!kFault.count(family) || growth <= kBearingGrowthDb) continue;
+    if (!grown.count(bearing) || growth > grown[bearing].growth) {
+      grown[bearing] = {family, growth, v.get<double>(), it->second};
+    }
+  }
+  const json shafts = row.value("bearing_shafts", json::object());
+  for (const auto& [bearing, g] : grown) {
+    if (std::any_of(standing.begin(), standing.end(),
+                    [&](const std::string& k) { return k.starts_with(bearing + "|"); })) {
       continue;
     }
-    json f = {{"kind", "bearing"},
-              {"fault", fault->second},
-              {"bearing", bearing},
-              {"confidence", std::min(1.0, growth / (2 * kBearingGrowthDb))},
-              {"score_db", v.get<double>()},
-              {"evidence",
-               {{"growth_db", growth}, {"line_db", v.get<double>()}, {"reference_db", it->second}}},
-              {"note", "the " + family + " lines of " + bearing + " stand " +
-                           diag::format_significant(growth, 3) +
-                           " dB over the healthy reference's largest (" +
-                           diag::format_significant(it->second, 3) + " dB over the local floor)"}};
+    json f = {
+        {"kind", "bearing"},
+        {"fault", kFault.at(g.family)},
+        {"bearing", bearing},
+        {"confidence", std::min(1.0, g.growth / (2 * kBearingGrowthDb))},
+        {"score_db", g.line},
+        {"evidence", {{"growth_db", g.growth}, {"line_db", g.line}, {"reference_db", g.reference}}},
+        {"note", "the " + g.family + " lines of " + bearing + " stand " +
+                     diag::format_significant(g.growth, 3) +
+                     " dB over the healthy reference's largest (" +
+                     diag::format_significant(g.reference, 3) + " dB over the local floor)"}};
     if (shafts.contains(bearing)) f["shaft"] = shafts[bearing];
     kept.push_back(f);
   }

@@ -293,7 +293,8 @@ int validate_history(int argc, char** argv) {
         if (type == "bearing") {  // right when it names the bearing; the family in the next column
           if (e->value("bearing", "") == bearing) {
             where = "right";
-            which = e->value("fault", "") == bearing_fault ? "right" : "wrong";
+            if (which != "right")
+              which = e->value("fault", "") == bearing_fault ? "right" : "wrong";
           } else if (where != "right") {
             where = "wrong";
           }
