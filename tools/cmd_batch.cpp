@@ -985,7 +985,9 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
     }
   }
   confirm_events(rows, reference, events);
-  for (json& row : rows) row.erase("bearing_shafts");
+  for (json& row : rows) {
+    if (row.is_object()) row.erase("bearing_shafts");
+  }
   return notes;
 }
 
@@ -1122,7 +1124,9 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   std::iota(all.begin(), all.end(), std::size_t{0});
   if (!history) {
     analyse_rows(all, every);
-    for (json& row : out.rows) row.erase("bearing_shafts");  // only a history's judgement reads it
+    for (json& row : out.rows) {  // only a history's judgement reads it
+      if (row.is_object()) row.erase("bearing_shafts");
+    }
     return out;
   }
   // A history: the reference first, each of its recordings against the whole reference; its

@@ -513,7 +513,8 @@ TEST(BatchHistory, WithALoadChannelEachLoadHasItsOwnReference) {
 // The defect is confirmed within two recordings of its onset, on the right bearing with the right
 // fault; the healthy history raises nothing. The counter bearing's BPFO lies within 0.5 % of
 // twice the input speed, and this machine's reference gives the counter bearing's outer-race
-// finding once: the later recordings that give it again, at no higher score, have it withheld.
+// finding once: the later recordings that give it again, at no higher score, have it withheld,
+// and the recording alone says its frequency lies on a shaft harmonic.
 // Then the spec's bearing fields are checked: a bearing the gearbox does not list, one not at an
 // accelerometer, "any" on a gearbox without bearings, a ring above 0.45 fs.
 TEST(BatchHistory, ABearingDefectIsFoundAndTheReferencesOwnBearingFindingIsWithheld) {
@@ -573,6 +574,27 @@ TEST(BatchHistory, ABearingDefectIsFoundAndTheReferencesOwnBearingFindingIsWithh
     EXPECT_EQ(step["claimed"].get<std::string>().find("counter_bearing1"), std::string::npos);
   }
   EXPECT_GE(withheld, 1) << inner.dump(1);
+  // That reference recording alone: its counter-bearing finding says it lies on a shaft
+  // harmonic, at half the confidence.
+  const fs::path one = scratch("batch_history", "bearing_life_ref.json");
+  ASSERT_EQ(run("analyze " + (dir / rows[8]["file"].get<std::string>()).string() + " --json " +
+                one.string())
+                .code,
+            0);
+  bool coincident = false;
+  const json alone = read_json(one);
+  for (const json& f : alone["findings"]) {
+    if (f.value("bearing", "") != "counter_bearing1") continue;
+    coincident = true;
+    // 2.003 x the input's speed, and as close to 10 x the output's (23/41 x 19/53 = 0.2011).
+    EXPECT_TRUE(f["evidence"]["shaft_harmonic_order"] == 2 ||
+                f["evidence"]["shaft_harmonic_order"] == 10)
+        << f.dump();
+    EXPECT_LE(f["confidence"].get<double>(), 0.35) << f.dump();
+    EXPECT_NE(f["note"].get<std::string>().find("one recording cannot tell the bearing"),
+              std::string::npos);
+  }
+  EXPECT_TRUE(coincident) << alone["findings"].dump();
 
   const fs::path bad_dir = scratch("batch_history", "bearing_bad");
   const auto refused = [&](const std::string& gearbox, const std::string& fault) {

@@ -128,8 +128,44 @@ void sideband_vote_notes(const AnalysisContext& ctx, AnalysisResult& r) {
   }
 }
 
+// The shaft harmonic a bearing fault frequency coincides with: k x f_s of a shaft s of the
+// gearbox (k = 1 .. kMaxShaftOrder) within kCoincidence of f; "" when none. Why: in a gearbox the
+// envelope carries every shaft's harmonics (its gears' pitch errors and runout modulate the
+// meshes at the shaft rate), so a bearing line that falls on one of them cannot be told from it
+// in one recording (the two-stage 23/41 x 19/53 box with bearings: the counter bearing's BPFO is
+// 2.003 x the input speed). The tolerance is the decision's own: the contact rates slip up to
+// 1 % below the kinematic ones.
+constexpr int kMaxShaftOrder = 20;
+constexpr double kCoincidence = 0.01;
+
+struct ShaftHarmonic {
+  std::string text;  // "2 x the input shaft's speed (66.667 Hz)"; empty: none
+  int order = 0;
+  double offset = 0;  // |f - k f_s| / f
+};
+
+ShaftHarmonic shaft_harmonic_at(const AnalysisContext& ctx, double f_hz) {
+  ShaftHarmonic out;
+  double best = kCoincidence;
+  for (std::size_t s = 0; s < ctx.kin.speeds.size() && f_hz > 0; ++s) {
+    const double fs = ctx.kin.speeds[s].speed_hz;
+    if (!(fs > 0)) continue;
+    const auto k = static_cast<int>(std::lround(f_hz / fs));
+    if (k < 1 || k > kMaxShaftOrder) continue;
+    const double rel = std::abs(f_hz - k * fs) / f_hz;
+    if (rel <= best) {
+      best = rel;
+      out = {std::to_string(k) + " x the " + ctx.kin.speeds[s].shaft + " shaft's speed (" +
+                 fmt(k * fs, 5) + " Hz)",
+             k, rel};
+    }
+  }
+  return out;
+}
+
 // Bearings: diagnose_bearings_from_signal' decisions, voted over the channels that see each
-// bearing.
+// bearing. A decision whose fault frequency lies on a shaft harmonic (shaft_harmonic_at) is
+// reported at half its confidence, its note saying so.
 void bearing_findings(const AnalysisContext& ctx, AnalysisResult& r) {
   for (const diag::BearingSpec& b : ctx.gb->bearings()) {
     std::map<BearingFault, int> votes;
@@ -169,6 +205,16 @@ void bearing_findings(const AnalysisContext& ctx, AnalysisResult& r) {
              "and whole band agree) of " +
              std::to_string(top) + " of " + std::to_string(analysed) + " channels (best " +
              f.channel + ", score " + fmt(best[winner].first, 3) + " dB)";
+    const ShaftHarmonic harmonic = shaft_harmonic_at(ctx, f.frequency_hz);
+    if (!harmonic.text.empty()) {
+      f.confidence *= 0.5;
+      f.set_evidence("shaft_harmonic_order", harmonic.order);
+      f.note += "; that frequency lies within " + fmt(100 * harmonic.offset, 2) + " % of " +
+                harmonic.text +
+                ", where the gears' shaft-rate modulation puts a line too: one recording cannot "
+                "tell the bearing from the shaft (a history against the machine's healthy "
+                "recordings can)";
+    }
     r.findings.push_back(std::move(f));
   }
 }
