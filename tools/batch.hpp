@@ -43,6 +43,9 @@ struct BatchResult {
   // A history's damaged-shaft locator gates ("<shaft>/score", "<shaft>/score_alone"): a later
   // recording's gear damage on the shaft stands above one of them (cmd_batch.cpp).
   std::map<std::string, double> locator_gate;
+  // Its bearing lines' growth gates ("bearing/<bearing>/<BPFO|BPFI|BSF>_db"): the reference's
+  // largest of the line plus the growth margin; a later recording's line above one is a finding.
+  std::map<std::string, double> bearing_gate;
 };
 
 // Checks the request (diag::InputError naming the option), orders a history, reads the baseline,

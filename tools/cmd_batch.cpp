@@ -130,7 +130,9 @@ std::string short_findings(const json& findings) {
 // The indicators a history trends beside analyze's features: each mesh's harmonic growth against
 // the baseline ("wear/<mesh>/growth_db", mesh_harmonic_growth.hpp), and per bearing and fault
 // family the most prominent envelope line the bearing decision scored over the sensor channels
-// ("bearing/<bearing>/<FTF|BPFO|BPFI|BSF>_db", dB over the local floor).
+// ("bearing/<bearing>/<FTF|BPFO|BPFI|BSF>_db", dB over the local floor) and the decision's score
+// of the family ("bearing/<bearing>/<outer_race|inner_race|rolling_element>_score_db", the
+// largest over the sensor channels).
 std::map<std::string, double> history_indicators(const detect::AnalysisResult& r) {
   std::map<std::string, double> out;
   if (r.baseline) {
@@ -155,6 +157,16 @@ std::map<std::string, double> history_indicators(const detect::AnalysisResult& r
         const std::string key = "bearing/" + b.bearing + "/" + kFamily[line.family] + "_db";
         const auto it = out.find(key);
         if (it == out.end() || line.prominence_db > it->second) out[key] = line.prominence_db;
+      }
+      // The decision's own score of each fault family (its band view), whether or not it named
+      // the fault: what a finding's score_db is, so that a history can read a later finding
+      // against what the healthy reference scored there.
+      for (const detect::FamilyScore& fam : b.diagnosis.band_decision.families) {
+        if (fam.fault == detect::BearingFault::kCage || !std::isfinite(fam.score_db)) continue;
+        const std::string key =
+            "bearing/" + b.bearing + "/" + detect::to_string(fam.fault) + "_score_db";
+        const auto it = out.find(key);
+        if (it == out.end() || fam.score_db > it->second) out[key] = fam.score_db;
       }
     }
   }
@@ -309,15 +321,28 @@ std::string table_csv(const std::vector<json>& rows, const std::set<std::string>
   return out.str();
 }
 
+// A history's gate on the reference's own scores: a later recording's locator score or anomaly
+// score must exceed this times the largest over the reference (withhold_within_reference,
+// withhold_alarm_within_reference, below).
+constexpr double kReferenceScoreMargin = 1.5;
+
+// A history's bearing margins (judge_bearings, below): a finding the reference also gave must
+// score this much more; a fault family's line that grows this much over the reference's is a
+// finding.
+constexpr double kBearingMarginDb = 3.0;
+constexpr double kBearingGrowthDb = 6.0;
+
 // The trend page: one plot per chosen indicator, then (from what the rows hold) the damaged-shaft
 // locator's scores per shaft, the wear growth per mesh, the bearing lines per bearing and the
 // anomaly score, each with its thresholds and the events marked; against the dates of a dated
 // history, else the recording's position in the table. Then the events and the recordings.
 // `page_dir`: the page's folder, from which the links to the recordings' reports are made.
-// `gate`: a history's locator gates (reference_locator_scores x kReferenceScoreMargin).
+// `gate`: a history's locator gates (reference_locator_scores x kReferenceScoreMargin);
+// `bearing_gate`: its bearing lines' growth gates (BatchResult::bearing_gate).
 std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
                        const std::string& order, const json& events, const fs::path& page_dir,
-                       const std::map<std::string, double>& gate) {
+                       const std::map<std::string, double>& gate,
+                       const std::map<std::string, double>& bearing_gate) {
   // A history in time order whose every recording has a time is drawn against it (days since the
   // first); otherwise against the position in the table.
   std::vector<double> at(rows.size());
@@ -444,16 +469,35 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
     for (const char* f : {"BPFO", "BPFI", "BSF", "FTF"}) {
       lines.push_back({f, "bearing/" + b + "/" + f + "_db"});
     }
+    std::vector<std::pair<std::string, double>> t;
+    for (const char* f : {"BPFO", "BPFI", "BSF"}) {
+      const auto it = bearing_gate.find("bearing/" + b + "/" + f + "_db");
+      if (it != bearing_gate.end())
+        t.push_back({std::string(f) + ": the reference's + " +
+                         diag::format_significant(kBearingGrowthDb, 2) + " dB",
+                     it->second});
+    }
     plot("bearing " + b + ": most prominent envelope line per fault family", "dB over the floor",
-         lines, {});
+         lines, t);
   }
   double threshold = std::nan("");
   for (const json& r : rows) {
     if (r.contains("alarm_threshold")) threshold = r["alarm_threshold"].get<double>();
   }
   if (std::isfinite(threshold)) {
-    plot("anomaly score", "anomaly score", {{"anomaly score", "anomaly_score", false}},
-         {{"alarm threshold", threshold}});
+    // A history whose reference scores over the threshold against itself: its gate too
+    // (withhold_alarm_within_reference; with several bands, the largest band's).
+    double reference = 0;
+    for (const json& r : rows) {
+      if (r.value("reference", false) && r.contains("anomaly_score")) {
+        reference = std::max(reference, r["anomaly_score"].get<double>());
+      }
+    }
+    std::vector<std::pair<std::string, double>> t = {{"alarm threshold", threshold}};
+    if (kReferenceScoreMargin * reference > threshold) {
+      t.push_back({"reference gate", kReferenceScoreMargin * reference});
+    }
+    plot("anomaly score", "anomaly score", {{"anomaly score", "anomaly_score", false}}, t);
   }
   // The history: its events, then every recording with its verdict.
   if (!events.empty()) {
@@ -536,7 +580,6 @@ std::string event_key(const json& f) {
 // withheld, and its row says why. Distribution-free, a healthy recording scores above the largest
 // of n healthy scores with probability at most 1/(n + 1); the margin takes the rate further down
 // (chosen beforehand, checked on the development life histories: docs/validation.md).
-constexpr double kReferenceScoreMargin = 1.5;
 
 // The largest locator score per "<shaft>/score" and "<shaft>/score_alone" over a band's
 // reference recordings (`members`, its first the band's gear baseline, whose own comparison score
@@ -605,10 +648,12 @@ void withhold_within_reference(json& row, const std::map<std::string, double>& r
 // harmonic of the gearbox (the counter bearing's BPFO within 1 % of twice the input speed in a
 // two-stage box), or a line may stand out by chance. Such a finding shows in the reference too.
 // So, per band:
-//  - a later recording's bearing finding (bearing, fault) that the band's reference also gave
-//    stands only when its score exceeds the reference's largest score of the same finding by
-//    kBearingMarginDb; else it is withheld, its row says why. A finding the reference never gave
-//    stands as it is.
+//  - a later recording's bearing finding (bearing, fault) stands only when its score exceeds by
+//    kBearingMarginDb the largest score the bearing decision gave that fault over the band's
+//    reference recordings, whether or not it named the fault there
+//    ("bearing/<bearing>/<fault>_score_db", history_indicators); else it is withheld, its row
+//    says why. A line on a shaft harmonic scores high in the healthy reference too, even in the
+//    recordings where the decision happened not to fire.
 //  - a fault family's envelope line ("bearing/<bearing>/<BPFO|BPFI|BSF>_db", history_indicators)
 //    that stands kBearingGrowthDb over the reference's largest of the same line is a finding of
 //    its own (growth; per bearing the family that grew most), where the recording's decision
@@ -619,12 +664,11 @@ void withhold_within_reference(json& row, const std::map<std::string, double>& r
 // take the rate further down, and an event needs two successive recordings (confirm_events). On
 // the development life histories no healthy line rose more than 5 dB over its reference
 // (docs/validation.md).
-constexpr double kBearingMarginDb = 3.0;
-constexpr double kBearingGrowthDb = 6.0;
+// (kBearingMarginDb and kBearingGrowthDb: above trend_html, which draws the growth gates.)
 
 struct ReferenceBearings {
-  std::map<std::string, double> finding_db;  // "<bearing>|<fault>": largest score_db
-  std::map<std::string, double> line_db;     // "bearing/<bearing>/<FAM>_db": largest
+  std::map<std::string, double> score_db;  // "<bearing>|<fault>": the decision's largest score
+  std::map<std::string, double> line_db;   // "bearing/<bearing>/<FAM>_db": largest
 };
 
 ReferenceBearings reference_bearings(const std::vector<json>& rows,
@@ -633,16 +677,17 @@ ReferenceBearings reference_bearings(const std::vector<json>& rows,
   for (std::size_t m : members) {
     const json& row = rows[m];
     if (row.value("status", "") == "error") continue;
-    for (const json& f : row.value("finding_list", json::array())) {
-      if (f.value("kind", "") != "bearing") continue;
-      const std::string key = f.value("bearing", "") + "|" + f.value("fault", "");
-      const double db = f.value("score_db", 0.0);
-      out.finding_db[key] = std::max(out.finding_db.count(key) ? out.finding_db[key] : db, db);
-    }
     const json features = row.value("features", json::object());
     for (const auto& [name, v] : features.items()) {
       if (!name.starts_with("bearing/") || !v.is_number()) continue;
       const double db = v.get<double>();
+      if (name.ends_with("_score_db")) {  // "bearing/<bearing>/<fault>_score_db"
+        const std::string rest = name.substr(8, name.size() - 8 - 9);
+        const std::string key =
+            rest.substr(0, rest.rfind('/')) + "|" + rest.substr(rest.rfind('/') + 1);
+        out.score_db[key] = std::max(out.score_db.count(key) ? out.score_db[key] : db, db);
+        continue;
+      }
       out.line_db[name] = std::max(out.line_db.count(name) ? out.line_db[name] : db, db);
     }
   }
@@ -658,16 +703,16 @@ void judge_bearings(json& row, const ReferenceBearings& ref) {
       continue;
     }
     const std::string key = f.value("bearing", "") + "|" + f.value("fault", "");
-    const auto it = ref.finding_db.find(key);
+    const auto it = ref.score_db.find(key);
     const double db = f.value("score_db", 0.0);
-    if (it == ref.finding_db.end() || db > it->second + kBearingMarginDb) {
+    if (it == ref.score_db.end() || db > it->second + kBearingMarginDb) {
       kept.push_back(f);
       standing.insert(key);
       continue;
     }
     row["withheld"].push_back(
         {{"finding", short_findings(json::array({f}))},
-         {"reason", "the healthy reference gave the same finding, scoring up to " +
+         {"reason", "the healthy reference scored the same fault up to " +
                         diag::format_significant(it->second, 3) + " dB; this recording " +
                         diag::format_significant(db, 3) + " dB, not " +
                         diag::format_significant(kBearingMarginDb, 2) + " dB more"}});
@@ -716,6 +761,48 @@ void judge_bearings(json& row, const ReferenceBearings& ref) {
     if (shafts.contains(bearing)) f["shaft"] = shafts[bearing];
     kept.push_back(f);
   }
+  row["finding_list"] = kept;
+  row["findings"] = short_findings(kept);
+}
+
+// The anomaly alarm against the reference's own scores. Each reference recording is scored
+// against the reference it belongs to (in-sample, so lower than a new healthy recording would
+// score); when even those exceed the alarm threshold, the reference is not one operating state
+// (a first recording before a run-in, a sensor remounted), and a later recording alarming at the
+// same level says nothing new. A later recording's alarm (the baseline finding) stands only when
+// its score exceeds kReferenceScoreMargin x the largest of the band's reference scores, where
+// that lies above the threshold; else it is withheld, the row's alarm cleared and its
+// `withheld` saying why. Where the reference scores below the threshold (the usual case) the
+// threshold stands as it is.
+void withhold_alarm_within_reference(json& row, const std::vector<json>& rows,
+                                     const std::vector<std::size_t>& members) {
+  if (row.value("alarm", 0) == 0 || !row.contains("anomaly_score")) return;
+  double largest = 0;
+  for (std::size_t m : members) {
+    if (rows[m].contains("anomaly_score") && rows[m]["anomaly_score"].is_number()) {
+      largest = std::max(largest, rows[m]["anomaly_score"].get<double>());
+    }
+  }
+  const double gate = kReferenceScoreMargin * largest;
+  const double score = row["anomaly_score"].get<double>();
+  if (gate <= row.value("alarm_threshold", 0.0) || score > gate) return;
+  json kept = json::array();
+  for (const json& f : row.value("finding_list", json::array())) {
+    if (f.value("kind", "") != "baseline") {
+      kept.push_back(f);
+      continue;
+    }
+    row["withheld"].push_back(
+        {{"finding", short_findings(json::array({f}))},
+         {"reason", "the healthy reference's own recordings score up to " +
+                        diag::format_significant(largest, 3) +
+                        " against it, over the alarm "
+                        "threshold " +
+                        diag::format_significant(row.value("alarm_threshold", 0.0), 3) +
+                        "; this recording " + diag::format_significant(score, 3) + ", not over " +
+                        diag::format_significant(kReferenceScoreMargin, 3) + " x theirs"}});
+  }
+  row["alarm"] = 0;
   row["finding_list"] = kept;
   row["findings"] = short_findings(kept);
 }
@@ -927,6 +1014,7 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
     if (b >= 0) {
       row["band"] = b;
       withhold_within_reference(row, ref_scores[static_cast<std::size_t>(b)]);
+      withhold_alarm_within_reference(row, rows, bands[static_cast<std::size_t>(b)].members);
       judge_bearings(row, ref_bearings[static_cast<std::size_t>(b)]);
     } else {
       row["status"] = "not comparable";
@@ -1184,6 +1272,9 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     for (const auto& [key, v] : reference_locator_scores(out.rows, bands[0].members)) {
       out.locator_gate[key] = kReferenceScoreMargin * v;
     }
+    for (const auto& [key, v] : reference_bearings(out.rows, bands[0].members).line_db) {
+      if (!key.ends_with("/FTF_db")) out.bearing_gate[key] = v + kBearingGrowthDb;
+    }
   }
   return out;
 }
@@ -1305,7 +1396,9 @@ int cmd_batch(int argc, char** argv) {
       }
     }
     const fs::path page_dir = html_stdout ? fs::current_path() : fs::absolute(html).parent_path();
-    write_output(html, trend_html(all, trend, batch.order, events, page_dir, batch.locator_gate),
+    write_output(html,
+                 trend_html(all, trend, batch.order, events, page_dir, batch.locator_gate,
+                            batch.bearing_gate),
                  "--html");
   }
   std::ostream& say = table_stdout || html_stdout || json_stdout ? std::cerr : std::cout;
