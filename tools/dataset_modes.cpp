@@ -72,25 +72,11 @@ double pulse_input_rad(const diag::Gearbox& gb, int g, double size_gear_rad) {
   return 2.0 * size_gear_rad * gb.recurrence_period_input_rev(g);
 }
 
-std::vector<std::string> gear_names(const diag::Fields& f) {
-  std::vector<std::string> out;
-  if (!f.has("gear")) f.fail("gear", "required: a gear name, an array of names or \"any\"");
-  const json& g = f.raw("gear");
-  if (g.is_string() && g.get<std::string>() == "any") return out;
-  if (g.is_string()) return {f.str("gear")};
-  if (!g.is_array() || g.empty()) f.fail("gear", "must be a gear name, an array or \"any\"");
-  for (const json& name : g) {
-    if (!name.is_string()) f.fail("gear", "an array of gear names holds only strings");
-    out.push_back(name.get<std::string>());
-  }
-  return out;
-}
-
 KinematicDefect parse_defect(const json& j, const std::string& where, const std::string& path) {
   const diag::Fields f(j, where, path,
                        {"gear", "type", "size_deg", "size_output_deg", "phase_deg"});
   KinematicDefect d;
-  d.gears = gear_names(f);
+  d.gears = names_or_any(f, "gear", "gear name");
   // The gearbox description's rule: a gear kind of the vocabulary, by its one name, refused
   // here, before anything is written, rather than by the simulator per recording.
   d.type = std::string(diag::to_string(diag::parse_gear_fault_kind(f, "type", "chip")));

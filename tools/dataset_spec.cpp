@@ -130,9 +130,6 @@ std::vector<std::string> parse_gearbox_paths(const diag::Fields& f) {
   return paths;
 }
 
-namespace {
-
-// A name, an array of names or "any" (empty: any) of field `key`.
 std::vector<std::string> names_or_any(const diag::Fields& f, const char* key, const char* what) {
   std::vector<std::string> out;
   if (!f.has(key))
@@ -149,6 +146,8 @@ std::vector<std::string> names_or_any(const diag::Fields& f, const char* key, co
   }
   return out;
 }
+
+namespace {
 
 // {"type": "bearing", "bearing", "fault", "amplitude_m_per_s2", "resonance_hz"}.
 DatasetFault parse_bearing_fault(const json& j, const std::string& where, const std::string& path) {
@@ -217,20 +216,7 @@ DatasetFault parse_fault(const json& j, const std::string& where, const std::str
     f.fail(d.type == "crack" ? "depth_mm" : "size_mm", "required number or range is missing");
   }
   if (f.has("width_fraction")) d.width_fraction = parse_range(f, "width_fraction", 0, 1, true);
-  if (!f.has("gear")) f.fail("gear", "required: a gear name, an array of names or \"any\"");
-  const json& g = f.raw("gear");
-  if (g.is_string() && g.get<std::string>() == "any") {
-    // empty: any gear
-  } else if (g.is_string()) {
-    d.gears.push_back(f.str("gear"));
-  } else if (g.is_array() && !g.empty()) {
-    for (const json& name : g) {
-      if (!name.is_string()) f.fail("gear", "an array of gear names holds only strings");
-      d.gears.push_back(name.get<std::string>());
-    }
-  } else {
-    f.fail("gear", "must be a gear name, a non-empty array of names or \"any\"");
-  }
+  d.gears = names_or_any(f, "gear", "gear name");
   if (f.has("tooth") && !(f.raw("tooth").is_string() && f.raw("tooth") == "any")) {
     d.any_tooth = false;
     d.tooth = parse_int_range(f, "tooth", 0, 999);

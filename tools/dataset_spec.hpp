@@ -252,6 +252,9 @@ Range parse_range(const diag::Fields& f, const std::string& key, double min, dou
 IntRange parse_int_range(const diag::Fields& f, const std::string& key, int min, int max);
 std::string class_name(const diag::Fields& f);
 std::vector<std::string> parse_gearbox_paths(const diag::Fields& f);
+// Field `key` as a name, a non-empty array of names or "any" (returned empty), refused naming
+// the field otherwise; `what` names one in the messages ("gear name").
+std::vector<std::string> names_or_any(const diag::Fields& f, const char* key, const char* what);
 std::string fnv1a64_hex(const std::string& text);
 // "key[i]", the path of an array element in errors.
 std::string indexed(const std::string& key, std::size_t i);
