@@ -662,7 +662,7 @@ void withhold_within_reference(json& row, const std::map<std::string, double>& r
 // Distribution-free, a healthy recording exceeds the largest of n healthy values with probability
 // at most 1/(n + 1); the margins (chosen beforehand: 3 dB, twice the power; 6 dB, four times)
 // take the rate further down, and an event needs two successive recordings (confirm_events). On
-// the development life histories no healthy line rose more than 5 dB over its reference
+// the development life histories no healthy line rose more than 5.8 dB over its reference
 // (docs/validation.md).
 // (kBearingMarginDb and kBearingGrowthDb: above trend_html, which draws the growth gates.)
 
