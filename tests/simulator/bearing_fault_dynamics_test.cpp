@@ -168,6 +168,15 @@ TEST(BearingFaultDynamics, BadBearingFaultsAreRefusedNamingTheField) {
   r.bearing_faults[0].bearing = "no_such_bearing";
   EXPECT_NE(refusal(gb, o, r).find("is not a bearing of the gearbox description"),
             std::string::npos);
+  // From a scenario, the error names its file and entry.
+  sim::Scenario from_file = parse(
+      R"({"duration_s": 0.1, "fs_hz": 10000, "faults": [{"type": "crack", "gear": "p1",
+          "tooth": 1, "depth_mm": 0.5}, {"type": "bearing", "bearing": "nowhere",
+          "fault": "outer_race", "amplitude_m_per_s2": 5}]})");
+  from_file.dynamics.speed = o.speed;
+  EXPECT_NE(refusal(gb, from_file.dynamics, from_file.run)
+                .find("s.json: faults[1]: bearing: 'nowhere' is not a bearing"),
+            std::string::npos);
   // A bearing the description lists at a place where the simulator has no accelerometer.
   nlohmann::json j = nlohmann::json::parse(gb.description_json());
   j["bearings"][1]["name"] = "drive_end";

@@ -118,6 +118,7 @@ BearingFault parse_bearing_fault(const json& j, const std::string& where, const 
                  {"type", "bearing", "fault", "amplitude_m_per_s2", "resonance_hz", "damping_ratio",
                   "mean_slip", "jitter"});
   BearingFault b;
+  b.where = where + ": " + path;
   b.bearing = f.str("bearing");
   const std::string kind = f.str("fault");
   if (kind == "outer_race") {

@@ -431,7 +431,8 @@ std::vector<AppliedBearingFault> resolve_bearing_faults(const diag::Gearbox& gb,
   std::vector<AppliedBearingFault> out;
   for (std::size_t i = 0; i < run.bearing_faults.size(); ++i) {
     const BearingFault& f = run.bearing_faults[i];
-    const std::string where = "simulate: bearing_faults[" + std::to_string(i) + "]";
+    const std::string where =
+        f.where.empty() ? "simulate: bearing_faults[" + std::to_string(i) + "]" : f.where;
     const auto spec = std::find_if(gb.bearings().begin(), gb.bearings().end(),
                                    [&](const diag::BearingSpec& b) { return b.name == f.bearing; });
     if (spec == gb.bearings().end()) {

@@ -49,6 +49,7 @@ struct BearingFault {
   double damping_ratio = 0.05;    // (0, 0.5]
   double mean_slip = 0.01;        // contact rates (1 - slip) x kinematic, [-0.05, 0.05]
   double jitter = 0.01;           // relative RMS fluctuation of each interval, [0, 0.1]
+  std::string where;  // where it was described ("s.json: faults[2]"), for errors; "" from code
 };
 
 struct RunOptions {
