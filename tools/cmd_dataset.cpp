@@ -184,7 +184,10 @@ std::size_t write_manifest(const fs::path& dir, const DatasetSpec& spec, std::os
     if (done[k] != '1') continue;
     ++per_class[d.cls].first;
     ++complete;
-    for (const DrawnFault& f : d.faults) ++per_fault[f.type + " " + f.gear];
+    for (const DrawnFault& f : d.faults) {  // a bearing fault: where and which
+      ++per_fault[f.type == "bearing" ? f.type + " " + f.bearing + " " + f.bearing_fault
+                                      : f.type + " " + f.gear];
+    }
     for (const DrawnDefect& f : d.defects) ++per_fault[f.type + " " + f.gear];
     // A row holding the simulation's outcome (face gear: DLF, impact class): read back from the
     // file.

@@ -598,6 +598,9 @@ TEST(BatchHistory, ABearingDefectIsFoundAndTheReferencesOwnBearingFindingIsWithh
   EXPECT_TRUE(rows[10]["fault1_gear"].is_null());
   EXPECT_DOUBLE_EQ(rows[10]["fault1_amplitude_m_per_s2"].get<double>(), 40.0);
   EXPECT_DOUBLE_EQ(rows[13]["fault1_amplitude_m_per_s2"].get<double>(), 120.0);
+  // The summary counts bearing faults per bearing and fault (steps 3-6 of the second history).
+  EXPECT_EQ(read_json(dir / "summary.json")["faults"],
+            json({{"bearing input_bearing1 inner_race", 4}}));
 
   const fs::path js = scratch("batch_history", "bearing_life_v.json");
   const auto r = run("validate --history " + dir.string() + " --json " + js.string());
