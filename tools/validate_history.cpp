@@ -339,7 +339,7 @@ int validate_history(int argc, char** argv) {
   out << histories.size() << " histories of " << rows.size() << " recordings in " << dir << "\n";
   out << std::left << std::setw(16) << "class" << std::setw(11) << "histories" << std::setw(10)
       << "detected" << std::setw(16) << "delay med/max" << std::setw(18) << "size at detection"
-      << std::setw(28) << "shaft right/silent/wrong"
+      << std::setw(28) << "place right/silent/wrong"
       << "gear (bearing: fault) right/either/wrong\n";
   json summary = json::object();
   for (const std::string& c : class_order) {
