@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 
 #include "dataset_life.hpp"
@@ -15,6 +16,7 @@
 #include "diag/io/channels.hpp"
 #include "diag/io/json_fields.hpp"
 #include "diag/util/number_format.hpp"
+#include "sim/bearing/bearing_signal.hpp"
 #include "sim/dynamics/gearbox_model.hpp"
 #include "sim/dynamics/scenario.hpp"
 #include "sim/dynamics/simulate.hpp"
@@ -157,10 +159,11 @@ DatasetFault parse_bearing_fault(const json& j, const std::string& where, const 
   d.type = "bearing";
   d.bearings = names_or_any(f, "bearing", "bearing name");
   d.bearing_faults = names_or_any(f, "fault", "bearing fault");
-  for (const std::string& k : d.bearing_faults) {
-    if (k != "outer_race" && k != "inner_race" && k != "rolling_element" && k != "cage") {
+  for (std::string& k : d.bearing_faults) {  // the vocabulary's name (an alias is read as it)
+    const std::optional<sim::BearingFaultKind> kind = sim::bearing_fault_kind(k);
+    if (!kind)
       f.fail("fault", "'" + k + "' is not outer_race, inner_race, rolling_element or cage");
-    }
+    k = sim::to_string(*kind);
   }
   if (d.bearing_faults.empty()) d.bearing_faults = {"outer_race", "inner_race", "rolling_element"};
   if (!f.has("amplitude_m_per_s2")) {
@@ -302,10 +305,9 @@ std::vector<int> candidate_bearings(const DatasetFault& f, const diag::Gearbox& 
   std::vector<int> out;
   for (std::size_t b = 0; b < gb.bearings().size(); ++b) {
     const diag::BearingSpec& spec = gb.bearings()[b];
-    const bool listed =
-        f.bearings.empty()
-            ? spec.name == spec.shaft + "_bearing1" || spec.name == spec.shaft + "_bearing2"
-            : std::find(f.bearings.begin(), f.bearings.end(), spec.name) != f.bearings.end();
+    const bool listed = f.bearings.empty() ? sim::at_bearing_location(spec)
+                                           : std::find(f.bearings.begin(), f.bearings.end(),
+                                                       spec.name) != f.bearings.end();
     if (listed) out.push_back(static_cast<int>(b));
   }
   return out;
@@ -332,12 +334,13 @@ void check_bearing_fault(const DatasetSpec& s, const DatasetFault& f, const std:
                    "'" + name + "' is not a bearing of " + s.gearbox_paths[b] + " (" +
                        (list.empty() ? "it lists none" : list) + ")");
       }
-      if (name != it->shaft + "_bearing1" && name != it->shaft + "_bearing2") {
+      if (!sim::at_bearing_location(*it)) {
         diag::fail(where, field + ".bearing",
                    "'" + name + "' of " + s.gearbox_paths[b] +
                        " is not at a simulator bearing location (the simulator's accelerometers "
                        "are at <shaft>_bearing1 and <shaft>_bearing2: name it " +
-                       it->shaft + "_bearing1 or " + it->shaft + "_bearing2)");
+                       sim::bearing_location(it->shaft, 1) + " or " +
+                       sim::bearing_location(it->shaft, 2) + ")");
       }
     }
     if (candidate_bearings(f, gb).empty()) {

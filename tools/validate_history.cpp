@@ -35,13 +35,16 @@ namespace {
 
 using nlohmann::json;
 
+// A manifest row's string field, "" when absent or null.
+std::string text(const json& row, const char* key) {
+  return row.contains(key) && row[key].is_string() ? row[key].get<std::string>() : std::string();
+}
+
 // The fault's size in a manifest row: crack depth, chip size or spall length [mm], wear depth
 // [um], a bearing defect's impact amplitude [m/s^2]; NaN for none (a missing tooth, or a healthy
 // row).
 double fault_size(const json& row) {
-  const std::string type = row.value("fault1_type", json()).is_string()
-                               ? row["fault1_type"].get<std::string>()
-                               : std::string();
+  const std::string type = text(row, "fault1_type");
   const char* key = type == "wear"      ? "fault1_depth_um"
                     : type == "bearing" ? "fault1_amplitude_m_per_s2"
                                         : "fault1_size_mm";
@@ -53,11 +56,6 @@ double fault_size(const json& row) {
 
 std::string size_unit(const std::string& type) {
   return type == "wear" ? "um" : type == "bearing" ? "m/s^2" : "mm";
-}
-
-// A manifest row's string field, "" when absent or null.
-std::string text(const json& row, const char* key) {
-  return row.contains(key) && row[key].is_string() ? row[key].get<std::string>() : std::string();
 }
 
 // A recording's claims: its findings (the one Finding form; the baseline alarm is one of them).

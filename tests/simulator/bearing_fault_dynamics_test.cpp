@@ -135,6 +135,12 @@ TEST(BearingFaultDynamics, BadBearingFaultsAreRefusedNamingTheField) {
   EXPECT_EQ(sc.run.bearing_faults[0].amplitude_m_per_s2, 25.0);
   EXPECT_EQ(sc.run.bearing_faults[0].resonance_hz, 3100.0);
   EXPECT_EQ(sc.run.bearing_faults[0].jitter, 0.02);
+  // The fault vocabulary's aliases are read as their kind; "none" is no bearing fault.
+  EXPECT_EQ(parse(R"({"faults": [{"type": "bearing", "bearing": "b", "fault": "ball",
+                                  "amplitude_m_per_s2": 1}]})")
+                .run.bearing_faults[0]
+                .kind,
+            sim::BearingFaultKind::kRollingElement);
 
   const auto refused = [&](const std::string& text) {
     try {
@@ -145,6 +151,10 @@ TEST(BearingFaultDynamics, BadBearingFaultsAreRefusedNamingTheField) {
     return std::string();
   };
   EXPECT_NE(refused(R"({"faults": [{"type": "bearing", "bearing": "b", "fault": "spall",
+                                    "amplitude_m_per_s2": 1}]})")
+                .find("faults[0].fault"),
+            std::string::npos);
+  EXPECT_NE(refused(R"({"faults": [{"type": "bearing", "bearing": "b", "fault": "none",
                                     "amplitude_m_per_s2": 1}]})")
                 .find("faults[0].fault"),
             std::string::npos);

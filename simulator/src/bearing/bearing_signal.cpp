@@ -72,6 +72,15 @@ diag::FaultKind fault_kind(BearingFaultKind k) {
 
 const char* to_string(BearingFaultKind k) { return diag::to_string(fault_kind(k)).data(); }
 
+std::optional<BearingFaultKind> bearing_fault_kind(std::string_view name) {
+  const std::optional<diag::FaultKind> k = diag::fault_kind_from_string(name);
+  for (BearingFaultKind b : {BearingFaultKind::kOuterRace, BearingFaultKind::kInnerRace,
+                             BearingFaultKind::kRollingElement, BearingFaultKind::kCage}) {
+    if (k && fault_kind(b) == *k) return b;
+  }
+  return std::nullopt;
+}
+
 void BearingSignalOptions::validate() const {
   diag::require(std::isfinite(fs_hz) && fs_hz > 0, kWhere, "fs_hz", "must be finite and > 0");
   diag::require(duration_s > 0 && duration_s <= 600, kWhere, "duration_s", "must be in (0, 600]");

@@ -121,17 +121,9 @@ BearingFault parse_bearing_fault(const json& j, const std::string& where, const 
   b.where = where + ": " + path;
   b.bearing = f.str("bearing");
   const std::string kind = f.str("fault");
-  if (kind == "outer_race") {
-    b.kind = BearingFaultKind::kOuterRace;
-  } else if (kind == "inner_race") {
-    b.kind = BearingFaultKind::kInnerRace;
-  } else if (kind == "rolling_element") {
-    b.kind = BearingFaultKind::kRollingElement;
-  } else if (kind == "cage") {
-    b.kind = BearingFaultKind::kCage;
-  } else {
-    f.fail("fault", "'" + kind + "' is not outer_race, inner_race, rolling_element or cage");
-  }
+  const std::optional<BearingFaultKind> k = bearing_fault_kind(kind);
+  if (!k) f.fail("fault", "'" + kind + "' is not outer_race, inner_race, rolling_element or cage");
+  b.kind = *k;
   b.amplitude_m_per_s2 = f.positive("amplitude_m_per_s2");
   if (!(b.amplitude_m_per_s2 <= 1e6)) f.fail("amplitude_m_per_s2", "must be <= 1e6 m/s^2");
   b.resonance_hz = f.positive("resonance_hz", b.resonance_hz);

@@ -192,7 +192,7 @@ std::vector<ChannelPlan> plan_channels(const diag::Gearbox& gb, const GearboxMod
         }
       }
       for (int b = 1; b <= 2; ++b) {
-        const std::string bearing = gb.shafts()[s].name + "_bearing" + std::to_string(b);
+        const std::string bearing = bearing_location(gb.shafts()[s].name, b);
         auto add = [&](const std::string& suffix, diag::Direction dir, double cx, double cy,
                        const std::string& mesh) {
           ChannelPlan p;
@@ -447,10 +447,11 @@ std::vector<AppliedBearingFault> resolve_bearing_faults(const diag::Gearbox& gb,
       return p.source == Source::kAccel && p.channel.location == f.bearing;
     });
     if (!sensed) {
-      throw diag::InputError(diag::format_error(
-          where, "bearing",
-          "no accelerometer at '" + f.bearing + "' (the simulator's bearings are named " +
-              "<shaft>_bearing1 and <shaft>_bearing2, e.g. " + spec->shaft + "_bearing1)"));
+      throw diag::InputError(diag::format_error(where, "bearing",
+                                                "no accelerometer at '" + f.bearing +
+                                                    "' (the simulator's bearings are named " +
+                                                    "<shaft>_bearing1 and <shaft>_bearing2, e.g. " +
+                                                    bearing_location(spec->shaft, 1) + ")"));
     }
     AppliedBearingFault a;
     a.fault = &f;
@@ -662,6 +663,15 @@ void RunOptions::validate() const {
   if (!(casing_damping_ratio > 0.0 && casing_damping_ratio < 1.0)) {
     throw diag::InputError(diag::format_error(where, "casing_damping_ratio", "must be in (0, 1)"));
   }
+}
+
+std::string bearing_location(const std::string& shaft, int index) {
+  return shaft + "_bearing" + std::to_string(index);
+}
+
+bool at_bearing_location(const diag::BearingSpec& bearing) {
+  return bearing.name == bearing_location(bearing.shaft, 1) ||
+         bearing.name == bearing_location(bearing.shaft, 2);
 }
 
 const Channel* DynamicResult::find(const std::string& name) const {

@@ -105,7 +105,7 @@ SweepResult run_sweep(const diag::Gearbox& gb, const DynamicsOptions& dynamics,
     for (std::size_t j = 0; j < gb.meshes().size(); ++j) {
       result.channels.push_back(diag::mesh_name(gb, static_cast<int>(j)) + "_force");
     }
-    const std::string b = gb.shafts()[gb.shaft_of_gear(m0.driver)].name + "_bearing1_";
+    const std::string b = bearing_location(gb.shafts()[gb.shaft_of_gear(m0.driver)].name, 1) + "_";
     result.channels.push_back(b + "along_loa");
     result.channels.push_back(b + "normal_loa");
   }

@@ -59,7 +59,9 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "diag/faults/fault_kind.hpp"
@@ -80,6 +82,9 @@ enum class BearingFaultKind {
 // "inner_race", "rolling_element", "cage", as the detectors' findings name them.
 diag::FaultKind fault_kind(BearingFaultKind k);
 const char* to_string(BearingFaultKind k);
+// The fault of a name of the vocabulary or one of its aliases ("ball", "roller"); nullopt for a
+// name that is not a bearing fault ("none" included).
+std::optional<BearingFaultKind> bearing_fault_kind(std::string_view name);
 
 // The contact rates of the model above [Hz]: diag::bearing_rates (FTF, BPFO, BPFI, BSF, 2 BSF),
 // the implementation the detectors use too.

@@ -35,6 +35,13 @@ inline constexpr double kMaxStepsPerSample = 1e6;            // integration step
 inline constexpr double kMaxRunSteps = 2e9;                  // integration steps x meshes per run
 inline constexpr double kMaxOutputBytes = 4.0 * (1u << 30);  // samples x channels x 8 bytes
 
+// The simulator's accelerometer locations: two bearings per shaft, "<shaft>_bearing1" and
+// "<shaft>_bearing2" (index 1 or 2); every bearing channel's `location` is one of them.
+std::string bearing_location(const std::string& shaft, int index);
+// Whether a bearing of a gearbox description is named as one of its shaft's locations (where a
+// bearing defect's impacts can be recorded).
+bool at_bearing_location(const diag::BearingSpec& bearing);
+
 // A localized rolling-bearing defect (scenario faults[] type "bearing"): the impacts of
 // sim/bearing/bearing_signal.hpp's model at the bearing's shaft speed, added to every
 // accelerometer at the bearing (the channels whose location is its name: the simulator's
