@@ -46,6 +46,13 @@ struct BatchResult {
   // Its bearing lines' growth gates ("bearing/<bearing>/<BPFO|BPFI|BSF>_db"): the reference's
   // largest of the line plus the growth margin; a later recording's line above one is a finding.
   std::map<std::string, double> bearing_gate;
+  // Its wear thresholds per mesh [dB], from the reference's own spread: a later recording's
+  // growth above one is a wear finding (cmd_batch.cpp, wear_gates).
+  std::map<std::string, double> wear_gate;
+  // A history's operating states, as learned from its reference: per state "speed_rpm" [lo, hi]
+  // (absent without speeds), "load" [lo, hi] (with a load channel), "reference" (its rows) and
+  // "wear" per mesh {"reference_recordings", "mean_db", "sd_db", "threshold_db"}.
+  nlohmann::json states = nlohmann::json::array();
 };
 
 // Checks the request (diag::InputError naming the option), orders a history, reads the baseline,

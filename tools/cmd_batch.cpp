@@ -4,6 +4,8 @@
 // analysis single-threaded) and, under mpirun, split across the ranks (tools/parallel.hpp); rank
 // 0 gathers the rows and writes the table in the order the files were given. A file that cannot
 // be read or analysed is a row with its error, never the end of the batch.
+#include <gsl/gsl_cdf.h>
+
 #include <algorithm>
 #include <boost/program_options.hpp>
 #include <cctype>
@@ -23,6 +25,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include "allocator.hpp"
 #include "batch.hpp"
@@ -182,6 +185,8 @@ struct Inputs {
   std::optional<double> fs;
   std::string reports;       // --reports: the folder of every recording's own HTML report
   std::string load_channel;  // --load: a channel whose RMS is the machine's load
+  // A history's wear thresholds per mesh, from its band's reference (wear_gates, below).
+  std::map<std::string, double> wear_threshold_db;
 };
 
 // The name of recording `index`'s report in --reports: its position (so that two files of one
@@ -223,6 +228,7 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
     request.gearbox = in.gearbox;
     request.channels = in.channels;
     request.baseline = in.baseline;
+    request.baseline_options.wear_threshold_db = in.wear_threshold_db;
     request.baseline_required = false;  // the row keeps its analysis; the error column says why
     request.options.threads = 1;        // the files are the parallel work
     request.options.traces = !in.reports.empty();   // the report's plots
@@ -338,11 +344,14 @@ constexpr double kBearingGrowthDb = 6.0;
 // history, else the recording's position in the table. Then the events and the recordings.
 // `page_dir`: the page's folder, from which the links to the recordings' reports are made.
 // `gate`: a history's locator gates (reference_locator_scores x kReferenceScoreMargin);
-// `bearing_gate`: its bearing lines' growth gates (BatchResult::bearing_gate).
+// `bearing_gate`: its bearing lines' growth gates (BatchResult::bearing_gate); `wear_gate`: its
+// wear thresholds per mesh (BatchResult::wear_gate; a batch that is no history draws the fixed
+// one of a single recording).
 std::string trend_html(const std::vector<json>& rows, const std::vector<std::string>& chosen,
                        const std::string& order, const json& events, const fs::path& page_dir,
                        const std::map<std::string, double>& gate,
-                       const std::map<std::string, double>& bearing_gate) {
+                       const std::map<std::string, double>& bearing_gate,
+                       const std::map<std::string, double>& wear_gate) {
   // A history in time order whose every recording has a time is drawn against it (days since the
   // first); otherwise against the position in the table.
   std::vector<double> at(rows.size());
@@ -461,8 +470,12 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
   if (!meshes.empty()) {
     std::vector<Line> lines;
     for (const std::string& m : meshes) lines.push_back({m, "wear/" + m + "/growth_db"});
-    plot("mesh harmonic growth against the reference (wear)", "dB", lines,
-         {{"flagged above", detect::MeshHarmonicGrowthOptions{}.threshold_db}});
+    std::vector<std::pair<std::string, double>> t;
+    for (const auto& [mesh, v] : wear_gate) t.push_back({mesh + ": flagged above", v});
+    if (!rows.front().value("reference", false)) {  // not a history
+      t.push_back({"flagged above", detect::MeshHarmonicGrowthOptions{}.threshold_db});
+    }
+    plot("mesh harmonic growth against the reference (wear)", "dB", lines, t);
   }
   for (const std::string& b : bearings) {
     std::vector<Line> lines;
@@ -847,10 +860,19 @@ void confirm_events(std::vector<json>& rows, const std::vector<bool>& reference,
 constexpr double kComparableSpeed = 0.05;
 constexpr double kComparableLoad = 0.10;
 
+// A mesh's wear threshold from a band's reference (wear_gates, below).
+struct WearGate {
+  std::size_t n = 0;     // the reference recordings that read the mesh's growth
+  double mean = 0;       // their growth's mean [dB]
+  double sd = 0;         // its standard deviation [dB] (n - 1 in the denominator)
+  double threshold = 0;  // [dB]
+};
+
 struct OperatingBand {
-  double lo = 0, hi = 0;             // speed [rpm]; 0, 0 without speeds
-  double load_lo = 0, load_hi = 0;   // the load channel's RMS; 0, 0 without a load channel
-  std::vector<std::size_t> members;  // reference rows, in time order
+  double lo = 0, hi = 0;                 // speed [rpm]; 0, 0 without speeds
+  double load_lo = 0, load_hi = 0;       // the load channel's RMS; 0, 0 without a load channel
+  std::vector<std::size_t> members;      // reference rows, in time order
+  std::map<std::string, WearGate> wear;  // per mesh; empty until wear_gates
 };
 
 std::optional<double> row_value(const json& row, const char* key) {
@@ -950,6 +972,56 @@ std::string describe(const OperatingBand& b) {
   return out;
 }
 
+// A history's wear threshold per mesh, from its band's reference. The growth g of a mesh's
+// harmonics (mesh_harmonic_growth.hpp) is the mean over the channels of each channel's level
+// [dB] less a level per channel fixed by the reference, so a later recording's g and the
+// reference recordings' own g_1..g_n (each against the whole reference, as every recording is)
+// differ only by the recordings' levels. Where those scatter as independent Gaussians, a healthy
+// recording's (g - mean) / (s sqrt(1 + 1/n)), with the mean and standard deviation s of the n
+// reference values, is Student's t with n - 1 degrees of freedom (a prediction interval), so
+//   threshold = mean + t_{n-1}(1 - kWearFalseAlarmRate) s sqrt(1 + 1/n)
+// flags a healthy recording's mesh with probability kWearFalseAlarmRate, whatever the scatter
+// of this machine's levels (its gears, sensors, and the reference's speed and load jitter). The
+// fixed 4 dB of a single recording covers other gears of the same grade; one machine against its
+// own reference scatters far less (docs/validation.md, "A machine's history"). An event needs
+// two successive recordings besides (confirm_events). s is taken at least kWearSpreadFloorDb (a
+// reference of copies of one recording), the threshold too. A mesh that fewer than
+// kWearMinReference reference recordings read keeps the fixed threshold.
+constexpr double kWearFalseAlarmRate = 0.01;
+constexpr double kWearSpreadFloorDb = 0.1;
+constexpr std::size_t kWearMinReference = 3;
+
+std::map<std::string, WearGate> wear_gates(const std::vector<json>& rows,
+                                           const std::vector<std::size_t>& members) {
+  std::map<std::string, std::vector<double>> growth;  // per mesh, the reference's own
+  for (std::size_t m : members) {
+    if (rows[m].value("status", "") == "error") continue;
+    const json features = rows[m].value("features", json::object());
+    for (const auto& [name, v] : features.items()) {
+      constexpr std::string_view kPrefix = "wear/", kSuffix = "/growth_db";
+      if (!name.starts_with(kPrefix) || !name.ends_with(kSuffix) || !v.is_number()) continue;
+      growth[name.substr(kPrefix.size(), name.size() - kPrefix.size() - kSuffix.size())].push_back(
+          v.get<double>());
+    }
+  }
+  std::map<std::string, WearGate> out;
+  for (const auto& [mesh, g] : growth) {
+    if (g.size() < kWearMinReference) continue;
+    WearGate w;
+    w.n = g.size();
+    const double n = static_cast<double>(w.n);
+    w.mean = std::accumulate(g.begin(), g.end(), 0.0) / n;
+    double ss = 0;
+    for (double x : g) ss += (x - w.mean) * (x - w.mean);
+    w.sd = std::sqrt(ss / (n - 1));
+    const double t = gsl_cdf_tdist_Pinv(1 - kWearFalseAlarmRate, n - 1);
+    w.threshold = std::max(kWearSpreadFloorDb,
+                           w.mean + t * std::max(w.sd, kWearSpreadFloorDb) * std::sqrt(1 + 1 / n));
+    out[mesh] = w;
+  }
+  return out;
+}
+
 // The history's verdicts on the rows (in time order; `reference`: the healthy reference's rows;
 // `bands`: operating_bands of them): a later recording whose state lies outside every band is "not
 // comparable": what compares it with the reference (the anomaly score, its alarm and the wear
@@ -1003,6 +1075,39 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
         " (score: against its first recording; score_alone: each recording alone): " + list +
         "; a later recording's gear damage on a shaft stands when one of its scores exceeds " +
         diag::format_significant(kReferenceScoreMargin, 3) + " x these");
+  }
+  for (const OperatingBand& b : bands) {
+    std::set<std::string> fixed;  // meshes read but by too few reference recordings
+    for (std::size_t m : b.members) {
+      const json features = rows[m].value("features", json::object());
+      for (const auto& [name, v] : features.items()) {
+        const std::size_t slash = name.rfind('/');
+        if (!name.starts_with("wear/") || slash < 5) continue;
+        if (!b.wear.count(name.substr(5, slash - 5))) fixed.insert(name.substr(5, slash - 5));
+      }
+    }
+    if (!fixed.empty()) {
+      std::string list;
+      for (const std::string& mesh : fixed) list += (list.empty() ? "" : ", ") + mesh;
+      notes.push_back(
+          "the wear indicator" + (bands.size() > 1 ? " at " + describe(b) : std::string()) + " (" +
+          list + ") keeps the single recording's threshold of " +
+          diag::format_significant(detect::MeshHarmonicGrowthOptions{}.threshold_db, 3) +
+          " dB: a spread needs at least " + std::to_string(kWearMinReference) +
+          " reference recordings that read it");
+    }
+    if (b.wear.empty()) continue;
+    std::string list;
+    for (const auto& [mesh, w] : b.wear) {
+      list += (list.empty() ? "" : ", ") + mesh + " " + diag::format_significant(w.threshold, 3) +
+              " dB (reference " + diag::format_significant(w.mean, 2) + " +- " +
+              diag::format_significant(w.sd, 2) + " dB over " + std::to_string(w.n) + ")";
+    }
+    notes.push_back("the wear indicator's thresholds" +
+                    (bands.size() > 1 ? " at " + describe(b) : std::string()) +
+                    ", from the reference's own spread (mean + t s sqrt(1 + 1/n): a healthy "
+                    "recording flags a mesh with probability " +
+                    diag::format_significant(100 * kWearFalseAlarmRate, 2) + " %): " + list);
   }
   std::vector<ReferenceBearings> ref_bearings;
   for (const OperatingBand& b : bands) ref_bearings.push_back(reference_bearings(rows, b.members));
@@ -1243,6 +1348,28 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     return band_in[static_cast<std::size_t>(std::max(0, band_at[i]))];
   };
   if (bands.size() > 1) analyse_rows(ref_rows, by_band);  // each against its own band
+  // Each band's wear thresholds from its reference's own growth (wear_gates), on every rank.
+  std::string gates;
+  if (world.root()) {
+    json all_gates = json::array();
+    for (const OperatingBand& b : bands) {
+      json g = json::object();
+      for (const auto& [mesh, w] : wear_gates(out.rows, b.members)) {
+        g[mesh] = {w.n, w.mean, w.sd, w.threshold};
+      }
+      all_gates.push_back(g);
+    }
+    gates = all_gates.dump();
+  }
+  world.broadcast(gates);
+  const json all_gates = json::parse(gates);
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    for (const auto& [mesh, g] : all_gates.at(b).items()) {
+      bands[b].wear[mesh] = {g[0].get<std::size_t>(), g[1].get<double>(), g[2].get<double>(),
+                             g[3].get<double>()};
+      band_in[b].wear_threshold_db[mesh] = g[3].get<double>();
+    }
+  }
   // The later recordings: against the first band, then, for those whose speed lies in another
   // band, again against that one (their speed is known only from their analysis).
   analyse_rows(later, by_band);
@@ -1265,6 +1392,18 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     if (!redo.empty()) analyse_rows(redo, by_band);
   }
   if (!world.root()) return out;
+  for (const OperatingBand& b : bands) {
+    json state = {{"reference", b.members}, {"wear", json::object()}};
+    if (b.hi > 0) state["speed_rpm"] = {b.lo, b.hi};
+    if (b.load_hi > 0) state["load"] = {b.load_lo, b.load_hi};
+    for (const auto& [mesh, w] : b.wear) {
+      state["wear"][mesh] = {{"reference_recordings", w.n},
+                             {"mean_db", w.mean},
+                             {"sd_db", w.sd},
+                             {"threshold_db", w.threshold}};
+    }
+    out.states.push_back(std::move(state));
+  }
   for (std::string& n : judge_history(out.rows, reference, bands, out.events)) {
     history_notes.push_back(std::move(n));
   }
@@ -1275,6 +1414,7 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     for (const auto& [key, v] : reference_bearings(out.rows, bands[0].members).line_db) {
       if (!key.ends_with("/FTF_db")) out.bearing_gate[key] = v + kBearingGrowthDb;
     }
+    for (const auto& [mesh, w] : bands[0].wear) out.wear_gate[mesh] = w.threshold;
   }
   return out;
 }
@@ -1379,6 +1519,7 @@ int cmd_batch(int argc, char** argv) {
                 {"recordings", recordings},
                 {"events", events}};
     if (batch.history) {
+      doc["states"] = batch.states;
       doc["reference"] = json::array();
       for (std::size_t i = 0; i < files.size(); ++i) {
         if (batch.reference[i]) doc["reference"].push_back(files[i]);
@@ -1398,7 +1539,7 @@ int cmd_batch(int argc, char** argv) {
     const fs::path page_dir = html_stdout ? fs::current_path() : fs::absolute(html).parent_path();
     write_output(html,
                  trend_html(all, trend, batch.order, events, page_dir, batch.locator_gate,
-                            batch.bearing_gate),
+                            batch.bearing_gate, batch.wear_gate),
                  "--html");
   }
   std::ostream& say = table_stdout || html_stdout || json_stdout ? std::cerr : std::cout;

@@ -262,6 +262,12 @@ TEST(BaselineComparison, MismatchedBaselinesAreErrorsNamingTheRecording) {
   detect::BaselineComparisonOptions bad;
   bad.segments_per_recording = 0;
   EXPECT_NE(error_of(rec, baseline(), bad).find("segments_per_recording"), std::string::npos);
+  for (const double db : {0.0, -1.0, std::nan("")}) {
+    detect::BaselineComparisonOptions wear;
+    wear.wear_threshold_db["p1_w1"] = db;
+    e = error_of(rec, baseline(), wear);
+    EXPECT_NE(e.find("wear_threshold_db: mesh p1_w1"), std::string::npos) << e;
+  }
   const std::vector<std::string> two{"a", "b"};
   EXPECT_THROW(detect::score_against_baseline(rec, baseline(), {}, two), diag::InputError);
 }

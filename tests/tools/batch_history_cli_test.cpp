@@ -5,7 +5,9 @@
 // each distinct finding with the recordings that show it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -692,4 +694,95 @@ TEST(BatchHistory, ABearingDefectIsFoundAndTheReferencesOwnBearingFindingIsWithh
     EXPECT_NE(b.out.find(where), std::string::npos) << b.out;
     EXPECT_FALSE(fs::exists(bad_dir / "manifest.csv"));
   }
+}
+
+// Wear in a history is judged against the reference's own spread, not the single recording's
+// fixed 4 dB: per mesh, the reference recordings' growth values g_1..g_n give the threshold
+// mean + t_{n-1}(0.99) max(s, 0.1 dB) sqrt(1 + 1/n) (a prediction bound: a healthy recording
+// exceeds it with probability 1 % for Gaussian levels). The life of the 23/41 x 19/53 box with
+// grade-6 gears, six reference recordings, the input pinion's flanks wearing from 5 um at step 6
+// to 40 um at step 9: the thresholds in the JSON are the closed form of the reference's own
+// values (to 1e-9 dB), every later recording has a wear finding on a mesh exactly when its growth
+// exceeds that mesh's threshold, and the wear is confirmed on the input shaft within two
+// recordings of its onset, by a recording whose growth is still under 4 dB (the single
+// recording's threshold would have flagged neither of the two).
+TEST(BatchHistory, WearIsJudgedAgainstTheReferencesOwnSpread) {
+  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/two_stage_23_41_19_53.json";
+  const fs::path spec = scratch("batch_history", "wear_life.json");
+  std::ofstream(spec) << R"({"gearbox": ")" << gb << R"(", "seed": 3, "recordings_per_class": 1,
+      "duration_s": 1.5, "fs_hz": 10000, "noise_m_per_s2": 0.3, "accuracy_grade": 6,
+      "operating_points": {"speed_rpm": 1800, "torque_nm": 50},
+      "life": {"recordings": 10, "reference": 6, "onset": 6, "speed_jitter": 0.005,
+               "torque_jitter": 0.05},
+      "classes": [{"name": "wear", "faults": [{"type": "wear", "gear": "p1",
+                                               "depth_um": [5, 40]}]}]})";
+  const fs::path dir = scratch("batch_history", "wear_life");
+  fs::remove_all(dir);
+  const auto made = run("dataset " + spec.string() + " -o " + dir.string());
+  ASSERT_EQ(made.code, 0) << made.out;
+  std::string files;
+  for (const json& row : manifest(dir))
+    files += " " + (dir / row["file"].get<std::string>()).string();
+  const fs::path js = scratch("batch_history", "wear_life_batch.json");
+  const fs::path html = scratch("batch_history", "wear_life_batch.html");
+  const auto b = run("batch" + files + " --healthy-first 6 -o " +
+                     scratch("batch_history", "wear_life_batch.csv").string() + " --json " +
+                     js.string() + " --html " + html.string());
+  ASSERT_EQ(b.code, 0) << b.out;
+  const json out = read_json(js);
+  ASSERT_EQ(out["states"].size(), 1u) << out["states"].dump();
+  const json& wear = out["states"][0]["wear"];
+  ASSERT_EQ(wear.size(), 2u) << wear.dump();
+  const json& rec = out["recordings"];
+  ASSERT_EQ(rec.size(), 10u);
+  constexpr double kT5 = 3.3649299989072;  // Student's t, 5 degrees of freedom, 99 %
+  for (const auto& [mesh, w] : wear.items()) {
+    SCOPED_TRACE(mesh);
+    const std::string key = "wear/" + mesh + "/growth_db";
+    std::vector<double> g;
+    for (std::size_t i = 0; i < 6; ++i) g.push_back(rec[i]["indicators"][key].get<double>());
+    double mean = 0, ss = 0;
+    for (double x : g) mean += x / 6;
+    for (double x : g) ss += (x - mean) * (x - mean);
+    const double sd = std::sqrt(ss / 5);
+    EXPECT_EQ(w["reference_recordings"], 6);
+    EXPECT_NEAR(w["mean_db"].get<double>(), mean, 1e-9);
+    EXPECT_NEAR(w["sd_db"].get<double>(), sd, 1e-9);
+    const double threshold = mean + kT5 * std::max(sd, 0.1) * std::sqrt(1 + 1.0 / 6);
+    EXPECT_NEAR(w["threshold_db"].get<double>(), threshold, 1e-9);
+    for (std::size_t i = 6; i < rec.size(); ++i) {
+      const double growth = rec[i]["indicators"][key].get<double>();
+      bool found = false;
+      for (const json& f : rec[i]["findings"]) {
+        if (f["kind"] != "wear") continue;
+        const auto& gears = f["gears"];
+        if (mesh != gears[0].get<std::string>() + "_" + gears[1].get<std::string>()) continue;
+        found = true;
+        EXPECT_NEAR(f["evidence"]["threshold_db"].get<double>(), threshold, 1e-9);
+      }
+      EXPECT_EQ(found, growth > threshold) << "recording " << i << ": growth " << growth;
+    }
+  }
+  bool confirmed = false;
+  for (const json& e : out["events"]) {
+    EXPECT_NE(e["kind"], "gear_damage") << e.dump();  // no chip, crack or spall here
+    if (e["kind"] != "wear") continue;
+    EXPECT_EQ(e["shaft"], "input") << e.dump();
+    EXPECT_GE(e["first_recording"].get<int>(), 6) << e.dump();
+    if (e["status"] != "confirmed") continue;
+    confirmed = true;
+    const int at = e["confirmed_recording"].get<int>();
+    EXPECT_LE(at, 8) << e.dump();
+    EXPECT_LT(rec[at]["indicators"]["wear/p1_w1/growth_db"].get<double>(), 4.0) << e.dump();
+  }
+  EXPECT_TRUE(confirmed) << out["events"].dump(1);
+  std::ifstream page(html);
+  const std::string text{std::istreambuf_iterator<char>(page), {}};
+  EXPECT_NE(text.find("p1_w1: flagged above"), std::string::npos);
+  // With two reference recordings there is no spread to read: the fixed threshold, said so.
+  const auto two = run("batch" + files + " --healthy-first 2 -o " +
+                       scratch("batch_history", "wear_life_two.csv").string());
+  ASSERT_EQ(two.code, 0) << two.out;
+  EXPECT_NE(two.out.find("keeps the single recording's threshold of 4 dB"), std::string::npos)
+      << two.out;
 }

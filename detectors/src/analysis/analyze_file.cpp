@@ -1147,7 +1147,7 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       const std::size_t before = r.findings.size();
       try {
         wear_against_baseline(r, *detail.rec, detail.gb ? *detail.gb : *gb, healthy, opt,
-                              healthy_names);
+                              healthy_names, request.baseline_options.wear_threshold_db);
       } catch (const diag::InputError& e) {
         if (request.baseline_required)
           throw diag::InputError(std::string("--baseline: ") + e.what());

@@ -20,6 +20,11 @@ void BaselineComparisonOptions::validate() const {
   if (segments_per_recording < 1 || segments_per_recording > 64)
     throw diag::InputError("score_against_baseline: segments_per_recording: " +
                            std::to_string(segments_per_recording) + " is not in [1, 64]");
+  for (const auto& [mesh, db] : wear_threshold_db) {
+    if (!std::isfinite(db) || db <= 0)
+      throw diag::InputError("score_against_baseline: wear_threshold_db: mesh " + mesh + ": " +
+                             fmt(db, 6) + " is not a finite threshold > 0 dB");
+  }
 }
 
 namespace {
@@ -167,7 +172,8 @@ AnalysisBaseline score_against_baseline(const diag::Recording& rec,
 
 void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const diag::Gearbox& gb,
                            std::span<const diag::Recording> baseline, const AnalyzeOptions& opt,
-                           std::span<const std::string> names) {
+                           std::span<const std::string> names,
+                           const std::map<std::string, double>& wear_threshold_db) {
   if (!r.baseline) throw std::logic_error("wear_against_baseline: no baseline comparison in r");
   if (!names.empty() && names.size() != baseline.size())
     throw diag::InputError("wear_against_baseline: names: " + std::to_string(names.size()) +
@@ -200,9 +206,12 @@ void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const 
     }
     scale[i] = kin.speeds[static_cast<std::size_t>(input)].speed_hz / gb.shaft_speed_hz(input);
   }
-  const MeshHarmonicGrowthOptions mo;
   for (std::size_t j = 0; j < r.meshes.size(); ++j) {
     const AnalysisMesh& m = r.meshes[j];
+    MeshHarmonicGrowthOptions mo;
+    if (const auto it = wear_threshold_db.find(m.name); it != wear_threshold_db.end()) {
+      mo.threshold_db = it->second;
+    }
     AnalysisMeshWear w;
     w.mesh = m.name;
     w.mesh_hz = m.frequency_hz;

@@ -420,6 +420,10 @@ struct BaselineComparisonOptions {
   BaselineOptions baseline;         // alarm_threshold 25, spread_floor 0.05, min_samples 3
   int segments_per_recording = 8;   // parts per baseline recording, [1, 64]; fewer when a part
                                     // would hold fewer than 4 features.nperseg samples (noted)
+  // The wear indicator's threshold per mesh (diag::mesh_name) [dB], where it is known from the
+  // reference's own spread (a machine's history: `batch`, docs/cli/batch.md); a mesh not listed
+  // is flagged above MeshHarmonicGrowthOptions' threshold_db. Each finite, > 0.
+  std::map<std::string, double> wear_threshold_db;
 
   void validate() const;  // throws diag::InputError "score_against_baseline: <field>: ..."
 };
@@ -462,13 +466,16 @@ void set_baseline(AnalysisResult& r, AnalysisBaseline b, const BaselineCompariso
 // finding: kind "wear", fault kWear, the mesh's gears, the mesh frequency, the channel with the
 // largest growth, evidence growth_db / threshold_db / mesh_frequency_hz, confidence
 // min(1, growth_db / (2 threshold_db)) (0.5 at the threshold, 1 at twice it: the study's worn
-// gears of 20 um and more read 5.3-15.7 dB against 4 dB, healthy ones at most 2.0 dB). A mesh the
+// gears of 20 um and more read 5.3-15.7 dB against 4 dB, healthy ones at most 2.0 dB). The
+// threshold is MeshHarmonicGrowthOptions' unless `wear_threshold_db` names the mesh
+// (BaselineComparisonOptions::wear_threshold_db: a history's, from its reference). A mesh the
 // indicator cannot read (a harmonic above fs / 2, a varying speed in the recording or a baseline
 // recording: the indicator reads time spectra) is left out with a note in r.baseline->notes.
 // `names`: empty or one per baseline recording.
 void wear_against_baseline(AnalysisResult& r, const diag::Recording& rec, const diag::Gearbox& gb,
                            std::span<const diag::Recording> baseline,
-                           const AnalyzeOptions& opt = {}, std::span<const std::string> names = {});
+                           const AnalyzeOptions& opt = {}, std::span<const std::string> names = {},
+                           const std::map<std::string, double>& wear_threshold_db = {});
 
 // Scalar features by name, "<channel>/<indicator>" (e.g. "bearing1_along_loa/rms",
 // "bearing1_along_loa/tsa/input/z1/fm4", "two_direction/<location>/<mesh>/normal_to_along_db"):
