@@ -705,7 +705,7 @@ TEST(BatchHistory, ABearingDefectIsFoundAndTheReferencesOwnBearingFindingIsWithh
 // values (to 1e-9 dB), every later recording has a wear finding on a mesh exactly when its growth
 // exceeds that mesh's threshold, and the wear is confirmed on the input shaft within two
 // recordings of its onset, by a recording whose growth is still under 4 dB (the single
-// recording's threshold would have flagged neither of the two).
+// recording's threshold would have flagged neither of the two). Under MPI, the same bytes.
 TEST(BatchHistory, WearIsJudgedAgainstTheReferencesOwnSpread) {
   const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/two_stage_23_41_19_53.json";
   const fs::path spec = scratch("batch_history", "wear_life.json");
@@ -779,6 +779,19 @@ TEST(BatchHistory, WearIsJudgedAgainstTheReferencesOwnSpread) {
   std::ifstream page(html);
   const std::string text{std::istreambuf_iterator<char>(page), {}};
   EXPECT_NE(text.find("p1_w1: flagged above"), std::string::npos);
+  // Under MPI (the thresholds found on the first rank, sent to every rank before the later
+  // recordings are analysed): the same bytes.
+  const std::string mpirun = GEARDIAG_MPIRUN;
+  if (!mpirun.empty()) {
+    const fs::path mpi_js = scratch("batch_history", "wear_life_mpi.json");
+    const auto m = run_mpi("batch" + files + " --healthy-first 6 -o " +
+                           scratch("batch_history", "wear_life_mpi.csv").string() + " --json " +
+                           mpi_js.string());
+    ASSERT_EQ(m.code, 0) << m.out;
+    std::ifstream a(js), b(mpi_js);
+    EXPECT_EQ(std::string(std::istreambuf_iterator<char>(a), {}),
+              std::string(std::istreambuf_iterator<char>(b), {}));
+  }
   // With two reference recordings there is no spread to read: the fixed threshold, said so.
   const auto two = run("batch" + files + " --healthy-first 2 -o " +
                        scratch("batch_history", "wear_life_two.csv").string());
