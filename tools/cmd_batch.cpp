@@ -130,6 +130,18 @@ std::string short_findings(const json& findings) {
   return out;
 }
 
+// An event in words: its kind, its fault where that says more ("wear", not "wear wear"), the
+// shaft, the gears and the bearing: "gear_damage tooth_damage counter z2 z3", "wear input p1 w1",
+// "bearing inner_race input input_bearing1", "baseline anomaly".
+std::string event_name(const json& e) {
+  std::string out = e.value("kind", "");
+  if (e.value("fault", "") != out) out += " " + e.value("fault", "");
+  if (e.contains("shaft")) out += " " + e["shaft"].get<std::string>();
+  for (const json& g : e.value("gears", json::array())) out += " " + g.get<std::string>();
+  if (e.contains("bearing")) out += " " + e["bearing"].get<std::string>();
+  return out;
+}
+
 // The indicators a history trends beside analyze's features: each mesh's harmonic growth against
 // the baseline ("wear/<mesh>/growth_db", mesh_harmonic_growth.hpp), and per bearing and fault
 // family the most prominent envelope line the bearing decision scored over the sensor channels
@@ -516,13 +528,8 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
   if (!events.empty()) {
     html << "<h2>Events</h2><ul>";
     for (const json& e : events) {
-      html << "<li class=bad>"
-           << report::html_escape(e["kind"].get<std::string>() + " " +
-                                  e["fault"].get<std::string>());
-      for (const char* k : {"shaft", "bearing"}) {
-        if (e.contains(k)) html << " " << report::html_escape(e[k].get<std::string>());
-      }
-      html << ": " << report::html_escape(e.value("status", "confirmed")) << ", from recording "
+      html << "<li class=bad>" << report::html_escape(event_name(e)) << ": "
+           << report::html_escape(e.value("status", "confirmed")) << ", from recording "
            << e["first_recording"].get<std::size_t>() << " ("
            << report::html_escape(e["first_time"].get<std::string>()) << "), seen in "
            << e["recordings"].size() << "</li>";
@@ -1550,10 +1557,7 @@ int cmd_batch(int argc, char** argv) {
   for (const json& e : events) {
     const std::size_t first = e["first_recording"].get<std::size_t>();
     const std::string status = e.value("status", "confirmed");
-    std::string what = e["kind"].get<std::string>() + " " + e["fault"].get<std::string>();
-    for (const char* k : {"shaft", "bearing"}) {
-      if (e.contains(k)) what += " " + e[k].get<std::string>();
-    }
+    const std::string what = event_name(e);
     const std::string at =
         fs::path(files[first]).filename().string() +
         (e["first_time"].get<std::string>().empty() ? ""
