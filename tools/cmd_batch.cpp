@@ -495,7 +495,7 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
       lines.push_back({f, "bearing/" + b + "/" + f + "_db"});
     }
     std::vector<std::pair<std::string, double>> t;
-    for (const char* f : {"BPFO", "BPFI", "BSF"}) {
+    for (const char* f : {"BPFO", "BPFI", "BSF", "FTF"}) {
       const auto it = bearing_gate.find("bearing/" + b + "/" + f + "_db");
       if (it != bearing_gate.end())
         t.push_back({std::string(f) + ": the reference's + " +
@@ -687,8 +687,9 @@ void withhold_within_reference(json& row, const std::map<std::string, double>& r
 // (kBearingMarginDb and kBearingGrowthDb: above trend_html, which draws the growth gates.)
 
 struct ReferenceBearings {
-  std::map<std::string, double> score_db;  // "<bearing>|<fault>": the decision's largest score
-  std::map<std::string, double> line_db;   // "bearing/<bearing>/<FAM>_db": largest
+  std::map<std::string, double> score_db;     // "<bearing>|<fault>": the decision's largest score
+  std::map<std::string, double> line_db;      // "bearing/<bearing>/<FAM>_db": largest
+  std::map<std::string, double> line_low_db;  // and smallest
 };
 
 ReferenceBearings reference_bearings(const std::vector<json>& rows,
@@ -709,9 +710,22 @@ ReferenceBearings reference_bearings(const std::vector<json>& rows,
         continue;
       }
       out.line_db[name] = std::max(out.line_db.count(name) ? out.line_db[name] : db, db);
+      out.line_low_db[name] =
+          std::min(out.line_low_db.count(name) ? out.line_low_db[name] : db, db);
     }
   }
   return out;
+}
+
+// A line the reference itself holds within the growth margin (its largest and smallest values
+// less than kBearingGrowthDb apart): only against such a line is a rise of that margin growth. A
+// line that swings more in the healthy reference (one near 0 Hz, where the envelope's slow
+// fluctuations are, or on a strong gear line) is trended, not judged.
+bool steady(const ReferenceBearings& ref, const std::string& line) {
+  const auto hi = ref.line_db.find(line);
+  const auto lo = ref.line_low_db.find(line);
+  return hi != ref.line_db.end() && lo != ref.line_low_db.end() &&
+         hi->second - lo->second < kBearingGrowthDb;
 }
 
 void judge_bearings(json& row, const ReferenceBearings& ref) {
@@ -739,9 +753,15 @@ void judge_bearings(json& row, const ReferenceBearings& ref) {
   }
   // Per bearing without a standing finding, the family whose line grew most, when it grew more
   // than kBearingGrowthDb: one defect is one family, though the others' lines may rise with it
-  // (a slow shaft's BPFO, BPFI and BSF harmonics lie close together).
-  static const std::map<std::string, std::string> kFault = {
-      {"BPFO", "outer_race"}, {"BPFI", "inner_race"}, {"BSF", "rolling_element"}};
+  // (a slow shaft's BPFO, BPFI and BSF harmonics lie close together). The cage line (FTF) only
+  // where no race or ball line grew: a defective ball's impacts come and go as the cage carries
+  // it through the load zone, so the envelope gains a line at the cage's rate, often more than
+  // at the ball's own (whose line may sit among the gears' shaft harmonics); a race defect has
+  // lines of its own. It is read as the rolling elements' (or the cage's) defect.
+  static const std::map<std::string, std::string> kFault = {{"BPFO", "outer_race"},
+                                                            {"BPFI", "inner_race"},
+                                                            {"BSF", "rolling_element"},
+                                                            {"FTF", "rolling_element"}};
   struct Growth {
     std::string family;
     double growth = 0, line = 0, reference = 0;
@@ -751,13 +771,16 @@ void judge_bearings(json& row, const ReferenceBearings& ref) {
   for (const auto& [name, v] : features.items()) {
     if (!name.starts_with("bearing/") || !v.is_number()) continue;
     const auto it = ref.line_db.find(name);
-    if (it == ref.line_db.end()) continue;
+    if (it == ref.line_db.end() || !steady(ref, name)) continue;
     const std::string rest = name.substr(8);  // "<bearing>/<FAM>_db"
     const std::string bearing = rest.substr(0, rest.rfind('/'));
     const std::string family = rest.substr(rest.rfind('/') + 1, rest.size() - rest.rfind('/') - 4);
     const double growth = v.get<double>() - it->second;
     if (!kFault.count(family) || growth <= kBearingGrowthDb) continue;
-    if (!grown.count(bearing) || growth > grown[bearing].growth) {
+    const bool cage = family == "FTF";
+    const auto have = grown.find(bearing);
+    if (have == grown.end() || (have->second.family == "FTF" && !cage) ||
+        (growth > have->second.growth && (cage == (have->second.family == "FTF")))) {
       grown[bearing] = {family, growth, v.get<double>(), it->second};
     }
   }
@@ -777,7 +800,10 @@ void judge_bearings(json& row, const ReferenceBearings& ref) {
         {"note", "the " + g.family + " lines of " + bearing + " stand " +
                      diag::format_significant(g.growth, 3) +
                      " dB over the healthy reference's largest (" +
-                     diag::format_significant(g.reference, 3) + " dB over the local floor)"}};
+                     diag::format_significant(g.reference, 3) + " dB over the local floor)" +
+                     (g.family == "FTF" ? ", no race or ball line with them: the rolling "
+                                          "elements' defect, modulated by the cage (or the cage)"
+                                        : "")}};
     if (shafts.contains(bearing)) f["shaft"] = shafts[bearing];
     kept.push_back(f);
   }
@@ -1418,8 +1444,9 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     for (const auto& [key, v] : reference_locator_scores(out.rows, bands[0].members)) {
       out.locator_gate[key] = kReferenceScoreMargin * v;
     }
-    for (const auto& [key, v] : reference_bearings(out.rows, bands[0].members).line_db) {
-      if (!key.ends_with("/FTF_db")) out.bearing_gate[key] = v + kBearingGrowthDb;
+    const ReferenceBearings bearings = reference_bearings(out.rows, bands[0].members);
+    for (const auto& [key, v] : bearings.line_db) {
+      if (steady(bearings, key)) out.bearing_gate[key] = v + kBearingGrowthDb;
     }
     for (const auto& [mesh, w] : bands[0].wear) out.wear_gate[mesh] = w.threshold;
   }

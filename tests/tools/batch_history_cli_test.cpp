@@ -799,3 +799,81 @@ TEST(BatchHistory, WearIsJudgedAgainstTheReferencesOwnSpread) {
   EXPECT_NE(two.out.find("keeps the single recording's threshold of 4 dB"), std::string::npos)
       << two.out;
 }
+
+// A ball defect read from the cage line: a defective ball's impacts come and go as the cage
+// carries it through the load zone, so the envelope gains a line at the cage's rate (FTF). The
+// 17/44 x 21/50 box with bearings, a ball of its input bearing (input_bearing2) defective from
+// step 3, its impacts growing from 20 to 60 m/s^2: the cage line rises more than 6 dB over the
+// reference's at once, before the bearing decision of a single recording names the ball, and the
+// history confirms the rolling-element defect by the next recording, on that bearing, with the
+// finding saying it was the cage line. Every growth finding stands on a line the reference held
+// steady (its values within 6 dB), and no other bearing becomes an event.
+TEST(BatchHistory, ABallDefectIsReadFromTheCageLine) {
+  const std::string gb =
+      std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/two_stage_17_44_21_50_bearings.json";
+  const fs::path spec = scratch("batch_history", "ball_life.json");
+  std::ofstream(spec) << R"({"gearbox": ")" << gb << R"(", "seed": 5, "recordings_per_class": 1,
+      "duration_s": 1.5, "fs_hz": 10000, "noise_m_per_s2": 0.3, "accuracy_grade": 6,
+      "operating_points": {"speed_rpm": 1800, "torque_nm": 50},
+      "life": {"recordings": 8, "reference": 3, "onset": 3, "speed_jitter": 0.005,
+               "torque_jitter": 0.05},
+      "classes": [{"name": "ball", "faults": [{"type": "bearing", "bearing": "input_bearing2",
+                   "fault": "rolling_element", "amplitude_m_per_s2": [20, 60]}]}]})";
+  const fs::path dir = scratch("batch_history", "ball_life");
+  fs::remove_all(dir);
+  const auto made = run("dataset " + spec.string() + " -o " + dir.string());
+  ASSERT_EQ(made.code, 0) << made.out;
+  std::string files;
+  for (const json& row : manifest(dir)) {
+    files += " " + (dir / row["file"].get<std::string>()).string();
+  }
+  const fs::path js = scratch("batch_history", "ball_life_batch.json");
+  const auto b =
+      run("batch" + files + " --healthy-first 3 -o " +
+          scratch("batch_history", "ball_life_batch.csv").string() + " --json " + js.string());
+  ASSERT_EQ(b.code, 0) << b.out;
+  const json out = read_json(js);
+  const json& rec = out["recordings"];
+  ASSERT_EQ(rec.size(), 8u);
+  std::size_t confirmed = 0;
+  for (const json& e : out["events"]) {
+    if (e["kind"] != "bearing" || e["status"] != "confirmed") continue;
+    ++confirmed;
+    EXPECT_EQ(e["bearing"], "input_bearing2") << e.dump();
+    EXPECT_EQ(e["fault"], "rolling_element") << e.dump();
+    EXPECT_EQ(e["first_recording"], 3) << e.dump();
+    EXPECT_EQ(e["confirmed_recording"], 4) << e.dump();
+  }
+  EXPECT_EQ(confirmed, 1u) << out["events"].dump(1);
+  for (std::size_t i : {3u, 4u}) {
+    bool cage = false;
+    for (const json& f : rec[i]["findings"]) {
+      cage =
+          cage || (f["kind"] == "bearing" && f["bearing"] == "input_bearing2" &&
+                   f["fault"] == "rolling_element" &&
+                   f["note"].get<std::string>().find("modulated by the cage") != std::string::npos);
+    }
+    EXPECT_TRUE(cage) << "recording " << i << ": " << rec[i]["findings"].dump(1);
+  }
+  for (std::size_t i = 3; i < rec.size(); ++i) {
+    for (const json& f : rec[i]["findings"]) {
+      if (f["kind"] != "bearing" || !f["evidence"].contains("growth_db")) continue;
+      // The line behind it: the one that grew by growth_db over the reference's largest.
+      bool steady = false;
+      for (const char* family : {"BPFO", "BPFI", "BSF", "FTF"}) {
+        const std::string key = "bearing/" + f["bearing"].get<std::string>() + "/" + family + "_db";
+        if (!rec[i]["indicators"].contains(key)) continue;
+        double lo = 1e9, hi = -1e9;
+        for (std::size_t r = 0; r < 3; ++r) {
+          lo = std::min(lo, rec[r]["indicators"][key].get<double>());
+          hi = std::max(hi, rec[r]["indicators"][key].get<double>());
+        }
+        if (std::abs(rec[i]["indicators"][key].get<double>() - hi -
+                     f["evidence"]["growth_db"].get<double>()) < 1e-9) {
+          steady = hi - lo < 6.0;
+        }
+      }
+      EXPECT_TRUE(steady) << "recording " << i << ": " << f.dump();
+    }
+  }
+}
