@@ -38,13 +38,13 @@ int cmd_analyze(int argc, char** argv) {
   const detect::BaselineComparisonOptions& bo = request.baseline_options;
   std::string recording, gearbox, json_out, html_out, fail_on, curves_out;
   std::vector<std::string> baselines;
-  std::string gear_baseline;
+  std::vector<std::string> gear_baselines;
   double fs_hz = 0;
   std::uint64_t max_samples = 0;
   ChannelOptions channels;
   po::options_description desc(
       "geardiag analyze RECORDING [--gearbox GB.json] [--fs HZ] [--baseline FILE...] "
-      "[--gear-baseline FILE] "
+      "[--gear-baseline FILE...] "
       "[--json OUT.json] [--html OUT.html] [--curves OUT.h5] [--fail-on alarm|finding]\n\n"
       "RECORDING: a geardiag HDF5 recording, or CSV (.csv, .csv.gz), WAV or MAT measurements\n"
       "(imported as by `geardiag import`; --fs for CSV without a time column and for MAT).\n"
@@ -64,9 +64,10 @@ int cmd_analyze(int argc, char** argv) {
       "Every sample is examined: a long recording frame by frame (at most " +
       std::to_string(detect::kDefaultMaxSamples) +
       " samples per frame),\nits findings placed in time (time_s, segments).\n"
-      "--gear-baseline: one healthy recording of the same gears at the same speed and load, with\n"
-      "a tacho; the damaged-shaft locator subtracts its revolution averages (NA4-style) and fuses\n"
-      "that answer with the recording's own (different shafts: ambiguous, both reported).\n\n"
+      "--gear-baseline: healthy recordings of the same gears at about the same speed and load;\n"
+      "the damaged-shaft locator subtracts their revolution averages (NA4-style; of several, per\n"
+      "shaft the one that leaves the least) and fuses that answer with the recording's own\n"
+      "(different shafts: ambiguous, both reported).\n\n"
       "options");
   desc.add_options()("help,h", "this help")("recording", po::value(&recording)->required(),
                                             "recording (.h5, .csv, .csv.gz, .wav, .mat)")(
@@ -74,9 +75,10 @@ int cmd_analyze(int argc, char** argv) {
       "fs", po::value(&fs_hz), "sampling rate [Hz] for CSV without time column / MAT, > 0")(
       "baseline", po::value(&baselines)->multitoken(),
       "healthy recordings to compare with (same channels and sampling rate)")(
-      "gear-baseline", po::value(&gear_baseline),
-      "healthy recording (same gears, speed and load; a tacho) for the damaged-shaft locator")(
-      "json", po::value(&json_out), "write the analysis as JSON to this file ('-': stdout)")(
+      "gear-baseline", po::value(&gear_baselines)->multitoken(),
+      "healthy recordings (same gears, about the same speed and load) for the damaged-shaft "
+      "locator")("json", po::value(&json_out),
+                 "write the analysis as JSON to this file ('-': stdout)")(
       "html", po::value(&html_out),
       "write a self-contained HTML report to this file ('-': stdout)")(
       "fail-on", po::value(&fail_on),
@@ -149,7 +151,13 @@ int cmd_analyze(int argc, char** argv) {
   request.recording = path;
   request.max_samples = max_samples;
   for (const std::string& b : baselines) request.baseline.emplace_back(b);
-  if (!gear_baseline.empty()) request.gear_baseline = detect::RecordingInput(gear_baseline);
+  for (const std::string& g : gear_baselines) {
+    if (!request.gear_baseline) {
+      request.gear_baseline = detect::RecordingInput(g);
+    } else {
+      request.more_gear_baselines.emplace_back(g);
+    }
+  }
   if (!gearbox.empty()) request.gearbox = diag::load_gearbox(gearbox);
   request.channels = channels;
   // The plot-only curves are computed for a plot only (detect::AnalyzeOptions::traces).

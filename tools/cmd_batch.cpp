@@ -193,6 +193,8 @@ struct Inputs {
   std::vector<detect::RecordingInput> baseline;  // read once, prepared for each file's gearbox
   // A history's first reference recording: the damaged-shaft locator's revolution averages.
   std::optional<detect::RecordingInput> gear_baseline;
+  // And the reference's other recordings (AnalyzeRequest::more_gear_baselines).
+  std::vector<detect::RecordingInput> more_gear_baselines;
   ChannelOptions channels;
   std::optional<double> fs;
   std::string reports;       // --reports: the folder of every recording's own HTML report
@@ -246,6 +248,7 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
     request.options.traces = !in.reports.empty();   // the report's plots
     request.average_spectra = !in.reports.empty();  // only the reports show spectra
     request.gear_baseline = in.gear_baseline;
+    request.more_gear_baselines = in.more_gear_baselines;
     request.load_channel = in.load_channel;
     std::string gear_baseline_error;
     const detect::FileAnalysis a = [&] {
@@ -259,6 +262,7 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
         if (!what.starts_with("--gear-baseline")) throw;
         gear_baseline_error = "gear baseline not used: " + what;
         request.gear_baseline.reset();
+        request.more_gear_baselines.clear();
         return detect::analyze_file(request);
       }
     }();
@@ -473,9 +477,9 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
   for (const std::string& shaft : shafts) {
     std::vector<std::pair<std::string, double>> t = {{"damaged above", locator.damaged_fm4}};
     const auto it = gate.find(shaft + "/score");
-    if (it != gate.end()) t.push_back({"reference gate (against the first)", it->second});
+    if (it != gate.end()) t.push_back({"reference gate (against the reference)", it->second});
     plot("damaged-shaft locator, shaft " + shaft, "tooth score",
-         {{"against the reference's first", "gear_damage/" + shaft + "/score"},
+         {{"against the reference", "gear_damage/" + shaft + "/score"},
           {"alone", "gear_damage/" + shaft + "/score_alone"}},
          t);
   }
@@ -590,20 +594,19 @@ std::string event_key(const json& f) {
 }
 
 // The damaged-shaft locator in a history scores every recording twice: against the reference's
-// first recording (the gear baseline: `score`, the pitch errors' pattern cancelled) and alone
+// recordings of its operating state (`score`: per shaft against the one that explains it best,
+// the pitch errors' pattern cancelled; a reference recording against the others) and alone
 // (`score_alone`), and reports a shaft either flags. The reference's recordings, scored the same
 // way, show how high a healthy recording of this machine scores: speed and load jitter, noise,
 // the gears' own pattern (which alone may flag a shaft on every recording, healthy ones too). A
 // later recording's gear_damage finding on a shaft stands only when one of its two scores
-// exceeds kReferenceScoreMargin x the largest of the same score over the reference (the
-// comparison's over the reference after its first, which is the gear baseline itself); else it is
+// exceeds kReferenceScoreMargin x the largest of the same score over the reference; else it is
 // withheld, and its row says why. Distribution-free, a healthy recording scores above the largest
 // of n healthy scores with probability at most 1/(n + 1); the margin takes the rate further down
 // (chosen beforehand, checked on the development life histories: docs/validation.md).
 
 // The largest locator score per "<shaft>/score" and "<shaft>/score_alone" over a band's
-// reference recordings (`members`, its first the band's gear baseline, whose own comparison score
-// is left out); empty when the gear baseline was used in none of them.
+// reference recordings (`members`); empty when the gear baseline was used in none of them.
 std::map<std::string, double> reference_locator_scores(const std::vector<json>& rows,
                                                        const std::vector<std::size_t>& members) {
   std::map<std::string, double> out;
@@ -619,7 +622,7 @@ std::map<std::string, double> reference_locator_scores(const std::vector<json>& 
       const std::string key = name.substr(12);  // "<shaft>/score" or "<shaft>/score_alone"
       if (std::count(key.begin(), key.end(), '/') != 1) continue;  // a gear's own score
       const bool alone = key.ends_with("/score_alone");
-      if (!alone && (!key.ends_with("/score") || m == 0)) continue;
+      if (!alone && !key.ends_with("/score")) continue;
       out[key] = std::max(out.count(key) ? out[key] : 0.0, v.get<double>());
     }
   }
@@ -1105,7 +1108,7 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
     notes.push_back(
         "the damaged-shaft locator's largest scores in the reference" +
         (bands.size() > 1 ? " at " + describe(bands[b]) : std::string()) +
-        " (score: against its first recording; score_alone: each recording alone): " + list +
+        " (score: each against the others; score_alone: each recording alone): " + list +
         "; a later recording's gear damage on a shaft stands when one of its scores exceeds " +
         diag::format_significant(kReferenceScoreMargin, 3) + " x these");
   }
@@ -1311,7 +1314,7 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
       throw diag::InputError(std::string(history ? "the reference " : "--baseline ") + e.what());
     }
   }
-  // A history compares each recording's revolution averages with the reference's first.
+  // A history compares each recording's revolution averages with the reference's (below).
   // (Only with a description: without one there is no shaft to average over.)
   const bool described =
       in.gearbox || (!in.baseline.empty() && !in.baseline.front().recording->gearbox_json.empty());
@@ -1359,7 +1362,30 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   // speeds (and loads) give the operating states (operating_bands), known to every rank.
   const std::vector<std::size_t> ref_rows(all.begin(), all.begin() + baselines.size());
   const std::vector<std::size_t> later(all.begin() + baselines.size(), all.end());
-  analyse_rows(ref_rows, every);
+  // The damaged-shaft locator compares a recording with every reference recording of its state
+  // and keeps, per shaft, the one that explains it best (GearDamageOptions::more_baselines); a
+  // reference recording with the others (left out itself, so that the reference's own scores say
+  // how a healthy recording scores).
+  auto gear_reference = [&](Inputs inputs, const std::vector<detect::RecordingInput>& members,
+                            std::optional<std::size_t> leave_out) {
+    inputs.gear_baseline.reset();
+    inputs.more_gear_baselines.clear();
+    if (!described) return inputs;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      if (leave_out && m == *leave_out) continue;
+      if (!inputs.gear_baseline) {
+        inputs.gear_baseline = members[m];
+      } else {
+        inputs.more_gear_baselines.push_back(members[m]);
+      }
+    }
+    return inputs;
+  };
+  std::vector<Inputs> ref_in;
+  for (std::size_t m = 0; m < ref_rows.size(); ++m) {
+    ref_in.push_back(gear_reference(in, in.baseline, m));
+  }
+  analyse_rows(ref_rows, [&](std::size_t i) -> const Inputs& { return ref_in[i]; });
   std::string speeds = json(out.rows).dump();
   world.broadcast(speeds);
   std::vector<OperatingBand> bands =
@@ -1367,11 +1393,10 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   // Each band is the reference of the recordings at its speed: its recordings the baseline, its
   // first the gear baseline.
   std::vector<Inputs> band_in(bands.size(), in);
-  for (std::size_t b = 0; b < bands.size() && bands.size() > 1; ++b) {
+  for (std::size_t b = 0; b < bands.size(); ++b) {
     band_in[b].baseline.clear();
     for (std::size_t m : bands[b].members) band_in[b].baseline.push_back(in.baseline[m]);
-    band_in[b].gear_baseline.reset();
-    if (described) band_in[b].gear_baseline = band_in[b].baseline.front();
+    band_in[b] = gear_reference(band_in[b], band_in[b].baseline, std::nullopt);
   }
   std::vector<int> band_at(files.size(), 0);
   for (std::size_t b = 0; b < bands.size(); ++b) {
@@ -1380,7 +1405,14 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   auto by_band = [&](std::size_t i) -> const Inputs& {
     return band_in[static_cast<std::size_t>(std::max(0, band_at[i]))];
   };
-  if (bands.size() > 1) analyse_rows(ref_rows, by_band);  // each against its own band
+  if (bands.size() > 1) {  // each against its own band, itself left out
+    for (std::size_t b = 0; b < bands.size(); ++b) {
+      for (std::size_t k = 0; k < bands[b].members.size(); ++k) {
+        ref_in[bands[b].members[k]] = gear_reference(band_in[b], band_in[b].baseline, k);
+      }
+    }
+    analyse_rows(ref_rows, [&](std::size_t i) -> const Inputs& { return ref_in[i]; });
+  }
   // Each band's wear thresholds from its reference's own growth (wear_gates), on every rank.
   std::string gates;
   if (world.root()) {

@@ -166,7 +166,7 @@ TEST(BatchHistory, ARecordingAtAnotherSpeedIsNotComparable) {
 // A chip that appears and grows on the counter shaft's z3, on grade-6 gears (ISO 1328 pitch
 // errors) with 0.5 m/s^2 of sensor noise: alone, each recording's locator sees nothing under the
 // gears' own pitch errors; the history compares every recording's revolution averages with the
-// reference's first (the gear baseline), and the chip is an event from its first recording, on
+// reference's (the gear baselines), and the chip is an event from its first recording, on
 // the counter shaft; the healthy recording after the reference stays clean.
 TEST(BatchHistory, AChipOnAGradeSixGearIsAnEventFromItsFirstRecording) {
   const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/three_shaft.json";

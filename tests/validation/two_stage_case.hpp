@@ -56,14 +56,15 @@ struct Errors {
 };
 
 // `seed` draws the gears' errors and, unless noise_seed is given, the sensor noise; a separate
-// noise_seed gives a second measurement of the same gears.
+// noise_seed gives a second measurement of the same gears. The input torque is `torque_nm`.
 inline diag::Recording simulate(const diag::Gearbox& gb, const sim::SpeedProfile& speed,
                                 double duration_s, const std::optional<sim::GearFault>& fault,
                                 const Errors& errors = {}, std::uint64_t seed = 3,
-                                std::optional<std::uint64_t> noise_seed = std::nullopt) {
+                                std::optional<std::uint64_t> noise_seed = std::nullopt,
+                                double torque_nm = 50.0) {
   sim::DynamicsOptions dyn;
   dyn.speed = speed;
-  dyn.input_torque_nm = 50.0;
+  dyn.input_torque_nm = torque_nm;
   if (fault) dyn.faults.push_back(*fault);
   dyn.accuracy_grade = errors.accuracy_grade;
   dyn.runout_m = errors.runout_m;

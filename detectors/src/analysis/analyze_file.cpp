@@ -624,13 +624,24 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
     }
     healthy_names.push_back(b.name());
   }
+  if (!request.more_gear_baselines.empty() && !request.gear_baseline) {
+    throw diag::InputError("analyze: more_gear_baselines: given without a gear baseline");
+  }
   std::optional<diag::Recording> gear_healthy;
+  std::vector<diag::Recording> more_gear_healthy;
   if (request.gear_baseline && !opt.gear_damage.baseline) {
     try {
       gear_healthy = read_input(*request.gear_baseline, request.fs_hz, frame_limits).recording;
     } catch (const diag::InputError& e) {
       throw naming("--gear-baseline ",
                    request.gear_baseline->recording ? request.gear_baseline->name() : "", e);
+    }
+    for (const RecordingInput& m : request.more_gear_baselines) {
+      try {
+        more_gear_healthy.push_back(read_input(m, request.fs_hz, frame_limits).recording);
+      } catch (const diag::InputError& e) {
+        throw naming("--gear-baseline ", m.recording ? m.name() : "", e);
+      }
     }
   }
 
@@ -665,6 +676,17 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       throw diag::InputError("--gear-baseline " + request.gear_baseline->name() + ": " + e.what());
     }
     gear_healthy.reset();
+    for (std::size_t i = 0; i < more_gear_healthy.size(); ++i) {
+      try {
+        diag::prepare_channels(more_gear_healthy[i], &*gb, request.channels);
+        opt.gear_damage.more_baselines.push_back(std::make_shared<const GearDamageBaseline>(
+            gear_baseline_of(more_gear_healthy[i], *gb, request.channels, opt)));
+      } catch (const diag::InputError& e) {
+        throw diag::InputError("--gear-baseline " + request.more_gear_baselines[i].name() + ": " +
+                               e.what());
+      }
+    }
+    more_gear_healthy.clear();
   }
 
   // Frame by frame, the frames on up to opt.threads threads (each frame's channels then one at a

@@ -215,6 +215,12 @@ void GearDamageOptions::validate() const {
                std::to_string(damaged_fm4) + " must be finite and > healthy_fm4 (" +
                    std::to_string(healthy_fm4) + ")");
   }
+  if (!more_baselines.empty() && !baseline) {
+    diag::fail("GearDamageOptions", "more_baselines", "given without a baseline");
+  }
+  for (const auto& b : more_baselines) {
+    if (!b) diag::fail("GearDamageOptions", "more_baselines", "an empty baseline");
+  }
 }
 
 namespace {
@@ -474,10 +480,11 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
   GearDamageBaseline* capture = cx.capture;
   ResampleOptions ro;
   ro.pulses_per_rev = 1;
-  auto baseline_of = [&](const std::string& shaft, const std::string& channel) {
+  auto baseline_of = [&](const GearDamageBaseline* baseline, const std::string& shaft,
+                         const std::string& channel) {
     const BaselineTsa* b = nullptr;
-    if (!options.baseline) return b;
-    if (auto it = options.baseline->tsa.find(shaft); it != options.baseline->tsa.end()) {
+    if (!baseline) return b;
+    if (auto it = baseline->tsa.find(shaft); it != baseline->tsa.end()) {
       if (auto jt = it->second.find(channel); jt != it->second.end()) b = &jt->second;
     }
     return b;
@@ -550,6 +557,10 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
   } catch (const diag::InputError&) {
     shared.clear();
   }
+  std::vector<const GearDamageBaseline*> baselines = {options.baseline.get()};
+  for (const auto& b : options.more_baselines) baselines.push_back(b.get());
+  std::vector<ShaftDamage> candidates(baselines.size(), sd);
+  std::vector<double> residual(baselines.size(), 0.0);  // the difference's energy, all channels
   for (std::size_t ci = 0; ci < chans.size(); ++ci) {
     const diag::Signal* ch = chans[ci];
     AngleResampled ar;
@@ -571,70 +582,85 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
     for (std::size_t k = 1; k < keep.size() && k <= top; ++k) {
       if (regular[k]) regular_energy += std::norm(mean_spec[k]);
     }
-    bool compared = false;
-    if (const BaselineTsa* b = baseline_of(sh.name, ch->name);
-        b && b->spectrum.size() == mean_spec.size()) {
-      // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
-      // into this record's angle and subtracted in the analysed band; its noise adds.
-      std::vector<bool> band_mask(keep.size());
-      for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
-      const double phi = baseline_rotation(mean_spec, b->spectrum, band_mask, fft);
+    // Against each baseline in turn (the first none when there is none), into its candidate.
+    for (std::size_t bi = 0; bi < candidates.size(); ++bi) {
+      ShaftDamage& cd = candidates[bi];
+      std::vector<std::complex<double>> spec = mean_spec;
+      std::vector<double> v = var;
+      bool compared = false;
+      if (const BaselineTsa* b = baseline_of(baselines[bi], sh.name, ch->name);
+          b && b->spectrum.size() == spec.size()) {
+        // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
+        // into this record's angle and subtracted in the analysed band; its noise adds.
+        std::vector<bool> band_mask(keep.size());
+        for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
+        const double phi = baseline_rotation(spec, b->spectrum, band_mask, fft);
+        for (std::size_t k = 0; k < keep.size(); ++k) {
+          if (!band_mask[k]) continue;
+          spec[k] -= b->spectrum[k] *
+                     std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
+          v[k] += b->noise[k];
+        }
+        used_baseline = true;
+        compared = true;
+      }
+      double energy = 0.0, noise = 0.0, band = 0.0;
       for (std::size_t k = 0; k < keep.size(); ++k) {
-        if (!band_mask[k]) continue;
-        mean_spec[k] -= b->spectrum[k] *
-                        std::polar(1.0, -2.0 * std::numbers::pi * static_cast<double>(k) * phi);
-        var[k] += b->noise[k];
+        if (in_band[k]) band += std::norm(spec[k]);
+        if (keep[k]) {
+          energy += std::norm(spec[k]);
+          noise += v[k];
+        } else {
+          spec[k] = 0.0;
+        }
       }
-      used_baseline = true;
-      compared = true;
-    }
-    double energy = 0.0, noise = 0.0, band = 0.0;
-    for (std::size_t k = 0; k < keep.size(); ++k) {
-      if (in_band[k]) band += std::norm(mean_spec[k]);
-      if (keep[k]) {
-        energy += std::norm(mean_spec[k]);
-        noise += var[k];
-      } else {
-        mean_spec[k] = 0.0;
+      if (compared && regular_energy > 0.0) residual[bi] += energy / regular_energy;
+      std::vector<double> excl(static_cast<std::size_t>(spr));
+      fft.inverse(spec, excl);
+      const double raw = energy > 0.0 ? fm4(excl) : kNaN;
+      const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
+      // The tooth that stands out, per gear of the shaft (its own high-passed copy of e_s).
+      double score = 1.0;
+      ToothOutlier best_tooth;
+      std::string best_gear;
+      if ((compared || snr >= options.min_snr) && energy > 0.0) {
+        for (int g : sh.gears) {
+          const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
+          if (z < kMinTeethForOutlier) continue;
+          std::vector<std::complex<double>> hp = spec;
+          const auto cut = static_cast<std::size_t>(z / 2);
+          for (std::size_t k = 0; k < cut && k < hp.size(); ++k) hp[k] = 0.0;
+          std::vector<double> x(static_cast<std::size_t>(spr));
+          fft.inverse(hp, x);
+          const ToothOutlier to = tooth_outlier(x, z);
+          if (to.ratio > score) score = to.ratio, best_tooth = to, best_gear = gb.gears()[g].name;
+        }
       }
-    }
-    std::vector<double> excl(static_cast<std::size_t>(spr));
-    fft.inverse(mean_spec, excl);
-    const double raw = energy > 0.0 ? fm4(excl) : kNaN;
-    const double snr = noise > 0.0 ? energy / noise : (energy > 0.0 ? kInf : 0.0);
-    // The tooth that stands out, per gear of the shaft (its own high-passed copy of e_s).
-    double score = 1.0;
-    ToothOutlier best_tooth;
-    std::string best_gear;
-    if ((compared || snr >= options.min_snr) && energy > 0.0) {
-      for (int g : sh.gears) {
-        const int z = gb.gears()[static_cast<std::size_t>(g)].spec.teeth;
-        if (z < kMinTeethForOutlier) continue;
-        std::vector<std::complex<double>> hp = mean_spec;
-        const auto cut = static_cast<std::size_t>(z / 2);
-        for (std::size_t k = 0; k < cut && k < hp.size(); ++k) hp[k] = 0.0;
-        std::vector<double> x(static_cast<std::size_t>(spr));
-        fft.inverse(hp, x);
-        const ToothOutlier to = tooth_outlier(x, z);
-        if (to.ratio > score) score = to.ratio, best_tooth = to, best_gear = gb.gears()[g].name;
+      if (std::isnan(cd.score) || score > cd.score || (score == cd.score && snr > cd.snr)) {
+        cd.score = score;
+        cd.gear = best_gear;
+        cd.angle_deg = best_tooth.angle_deg;
+        cd.fm4 = raw;
+        cd.snr = snr;
+        cd.exclusive_share = band > 0.0 ? energy / band : 0.0;
+        const double synchronous = compared ? energy : std::max(0.0, energy - noise);
+        cd.level = regular_energy > 0.0 ? std::sqrt(synchronous / regular_energy) : kInf;
+        cd.compared = compared;
+        cd.channel = ch->name;
+        cd.revolutions = t.revolutions;
+        const std::vector<double> diff = tsa_difference(t, mesh_orders);
+        cd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
       }
-    }
-    if (std::isnan(sd.score) || score > sd.score || (score == sd.score && snr > sd.snr)) {
-      sd.score = score;
-      sd.gear = best_gear;
-      sd.angle_deg = best_tooth.angle_deg;
-      sd.fm4 = raw;
-      sd.snr = snr;
-      sd.exclusive_share = band > 0.0 ? energy / band : 0.0;
-      const double synchronous = compared ? energy : std::max(0.0, energy - noise);
-      sd.level = regular_energy > 0.0 ? std::sqrt(synchronous / regular_energy) : kInf;
-      sd.compared = compared;
-      sd.channel = ch->name;
-      sd.revolutions = t.revolutions;
-      const std::vector<double> diff = tsa_difference(t, mesh_orders);
-      sd.indicators = indicators_for(t, diff, mesh_orders, gb.gears()[sh.gears[0]].spec.teeth);
     }
   }
+  // The baseline that explains the shaft best (GearDamageOptions::more_baselines): the least
+  // energy left in the difference, over the channels (each relative to the channel's regular
+  // signal); the first when they tie.
+  std::size_t pick = 0;
+  for (std::size_t bi = 1; bi < candidates.size(); ++bi) {
+    if (candidates[bi].compared && residual[bi] < residual[pick]) pick = bi;
+  }
+  sd = std::move(candidates[pick]);
   const bool significant =
       (sd.compared || sd.snr >= options.min_snr) && !(sd.level < options.min_level) &&
       !(shared_steps.size() > 0 && sd.exclusive_share < options.min_exclusive_share);
@@ -767,6 +793,7 @@ GearDamageBaseline gear_damage_baseline(const diag::Recording& healthy, const di
                                         const GearDamageOptions& options) {
   GearDamageOptions o = options;
   o.baseline.reset();
+  o.more_baselines.clear();
   GearDamageBaseline b;
   locate_impl(healthy, gb, reference_shaft, pulse_times_s, o, &b);
   return b;
@@ -826,6 +853,7 @@ GearDamageResult locate_gear_damage(const diag::Recording& rec, const diag::Gear
   if (!options.baseline) return res;
   GearDamageOptions alone_options = options;
   alone_options.baseline.reset();
+  alone_options.more_baselines.clear();
   return fuse_with_alone(
       std::move(res), locate_impl(rec, gb, reference_shaft, pulse_times_s, alone_options, nullptr));
 }

@@ -76,6 +76,10 @@ struct AnalyzeRequest {
   // damaged-shaft locator subtracts its revolution averages (gear_damage_baseline). Ignored when
   // options.gear_damage.baseline is already set (a caller analysing many files against one).
   std::optional<RecordingInput> gear_baseline;
+  // More healthy recordings of the same gears beside gear_baseline (GearDamageOptions::
+  // more_baselines: each shaft is kept against the one that explains it best). Needs
+  // gear_baseline; ignored with it when options.gear_damage.baseline is already set.
+  std::vector<RecordingInput> more_gear_baselines;
   // The frame limit: at most this many samples in all per frame (kKeptChannelSamples and
   // kMaxChannelSamples per channel, never more than this); > 0.
   std::uint64_t frame_samples = kDefaultMaxSamples;

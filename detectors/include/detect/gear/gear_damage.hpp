@@ -180,6 +180,14 @@ struct GearDamageOptions {
   // the difference's SNR fell to 0.05-0.3 with a fault present). The tooth score alone decides:
   // on a difference of noise alone it stays near 1-3. Null: no baseline.
   std::shared_ptr<const GearDamageBaseline> baseline;
+  // Further healthy baselines of the same gears (other recordings of the same machine, e.g. a
+  // history's reference; needs `baseline`): each shaft is compared with every one and the one
+  // that explains it best, the lowest tooth score, is kept (its score, SNR, level, channel). The
+  // gears' response to their own pitch errors moves with the operating point (a few percent of
+  // torque or speed), so one healthy recording can differ from another in a tooth's place; a
+  // healthy recording is explained by the reference recording nearest to its state, a damaged
+  // tooth by none.
+  std::vector<std::shared_ptr<const GearDamageBaseline>> more_baselines;
 
   void validate() const;  // throws diag::InputError naming the field
 };
