@@ -560,7 +560,10 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
   std::vector<const GearDamageBaseline*> baselines = {options.baseline.get()};
   for (const auto& b : options.more_baselines) baselines.push_back(b.get());
   std::vector<ShaftDamage> candidates(baselines.size(), sd);
-  std::vector<double> residual(baselines.size(), 0.0);  // the difference's energy, all channels
+  // Per baseline, the difference's energy relative to each channel's regular signal, summed over
+  // the channels compared, and their count.
+  std::vector<double> residual(baselines.size(), 0.0);
+  std::vector<int> residual_channels(baselines.size(), 0);
   for (std::size_t ci = 0; ci < chans.size(); ++ci) {
     const diag::Signal* ch = chans[ci];
     AngleResampled ar;
@@ -614,7 +617,10 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
           spec[k] = 0.0;
         }
       }
-      if (compared && regular_energy > 0.0) residual[bi] += energy / regular_energy;
+      if (compared && regular_energy > 0.0) {
+        residual[bi] += energy / regular_energy;
+        ++residual_channels[bi];
+      }
       std::vector<double> excl(static_cast<std::size_t>(spr));
       fft.inverse(spec, excl);
       const double raw = energy > 0.0 ? fm4(excl) : kNaN;
@@ -654,11 +660,14 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
     }
   }
   // The baseline that explains the shaft best (GearDamageOptions::more_baselines): the least
-  // energy left in the difference, over the channels (each relative to the channel's regular
-  // signal); the first when they tie.
+  // energy left in the difference, on average over the channels compared (each relative to the
+  // channel's regular signal); one that compared none, last; the first when they tie.
+  auto left = [&](std::size_t bi) {
+    return residual_channels[bi] > 0 ? residual[bi] / residual_channels[bi] : kInf;
+  };
   std::size_t pick = 0;
   for (std::size_t bi = 1; bi < candidates.size(); ++bi) {
-    if (candidates[bi].compared && residual[bi] < residual[pick]) pick = bi;
+    if (left(bi) < left(pick)) pick = bi;
   }
   sd = std::move(candidates[pick]);
   const bool significant =
