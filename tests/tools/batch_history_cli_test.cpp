@@ -270,6 +270,34 @@ std::vector<json> manifest(const fs::path& dir) {
   return rows;
 }
 
+// One life of `gearbox` by `geardiag dataset` (seed `seed`: 1.5 s at 10 kHz, grade-6 gears,
+// 0.3 m/s^2 of noise, 1800 rpm and 50 N m jittered by 0.5 % and 5 %), its `life` block's
+// recordings, reference and onset as given and one class, `klass`: its recordings' paths in the
+// manifest's order, each after a space; empty (a failure added) when it could not be made.
+std::string one_life(const std::string& name, const std::string& gearbox, int seed,
+                     const std::string& life, const std::string& klass) {
+  const fs::path spec = scratch("batch_history", name + ".json");
+  std::ofstream(spec) << R"({"gearbox": ")" << gearbox << R"(", "seed": )" << seed
+                      << R"(, "recordings_per_class": 1, "duration_s": 1.5, "fs_hz": 10000,
+      "noise_m_per_s2": 0.3, "accuracy_grade": 6,
+      "operating_points": {"speed_rpm": 1800, "torque_nm": 50},
+      "life": {)" << life
+                      << R"(, "speed_jitter": 0.005, "torque_jitter": 0.05}, "classes": [)" << klass
+                      << "]}";
+  const fs::path dir = scratch("batch_history", name);
+  fs::remove_all(dir);
+  const auto made = run("dataset " + spec.string() + " -o " + dir.string());
+  if (made.code != 0) {
+    ADD_FAILURE() << made.out;
+    return "";
+  }
+  std::string files;
+  for (const json& row : manifest(dir)) {
+    files += " " + (dir / row["file"].get<std::string>()).string();
+  }
+  return files;
+}
+
 // A reference that is not one state: its first recording was taken with a far noisier sensor
 // (20 m/s^2 against 0.5), so that it scores over the alarm threshold against the reference
 // itself. A later recording as noisy alarms at the same level: withheld (the row's alarm cleared,
@@ -708,21 +736,10 @@ TEST(BatchHistory, ABearingDefectIsFoundAndTheReferencesOwnBearingFindingIsWithh
 // recording's threshold would have flagged neither of the two). Under MPI, the same bytes.
 TEST(BatchHistory, WearIsJudgedAgainstTheReferencesOwnSpread) {
   const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/two_stage_23_41_19_53.json";
-  const fs::path spec = scratch("batch_history", "wear_life.json");
-  std::ofstream(spec) << R"({"gearbox": ")" << gb << R"(", "seed": 3, "recordings_per_class": 1,
-      "duration_s": 1.5, "fs_hz": 10000, "noise_m_per_s2": 0.3, "accuracy_grade": 6,
-      "operating_points": {"speed_rpm": 1800, "torque_nm": 50},
-      "life": {"recordings": 10, "reference": 6, "onset": 6, "speed_jitter": 0.005,
-               "torque_jitter": 0.05},
-      "classes": [{"name": "wear", "faults": [{"type": "wear", "gear": "p1",
-                                               "depth_um": [5, 40]}]}]})";
-  const fs::path dir = scratch("batch_history", "wear_life");
-  fs::remove_all(dir);
-  const auto made = run("dataset " + spec.string() + " -o " + dir.string());
-  ASSERT_EQ(made.code, 0) << made.out;
-  std::string files;
-  for (const json& row : manifest(dir))
-    files += " " + (dir / row["file"].get<std::string>()).string();
+  const std::string files = one_life(
+      "wear_life", gb, 3, R"("recordings": 10, "reference": 6, "onset": 6)",
+      R"({"name": "wear", "faults": [{"type": "wear", "gear": "p1", "depth_um": [5, 40]}]})");
+  ASSERT_FALSE(files.empty());
   const fs::path js = scratch("batch_history", "wear_life_batch.json");
   const fs::path html = scratch("batch_history", "wear_life_batch.html");
   const auto b = run("batch" + files + " --healthy-first 6 -o " +
@@ -811,22 +828,11 @@ TEST(BatchHistory, WearIsJudgedAgainstTheReferencesOwnSpread) {
 TEST(BatchHistory, ABallDefectIsReadFromTheCageLine) {
   const std::string gb =
       std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/two_stage_17_44_21_50_bearings.json";
-  const fs::path spec = scratch("batch_history", "ball_life.json");
-  std::ofstream(spec) << R"({"gearbox": ")" << gb << R"(", "seed": 5, "recordings_per_class": 1,
-      "duration_s": 1.5, "fs_hz": 10000, "noise_m_per_s2": 0.3, "accuracy_grade": 6,
-      "operating_points": {"speed_rpm": 1800, "torque_nm": 50},
-      "life": {"recordings": 8, "reference": 3, "onset": 3, "speed_jitter": 0.005,
-               "torque_jitter": 0.05},
-      "classes": [{"name": "ball", "faults": [{"type": "bearing", "bearing": "input_bearing2",
-                   "fault": "rolling_element", "amplitude_m_per_s2": [20, 60]}]}]})";
-  const fs::path dir = scratch("batch_history", "ball_life");
-  fs::remove_all(dir);
-  const auto made = run("dataset " + spec.string() + " -o " + dir.string());
-  ASSERT_EQ(made.code, 0) << made.out;
-  std::string files;
-  for (const json& row : manifest(dir)) {
-    files += " " + (dir / row["file"].get<std::string>()).string();
-  }
+  const std::string files =
+      one_life("ball_life", gb, 5, R"("recordings": 8, "reference": 3, "onset": 3)",
+               R"({"name": "ball", "faults": [{"type": "bearing", "bearing": "input_bearing2",
+          "fault": "rolling_element", "amplitude_m_per_s2": [20, 60]}]})");
+  ASSERT_FALSE(files.empty());
   const fs::path js = scratch("batch_history", "ball_life_batch.json");
   const auto b =
       run("batch" + files + " --healthy-first 3 -o " +
