@@ -900,15 +900,15 @@ constexpr double kComparableLoad = 0.10;
 struct WearGate {
   std::size_t n = 0;     // the reference recordings that read the mesh's growth
   double mean = 0;       // their growth's mean [dB]
-  double sd = 0;         // its standard deviation [dB] (n - 1 in the denominator)
-  double threshold = 0;  // [dB]
+  double sd = 0;         // its standard deviation [dB] (n - 1 in the denominator; 0 for n = 1)
+  double threshold = 0;  // [dB]: from the spread (from_spread), else the single recording's
 };
 
 struct OperatingBand {
   double lo = 0, hi = 0;                 // speed [rpm]; 0, 0 without speeds
   double load_lo = 0, load_hi = 0;       // the load channel's RMS; 0, 0 without a load channel
   std::vector<std::size_t> members;      // reference rows, in time order
-  std::map<std::string, WearGate> wear;  // per mesh; empty until wear_gates
+  std::map<std::string, WearGate> wear;  // per mesh read; empty until wear_gates
 };
 
 std::optional<double> row_value(const json& row, const char* key) {
@@ -1027,6 +1027,8 @@ constexpr double kWearFalseAlarmRate = 0.01;
 constexpr double kWearSpreadFloorDb = 0.1;
 constexpr std::size_t kWearMinReference = 3;
 
+bool from_spread(const WearGate& w) { return w.n >= kWearMinReference; }
+
 std::map<std::string, WearGate> wear_gates(const std::vector<json>& rows,
                                            const std::vector<std::size_t>& members) {
   std::map<std::string, std::vector<double>> growth;  // per mesh, the reference's own
@@ -1042,14 +1044,18 @@ std::map<std::string, WearGate> wear_gates(const std::vector<json>& rows,
   }
   std::map<std::string, WearGate> out;
   for (const auto& [mesh, g] : growth) {
-    if (g.size() < kWearMinReference) continue;
     WearGate w;
     w.n = g.size();
     const double n = static_cast<double>(w.n);
     w.mean = std::accumulate(g.begin(), g.end(), 0.0) / n;
     double ss = 0;
     for (double x : g) ss += (x - w.mean) * (x - w.mean);
-    w.sd = std::sqrt(ss / (n - 1));
+    w.sd = w.n > 1 ? std::sqrt(ss / (n - 1)) : 0.0;
+    if (!from_spread(w)) {
+      w.threshold = detect::MeshHarmonicGrowthOptions{}.threshold_db;
+      out[mesh] = w;
+      continue;
+    }
     const double t = gsl_cdf_tdist_Pinv(1 - kWearFalseAlarmRate, n - 1);
     w.threshold = std::max(kWearSpreadFloorDb,
                            w.mean + t * std::max(w.sd, kWearSpreadFloorDb) * std::sqrt(1 + 1 / n));
@@ -1113,32 +1119,25 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
         diag::format_significant(kReferenceScoreMargin, 3) + " x these");
   }
   for (const OperatingBand& b : bands) {
-    std::set<std::string> fixed;  // meshes read but by too few reference recordings
-    for (std::size_t m : b.members) {
-      const json features = rows[m].value("features", json::object());
-      for (const auto& [name, v] : features.items()) {
-        const std::size_t slash = name.rfind('/');
-        if (!name.starts_with("wear/") || slash < 5) continue;
-        if (!b.wear.count(name.substr(5, slash - 5))) fixed.insert(name.substr(5, slash - 5));
-      }
-    }
-    if (!fixed.empty()) {
-      std::string list;
-      for (const std::string& mesh : fixed) list += (list.empty() ? "" : ", ") + mesh;
-      notes.push_back(
-          "the wear indicator" + (bands.size() > 1 ? " at " + describe(b) : std::string()) + " (" +
-          list + ") keeps the single recording's threshold of " +
-          diag::format_significant(detect::MeshHarmonicGrowthOptions{}.threshold_db, 3) +
-          " dB: a spread needs at least " + std::to_string(kWearMinReference) +
-          " reference recordings that read it");
-    }
-    if (b.wear.empty()) continue;
-    std::string list;
+    std::string fixed, list;  // the meshes read by too few reference recordings; the others
     for (const auto& [mesh, w] : b.wear) {
+      if (!from_spread(w)) {
+        fixed += (fixed.empty() ? "" : ", ") + mesh;
+        continue;
+      }
       list += (list.empty() ? "" : ", ") + mesh + " " + diag::format_significant(w.threshold, 3) +
               " dB (reference " + diag::format_significant(w.mean, 2) + " +- " +
               diag::format_significant(w.sd, 2) + " dB over " + std::to_string(w.n) + ")";
     }
+    if (!fixed.empty()) {
+      notes.push_back(
+          "the wear indicator" + (bands.size() > 1 ? " at " + describe(b) : std::string()) + " (" +
+          fixed + ") keeps the single recording's threshold of " +
+          diag::format_significant(detect::MeshHarmonicGrowthOptions{}.threshold_db, 3) +
+          " dB: a spread needs at least " + std::to_string(kWearMinReference) +
+          " reference recordings that read it");
+    }
+    if (list.empty()) continue;
     notes.push_back("the wear indicator's thresholds" +
                     (bands.size() > 1 ? " at " + describe(b) : std::string()) +
                     ", from the reference's own spread (mean + t s sqrt(1 + 1/n): a healthy "
@@ -1430,9 +1429,10 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   const json all_gates = json::parse(gates);
   for (std::size_t b = 0; b < bands.size(); ++b) {
     for (const auto& [mesh, g] : all_gates.at(b).items()) {
-      bands[b].wear[mesh] = {g[0].get<std::size_t>(), g[1].get<double>(), g[2].get<double>(),
-                             g[3].get<double>()};
-      band_in[b].wear_threshold_db[mesh] = g[3].get<double>();
+      const WearGate w = {g[0].get<std::size_t>(), g[1].get<double>(), g[2].get<double>(),
+                          g[3].get<double>()};
+      bands[b].wear[mesh] = w;
+      if (from_spread(w)) band_in[b].wear_threshold_db[mesh] = w.threshold;
     }
   }
   // The later recordings: against the first band, then, for those whose speed lies in another
@@ -1462,6 +1462,7 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     if (b.hi > 0) state["speed_rpm"] = {b.lo, b.hi};
     if (b.load_hi > 0) state["load"] = {b.load_lo, b.load_hi};
     for (const auto& [mesh, w] : b.wear) {
+      if (!from_spread(w)) continue;
       state["wear"][mesh] = {{"reference_recordings", w.n},
                              {"mean_db", w.mean},
                              {"sd_db", w.sd},
@@ -1480,7 +1481,9 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
     for (const auto& [key, v] : bearings.line_db) {
       if (steady(bearings, key)) out.bearing_gate[key] = v + kBearingGrowthDb;
     }
-    for (const auto& [mesh, w] : bands[0].wear) out.wear_gate[mesh] = w.threshold;
+    for (const auto& [mesh, w] : bands[0].wear) {
+      if (from_spread(w)) out.wear_gate[mesh] = w.threshold;
+    }
   }
   return out;
 }

@@ -557,6 +557,9 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
   } catch (const diag::InputError&) {
     shared.clear();
   }
+  // The orders a baseline is subtracted in: the analysed band and the exclusive orders.
+  std::vector<bool> band_mask(keep.size());
+  for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
   std::vector<const GearDamageBaseline*> baselines = {options.baseline.get()};
   for (const auto& b : options.more_baselines) baselines.push_back(b.get());
   std::vector<ShaftDamage> candidates(baselines.size(), sd);
@@ -595,8 +598,6 @@ ShaftDamage score_shaft(const LocateContext& cx, const diag::Shaft& sh, std::ost
           b && b->spectrum.size() == spec.size()) {
         // NA4-style: the healthy pattern (pitch errors, runout, the mesh's own shape) rotated
         // into this record's angle and subtracted in the analysed band; its noise adds.
-        std::vector<bool> band_mask(keep.size());
-        for (std::size_t k = 0; k < keep.size(); ++k) band_mask[k] = in_band[k] || keep[k];
         const double phi = baseline_rotation(spec, b->spectrum, band_mask, fft);
         for (std::size_t k = 0; k < keep.size(); ++k) {
           if (!band_mask[k]) continue;
