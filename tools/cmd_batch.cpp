@@ -291,6 +291,18 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
       for (const detect::BearingAnalysis& b : c.bearings)
         row["bearing_shafts"][b.bearing] = b.shaft;
     }
+    if (r.gear_damage) {  // for a history's own locator findings (locator_growth)
+      for (const detect::ShaftDamage& sd : r.gear_damage->shafts) {
+        if (!sd.compared) continue;
+        row["gear_damage_shafts"][sd.shaft] = {{"frequency_hz", sd.frequency_hz},
+                                               {"gears", sd.gears},
+                                               {"channel", sd.channel},
+                                               {"angle_deg", sd.angle_deg},
+                                               {"snr", sd.snr},
+                                               {"exclusive_share", sd.exclusive_share},
+                                               {"uncertain", sd.uncertain}};
+      }
+    }
     json features = json::object();
     for (const auto& [name, value] : detect::features(r)) features[name] = value;
     for (const auto& [name, value] : history_indicators(r)) features[name] = value;
@@ -359,7 +371,7 @@ constexpr double kBearingGrowthDb = 6.0;
 // anomaly score, each with its thresholds and the events marked; against the dates of a dated
 // history, else the recording's position in the table. Then the events and the recordings.
 // `page_dir`: the page's folder, from which the links to the recordings' reports are made.
-// `gate`: a history's locator gates (reference_locator_scores x kReferenceScoreMargin);
+// `gate`: a history's locator gates (locator_gates);
 // `bearing_gate`: its bearing lines' growth gates (BatchResult::bearing_gate); `wear_gate`: its
 // wear thresholds per mesh (BatchResult::wear_gate; a batch that is no history draws the fixed
 // one of a single recording).
@@ -477,7 +489,12 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
   for (const std::string& shaft : shafts) {
     std::vector<std::pair<std::string, double>> t = {{"damaged above", locator.damaged_fm4}};
     const auto it = gate.find(shaft + "/score");
-    if (it != gate.end()) t.push_back({"reference gate (against the reference)", it->second});
+    if (it != gate.end()) {  // a history: its gates, and the floor of its own findings
+      t.push_back({"reference gate (against the reference)", it->second});
+      t.push_back({"uncertain above", locator.healthy_fm4});
+    }
+    const auto alone = gate.find(shaft + "/score_alone");
+    if (alone != gate.end()) t.push_back({"reference gate (alone)", alone->second});
     plot("damaged-shaft locator, shaft " + shaft, "tooth score",
          {{"against the reference", "gear_damage/" + shaft + "/score"},
           {"alone", "gear_damage/" + shaft + "/score_alone"}},
@@ -596,43 +613,101 @@ std::string event_key(const json& f) {
 // The damaged-shaft locator in a history scores every recording twice: against the reference's
 // recordings of its operating state (`score`: per shaft against the one that explains it best,
 // the pitch errors' pattern cancelled; a reference recording against the others) and alone
-// (`score_alone`), and reports a shaft either flags. The reference's recordings, scored the same
-// way, show how high a healthy recording of this machine scores: speed and load jitter, noise,
-// the gears' own pattern (which alone may flag a shaft on every recording, healthy ones too). A
-// later recording's gear_damage finding on a shaft stands only when one of its two scores
-// exceeds kReferenceScoreMargin x the largest of the same score over the reference; else it is
-// withheld, and its row says why. Distribution-free, a healthy recording scores above the largest
-// of n healthy scores with probability at most 1/(n + 1); the margin takes the rate further down
-// (chosen beforehand, checked on the development life histories: docs/validation.md).
+// (`score_alone`). The reference's recordings, scored the same way, show how high a healthy
+// recording of this machine scores: speed and load jitter, noise, the gears' own pattern (which
+// alone may flag a shaft on every recording, healthy ones too). Each shaft's gate is the
+// prediction bound of its reference scores' logarithm,
+//     exp(m + t_df(1 - kLocatorFalseAlarmRate) max(s, kLocatorSpreadFloor) sqrt(1 + 1/n)),
+// m the mean of the shaft's n reference log scores, s their standard deviation pooled over the
+// band's shafts (the same score; df = the sum of n - 1 over them): for log-normal scores of one
+// scale, a healthy recording exceeds it with probability kLocatorFalseAlarmRate. The scale is
+// pooled because two or three values per shaft say little of it; the tooth score is a largest
+// over teeth, its logarithm's spread much the same on every shaft of a machine. With fewer than
+// kLocatorMinDof degrees of freedom (one reference recording) the gate is kReferenceScoreMargin
+// x the largest reference score, distribution-free: a healthy recording exceeds the largest of
+// n healthy scores with probability at most 1 / (n + 1). Then:
+//  - a later recording's gear_damage finding on a shaft stands only when one of its two scores
+//    exceeds its gate; else it is withheld, and its row says why (withhold_within_reference);
+//  - where no gear_damage finding stands, the slowest shaft whose comparison score lies in the
+//    locator's uncertain band (over GearDamageOptions::healthy_fm4, significant) and over its
+//    gate is a finding of the history's own (locator_growth): a small crack raises a shaft's
+//    score against its own reference well before the single recording's threshold, set for
+//    gears other than the reference's.
+// Measured on life histories (docs/validation.md): the bound alone is exceeded by 2.6 % of the
+// healthy recordings' comparison scores and 1.5 % of the alone scores (the tails are heavier than
+// the model's); with the uncertain band's floor and two successive recordings per event, none.
+constexpr double kLocatorFalseAlarmRate = 0.01;
+constexpr double kLocatorSpreadFloor = 0.05;  // of the log score: a scale under 5 % is not
+                                              // believed from a few recordings
+constexpr std::size_t kLocatorMinDof = 2;
 
-// The largest locator score per "<shaft>/score" and "<shaft>/score_alone" over a band's
-// reference recordings (`members`); empty when the gear baseline was used in none of them.
-std::map<std::string, double> reference_locator_scores(const std::vector<json>& rows,
-                                                       const std::vector<std::size_t>& members) {
-  std::map<std::string, double> out;
-  for (std::size_t m = 0; m < members.size(); ++m) {
-    const json& row = rows[members[m]];
+// A shaft's locator gate for one of its two scores over a band's reference (locator_gates).
+struct LocatorGate {
+  std::size_t n = 0;     // the reference recordings that scored it
+  double largest = 0;    // their largest score
+  double mean_log = 0;   // the mean of their scores' logarithms
+  double sd_log = 0;     // the pooled standard deviation of the logarithms (below)
+  std::size_t df = 0;    // its degrees of freedom
+  double threshold = 0;  // the gate: the prediction bound (from_spread), else the margin rule
+};
+
+bool from_spread(const LocatorGate& g) { return g.df >= kLocatorMinDof && g.n >= 2; }
+
+// The gates per "<shaft>/score" and "<shaft>/score_alone" over a band's reference recordings
+// (`members`); empty when the gear baseline was used in none of them.
+std::map<std::string, LocatorGate> locator_gates(const std::vector<json>& rows,
+                                                 const std::vector<std::size_t>& members) {
+  std::map<std::string, std::vector<double>> logs;
+  for (std::size_t m : members) {
+    const json& row = rows[m];
     if (row.value("status", "") == "error" ||
         row.value("error", "").find("gear baseline not used") != std::string::npos) {
       continue;
     }
     const json features = row.value("features", json::object());
     for (const auto& [name, v] : features.items()) {
-      if (!name.starts_with("gear_damage/")) continue;
+      if (!name.starts_with("gear_damage/") || !v.is_number()) continue;
       const std::string key = name.substr(12);  // "<shaft>/score" or "<shaft>/score_alone"
       if (std::count(key.begin(), key.end(), '/') != 1) continue;  // a gear's own score
-      const bool alone = key.ends_with("/score_alone");
-      if (!alone && !key.ends_with("/score")) continue;
-      out[key] = std::max(out.count(key) ? out[key] : 0.0, v.get<double>());
+      if (!key.ends_with("/score_alone") && !key.ends_with("/score")) continue;
+      const double x = v.get<double>();
+      if (std::isfinite(x) && x > 0) logs[key].push_back(std::log(x));
+    }
+  }
+  std::map<std::string, LocatorGate> out;
+  for (const char* which : {"/score", "/score_alone"}) {
+    double ss = 0;
+    std::size_t df = 0;
+    for (const auto& [key, l] : logs) {
+      if (!key.ends_with(which)) continue;  // "/score_alone" does not end with "/score"
+      LocatorGate g;
+      g.n = l.size();
+      g.mean_log = std::accumulate(l.begin(), l.end(), 0.0) / static_cast<double>(l.size());
+      g.largest = std::exp(*std::max_element(l.begin(), l.end()));
+      for (double x : l) ss += (x - g.mean_log) * (x - g.mean_log);
+      df += l.size() - 1;
+      out[key] = g;
+    }
+    const double sd = df > 0 ? std::sqrt(ss / static_cast<double>(df)) : 0.0;
+    const double t =
+        df > 0 ? gsl_cdf_tdist_Pinv(1 - kLocatorFalseAlarmRate, static_cast<double>(df)) : 0.0;
+    for (auto& [key, g] : out) {
+      if (!key.ends_with(which)) continue;
+      g.sd_log = sd;
+      g.df = df;
+      g.threshold = from_spread(g)
+                        ? std::exp(g.mean_log + t * std::max(sd, kLocatorSpreadFloor) *
+                                                    std::sqrt(1 + 1.0 / static_cast<double>(g.n)))
+                        : kReferenceScoreMargin * g.largest;
     }
   }
   return out;
 }
 
-// Withholds the row's gear_damage findings whose shaft scores within the reference's own spread
-// on both scores (reference_locator_scores x kReferenceScoreMargin).
-void withhold_within_reference(json& row, const std::map<std::string, double>& ref) {
-  if (ref.empty() || row.value("error", "").find("gear baseline not used") != std::string::npos) {
+// Withholds the row's gear_damage findings whose shaft scores under its gates on both scores
+// (locator_gates).
+void withhold_within_reference(json& row, const std::map<std::string, LocatorGate>& gates) {
+  if (gates.empty() || row.value("error", "").find("gear baseline not used") != std::string::npos) {
     return;
   }
   json kept = json::array();
@@ -641,27 +716,88 @@ void withhold_within_reference(json& row, const std::map<std::string, double>& r
     bool stands = f.value("kind", "") != "gear_damage";
     std::string why;
     for (const char* which : {"/score", "/score_alone"}) {
-      const auto it = ref.find(shaft + which);
+      const auto it = gates.find(shaft + which);
       const json v = row["features"].value("gear_damage/" + shaft + which, json());
-      if (it == ref.end() || !v.is_number()) {
+      if (it == gates.end() || !v.is_number()) {
         stands = true;  // nothing to compare with
         continue;
       }
-      stands = stands || v.get<double>() > kReferenceScoreMargin * it->second;
+      stands = stands || v.get<double>() > it->second.threshold;
       why += std::string(why.empty() ? "" : ", ") +
              (std::string(which) == "/score" ? "against the gear baseline " : "alone ") +
-             diag::format_significant(v.get<double>(), 3) + " (reference up to " +
-             diag::format_significant(it->second, 3) + ")";
+             diag::format_significant(v.get<double>(), 3) + " (gate " +
+             diag::format_significant(it->second.threshold, 3) + ", reference up to " +
+             diag::format_significant(it->second.largest, 3) + ")";
     }
     if (stands) {
       kept.push_back(f);
       continue;
     }
-    row["withheld"].push_back({{"finding", short_findings(json::array({f}))},
-                               {"reason", "the shaft scores within " +
-                                              diag::format_significant(kReferenceScoreMargin, 3) +
-                                              " x the healthy reference's own scores: " + why}});
+    row["withheld"].push_back(
+        {{"finding", short_findings(json::array({f}))},
+         {"reason", "the shaft scores within the healthy reference's own scores: " + why}});
   }
+  row["finding_list"] = kept;
+  row["findings"] = short_findings(kept);
+}
+
+// Where no gear_damage finding stands: the slowest shaft whose comparison with the reference
+// lies in the locator's uncertain band and over its gate, as a finding (the locator's reasons
+// for the slowest: gear_damage.hpp, step 6).
+void locator_growth(json& row, const std::map<std::string, LocatorGate>& gates) {
+  if (row.value("error", "").find("gear baseline not used") != std::string::npos) return;
+  for (const json& f : row.value("finding_list", json::array())) {
+    if (f.value("kind", "") == "gear_damage") return;
+  }
+  const json shafts = row.value("gear_damage_shafts", json::object());
+  const json features = row.value("features", json::object());
+  std::string pick;
+  for (const auto& [shaft, s] : shafts.items()) {
+    const auto it = gates.find(shaft + "/score");
+    const json v = features.value("gear_damage/" + shaft + "/score", json());
+    if (it == gates.end() || !from_spread(it->second) || !s.value("uncertain", false) ||
+        !v.is_number() || v.get<double>() <= it->second.threshold) {
+      continue;
+    }
+    if (pick.empty() ||
+        s["frequency_hz"].get<double>() < shafts[pick]["frequency_hz"].get<double>()) {
+      pick = shaft;
+    }
+  }
+  if (pick.empty()) return;
+  const json& s = shafts[pick];
+  const LocatorGate& g = gates.at(pick + "/score");
+  const double score = features["gear_damage/" + pick + "/score"].get<double>();
+  const detect::GearDamageOptions locator;
+  detect::Finding f;
+  f.kind = "gear_damage";
+  f.fault = diag::FaultKind::kToothDamage;
+  f.shaft = pick;
+  f.gears = s.value("gears", std::vector<std::string>{});
+  f.channel = s.value("channel", "");
+  f.confidence = std::clamp(
+      (score - locator.healthy_fm4) / (2.0 * (locator.damaged_fm4 - locator.healthy_fm4)), 0.0,
+      1.0);
+  f.evidence = {{"score", score},
+                {"snr", s.value("snr", 0.0)},
+                {"exclusive_share", s.value("exclusive_share", 0.0)},
+                {"angle_deg", s.value("angle_deg", 0.0)},
+                {"gate", g.threshold}};
+  std::string which;
+  for (std::size_t k = 0; k < f.gears.size(); ++k) {
+    which += (k == 0 ? "" : k + 1 == f.gears.size() ? " or " : ", ") + f.gears[k];
+  }
+  f.note = "a tooth of " + which + " stands out at " +
+           std::to_string(std::lround(s.value("angle_deg", 0.0))) +
+           " deg of the shaft's revolution against the healthy reference: score " +
+           diag::format_significant(score, 3) + ", in the locator's uncertain band (" +
+           diag::format_significant(locator.healthy_fm4, 3) + ", " +
+           diag::format_significant(locator.damaged_fm4, 3) +
+           "] and over the gate the reference's own scores give (" +
+           diag::format_significant(g.threshold, 3) + ": a healthy recording exceeds it with " +
+           "probability " + diag::format_significant(100 * kLocatorFalseAlarmRate, 2) + " %)";
+  json kept = row.value("finding_list", json::array());
+  kept.push_back(detect::to_json(f));
   row["finding_list"] = kept;
   row["findings"] = short_findings(kept);
 }
@@ -1103,20 +1239,32 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
                     (loads ? "state (speed within 5 %, load within 10 %)" : "speed (within 5 %)") +
                     ", one outside every one is not comparable");
   }
-  std::vector<std::map<std::string, double>> ref_scores;
+  std::vector<std::map<std::string, LocatorGate>> locator;
   for (std::size_t b = 0; b < bands.size(); ++b) {
-    ref_scores.push_back(reference_locator_scores(rows, bands[b].members));
-    if (ref_scores.back().empty()) continue;
+    locator.push_back(locator_gates(rows, bands[b].members));
+    if (locator.back().empty()) continue;
     std::string list;
-    for (const auto& [shaft, v] : ref_scores.back()) {
-      list += (list.empty() ? "" : ", ") + shaft + " " + diag::format_significant(v, 3);
+    bool spread = true;
+    for (const auto& [key, g] : locator.back()) {
+      list += (list.empty() ? "" : ", ") + key + " " + diag::format_significant(g.threshold, 3) +
+              " (reference up to " + diag::format_significant(g.largest, 3) + ")";
+      spread = spread && from_spread(g);
     }
     notes.push_back(
-        "the damaged-shaft locator's largest scores in the reference" +
+        "the damaged-shaft locator's gates" +
         (bands.size() > 1 ? " at " + describe(bands[b]) : std::string()) +
-        " (score: each against the others; score_alone: each recording alone): " + list +
-        "; a later recording's gear damage on a shaft stands when one of its scores exceeds " +
-        diag::format_significant(kReferenceScoreMargin, 3) + " x these");
+        " (score: against the reference, each reference recording against the others; "
+        "score_alone: each recording alone), " +
+        (spread ? "from the reference's own spread (a healthy recording exceeds one with "
+                  "probability " +
+                      diag::format_significant(100 * kLocatorFalseAlarmRate, 2) + " %)"
+                : "a spread needing at least two reference recordings, " +
+                      diag::format_significant(kReferenceScoreMargin, 3) +
+                      " x the reference's largest where there is none") +
+        ": " + list +
+        "; a later recording's gear damage on a shaft stands when one of its scores exceeds its "
+        "gate, and a shaft whose score against the reference is in the locator's uncertain band "
+        "and over its gate is a finding");
   }
   for (const OperatingBand& b : bands) {
     std::string fixed, list;  // the meshes read by too few reference recordings; the others
@@ -1153,7 +1301,8 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
     const int b = band_of(bands, row);
     if (b >= 0) {
       row["band"] = b;
-      withhold_within_reference(row, ref_scores[static_cast<std::size_t>(b)]);
+      withhold_within_reference(row, locator[static_cast<std::size_t>(b)]);
+      locator_growth(row, locator[static_cast<std::size_t>(b)]);
       withhold_alarm_within_reference(row, rows, bands[static_cast<std::size_t>(b)].members);
       judge_bearings(row, ref_bearings[static_cast<std::size_t>(b)]);
     } else {
@@ -1214,7 +1363,9 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
   }
   confirm_events(rows, reference, events);
   for (json& row : rows) {
-    if (row.is_object()) row.erase("bearing_shafts");
+    if (!row.is_object()) continue;
+    row.erase("bearing_shafts");
+    row.erase("gear_damage_shafts");
   }
   return notes;
 }
@@ -1353,7 +1504,9 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   if (!history) {
     analyse_rows(all, every);
     for (json& row : out.rows) {  // only a history's judgement reads it
-      if (row.is_object()) row.erase("bearing_shafts");
+      if (!row.is_object()) continue;
+      row.erase("bearing_shafts");
+      row.erase("gear_damage_shafts");
     }
     return out;
   }
@@ -1468,14 +1621,24 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
                              {"sd_db", w.sd},
                              {"threshold_db", w.threshold}};
     }
+    for (const auto& [key, g] : locator_gates(out.rows, b.members)) {
+      state["locator"][key] = {{"reference_recordings", g.n},
+                               {"largest", g.largest},
+                               {"threshold", g.threshold},
+                               {"from_spread", from_spread(g)}};
+      if (!from_spread(g)) continue;
+      state["locator"][key]["mean_log"] = g.mean_log;
+      state["locator"][key]["sd_log"] = g.sd_log;
+      state["locator"][key]["dof"] = g.df;
+    }
     out.states.push_back(std::move(state));
   }
   for (std::string& n : judge_history(out.rows, reference, bands, out.events)) {
     history_notes.push_back(std::move(n));
   }
   if (bands.size() == 1) {
-    for (const auto& [key, v] : reference_locator_scores(out.rows, bands[0].members)) {
-      out.locator_gate[key] = kReferenceScoreMargin * v;
+    for (const auto& [key, g] : locator_gates(out.rows, bands[0].members)) {
+      out.locator_gate[key] = g.threshold;
     }
     const ReferenceBearings bearings = reference_bearings(out.rows, bands[0].members);
     for (const auto& [key, v] : bearings.line_db) {

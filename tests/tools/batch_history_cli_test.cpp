@@ -11,8 +11,10 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -882,4 +884,131 @@ TEST(BatchHistory, ABallDefectIsReadFromTheCageLine) {
       EXPECT_TRUE(steady) << "recording " << i << ": " << f.dump();
     }
   }
+}
+
+// The locator's gates from the reference's own spread. A root crack of the 23/41 box's counter
+// wheel w1 from step 3, 0.78 mm growing to 0.92 mm: its score against the reference wanders
+// across the single recording's threshold of 20 from one recording to the next (16.6, 25.1,
+// 14.1, 30.9, 17.4), so that threshold alone would see it in two recordings that are not
+// successive, and never confirm it. Each shaft's gate is the prediction bound of its reference
+// scores' logarithm, the scale pooled over the shafts (the closed form checked here); a shaft in
+// the locator's uncertain band (12, 20] over its gate is a finding of the history. The crack is
+// confirmed by the recording after its onset, on the counter shaft. The same gears healthy:
+// scores over their gates occur (the bound is for 1 % per shaft and recording), but under the
+// uncertain band, and no event.
+TEST(BatchHistory, TheLocatorsGatesComeFromTheReferencesOwnSpread) {
+  const std::string gb = std::string(GEARDIAG_TESTDATA_DIR) + "/gearbox/two_stage_23_41_19_53.json";
+  const std::string files = one_life(
+      "crack_life", gb, 4, R"("recordings": 8, "reference": 3, "onset": 3)",
+      R"({"name": "crack", "faults": [{"type": "crack", "gear": "w1", "depth_mm": [0.78, 0.92]}]},
+         {"name": "healthy"})");
+  ASSERT_FALSE(files.empty());
+  std::string crack, healthy;
+  std::istringstream split(files);
+  for (std::string f; split >> f;) {
+    (f.find("-crack-") != std::string::npos ? crack : healthy) += " " + f;
+  }
+  constexpr double kT6 = 3.1426684032909828;  // Student's t, 6 degrees of freedom, 99 %
+  bool healthy_over_gate = false;
+  for (const std::string& which : {std::string("crack"), std::string("healthy")}) {
+    SCOPED_TRACE(which);
+    const fs::path js = scratch("batch_history", "locator_gate_" + which + ".json");
+    const fs::path html = scratch("batch_history", "locator_gate_" + which + ".html");
+    const auto b = run("batch" + (which == "crack" ? crack : healthy) + " --healthy-first 3 -o " +
+                       scratch("batch_history", "locator_gate.csv").string() + " --json " +
+                       js.string() + " --html " + html.string());
+    ASSERT_EQ(b.code, 0) << b.out;
+    std::ifstream page(html);
+    const std::string text{std::istreambuf_iterator<char>(page), {}};
+    EXPECT_NE(text.find("reference gate (alone)"), std::string::npos);
+    EXPECT_NE(text.find("uncertain above"), std::string::npos);
+    EXPECT_NE(b.out.find("a healthy recording exceeds one with probability 1 %"), std::string::npos)
+        << b.out;
+    const json out = read_json(js);
+    const json& rec = out["recordings"];
+    ASSERT_EQ(rec.size(), 8u);
+    const json& gates = out["states"][0]["locator"];
+    ASSERT_EQ(gates.size(), 6u) << gates.dump();  // three shafts, two scores
+    // The closed form: per score, the logarithms' mean per shaft, their spread pooled.
+    std::map<std::string, double> gate;
+    for (const std::string suffix : {"/score", "/score_alone"}) {
+      double ss = 0;
+      int dof = 0;
+      std::map<std::string, double> mean;
+      for (const auto& [key, g] : gates.items()) {
+        if (!key.ends_with(suffix)) continue;
+        double m = 0;
+        for (std::size_t r = 0; r < 3; ++r) {
+          m += std::log(rec[r]["indicators"]["gear_damage/" + key].get<double>()) / 3;
+        }
+        for (std::size_t r = 0; r < 3; ++r) {
+          const double d = std::log(rec[r]["indicators"]["gear_damage/" + key].get<double>()) - m;
+          ss += d * d;
+        }
+        dof += 2;
+        mean[key] = m;
+      }
+      ASSERT_EQ(dof, 6);
+      const double sd = std::sqrt(ss / dof);
+      for (const auto& [key, m] : mean) {
+        const json& g = gates[key];
+        EXPECT_EQ(g["from_spread"], true);
+        EXPECT_EQ(g["dof"], 6);
+        EXPECT_NEAR(g["mean_log"].get<double>(), m, 1e-9) << key;
+        EXPECT_NEAR(g["sd_log"].get<double>(), sd, 1e-9) << key;
+        gate[key] = std::exp(m + kT6 * std::max(sd, 0.05) * std::sqrt(1 + 1.0 / 3));
+        EXPECT_NEAR(g["threshold"].get<double>(), gate[key], 1e-9 * gate[key]) << key;
+      }
+    }
+    // Every later gear_damage finding exceeds a gate; one of the history's own lies in the
+    // uncertain band; what was withheld scored under both gates.
+    auto score = [&](std::size_t i, const std::string& key) {
+      return rec[i]["indicators"]["gear_damage/" + key].get<double>();
+    };
+    for (std::size_t i = 3; i < rec.size(); ++i) {
+      for (const auto& [key, g] : gate) {
+        healthy_over_gate = healthy_over_gate || (which == "healthy" && score(i, key) > g);
+      }
+      for (const json& f : rec[i]["findings"]) {
+        if (f["kind"] != "gear_damage") continue;
+        const std::string shaft = f["shaft"];
+        EXPECT_TRUE(score(i, shaft + "/score") > gate[shaft + "/score"] ||
+                    score(i, shaft + "/score_alone") > gate[shaft + "/score_alone"])
+            << "recording " << i << ": " << f.dump();
+        if (!f["evidence"].contains("gate")) continue;
+        const double s = score(i, shaft + "/score");
+        EXPECT_GT(s, 12.0) << f.dump();
+        EXPECT_LE(s, 20.0) << f.dump();
+        EXPECT_NEAR(f["evidence"]["gate"].get<double>(), gate[shaft + "/score"], 1e-9 * s);
+        EXPECT_NE(f["note"].get<std::string>().find("uncertain band"), std::string::npos);
+      }
+      for (const json& w : rec[i].value("withheld", json::array())) {
+        const std::string text = w.dump();
+        for (const std::string shaft : {"input", "counter", "output"}) {
+          if (text.find("gear_damage") == std::string::npos ||
+              text.find(shaft) == std::string::npos) {
+            continue;
+          }
+          EXPECT_LE(score(i, shaft + "/score"), gate[shaft + "/score"]) << text;
+          EXPECT_LE(score(i, shaft + "/score_alone"), gate[shaft + "/score_alone"]) << text;
+        }
+      }
+    }
+    std::size_t events = 0;
+    for (const json& e : out["events"]) {
+      if (e["kind"] != "gear_damage") continue;
+      ++events;
+      EXPECT_EQ(which, "crack") << e.dump();
+      EXPECT_EQ(e["shaft"], "counter") << e.dump();
+      EXPECT_EQ(e["status"], "confirmed") << e.dump();
+      EXPECT_EQ(e["first_recording"], 3) << e.dump();
+      EXPECT_EQ(e["confirmed_recording"], 4) << e.dump();
+    }
+    EXPECT_EQ(events, which == "crack" ? 1u : 0u) << out["events"].dump(1);
+    if (which == "crack") {  // the premise: the onset's recording under the single threshold
+      EXPECT_LT(score(3, "counter/score"), 20.0);
+      EXPECT_GT(score(3, "counter/score"), 12.0);
+    }
+  }
+  EXPECT_TRUE(healthy_over_gate);  // the premise: the uncertain band's floor is what holds there
 }

@@ -712,7 +712,9 @@ GearDamageResult locate_impl(const diag::Recording& rec, const diag::Gearbox& gb
   const LocateContext cx{rec,  gb,         options,       ref_ratio, ref_hz,
                          base, base_ratio, varying_speed, capture};
   for (const diag::Shaft& sh : shafts) {
-    if (!sh.gears.empty()) res.shafts.push_back(score_shaft(cx, sh, note, used_baseline));
+    if (sh.gears.empty()) continue;
+    res.shafts.push_back(score_shaft(cx, sh, note, used_baseline));
+    for (int g : sh.gears) res.shafts.back().gears.push_back(gb.gears()[g].name);
   }
   decide_damaged_shafts(res, gb, options, used_baseline, note);
   res.note = note.str();

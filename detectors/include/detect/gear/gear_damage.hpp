@@ -220,6 +220,8 @@ struct ShaftDamage {
   bool damaged = false;      // snr >= min_snr, exclusive_share >= min_exclusive_share (when
                              // a faster shaft exists) and score > damaged_fm4
   bool uncertain = false;    // snr >= min_snr and healthy_fm4 < score <= damaged_fm4
+  // Every gear on the shaft, in the description's order (those a finding names).
+  std::vector<std::string> gears;
 };
 
 // The locator's findings (finding.hpp) are kind "gear_damage", fault tooth_damage: shaft, gears
