@@ -635,7 +635,7 @@ std::string event_key(const json& f) {
 //    gears other than the reference's.
 // Measured on life histories (docs/validation.md): the bound alone is exceeded by 2.6 % of the
 // healthy recordings' comparison scores and 1.5 % of the alone scores (the tails are heavier than
-// the model's); with the uncertain band's floor and two successive recordings per event, none.
+// the model's), none of them over the uncertain band's floor.
 constexpr double kLocatorFalseAlarmRate = 0.01;
 constexpr double kLocatorSpreadFloor = 0.05;  // of the log score: a scale under 5 % is not
                                               // believed from a few recordings
