@@ -20,6 +20,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <optional>
@@ -188,6 +189,46 @@ std::map<std::string, double> history_indicators(const detect::AnalysisResult& r
   return out;
 }
 
+// A history's gear baselines: each reference recording's revolution averages, taken once per
+// description (detect::gear_damage_baseline_of) and shared by every recording compared with it,
+// instead of each recording's analysis taking every reference recording's again. The same
+// averages, so the same bytes; on each MPI rank its own.
+class GearBaselineCache {
+ public:
+  struct Entry {
+    std::shared_ptr<const detect::GearDamageBaseline> baseline;
+    std::string error;  // why it cannot be taken (then no baseline)
+  };
+  // `healthy`'s averages for `gearbox`, whose text (or "" for --gearbox) is `key`, as `request`
+  // would take them.
+  const Entry& get(const detect::AnalyzeRequest& request, const detect::RecordingInput& healthy,
+                   const diag::Gearbox& gearbox, const std::string& key) {
+    std::shared_ptr<Slot> slot;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      auto& s = slots_[{healthy.name(), key}];
+      if (!s) s = std::make_shared<Slot>();
+      slot = s;
+    }
+    std::call_once(slot->once, [&] {
+      try {
+        slot->entry.baseline = detect::gear_damage_baseline_of(request, healthy, gearbox);
+      } catch (const diag::InputError& e) {
+        slot->entry.error = e.what();
+      }
+    });
+    return slot->entry;
+  }
+
+ private:
+  struct Slot {
+    std::once_flag once;
+    Entry entry;
+  };
+  std::mutex mutex_;
+  std::map<std::pair<std::string, std::string>, std::shared_ptr<Slot>> slots_;
+};
+
 struct Inputs {
   std::optional<diag::Gearbox> gearbox;          // --gearbox
   std::vector<detect::RecordingInput> baseline;  // read once, prepared for each file's gearbox
@@ -195,6 +236,8 @@ struct Inputs {
   std::optional<detect::RecordingInput> gear_baseline;
   // And the reference's other recordings (AnalyzeRequest::more_gear_baselines).
   std::vector<detect::RecordingInput> more_gear_baselines;
+  // Their averages, taken once (null: each analysis takes its own).
+  std::shared_ptr<GearBaselineCache> gear_cache;
   ChannelOptions channels;
   std::optional<double> fs;
   std::string reports;       // --reports: the folder of every recording's own HTML report
@@ -230,6 +273,42 @@ Opened open_file(const std::string& file, const Inputs& in) {
   return r;
 }
 
+// A history's gear baselines for `request` from the cache (Inputs::gear_cache), for the
+// description the analysis will use (--gearbox, else the recording's own): set as the locator's
+// options, the request's own cleared; where one cannot be taken, none, and `error` says why (as
+// analyse says when the analysis itself could not take them). A recording without a description
+// keeps the request's (the analysis says why it cannot use them).
+void share_gear_baselines(detect::AnalyzeRequest& request, const Inputs& in, std::string& error) {
+  std::optional<diag::Gearbox> gb = in.gearbox;
+  std::string key;
+  if (!gb) {
+    try {
+      key = request.recording.opened.frames->frame(0, 0).gearbox_json;
+      if (key.empty()) return;
+      gb = diag::parse_gearbox_text(key, request.recording.name() + ": /gearbox");
+    } catch (const diag::InputError&) {
+      return;  // the analysis reports it
+    }
+  }
+  std::vector<const detect::RecordingInput*> healthy = {&*request.gear_baseline};
+  for (const detect::RecordingInput& m : request.more_gear_baselines) healthy.push_back(&m);
+  std::vector<std::shared_ptr<const detect::GearDamageBaseline>> taken;
+  for (const detect::RecordingInput* h : healthy) {
+    const GearBaselineCache::Entry& e = in.gear_cache->get(request, *h, *gb, key);
+    if (!e.error.empty()) {
+      error = "gear baseline not used: " + e.error;
+      taken.clear();
+      break;
+    }
+    taken.push_back(e.baseline);
+  }
+  request.gear_baseline.reset();
+  request.more_gear_baselines.clear();
+  if (taken.empty()) return;
+  request.options.gear_damage.baseline = taken.front();
+  request.options.gear_damage.more_baselines.assign(taken.begin() + 1, taken.end());
+}
+
 // One recording's row: file, time, speed, findings, baseline score, and every feature. The file
 // is read by its worker, frame by frame (analyze_file): memory holds a frame per worker, whatever
 // the files' lengths.
@@ -249,8 +328,9 @@ json analyse(std::size_t index, const std::string& file, Opened opened, const In
     request.average_spectra = !in.reports.empty();  // only the reports show spectra
     request.gear_baseline = in.gear_baseline;
     request.more_gear_baselines = in.more_gear_baselines;
-    request.load_channel = in.load_channel;
     std::string gear_baseline_error;
+    if (in.gear_baseline && in.gear_cache) share_gear_baselines(request, in, gear_baseline_error);
+    request.load_channel = in.load_channel;
     const detect::FileAnalysis a = [&] {
       if (!request.gear_baseline) return detect::analyze_file(request);
       // A history's gear baseline where the recordings allow one (a description, revolutions
@@ -1258,9 +1338,10 @@ std::vector<std::string> judge_history(std::vector<json>& rows, const std::vecto
         (spread ? "from the reference's own spread (a healthy recording exceeds one with "
                   "probability " +
                       diag::format_significant(100 * kLocatorFalseAlarmRate, 2) + " %)"
-                : "a spread needing at least two reference recordings, " +
+                : "too few reference scores to read a spread from (two degrees of freedom "
+                  "needed), so " +
                       diag::format_significant(kReferenceScoreMargin, 3) +
-                      " x the reference's largest where there is none") +
+                      " x the reference's largest") +
         ": " + list +
         "; a later recording's gear damage on a shaft stands when one of its scores exceeds its "
         "gate, and a shaft whose score against the reference is in the locator's uncertain band "
@@ -1468,7 +1549,10 @@ BatchResult run_batch(BatchRequest request, const MpiWorld& world) {
   // (Only with a description: without one there is no shaft to average over.)
   const bool described =
       in.gearbox || (!in.baseline.empty() && !in.baseline.front().recording->gearbox_json.empty());
-  if (history && described) in.gear_baseline = in.baseline.front();
+  if (history && described) {
+    in.gear_baseline = in.baseline.front();
+    in.gear_cache = std::make_shared<GearBaselineCache>();
+  }
   out.files = files;
   // One round of analyses: the rows `which` (split across the ranks), each with the inputs
   // `inputs_of` gives it; on rank 0 their rows land in out.rows.

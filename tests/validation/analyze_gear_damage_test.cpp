@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "detect/analysis/analyze.hpp"
+#include "detect/analysis/analyze_file.hpp"
 #include "diag/error.hpp"
 #include "diag/gearbox/gearbox.hpp"
 #include "report/report.hpp"
@@ -238,6 +239,72 @@ TEST(AnalyzeGearDamage, OfSeveralBaselinesTheNearestExplainsTheRecording) {
   } catch (const diag::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("more_baselines"), std::string::npos) << e.what();
   }
+}
+
+// A caller comparing many recordings with the same healthy ones (a history's reference) takes
+// their revolution averages once (gear_damage_baseline_of) and gives them to every analysis as
+// the locator's options: the analysis is the same, byte for byte, as when each request takes its
+// own from gear_baseline and more_gear_baselines, with the tacho and without it (the averages
+// then on the angles found in each baseline's vibration). A baseline that cannot be averaged is
+// refused with the same message either way.
+TEST(AnalyzeGearDamage, GearBaselinesTakenOnceGiveWhatEachAnalysisTakes) {
+  const diag::Gearbox gb = two_stage();
+  const two_stage_case::Errors errors{7, 10e-6};
+  const double duration = 11.0 / (kRpm / 60.0 / 4.0);
+  auto record = [&](const std::optional<sim::GearFault>& fault, std::uint64_t noise_seed,
+                    double torque_nm, bool tacho) {
+    diag::Recording r = two_stage_case::simulate(gb, sim::SpeedProfile::constant(kRpm), duration,
+                                                 fault, errors, 3, noise_seed, torque_nm);
+    if (!tacho) r.tachos.clear();
+    return std::make_shared<const diag::Recording>(std::move(r));
+  };
+  for (const bool tacho : {true, false}) {
+    SCOPED_TRACE(tacho ? "with the tacho" : "without a tacho");
+    detect::AnalyzeRequest each;
+    each.recording =
+        detect::RecordingInput(record(two_stage_case::chip("z3"), 5, 50.0, tacho), "r");
+    each.gearbox = gb;
+    each.gear_baseline = detect::RecordingInput(record(std::nullopt, 17, 50.0, tacho), "h1");
+    each.more_gear_baselines = {
+        detect::RecordingInput(record(std::nullopt, 19, 65.0, tacho), "h2")};
+    detect::AnalyzeRequest shared = each;
+    shared.options.gear_damage.baseline =
+        detect::gear_damage_baseline_of(each, *each.gear_baseline, gb);
+    shared.options.gear_damage.more_baselines = {
+        detect::gear_damage_baseline_of(each, each.more_gear_baselines[0], gb)};
+    shared.gear_baseline.reset();
+    shared.more_gear_baselines.clear();
+    const detect::FileAnalysis a = detect::analyze_file(each);
+    const detect::FileAnalysis b = detect::analyze_file(shared);
+    ASSERT_TRUE(a.result.gear_damage.has_value());
+    EXPECT_TRUE(a.result.gear_damage->shafts[0].compared);
+    EXPECT_EQ(report::to_json(a.result).dump(), report::to_json(b.result).dump());
+    const auto found = of_kind(a.result, "gear_damage");
+    ASSERT_FALSE(found.empty()) << report::to_json(a.result)["gear_damage"].dump(1);
+    EXPECT_EQ(found[0].shaft, "counter");
+  }
+  // Too short to average a revolution of the output shaft.
+  diag::Recording cut = *record(std::nullopt, 17, 50.0, true);
+  for (diag::Signal& s : cut.signals) s.samples.resize(200);
+  for (diag::Signal& s : cut.tachos) s.samples.resize(200);
+  detect::AnalyzeRequest q;
+  q.recording = detect::RecordingInput(record(std::nullopt, 5, 50.0, true), "r");
+  q.gearbox = gb;
+  q.gear_baseline =
+      detect::RecordingInput(std::make_shared<const diag::Recording>(std::move(cut)), "short");
+  std::string alone, taken;
+  try {
+    detect::analyze_file(q);
+  } catch (const diag::InputError& e) {
+    alone = e.what();
+  }
+  try {
+    detect::gear_damage_baseline_of(q, *q.gear_baseline, gb);
+  } catch (const diag::InputError& e) {
+    taken = e.what();
+  }
+  EXPECT_TRUE(alone.starts_with("--gear-baseline short: ")) << alone;
+  EXPECT_EQ(alone, taken);
 }
 
 }  // namespace

@@ -564,7 +564,34 @@ GearDamageBaseline gear_baseline_of(const diag::Recording& healthy, const diag::
   return gear_damage_baseline(healthy, at, k.tsa_reference, k.tsa_reference_pulses, o);
 }
 
+// A gear baseline read (`healthy`, named `name`) prepared for `gb` and its averages taken.
+std::shared_ptr<const GearDamageBaseline> prepared_gear_baseline(diag::Recording healthy,
+                                                                 const std::string& name,
+                                                                 const diag::Gearbox& gb,
+                                                                 const diag::ChannelSetup& channels,
+                                                                 const AnalyzeOptions& opt) {
+  try {
+    diag::prepare_channels(healthy, &gb, channels);
+    return std::make_shared<const GearDamageBaseline>(gear_baseline_of(healthy, gb, channels, opt));
+  } catch (const diag::InputError& e) {
+    throw diag::InputError("--gear-baseline " + name + ": " + e.what());
+  }
+}
+
 }  // namespace
+
+std::shared_ptr<const GearDamageBaseline> gear_damage_baseline_of(const AnalyzeRequest& request,
+                                                                  const RecordingInput& healthy,
+                                                                  const diag::Gearbox& gearbox) {
+  diag::Recording r;
+  try {
+    r = read_input(healthy, request.fs_hz, limits_of(request.frame_samples)).recording;
+  } catch (const diag::InputError& e) {
+    throw naming("--gear-baseline ", healthy.recording ? healthy.name() : "", e);
+  }
+  return prepared_gear_baseline(std::move(r), healthy.name(), gearbox, request.channels,
+                                request.options);
+}
 
 FileAnalysis analyze_file(const AnalyzeRequest& request) {
   AnalyzeOptions opt = request.options;
@@ -668,23 +695,13 @@ FileAnalysis analyze_file(const AnalyzeRequest& request) {
       throw diag::InputError(
           "--gear-baseline: needs a gearbox description (--gearbox or the file's /gearbox)");
     }
-    try {
-      diag::prepare_channels(*gear_healthy, &*gb, request.channels);
-      opt.gear_damage.baseline = std::make_shared<const GearDamageBaseline>(
-          gear_baseline_of(*gear_healthy, *gb, request.channels, opt));
-    } catch (const diag::InputError& e) {
-      throw diag::InputError("--gear-baseline " + request.gear_baseline->name() + ": " + e.what());
-    }
+    opt.gear_damage.baseline = prepared_gear_baseline(
+        std::move(*gear_healthy), request.gear_baseline->name(), *gb, request.channels, opt);
     gear_healthy.reset();
     for (std::size_t i = 0; i < more_gear_healthy.size(); ++i) {
-      try {
-        diag::prepare_channels(more_gear_healthy[i], &*gb, request.channels);
-        opt.gear_damage.more_baselines.push_back(std::make_shared<const GearDamageBaseline>(
-            gear_baseline_of(more_gear_healthy[i], *gb, request.channels, opt)));
-      } catch (const diag::InputError& e) {
-        throw diag::InputError("--gear-baseline " + request.more_gear_baselines[i].name() + ": " +
-                               e.what());
-      }
+      opt.gear_damage.more_baselines.push_back(prepared_gear_baseline(
+          std::move(more_gear_healthy[i]), request.more_gear_baselines[i].name(), *gb,
+          request.channels, opt));
     }
     more_gear_healthy.clear();
   }

@@ -101,6 +101,16 @@ struct AnalyzeRequest {
   AnalyzeOptions options;
 };
 
+// The revolution averages analyze_file takes of a gear baseline (`healthy`, as
+// AnalyzeRequest::gear_baseline or one of more_gear_baselines of `request`: its first frame,
+// prepared for `gearbox` and request.channels): computed once, they can be given to many
+// requests as options.gear_damage.baseline and more_baselines, with the same result as each
+// request taking them itself (`batch`: a history's reference recordings, for every later
+// recording). Throws diag::InputError naming the baseline, as analyze_file would.
+std::shared_ptr<const GearDamageBaseline> gear_damage_baseline_of(const AnalyzeRequest& request,
+                                                                  const RecordingInput& healthy,
+                                                                  const diag::Gearbox& gearbox);
+
 struct FileAnalysis {
   AnalysisResult result;  // with the notes of the speed and channel setup first
   std::string source;     // the recording's name (RecordingInput::name)
