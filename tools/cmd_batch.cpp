@@ -505,6 +505,9 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
     bool feature = true;
   };
   static const char* const kColors[] = {"#1f77b4", "#2ca02c", "#9467bd", "#8c564b", "#17becf"};
+  // The thresholds': the first red, then each of the others its own colour.
+  static const char* const kThresholdColors[] = {"#d62728", "#ff7f0e", "#7f7f7f", "#bcbd22",
+                                                 "#e377c2"};
   auto plot = [&](const std::string& title, const std::string& y_label,
                   const std::vector<Line>& lines,
                   const std::vector<std::pair<std::string, double>>& thresholds) {
@@ -539,7 +542,7 @@ std::string trend_html(const std::vector<json>& rows, const std::vector<std::str
     for (const auto& [label, value] : thresholds) {
       if (!std::isfinite(value)) continue;
       tys.push_back({value, value});
-      series.push_back({tx, tys.back(), label, tys.size() == 1 ? "#d62728" : "#ff7f0e"});
+      series.push_back({tx, tys.back(), label, kThresholdColors[(tys.size() - 1) % 5]});
     }
     report::PlotOptions po;
     po.title = title;
