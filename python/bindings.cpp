@@ -571,7 +571,7 @@ PYBIND11_MODULE(_geardiag, m) {
       "analyze",
       [](const py::object& source, const py::object& gearbox, std::optional<double> fs_hz,
          double rpm, const std::string& channel_map, const std::vector<std::string>& tachos,
-         const py::list& baseline, const py::object& gear_baseline,
+         const py::list& baseline, const py::list& gear_baseline,
          std::optional<std::uint64_t> max_samples, std::optional<double> frame_seconds, bool html,
          const py::dict& options) {
         // Options first: a misspelt option is refused before a long read.
@@ -601,7 +601,14 @@ PYBIND11_MODULE(_geardiag, m) {
         for (const py::handle b : baseline) {
           request.baseline.push_back(recording_input(py::reinterpret_borrow<py::object>(b)));
         }
-        if (!gear_baseline.is_none()) request.gear_baseline = recording_input(gear_baseline);
+        for (const py::handle b : gear_baseline) {  // the first, then the more
+          detect::RecordingInput in = recording_input(py::reinterpret_borrow<py::object>(b));
+          if (!request.gear_baseline) {
+            request.gear_baseline = std::move(in);
+          } else {
+            request.more_gear_baselines.push_back(std::move(in));
+          }
+        }
         if (max_samples) request.max_samples = *max_samples;
         if (frame_seconds) request.frame_s = *frame_seconds;
         detect::FileAnalysis a;
@@ -625,7 +632,7 @@ PYBIND11_MODULE(_geardiag, m) {
       py::arg("source"), py::arg("gearbox") = py::none(), py::arg("fs_hz") = py::none(),
       py::arg("rpm") = 0.0, py::arg("channel_map") = "",
       py::arg("tachos") = std::vector<std::string>{}, py::arg("baseline") = py::list(),
-      py::arg("gear_baseline") = py::none(), py::arg("max_samples") = py::none(),
+      py::arg("gear_baseline") = py::list(), py::arg("max_samples") = py::none(),
       py::arg("frame_seconds") = py::none(), py::arg("html") = false,
       py::arg("options") = py::dict());
 

@@ -246,7 +246,8 @@ def analyze(source, gearbox=None, fs_hz=None, rpm=0.0, channel_map=None, tachos=
     ``gearbox`` a :class:`Gearbox`, a JSON path or a dict (default: the recording's own).
     ``rpm``, ``channel_map`` (a file) and ``tachos`` ("CHANNEL=SHAFT[:PPR]") are the CLI's
     --rpm, --channels and --tacho; ``baseline`` (paths or Recordings: healthy recordings of the
-    same machine), ``gear_baseline`` (one healthy recording of the same gears, with a tacho),
+    same machine), ``gear_baseline`` (a healthy recording of the same gears, or several: each
+    shaft is compared with the one that explains it best),
     ``max_samples`` (an opt-in limit: only the first part is examined, the rest reported as not
     examined; default: every sample) and ``frame_seconds`` (the frames of a long recording at
     most this long; default: as long as memory allows) its --baseline, --gear-baseline,
@@ -267,10 +268,14 @@ def analyze(source, gearbox=None, fs_hz=None, rpm=0.0, channel_map=None, tachos=
         gearbox = Gearbox.from_json(gearbox)
     if isinstance(baseline, (str, _os.PathLike, Recording)):
         baseline = [baseline]
+    if gear_baseline is None:
+        gear_baseline = []
+    elif isinstance(gear_baseline, (str, _os.PathLike, Recording)):
+        gear_baseline = [gear_baseline]
     report, curves = _g.analyze(_input(source), gearbox, fs_hz, float(rpm),
                                 _os.fspath(channel_map) if channel_map else "", list(tachos),
                                 [_input(b) for b in baseline],
-                                None if gear_baseline is None else _input(gear_baseline),
+                                [_input(b) for b in gear_baseline],
                                 max_samples, frame_seconds, bool(html), options)
     report["curves"] = _nest_curves(curves)
     return report

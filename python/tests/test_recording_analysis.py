@@ -129,6 +129,13 @@ def test_analyze_has_every_option_of_the_cli(sim_file, sim_recording, tmp_path):
     assert r == cli
     assert "anomaly_score" in cli and "gear_damage" in cli
     assert page == out["html"].read_text()
+    # Several gear baselines, as --gear-baseline A B.
+    subprocess.run([EXE, "analyze", str(sim_file), "--gear-baseline", str(healthy_file),
+                    str(other_file), "--threads", "1", "--json", str(out["json"])], check=True,
+                   stdout=subprocess.DEVNULL)
+    both = geardiag.analyze(sim_file, gear_baseline=[healthy_file, other_file], threads=1)
+    both.pop("curves")
+    assert both == json.loads(out["json"].read_text())
     # A baseline given as a Recording in memory is the same baseline.
     m = geardiag.analyze(sim_file, baseline=[healthy, other_file], threads=1)
     assert m["anomaly_score"] == r["anomaly_score"]
