@@ -834,6 +834,10 @@ void locator_growth(json& row, const std::map<std::string, LocatorGate>& gates) 
   }
   const json shafts = row.value("gear_damage_shafts", json::object());
   const json features = row.value("features", json::object());
+  auto hz = [](const json& sh) {  // the shaft's speed (a NaN comes back as null: last)
+    const json f = sh.value("frequency_hz", json());
+    return f.is_number() ? f.get<double>() : std::numeric_limits<double>::infinity();
+  };
   std::string pick;
   for (const auto& [shaft, s] : shafts.items()) {
     const auto it = gates.find(shaft + "/score");
@@ -842,10 +846,7 @@ void locator_growth(json& row, const std::map<std::string, LocatorGate>& gates) 
         !v.is_number() || v.get<double>() <= it->second.threshold) {
       continue;
     }
-    if (pick.empty() ||
-        s["frequency_hz"].get<double>() < shafts[pick]["frequency_hz"].get<double>()) {
-      pick = shaft;
-    }
+    if (pick.empty() || hz(s) < hz(shafts[pick])) pick = shaft;
   }
   if (pick.empty()) return;
   const json& s = shafts[pick];
@@ -861,17 +862,22 @@ void locator_growth(json& row, const std::map<std::string, LocatorGate>& gates) 
   f.confidence = std::clamp(
       (score - locator.healthy_fm4) / (2.0 * (locator.damaged_fm4 - locator.healthy_fm4)), 0.0,
       1.0);
+  // (A number that was not finite comes back as null from the rows' JSON: NaN here.)
+  auto number = [&](const char* key) {
+    const json v = s.value(key, json());
+    return v.is_number() ? v.get<double>() : std::numeric_limits<double>::quiet_NaN();
+  };
   f.evidence = {{"score", score},
-                {"snr", s.value("snr", 0.0)},
-                {"exclusive_share", s.value("exclusive_share", 0.0)},
-                {"angle_deg", s.value("angle_deg", 0.0)},
+                {"snr", number("snr")},
+                {"exclusive_share", number("exclusive_share")},
+                {"angle_deg", number("angle_deg")},
                 {"gate", g.threshold}};
   std::string which;
   for (std::size_t k = 0; k < f.gears.size(); ++k) {
     which += (k == 0 ? "" : k + 1 == f.gears.size() ? " or " : ", ") + f.gears[k];
   }
   f.note = "a tooth of " + which + " stands out at " +
-           std::to_string(std::lround(s.value("angle_deg", 0.0))) +
+           diag::format_significant(std::round(number("angle_deg")), 3) +
            " deg of the shaft's revolution against the healthy reference: score " +
            diag::format_significant(score, 3) + ", in the locator's uncertain band (" +
            diag::format_significant(locator.healthy_fm4, 3) + ", " +
