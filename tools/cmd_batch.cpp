@@ -719,6 +719,15 @@ std::string event_key(const json& f) {
 // Measured on life histories (docs/validation.md): the bound alone is exceeded by 2.6 % of the
 // healthy recordings' comparison scores and 1.5 % of the alone scores (the tails are heavier than
 // the model's), none of them over the uncertain band's floor.
+// The prediction bound of a new value from n values of mean `mean` and standard deviation `sd`
+// on `df` degrees of freedom: mean + t_df(1 - rate) max(sd, floor) sqrt(1 + 1/n) (the wear
+// indicator's and the locator's gates; for Gaussian values of that spread a new one exceeds it
+// with probability `rate`).
+double prediction_bound(double mean, double sd, double df, double n, double rate, double floor) {
+  const double t = gsl_cdf_tdist_Pinv(1 - rate, df);
+  return mean + t * std::max(sd, floor) * std::sqrt(1 + 1 / n);
+}
+
 constexpr double kLocatorFalseAlarmRate = 0.01;
 constexpr double kLocatorSpreadFloor = 0.05;  // of the log score: a scale under 5 % is not
                                               // believed from a few recordings
@@ -772,15 +781,14 @@ std::map<std::string, LocatorGate> locator_gates(const std::vector<json>& rows,
       out[key] = g;
     }
     const double sd = df > 0 ? std::sqrt(ss / static_cast<double>(df)) : 0.0;
-    const double t =
-        df > 0 ? gsl_cdf_tdist_Pinv(1 - kLocatorFalseAlarmRate, static_cast<double>(df)) : 0.0;
     for (auto& [key, g] : out) {
       if (!key.ends_with(which)) continue;
       g.sd_log = sd;
       g.df = df;
       g.threshold = from_spread(g)
-                        ? std::exp(g.mean_log + t * std::max(sd, kLocatorSpreadFloor) *
-                                                    std::sqrt(1 + 1.0 / static_cast<double>(g.n)))
+                        ? std::exp(prediction_bound(g.mean_log, sd, static_cast<double>(df),
+                                                    static_cast<double>(g.n),
+                                                    kLocatorFalseAlarmRate, kLocatorSpreadFloor))
                         : kReferenceScoreMargin * g.largest;
     }
   }
@@ -1281,9 +1289,9 @@ std::map<std::string, WearGate> wear_gates(const std::vector<json>& rows,
       out[mesh] = w;
       continue;
     }
-    const double t = gsl_cdf_tdist_Pinv(1 - kWearFalseAlarmRate, n - 1);
-    w.threshold = std::max(kWearSpreadFloorDb,
-                           w.mean + t * std::max(w.sd, kWearSpreadFloorDb) * std::sqrt(1 + 1 / n));
+    w.threshold =
+        std::max(kWearSpreadFloorDb,
+                 prediction_bound(w.mean, w.sd, n - 1, n, kWearFalseAlarmRate, kWearSpreadFloorDb));
     out[mesh] = w;
   }
   return out;
